@@ -1,0 +1,19 @@
+//! pelt-geom: the plain-CPU geometry layer of pelt (glam, no GPU, no file formats).
+//!
+//! - [`mesh`]: the triangle-mesh model the bake works on (positions, normals, UVs, tangents,
+//!   colors, indices) and its validation.
+//! - [`normals`]: per-corner unit normals in f64, flat normals where a file has none (glTF 2.0
+//!   §3.7.2.1), repair of zero and non-unit normals.
+//! - [`weld`]: exact-bit welding of vertex tables.
+//! - [`mikktspace`]: a parallel MikkTSpace tangent generator that matches the reference
+//!   implementation (tested against `bevy_mikktspace`).
+//! - [`fastmath`]: the scalar f32 vector operations MikkTSpace needs, in the reference's order
+//!   of operations.
+
+pub mod fastmath;
+pub mod mesh;
+pub mod mikktspace;
+pub mod normals;
+pub mod weld;
+
+pub use mesh::{GeomError, Mesh};
