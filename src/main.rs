@@ -1,1 +1,126 @@
-fn main() {}
+//! `pelt`: prepare vertex-painted meshes for real-time fur.
+//!
+//! A thin binary: argument parsing here, the work in `pelt-bake`, `pelt-io` and `pelt-geom`.
+//! Exit codes: 0 ok, 1 some input failed, 2 usage error.
+
+mod bake;
+mod inspect;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+const BAKE_EXAMPLES: &str = "\
+Examples:
+  pelt bake fixtures/creature.glb -o out/creature.glb
+  pelt bake fixtures/creature.glb -o out/creature.glb --report -
+  pelt bake scans/*.gltf -o out/ --report bake.json
+  pelt bake blender_export.glb -o fur.glb --comb-color-space srgb --comb-axes x,z,-y
+  pelt bake painted.obj -o painted.glb --tangents regenerate --quantize u16";
+
+const INSPECT_EXAMPLES: &str = "\
+Examples:
+  pelt inspect out/creature.glb
+  pelt inspect out/creature.glb --json";
+
+#[derive(Parser)]
+#[command(name = "pelt", version, about = "Prepare vertex-painted meshes for real-time fur.", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Bake comb colors (COLOR_0) into tangent space as _FUR_COMB; write self-contained .glb.
+    #[command(after_help = BAKE_EXAMPLES)]
+    Bake(BakeArgs),
+    /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
+    #[command(after_help = INSPECT_EXAMPLES)]
+    Inspect(InspectArgs),
+}
+
+/// Arguments of `pelt bake`.
+#[derive(clap::Args)]
+pub struct BakeArgs {
+    /// Input files: .gltf, .glb or .obj.
+    #[arg(required = true)]
+    pub inputs: Vec<PathBuf>,
+    /// Output: a .glb file for one input, a folder for several.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Write a JSON report to FILE ("-" for standard output).
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+    /// Keep TANGENT where present, or always generate MikkTSpace tangents.
+    #[arg(long, value_enum, default_value_t = Tangents::Keep)]
+    pub tangents: Tangents,
+    /// How COLOR_0 holds the painted direction: linear (glTF's definition) or srgb (8-bit
+    /// sRGB paint that an exporter linearized, as Blender does with byte colors).
+    #[arg(long, value_enum, default_value_t = ColorSpaceArg::Linear)]
+    pub comb_color_space: ColorSpaceArg,
+    /// Remap the comb's axes, e.g. x,z,-y for a comb painted in a Z-up tool.
+    #[arg(long, default_value = "x,y,z")]
+    pub comb_axes: pelt_bake::options::AxisMap,
+    /// Storage of _FUR_COMB: float, or normalized u16 / u8.
+    #[arg(long, value_enum, default_value_t = QuantizeArg::Float)]
+    pub quantize: QuantizeArg,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `pelt inspect`.
+#[derive(clap::Args)]
+pub struct InspectArgs {
+    /// The file: .gltf, .glb or .obj.
+    pub file: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--tangents`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Tangents {
+    /// Keep TANGENT when present.
+    Keep,
+    /// Always generate.
+    Regenerate,
+}
+
+/// `--comb-color-space`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum ColorSpaceArg {
+    /// As stored.
+    Linear,
+    /// Re-encode to sRGB first.
+    Srgb,
+}
+
+/// `--quantize`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum QuantizeArg {
+    /// VEC4 float.
+    Float,
+    /// VEC4 unsigned short normalized.
+    U16,
+    /// VEC4 unsigned byte normalized.
+    U8,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bake(args) => bake::run(&args),
+        Command::Inspect(args) => inspect::run(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("pelt: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,1 +1,17 @@
-//! placeholder
+//! pelt-bake: turns a painted mesh into a fur-ready one.
+//!
+//! - [`options`]: what a user can choose (tangents, comb color space and axes, quantization).
+//! - [`frame`]: the orthonormal tangent frame (T, B = cross(N, T)·w, N) a comb is expressed in.
+//! - [`comb`]: Revie's Listing 2.7 (decode, Gram-Schmidt against N, normalize, into tangent
+//!   space) with defined results at the extremes, and the `_FUR_COMB` encodings.
+//! - [`primitive`]: one primitive: normals, tangents (kept or MikkTSpace), vertex splits, comb.
+//! - [`asset`]: a whole document, with the per-primitive report.
+
+pub mod asset;
+pub mod comb;
+pub mod frame;
+pub mod options;
+pub mod primitive;
+
+pub use asset::{AssetReport, bake_document};
+pub use options::BakeOptions;

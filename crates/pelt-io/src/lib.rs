@@ -1,1 +1,24 @@
-//! placeholder
+//! pelt-io: reading and writing the files pelt bakes.
+//!
+//! - [`document`]: a glTF 2.0 asset as its JSON (kept whole, key order included) plus its
+//!   buffers, loaded from `.gltf` (external files, data URIs) or `.glb`, with every reference
+//!   checked against the real bytes before use.
+//! - [`accessor`]: typed reads of accessors (every component type, normalization, strides,
+//!   sparse) and the encodings pelt writes.
+//! - [`edit`]: the changes a bake makes: new accessors, replaced attributes, re-indexed
+//!   primitives.
+//! - [`glb`]: the self-contained `.glb` writer (all buffers and images in one BIN chunk),
+//!   streamed and written atomically.
+//! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
+//! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
+
+pub mod accessor;
+pub mod document;
+pub mod edit;
+pub mod error;
+pub mod glb;
+pub mod mesh;
+pub mod obj;
+
+pub use document::{Document, PrimitiveRef};
+pub use error::IoError;

@@ -1,0 +1,353 @@
+//! Accessor reads (glTF 2.0 §3.6): every component type, `normalized` integers, interleaved
+//! strides, accessors without a bufferView and sparse substitution. Every range is checked in
+//! u64 against the buffer's real bytes before anything is allocated.
+
+use serde_json::Value;
+
+use crate::document::Document;
+use crate::error::Result;
+
+/// glTF component types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ComponentType {
+    /// 5120
+    I8,
+    /// 5121
+    U8,
+    /// 5122
+    I16,
+    /// 5123
+    U16,
+    /// 5125
+    U32,
+    /// 5126
+    F32,
+}
+
+impl ComponentType {
+    /// From the glTF enum value.
+    pub fn from_gl(v: u64) -> Option<Self> {
+        Some(match v {
+            5120 => Self::I8,
+            5121 => Self::U8,
+            5122 => Self::I16,
+            5123 => Self::U16,
+            5125 => Self::U32,
+            5126 => Self::F32,
+            _ => return None,
+        })
+    }
+
+    /// The glTF enum value.
+    pub fn gl(self) -> u32 {
+        match self {
+            Self::I8 => 5120,
+            Self::U8 => 5121,
+            Self::I16 => 5122,
+            Self::U16 => 5123,
+            Self::U32 => 5125,
+            Self::F32 => 5126,
+        }
+    }
+
+    /// Bytes per component.
+    pub fn size(self) -> usize {
+        match self {
+            Self::I8 | Self::U8 => 1,
+            Self::I16 | Self::U16 => 2,
+            Self::U32 | Self::F32 => 4,
+        }
+    }
+
+    /// Name for reports: `float`, `unsigned byte`, …
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::I8 => "byte",
+            Self::U8 => "unsigned byte",
+            Self::I16 => "short",
+            Self::U16 => "unsigned short",
+            Self::U32 => "unsigned int",
+            Self::F32 => "float",
+        }
+    }
+}
+
+/// Components per element for a glTF `type`.
+pub fn components_of(ty: &str) -> Option<usize> {
+    Some(match ty {
+        "SCALAR" => 1,
+        "VEC2" => 2,
+        "VEC3" => 3,
+        "VEC4" => 4,
+        "MAT2" => 4,
+        "MAT3" => 9,
+        "MAT4" => 16,
+        _ => return None,
+    })
+}
+
+/// The glTF `type` for a component count of a vector.
+pub fn type_of(components: usize) -> &'static str {
+    match components {
+        1 => "SCALAR",
+        2 => "VEC2",
+        3 => "VEC3",
+        _ => "VEC4",
+    }
+}
+
+/// An accessor's elements, tightly packed, sparse values applied.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Elements {
+    /// Component type.
+    pub component: ComponentType,
+    /// Components per element.
+    pub components: usize,
+    /// The `type` string.
+    pub ty: String,
+    /// Whether integers are normalized.
+    pub normalized: bool,
+    /// Element count.
+    pub count: usize,
+    /// `count * components * component.size()` bytes.
+    pub bytes: Vec<u8>,
+}
+
+impl Elements {
+    /// Bytes per element.
+    pub fn element_size(&self) -> usize {
+        self.components * self.component.size()
+    }
+
+    /// Component `i` (flat index) as f32, applying glTF's normalization rules.
+    #[inline]
+    pub fn component_f32(&self, i: usize) -> f32 {
+        decode(self.component, self.normalized, &self.bytes, i)
+    }
+
+    /// Elements as `[f32; N]` (N must equal the component count).
+    pub fn to_f32<const N: usize>(&self) -> Vec<[f32; N]> {
+        debug_assert_eq!(N, self.components);
+        let (c, n, b) = (self.component, self.normalized, &self.bytes);
+        if c == ComponentType::F32 {
+            return b
+                .chunks_exact(4 * N)
+                .map(|e| std::array::from_fn(|k| f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]])))
+                .collect();
+        }
+        (0..self.count).map(|e| std::array::from_fn(|k| decode(c, n, b, e * N + k))).collect()
+    }
+}
+
+#[inline]
+fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
+    match c {
+        ComponentType::F32 => f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]),
+        ComponentType::U8 => {
+            let v = f32::from(b[i]);
+            if normalized { v / 255.0 } else { v }
+        }
+        ComponentType::I8 => {
+            let v = f32::from(b[i] as i8);
+            if normalized { (v / 127.0).max(-1.0) } else { v }
+        }
+        ComponentType::U16 => {
+            let v = f32::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]]));
+            if normalized { v / 65535.0 } else { v }
+        }
+        ComponentType::I16 => {
+            let v = f32::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]]));
+            if normalized { (v / 32767.0).max(-1.0) } else { v }
+        }
+        ComponentType::U32 => {
+            let v = u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
+            v as f32
+        }
+    }
+}
+
+/// A checked view of `bufferViews[index]`: (buffer bytes of the view, byteStride).
+fn view_bytes<'d>(doc: &'d Document, index: usize, place: &str) -> Result<(&'d [u8], Option<usize>)> {
+    let views = doc.array("bufferViews");
+    if index >= doc.source_views && index < views.len() {
+        // A view added by an edit: its bytes live in the document, already checked.
+        let stride = views[index].get("byteStride").and_then(Value::as_u64).map(|s| s as usize);
+        return Ok((&doc.new_views[index - doc.source_views], stride));
+    }
+    let v = views.get(index).ok_or_else(|| {
+        doc.invalid(place, format!("bufferView {index} does not exist ({} defined)", views.len()))
+    })?;
+    let vplace = format!("{place} bufferViews[{index}]");
+    let buffer = uint(v, "buffer").ok_or_else(|| doc.invalid(&vplace, "buffer is missing"))? as usize;
+    let data = doc
+        .buffers
+        .get(buffer)
+        .ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
+    let offset = uint(v, "byteOffset").unwrap_or(0);
+    let length = uint(v, "byteLength").ok_or_else(|| doc.invalid(&vplace, "byteLength is missing"))?;
+    let end = offset.checked_add(length).filter(|&e| e <= data.len() as u64).ok_or_else(|| {
+        doc.invalid(
+            &vplace,
+            format!("bytes {offset}..{offset}+{length} exceed buffer {buffer} ({} bytes)", data.len()),
+        )
+    })?;
+    let stride = match v.get("byteStride") {
+        None => None,
+        Some(s) => Some(s.as_u64().filter(|&s| (4..=252).contains(&s)).ok_or_else(|| {
+            doc.invalid(&vplace, format!("byteStride {s} is outside 4..=252"))
+        })? as usize),
+    };
+    Ok((&data[offset as usize..end as usize], stride))
+}
+
+fn uint(v: &Value, key: &str) -> Option<u64> {
+    v.get(key).and_then(Value::as_u64)
+}
+
+/// Copies `count` elements of `elem` bytes, `stride` apart from `offset`, out of `bytes`.
+fn gather(
+    doc: &Document,
+    place: &str,
+    bytes: &[u8],
+    offset: u64,
+    stride: usize,
+    count: u64,
+    elem: usize,
+) -> Result<Vec<u8>> {
+    let need = (count - 1)
+        .checked_mul(stride as u64)
+        .and_then(|x| x.checked_add(offset))
+        .and_then(|x| x.checked_add(elem as u64));
+    match need {
+        Some(n) if n <= bytes.len() as u64 => {}
+        _ => {
+            return Err(doc.invalid(
+                place,
+                format!(
+                    "{count} elements of {elem} bytes (stride {stride}, offset {offset}) need more \
+                     than the {} bytes of its bufferView",
+                    bytes.len()
+                ),
+            ));
+        }
+    }
+    let offset = offset as usize;
+    if stride == elem {
+        return Ok(bytes[offset..offset + count as usize * elem].to_vec());
+    }
+    let mut out = Vec::with_capacity(count as usize * elem);
+    for e in 0..count as usize {
+        let s = offset + e * stride;
+        out.extend_from_slice(&bytes[s..s + elem]);
+    }
+    Ok(out)
+}
+
+/// Reads accessor `index` into packed elements. `place` prefixes errors (e.g. the attribute).
+pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
+    let accessors = doc.array("accessors");
+    let place = format!("{place} (accessor {index})");
+    let a = accessors.get(index).ok_or_else(|| {
+        doc.invalid(&place, format!("accessor {index} does not exist ({} defined)", accessors.len()))
+    })?;
+    let component = uint(a, "componentType")
+        .and_then(ComponentType::from_gl)
+        .ok_or_else(|| doc.invalid(&place, "componentType is missing or invalid"))?;
+    let ty = a.get("type").and_then(Value::as_str).unwrap_or("").to_owned();
+    let components = components_of(&ty).ok_or_else(|| doc.invalid(&place, format!("type {ty:?} is invalid")))?;
+    if ty.starts_with("MAT") {
+        return Err(doc.invalid(&place, format!("matrix accessors ({ty}) are not vertex data pelt reads")));
+    }
+    let normalized = a.get("normalized").and_then(Value::as_bool).unwrap_or(false);
+    let count = uint(a, "count").filter(|&c| c >= 1).ok_or_else(|| doc.invalid(&place, "count is missing or zero"))?;
+    let elem = components * component.size();
+    let offset = uint(a, "byteOffset").unwrap_or(0);
+    if offset % component.size() as u64 != 0 {
+        return Err(doc.invalid(&place, format!("byteOffset {offset} is not a multiple of the component size")));
+    }
+
+    let mut bytes = match uint(a, "bufferView") {
+        Some(v) => {
+            let (data, stride) = view_bytes(doc, v as usize, &place)?;
+            let stride = stride.unwrap_or(elem);
+            if stride < elem {
+                return Err(doc.invalid(&place, format!("byteStride {stride} is smaller than an element ({elem} bytes)")));
+            }
+            gather(doc, &place, data, offset, stride, count, elem)?
+        }
+        None => {
+            // No data: zeros (then sparse). Bounded by the asset's real size so a lying count
+            // cannot make us allocate without limit.
+            let want = count.saturating_mul(elem as u64);
+            let limit = 64 * doc.real_bytes() + (1 << 20);
+            if want > limit {
+                return Err(doc.invalid(&place, format!("count {count} without a bufferView would need {want} bytes; the asset holds {}", doc.real_bytes())));
+            }
+            vec![0u8; want as usize]
+        }
+    };
+
+    if let Some(sparse) = a.get("sparse") {
+        apply_sparse(doc, &place, sparse, count, elem, &mut bytes)?;
+    }
+    Ok(Elements { component, components, ty, normalized, count: count as usize, bytes })
+}
+
+fn apply_sparse(doc: &Document, place: &str, sparse: &Value, count: u64, elem: usize, out: &mut [u8]) -> Result<()> {
+    let sp = format!("{place} sparse");
+    let n = uint(sparse, "count").filter(|&n| n >= 1 && n <= count).ok_or_else(|| {
+        doc.invalid(&sp, format!("sparse count is missing or outside 1..={count}"))
+    })?;
+    let idx = sparse.get("indices").ok_or_else(|| doc.invalid(&sp, "indices missing"))?;
+    let val = sparse.get("values").ok_or_else(|| doc.invalid(&sp, "values missing"))?;
+    let ict = uint(idx, "componentType").and_then(ComponentType::from_gl).filter(|c| {
+        matches!(c, ComponentType::U8 | ComponentType::U16 | ComponentType::U32)
+    }).ok_or_else(|| doc.invalid(&sp, "indices componentType must be an unsigned integer type"))?;
+    let iview = uint(idx, "bufferView").ok_or_else(|| doc.invalid(&sp, "indices bufferView missing"))?;
+    let vview = uint(val, "bufferView").ok_or_else(|| doc.invalid(&sp, "values bufferView missing"))?;
+    let (ib, _) = view_bytes(doc, iview as usize, &format!("{sp} indices"))?;
+    let ibytes = gather(doc, &format!("{sp} indices"), ib, uint(idx, "byteOffset").unwrap_or(0), ict.size(), n, ict.size())?;
+    let (vb, _) = view_bytes(doc, vview as usize, &format!("{sp} values"))?;
+    let vbytes = gather(doc, &format!("{sp} values"), vb, uint(val, "byteOffset").unwrap_or(0), elem, n, elem)?;
+    let mut last: Option<u64> = None;
+    for k in 0..n as usize {
+        let i = u64::from(read_index(ict, &ibytes, k));
+        if i >= count || last.is_some_and(|l| i <= l) {
+            return Err(doc.invalid(&sp, format!("index {k} is {i}: sparse indices must increase and stay below {count}")));
+        }
+        last = Some(i);
+        let i = i as usize;
+        out[i * elem..(i + 1) * elem].copy_from_slice(&vbytes[k * elem..(k + 1) * elem]);
+    }
+    Ok(())
+}
+
+#[inline]
+fn read_index(c: ComponentType, b: &[u8], k: usize) -> u32 {
+    match c {
+        ComponentType::U8 => u32::from(b[k]),
+        ComponentType::U16 => u32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])),
+        _ => u32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]),
+    }
+}
+
+/// Reads a float vector attribute with `N` components (any component type, normalized or not).
+pub fn read_vec<const N: usize>(doc: &Document, index: usize, place: &str) -> Result<Vec<[f32; N]>> {
+    let e = read(doc, index, place)?;
+    if e.components != N {
+        return Err(doc.invalid(format!("{place} (accessor {index})"), format!("type is {}, expected {}", e.ty, type_of(N))));
+    }
+    Ok(e.to_f32::<N>())
+}
+
+/// Reads an index accessor (SCALAR unsigned byte, short or int, not normalized).
+pub fn read_indices(doc: &Document, index: usize, place: &str) -> Result<Vec<u32>> {
+    let e = read(doc, index, place)?;
+    let ok = e.components == 1
+        && !e.normalized
+        && matches!(e.component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32);
+    if !ok {
+        return Err(doc.invalid(format!("{place} (accessor {index})"), format!("indices must be SCALAR unsigned integers, found {} {}", e.ty, e.component.name())));
+    }
+    Ok((0..e.count).map(|k| read_index(e.component, &e.bytes, k)).collect())
+}

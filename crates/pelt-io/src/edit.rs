@@ -1,0 +1,256 @@
+//! The edits a bake makes to a [`Document`]: append accessors (each with its own bufferView,
+//! 4-byte aligned elements as glTF requires for vertex attributes), point a primitive's
+//! attribute at one, and re-index a primitive whose vertices were split (every attribute and
+//! morph target gathered through the same vertex map, min/max recomputed where present).
+//! Existing accessors are never removed or renumbered: animations, skins and extensions that
+//! point at them stay valid.
+
+use serde_json::{Map, Value, json};
+
+use crate::accessor::{self, ComponentType, Elements};
+use crate::document::{Document, PrimitiveRef};
+use crate::error::Result;
+
+/// bufferView target for vertex attributes.
+pub const ARRAY_BUFFER: u32 = 34962;
+/// bufferView target for indices.
+pub const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+
+/// Data for a new accessor: packed little-endian elements and how to describe them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NewAccessor {
+    /// Component type.
+    pub component: ComponentType,
+    /// Components per element (1-4).
+    pub components: usize,
+    /// Normalized integers.
+    pub normalized: bool,
+    /// Packed elements.
+    pub bytes: Vec<u8>,
+    /// Write `min` and `max` (required for POSITION).
+    pub min_max: bool,
+    /// bufferView target.
+    pub target: u32,
+}
+
+impl NewAccessor {
+    /// Float vectors.
+    pub fn f32<const N: usize>(v: &[[f32; N]]) -> Self {
+        let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        Self { component: ComponentType::F32, components: N, normalized: false, bytes, min_max: false, target: ARRAY_BUFFER }
+    }
+
+    /// Normalized unsigned short vectors.
+    pub fn u16_norm<const N: usize>(v: &[[u16; N]]) -> Self {
+        let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        Self { component: ComponentType::U16, components: N, normalized: true, bytes, min_max: false, target: ARRAY_BUFFER }
+    }
+
+    /// Normalized unsigned byte vectors.
+    pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
+        let bytes = v.iter().flatten().copied().collect();
+        Self { component: ComponentType::U8, components: N, normalized: true, bytes, min_max: false, target: ARRAY_BUFFER }
+    }
+
+    /// Triangle indices: unsigned short when every vertex fits below 65535, else unsigned int.
+    pub fn indices(v: &[u32], vertex_count: usize) -> Self {
+        let (component, bytes) = if vertex_count <= 65535 {
+            (ComponentType::U16, v.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect())
+        } else {
+            (ComponentType::U32, v.iter().flat_map(|i| i.to_le_bytes()).collect())
+        };
+        Self { component, components: 1, normalized: false, bytes, min_max: false, target: ELEMENT_ARRAY_BUFFER }
+    }
+
+    /// Elements of an existing accessor gathered through `map` (new element i = old map[i]).
+    pub fn gathered(e: &Elements, map: &[u32], min_max: bool) -> Self {
+        let size = e.element_size();
+        let mut bytes = Vec::with_capacity(map.len() * size);
+        for &m in map {
+            let s = m as usize * size;
+            bytes.extend_from_slice(&e.bytes[s..s + size]);
+        }
+        Self { component: e.component, components: e.components, normalized: e.normalized, bytes, min_max, target: ARRAY_BUFFER }
+    }
+
+    fn element_size(&self) -> usize {
+        self.components * self.component.size()
+    }
+
+    fn count(&self) -> usize {
+        self.bytes.len() / self.element_size()
+    }
+
+    /// Per-component (min, max) in the accessor's own type, as JSON numbers.
+    fn bounds(&self) -> (Vec<Value>, Vec<Value>) {
+        let e = Elements {
+            component: self.component,
+            components: self.components,
+            ty: String::new(),
+            normalized: false,
+            count: self.count(),
+            bytes: self.bytes.clone(),
+        };
+        let mut lo = vec![f64::INFINITY; self.components];
+        let mut hi = vec![f64::NEG_INFINITY; self.components];
+        for i in 0..e.count * self.components {
+            let k = i % self.components;
+            let v = raw_value(&e, i);
+            lo[k] = lo[k].min(v);
+            hi[k] = hi[k].max(v);
+        }
+        let num = |v: f64| {
+            if self.component == ComponentType::F32 { json!(v) } else { json!(v as i64) }
+        };
+        (lo.into_iter().map(num).collect(), hi.into_iter().map(num).collect())
+    }
+}
+
+fn raw_value(e: &Elements, i: usize) -> f64 {
+    let b = &e.bytes;
+    match e.component {
+        ComponentType::F32 => f64::from(f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])),
+        ComponentType::U8 => f64::from(b[i]),
+        ComponentType::I8 => f64::from(b[i] as i8),
+        ComponentType::U16 => f64::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
+        ComponentType::I16 => f64::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
+        ComponentType::U32 => f64::from(u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])),
+    }
+}
+
+impl Document {
+    /// Appends an accessor (and its bufferView); returns the accessor index.
+    pub fn push_accessor(&mut self, a: NewAccessor) -> usize {
+        let size = a.element_size();
+        let count = a.count();
+        let stride = if a.target == ARRAY_BUFFER { size.next_multiple_of(4) } else { size };
+        let data = if stride == size {
+            a.bytes.clone()
+        } else {
+            let mut d = vec![0u8; count * stride];
+            for (dst, src) in d.chunks_exact_mut(stride).zip(a.bytes.chunks_exact(size)) {
+                dst[..size].copy_from_slice(src);
+            }
+            d
+        };
+        let mut view = Map::new();
+        view.insert("buffer".into(), json!(0));
+        view.insert("byteLength".into(), json!(data.len()));
+        if stride != size {
+            view.insert("byteStride".into(), json!(stride));
+        }
+        view.insert("target".into(), json!(a.target));
+        let view_index = self.source_views + self.new_views.len();
+        push_to(&mut self.json, "bufferViews", Value::Object(view));
+        self.new_views.push(data);
+
+        let mut acc = Map::new();
+        acc.insert("bufferView".into(), json!(view_index));
+        acc.insert("componentType".into(), json!(a.component.gl()));
+        if a.normalized {
+            acc.insert("normalized".into(), json!(true));
+        }
+        acc.insert("count".into(), json!(count));
+        acc.insert("type".into(), json!(accessor::type_of(a.components)));
+        if a.min_max && count > 0 {
+            let (lo, hi) = a.bounds();
+            acc.insert("min".into(), Value::Array(lo));
+            acc.insert("max".into(), Value::Array(hi));
+        }
+        push_to(&mut self.json, "accessors", Value::Object(acc))
+    }
+
+    /// Appends a raw bufferView (4-byte aligned at write time); returns its index.
+    pub fn push_view(&mut self, bytes: Vec<u8>, target: Option<u32>) -> usize {
+        let mut view = Map::new();
+        view.insert("buffer".into(), json!(0));
+        view.insert("byteLength".into(), json!(bytes.len()));
+        if let Some(t) = target {
+            view.insert("target".into(), json!(t));
+        }
+        let index = self.source_views + self.new_views.len();
+        push_to(&mut self.json, "bufferViews", Value::Object(view));
+        self.new_views.push(bytes);
+        index
+    }
+
+    /// Appends an accessor given as JSON (for layouts [`NewAccessor`] does not cover, such as
+    /// sparse ones); returns its index.
+    pub fn push_accessor_json(&mut self, accessor: Value) -> usize {
+        push_to(&mut self.json, "accessors", accessor)
+    }
+
+    /// Points attribute `name` of the primitive at accessor `index`.
+    pub fn set_attribute(&mut self, r: PrimitiveRef, name: &str, index: usize) -> Result<()> {
+        let place = self.place(r);
+        let prim = self.primitive_checked(r)?;
+        let attrs = prim.entry("attributes").or_insert_with(|| Value::Object(Map::new()));
+        match attrs.as_object_mut() {
+            Some(a) => {
+                a.insert(name.to_owned(), json!(index));
+                Ok(())
+            }
+            None => Err(self.invalid(place, "attributes is not an object")),
+        }
+    }
+
+    /// Re-indexes a primitive after a vertex split: new vertex i copies old vertex `map[i]` in
+    /// every attribute and morph target, and `indices` (into the new vertices) replace the old.
+    /// Attributes named in `replaced` are dropped, not gathered: the caller sets them anew.
+    pub fn remap_primitive(&mut self, r: PrimitiveRef, map: &[u32], indices: &[u32], replaced: &[&str]) -> Result<()> {
+        let place = self.place(r);
+        let prim = self.primitive(r)?.clone();
+        let mut attrs = prim.get("attributes").and_then(Value::as_object).cloned().unwrap_or_default();
+        attrs.retain(|name, _| !replaced.contains(&name.as_str()));
+        for (name, v) in attrs.iter_mut() {
+            let old = v.as_u64().ok_or_else(|| self.invalid(format!("{place} attributes.{name}"), "not an accessor index"))? as usize;
+            *v = json!(self.regather(old, map, &format!("{place} attributes.{name}"))?);
+        }
+        let mut targets = prim.get("targets").and_then(Value::as_array).cloned().unwrap_or_default();
+        for (t, target) in targets.iter_mut().enumerate() {
+            if let Some(obj) = target.as_object_mut() {
+                for (name, v) in obj.iter_mut() {
+                    let tp = format!("{place} targets[{t}].{name}");
+                    let old = v.as_u64().ok_or_else(|| self.invalid(&tp, "not an accessor index"))? as usize;
+                    *v = json!(self.regather(old, map, &tp)?);
+                }
+            }
+        }
+        let idx = self.push_accessor(NewAccessor::indices(indices, map.len()));
+        let prim = self.primitive_checked(r)?;
+        prim.insert("attributes".into(), Value::Object(attrs));
+        if !targets.is_empty() {
+            prim.insert("targets".into(), Value::Array(targets));
+        }
+        prim.insert("indices".into(), json!(idx));
+        Ok(())
+    }
+
+    fn primitive_checked(&mut self, r: PrimitiveRef) -> Result<&mut Map<String, Value>> {
+        let err = self.invalid(self.place(r), "primitive is not a JSON object");
+        self.primitive_mut(r).ok_or(err)
+    }
+
+    fn regather(&mut self, old: usize, map: &[u32], place: &str) -> Result<usize> {
+        let e = accessor::read(self, old, place)?;
+        if let Some(&bad) = map.iter().find(|&&m| m as usize >= e.count) {
+            return Err(self.invalid(format!("{place} (accessor {old})"), format!("has {} elements, vertex {bad} is referenced", e.count)));
+        }
+        let had_bounds = self.array("accessors").get(old).is_some_and(|a| a.get("min").is_some() || a.get("max").is_some());
+        Ok(self.push_accessor(NewAccessor::gathered(&e, map, had_bounds)))
+    }
+}
+
+pub(crate) fn push_to(json: &mut Map<String, Value>, key: &str, v: Value) -> usize {
+    let arr = json.entry(key).or_insert_with(|| Value::Array(Vec::new()));
+    if !arr.is_array() {
+        *arr = Value::Array(Vec::new());
+    }
+    match arr.as_array_mut() {
+        Some(a) => {
+            a.push(v);
+            a.len() - 1
+        }
+        None => 0,
+    }
+}

@@ -1,0 +1,206 @@
+//! The `.glb` writer (glTF 2.0 §4.4): one JSON chunk and one BIN chunk holding every buffer,
+//! the views added by edits and every URI image, so the output stands alone. Views keep their
+//! order and are 4-byte aligned. The output goes to a temporary file in the target folder and
+//! is renamed into place, so a killed run never leaves a partial file under the output name.
+//! No timestamps or paths are written: the same document gives the same bytes.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value, json};
+
+use crate::document::Document;
+use crate::error::{IoError, Result};
+
+/// What was written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WriteStats {
+    /// Bytes of the whole file.
+    pub file_bytes: u64,
+    /// Bytes of the BIN chunk.
+    pub bin_bytes: u64,
+}
+
+/// A run of BIN bytes, borrowed from the document.
+struct Piece<'a>(&'a [u8]);
+
+impl Piece<'_> {
+    fn bytes(&self) -> &[u8] {
+        self.0
+    }
+}
+
+/// Lays the document out as GLB: the final JSON and the BIN pieces in order (with padding).
+/// The GLB layout: final JSON text, BIN pieces at their offsets, BIN length.
+type Layout<'a> = (Vec<u8>, Vec<(u64, Piece<'a>)>, u64);
+
+fn layout(doc: &Document) -> Result<Layout<'_>> {
+    let mut json = doc.json.clone();
+    let mut pieces: Vec<(u64, Piece<'_>)> = Vec::new();
+    let mut at = 0u64;
+    let mut place = |len: usize| {
+        let off = at.next_multiple_of(4);
+        at = off + len as u64;
+        off
+    };
+
+    let mut views: Vec<Value> = json.get("bufferViews").and_then(Value::as_array).cloned().unwrap_or_default();
+    for (i, v) in views.iter_mut().enumerate() {
+        let vplace = format!("bufferViews[{i}]");
+        let obj = v.as_object_mut().ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
+        let bytes: Piece<'_> = if i < doc.source_views {
+            let buffer = obj.get("buffer").and_then(Value::as_u64).ok_or_else(|| doc.invalid(&vplace, "buffer missing"))?;
+            let data = doc.buffers.get(buffer as usize).ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
+            let off = obj.get("byteOffset").and_then(Value::as_u64).unwrap_or(0);
+            let len = obj.get("byteLength").and_then(Value::as_u64).ok_or_else(|| doc.invalid(&vplace, "byteLength missing"))?;
+            let end = off.checked_add(len).filter(|&e| e <= data.len() as u64).ok_or_else(|| {
+                doc.invalid(&vplace, format!("bytes {off}..{off}+{len} exceed buffer {buffer} ({} bytes)", data.len()))
+            })?;
+            Piece(&data[off as usize..end as usize])
+        } else {
+            Piece(&doc.new_views[i - doc.source_views])
+        };
+        let off = place(bytes.bytes().len());
+        obj.insert("buffer".into(), json!(0));
+        if off == 0 {
+            obj.remove("byteOffset");
+        } else {
+            obj.insert("byteOffset".into(), json!(off));
+        }
+        pieces.push((off, bytes));
+    }
+
+    // Embed URI images as bufferViews.
+    let mut images: Vec<Value> = json.get("images").and_then(Value::as_array).cloned().unwrap_or_default();
+    for (i, img) in images.iter_mut().enumerate() {
+        let Some(Some(uri)) = doc.uri_images.get(i) else { continue };
+        let obj = img.as_object_mut().ok_or_else(|| doc.invalid(format!("images[{i}]"), "not an object"))?;
+        let off = place(uri.bytes.len());
+        let mut view = Map::new();
+        view.insert("buffer".into(), json!(0));
+        if off != 0 {
+            view.insert("byteOffset".into(), json!(off));
+        }
+        view.insert("byteLength".into(), json!(uri.bytes.len()));
+        obj.remove("uri");
+        obj.insert("bufferView".into(), json!(views.len()));
+        obj.insert("mimeType".into(), json!(uri.mime));
+        views.push(Value::Object(view));
+        pieces.push((off, Piece(&uri.bytes)));
+    }
+    let bin_len = at;
+
+    if !views.is_empty() {
+        json.insert("bufferViews".into(), Value::Array(views));
+    }
+    if !images.is_empty() {
+        json.insert("images".into(), Value::Array(images));
+    }
+    if bin_len > 0 {
+        let mut buffer = json
+            .get("buffers")
+            .and_then(Value::as_array)
+            .and_then(|b| b.first())
+            .and_then(Value::as_object)
+            .cloned()
+            .unwrap_or_default();
+        buffer.remove("uri");
+        buffer.insert("byteLength".into(), json!(bin_len));
+        json.insert("buffers".into(), json!([Value::Object(buffer)]));
+    } else {
+        json.remove("buffers");
+    }
+
+    let text = serde_json::to_vec(&Value::Object(json))
+        .map_err(|e| doc.invalid("JSON", format!("cannot serialize: {e}")))?;
+    Ok((text, pieces, bin_len))
+}
+
+/// Writes the document as a `.gltf` whose single buffer is a base64 data URI (for small,
+/// readable fixtures), atomically.
+pub fn write_gltf_embedded(doc: &Document, out: &Path) -> Result<()> {
+    use base64::Engine as _;
+    let (json, pieces, bin_len) = layout(doc)?;
+    let mut root: Map<String, Value> =
+        serde_json::from_slice(&json).map_err(|e| doc.invalid("JSON", e.to_string()))?;
+    if bin_len > 0 {
+        let mut bin = vec![0u8; bin_len as usize];
+        for (off, p) in &pieces {
+            bin[*off as usize..*off as usize + p.bytes().len()].copy_from_slice(p.bytes());
+        }
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&bin)
+        );
+        if let Some(b) = root.get_mut("buffers").and_then(|b| b.get_mut(0)).and_then(Value::as_object_mut) {
+            b.insert("uri".into(), json!(uri));
+        }
+    }
+    let mut text = serde_json::to_vec_pretty(&Value::Object(root)).map_err(|e| doc.invalid("JSON", e.to_string()))?;
+    text.push(b'\n');
+    write_atomic(out, &text)
+}
+
+/// Writes `bytes` to `out` through a temporary file and a rename.
+pub fn write_atomic(out: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = temp_path(out);
+    let r = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, out));
+    r.map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        IoError::Fs { path: out.to_owned(), action: "write", source }
+    })
+}
+
+/// Writes the document as a self-contained `.glb` at `out`, atomically.
+pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
+    let (json, pieces, bin_len) = layout(doc)?;
+    let json_padded = json.len().next_multiple_of(4) as u64;
+    let bin_padded = bin_len.next_multiple_of(4);
+    let total = 12 + 8 + json_padded + if bin_len > 0 { 8 + bin_padded } else { 0 };
+    if total > u64::from(u32::MAX) {
+        return Err(doc.invalid("output", format!("{total} bytes exceed the 4 GiB GLB limit")));
+    }
+
+    let tmp = temp_path(out);
+    let fs_err = |action: &'static str| {
+        let path = out.to_owned();
+        move |source| IoError::Fs { path: path.clone(), action, source }
+    };
+    let result = (|| -> std::io::Result<()> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
+        w.write_all(b"glTF")?;
+        w.write_all(&2u32.to_le_bytes())?;
+        w.write_all(&(total as u32).to_le_bytes())?;
+        w.write_all(&(json_padded as u32).to_le_bytes())?;
+        w.write_all(&0x4E4F_534Au32.to_le_bytes())?;
+        w.write_all(&json)?;
+        w.write_all(&b"   "[..(json_padded as usize - json.len())])?;
+        if bin_len > 0 {
+            w.write_all(&(bin_padded as u32).to_le_bytes())?;
+            w.write_all(&0x004E_4942u32.to_le_bytes())?;
+            let mut at = 0u64;
+            for (off, p) in &pieces {
+                let pad = (off - at) as usize;
+                w.write_all(&[0u8; 4][..pad])?;
+                w.write_all(p.bytes())?;
+                at = off + p.bytes().len() as u64;
+            }
+            w.write_all(&[0u8; 4][..(bin_padded - at) as usize])?;
+        }
+        let file = w.into_inner().map_err(std::io::IntoInnerError::into_error)?;
+        drop(file);
+        std::fs::rename(&tmp, out)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(fs_err("write")(e));
+    }
+    Ok(WriteStats { file_bytes: total, bin_bytes: bin_padded })
+}
+
+/// `dir/.name.pelt-tmp-PID`: in the target folder so the final rename stays on one filesystem.
+fn temp_path(out: &Path) -> PathBuf {
+    let name = out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    out.with_file_name(format!(".{name}.pelt-tmp-{}", std::process::id()))
+}

@@ -1,0 +1,184 @@
+//! One glTF primitive read into pelt's [`Mesh`]: POSITION, NORMAL, TEXCOORD_0, TANGENT and
+//! COLOR_0 decoded to f32 (any legal encoding), indices (or the implicit 0..n). Every float
+//! attribute of the primitive, morph targets included, is checked finite, because pelt copies
+//! what it does not change and must not carry a NaN into its output.
+
+use glam::{Vec2, Vec3, Vec4};
+use pelt_geom::Mesh;
+use pelt_geom::mesh::check_finite;
+use serde_json::Value;
+
+use crate::accessor::{self, ComponentType};
+use crate::document::{Document, PrimitiveRef};
+use crate::error::Result;
+
+/// How an attribute is stored, for reports.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Encoding {
+    /// Accessor index.
+    pub accessor: usize,
+    /// `VEC3`, `VEC4`, …
+    pub ty: String,
+    /// Component type.
+    pub component: ComponentType,
+    /// Normalized integers.
+    pub normalized: bool,
+    /// Uses sparse storage.
+    pub sparse: bool,
+}
+
+impl Encoding {
+    /// `VEC4 unsigned byte normalized`, `VEC3 float`, …
+    pub fn describe(&self) -> String {
+        let mut s = format!("{} {}", self.ty, self.component.name());
+        if self.normalized {
+            s.push_str(" normalized");
+        }
+        if self.sparse {
+            s.push_str(" sparse");
+        }
+        s
+    }
+}
+
+/// A primitive read for baking.
+#[derive(Debug, Clone)]
+pub struct PrimitiveMesh {
+    /// The geometry.
+    pub mesh: Mesh,
+    /// COLOR_0's storage, when present.
+    pub color: Option<Encoding>,
+    /// Whether the source had an `indices` accessor.
+    pub indexed: bool,
+}
+
+/// The encoding of accessor `index`.
+pub fn encoding(doc: &Document, index: usize) -> Option<Encoding> {
+    let a = doc.array("accessors").get(index)?;
+    Some(Encoding {
+        accessor: index,
+        ty: a.get("type")?.as_str()?.to_owned(),
+        component: ComponentType::from_gl(a.get("componentType")?.as_u64()?)?,
+        normalized: a.get("normalized").and_then(Value::as_bool).unwrap_or(false),
+        sparse: a.get("sparse").is_some(),
+    })
+}
+
+/// Reads primitive `r` (which must be TRIANGLES) into a [`PrimitiveMesh`].
+pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> {
+    let place = doc.place(r);
+    let attr = |name: &str| -> Result<Option<usize>> { doc.attribute(r, name) };
+    let at = |name: &str| format!("{place} attribute {name}");
+
+    let pos_i = attr("POSITION")?.ok_or_else(|| doc.invalid(&place, "has no POSITION attribute"))?;
+    let positions: Vec<Vec3> = accessor::read_vec::<3>(doc, pos_i, &at("POSITION"))?.into_iter().map(Vec3::from).collect();
+    let n = positions.len();
+    let checked_len = |name: &str, len: usize| -> Result<()> {
+        if len == n {
+            Ok(())
+        } else {
+            Err(doc.invalid(at(name), format!("has {len} elements, POSITION has {n}")))
+        }
+    };
+
+    let normals = match attr("NORMAL")? {
+        Some(i) => {
+            let v = accessor::read_vec::<3>(doc, i, &at("NORMAL"))?;
+            checked_len("NORMAL", v.len())?;
+            Some(v.into_iter().map(Vec3::from).collect::<Vec<_>>())
+        }
+        None => None,
+    };
+    let uvs = match attr("TEXCOORD_0")? {
+        Some(i) => {
+            let v = accessor::read_vec::<2>(doc, i, &at("TEXCOORD_0"))?;
+            checked_len("TEXCOORD_0", v.len())?;
+            Some(v.into_iter().map(Vec2::from).collect::<Vec<_>>())
+        }
+        None => None,
+    };
+    let tangents = match attr("TANGENT")? {
+        Some(i) => {
+            let v = accessor::read_vec::<4>(doc, i, &at("TANGENT"))?;
+            checked_len("TANGENT", v.len())?;
+            Some(v.into_iter().map(Vec4::from).collect::<Vec<_>>())
+        }
+        None => None,
+    };
+    let (colors, color) = match attr("COLOR_0")? {
+        Some(i) => {
+            let e = accessor::read(doc, i, &at("COLOR_0"))?;
+            let legal = e.component == ComponentType::F32
+                || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
+            if !legal || !(e.components == 3 || e.components == 4) {
+                return Err(doc.invalid(
+                    format!("{} (accessor {i})", at("COLOR_0")),
+                    format!("COLOR_0 must be VEC3 or VEC4 of float or normalized unsigned byte/short, found {} {}{}", e.ty, e.component.name(), if e.normalized { " normalized" } else { "" }),
+                ));
+            }
+            checked_len("COLOR_0", e.count)?;
+            let c: Vec<Vec4> = if e.components == 4 {
+                e.to_f32::<4>().into_iter().map(Vec4::from).collect()
+            } else {
+                e.to_f32::<3>().into_iter().map(|[r, g, b]| Vec4::new(r, g, b, 1.0)).collect()
+            };
+            (Some(c), encoding(doc, i))
+        }
+        None => (None, None),
+    };
+
+    let prim = doc.primitive(r)?;
+    let (indices, indexed) = match prim.get("indices") {
+        Some(v) => {
+            let i = v.as_u64().ok_or_else(|| doc.invalid(format!("{place} indices"), "not an accessor index"))? as usize;
+            (accessor::read_indices(doc, i, &format!("{place} indices"))?, true)
+        }
+        None => ((0..n as u32).collect(), false),
+    };
+
+    let mesh = Mesh { positions, normals, uvs, tangents, colors, indices };
+    mesh.validate().map_err(|e| doc.invalid(&place, e.to_string()))?;
+    check_other_floats(doc, r)?;
+    Ok(PrimitiveMesh { mesh, color, indexed })
+}
+
+/// Every other float attribute (and morph target) must be finite too.
+fn check_other_floats(doc: &Document, r: PrimitiveRef) -> Result<()> {
+    const READ: [&str; 5] = ["POSITION", "NORMAL", "TEXCOORD_0", "TANGENT", "COLOR_0"];
+    let place = doc.place(r);
+    let prim = doc.primitive(r)?;
+    let mut list: Vec<(String, usize)> = Vec::new();
+    if let Some(a) = prim.get("attributes").and_then(Value::as_object) {
+        for (k, v) in a {
+            if !READ.contains(&k.as_str()) {
+                if let Some(i) = v.as_u64() {
+                    list.push((format!("attribute {k}"), i as usize));
+                }
+            }
+        }
+    }
+    if let Some(ts) = prim.get("targets").and_then(Value::as_array) {
+        for (t, target) in ts.iter().enumerate() {
+            for (k, v) in target.as_object().into_iter().flatten() {
+                if let Some(i) = v.as_u64() {
+                    list.push((format!("targets[{t}].{k}"), i as usize));
+                }
+            }
+        }
+    }
+    for (what, i) in list {
+        let e = accessor::read(doc, i, &format!("{place} {what}"))?;
+        if e.component == ComponentType::F32 {
+            let values = (0..e.count * e.components).map(|k| [e.component_f32(k)]);
+            check_finite(&what, values).map_err(|err| {
+                // Report the element (vertex), not the flat component index.
+                let msg = match err {
+                    pelt_geom::GeomError::NonFinite { vertex, value, .. } => format!("{what}: vertex {} has a non-finite value ({value})", vertex / e.components),
+                    other => other.to_string(),
+                };
+                doc.invalid(&place, msg)
+            })?;
+        }
+    }
+    Ok(())
+}

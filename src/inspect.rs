@@ -1,0 +1,141 @@
+//! `pelt inspect`: what a file holds, per primitive: attributes with their encodings and
+//! counts, position bounds, and statistics of `_FUR_COMB` (or of COLOR_0 before a bake).
+
+use std::process::ExitCode;
+
+use pelt_io::accessor;
+use pelt_io::mesh::encoding;
+use serde_json::{Value, json};
+
+use crate::InspectArgs;
+
+/// Runs `pelt inspect`.
+pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
+    let doc = match crate::bake::load(&args.file) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("pelt: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    let info = match describe(&doc) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("pelt: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&info)?);
+    } else {
+        print_text(&info);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
+    let mut prims = Vec::new();
+    let (mut vertices, mut triangles) = (0usize, 0usize);
+    for r in doc.primitives() {
+        let place = doc.place(r);
+        let p = doc.primitive(r)?;
+        let mode = doc.mode(r)?;
+        let mut attrs = serde_json::Map::new();
+        let mut count = 0usize;
+        for (name, v) in p.get("attributes").and_then(Value::as_object).into_iter().flatten() {
+            let Some(i) = v.as_u64().map(|i| i as usize) else { continue };
+            let e = accessor::read(doc, i, &format!("{place} attribute {name}"))?;
+            count = e.count;
+            let enc = encoding(doc, i).map(|e| e.describe()).unwrap_or_default();
+            attrs.insert(name.clone(), json!({"accessor": i, "encoding": enc, "count": e.count}));
+        }
+        let indices = match p.get("indices").and_then(Value::as_u64) {
+            Some(i) => accessor::read_indices(doc, i as usize, &format!("{place} indices"))?.len(),
+            None => count,
+        };
+        let tris = if mode == 4 { indices / 3 } else { 0 };
+        vertices += count;
+        triangles += tris;
+        let mut entry = json!({
+            "mesh": r.mesh, "primitive": r.primitive, "name": doc.mesh_name(r.mesh),
+            "mode": mode, "vertices": count, "triangles": tris, "attributes": attrs,
+        });
+        if let Some(i) = doc.attribute(r, "POSITION")? {
+            let p = accessor::read_vec::<3>(doc, i, &format!("{place} attribute POSITION"))?;
+            let (lo, hi) = p.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), v| {
+                (std::array::from_fn(|k| lo[k].min(v[k])), std::array::from_fn(|k| hi[k].max(v[k])))
+            });
+            entry["bounds"] = json!({"min": lo, "max": hi});
+        }
+        if let Some(i) = doc.attribute(r, "_FUR_COMB")? {
+            let c = accessor::read_vec::<4>(doc, i, &format!("{place} attribute _FUR_COMB"))?;
+            let normalized = accessor::read(doc, i, "")?.normalized;
+            entry["comb"] = comb_stats(c.iter().map(|&c| if normalized { pelt_bake::comb::decode_unorm(c) } else { c }));
+        } else if let Some(i) = doc.attribute(r, "COLOR_0")? {
+            let e = accessor::read(doc, i, &format!("{place} attribute COLOR_0"))?;
+            let lens: Vec<f32> = (0..e.count).map(|k| if e.components == 4 { e.component_f32(4 * k + 3) } else { 1.0 }).collect();
+            entry["color_0_length"] = range_stats(&lens);
+        }
+        prims.push(entry);
+    }
+    Ok(json!({
+        "file": doc.path, "meshes": doc.array("meshes").len(), "primitives": prims.len(),
+        "vertices": vertices, "triangles": triangles, "nodes": doc.array("nodes").len(),
+        "materials": doc.array("materials").len(), "images": doc.array("images").len(),
+        "primitive": prims,
+    }))
+}
+
+fn range_stats(v: &[f32]) -> Value {
+    if v.is_empty() {
+        return json!(null);
+    }
+    let (lo, hi) = v.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let mean = v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64;
+    json!({"min": lo, "mean": mean, "max": hi})
+}
+
+fn comb_stats(c: impl Iterator<Item = [f32; 4]>) -> Value {
+    let c: Vec<[f32; 4]> = c.collect();
+    let lens: Vec<f32> = c.iter().map(|c| c[3]).collect();
+    let zero = lens.iter().filter(|&&l| l == 0.0).count();
+    let (mut max_z, mut max_unit_err) = (0f64, 0f64);
+    for v in &c {
+        let (x, y, z) = (f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
+        max_z = max_z.max(z.abs());
+        max_unit_err = max_unit_err.max(((x * x + y * y + z * z).sqrt() - 1.0).abs());
+    }
+    json!({"count": c.len(), "zero_length": zero, "length": range_stats(&lens), "max_abs_z": max_z, "max_unit_error": max_unit_err})
+}
+
+fn print_text(v: &Value) {
+    println!(
+        "{}: {} meshes, {} primitives, {} vertices, {} triangles, {} nodes, {} materials, {} images",
+        v["file"].as_str().unwrap_or("?"),
+        v["meshes"], v["primitives"], v["vertices"], v["triangles"], v["nodes"], v["materials"], v["images"]
+    );
+    for p in v["primitive"].as_array().into_iter().flatten() {
+        let name = p["name"].as_str().map(|n| format!(" {n:?}")).unwrap_or_default();
+        println!(
+            "meshes[{}]{name} primitives[{}]: mode {}, {} vertices, {} triangles",
+            p["mesh"], p["primitive"], p["mode"], p["vertices"], p["triangles"]
+        );
+        for (k, a) in p["attributes"].as_object().into_iter().flatten() {
+            println!("  {k:<12} {} ({} elements, accessor {})", a["encoding"].as_str().unwrap_or("?"), a["count"], a["accessor"]);
+        }
+        if let Some(b) = p.get("bounds") {
+            println!("  bounds       min {} max {}", b["min"], b["max"]);
+        }
+        if let Some(c) = p.get("comb") {
+            println!(
+                "  comb         {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
+                c["count"], c["zero_length"], c["length"]["min"], c["length"]["max"],
+                c["length"]["mean"].as_f64().unwrap_or(0.0), c["max_abs_z"].as_f64().unwrap_or(0.0),
+                c["max_unit_error"].as_f64().unwrap_or(0.0)
+            );
+        }
+        if let Some(c) = p.get("color_0_length") {
+            println!("  COLOR_0 A    {}..{} (mean {:.3}); not baked yet", c["min"], c["max"], c["mean"].as_f64().unwrap_or(0.0));
+        }
+    }
+}
