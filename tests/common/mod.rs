@@ -1,0 +1,113 @@
+//! Helpers for pelt's CLI tests: run the binary, scratch folders, read baked outputs back.
+
+#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use glam::{DVec3, Vec3, Vec4};
+use pelt_io::{Document, accessor};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fixture path.
+pub fn fixture(rel: &str) -> PathBuf {
+    root().join("fixtures").join(rel)
+}
+
+/// A fresh, empty scratch folder under the target directory.
+pub fn scratch(name: &str) -> PathBuf {
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let dir = root()
+        .join("target")
+        .join("test-scratch")
+        .join(format!("{name}-{}-{}", std::process::id(), N.fetch_add(1, Ordering::Relaxed)));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create scratch folder");
+    dir
+}
+
+/// Runs `pelt ARGS` with optional environment.
+pub fn pelt(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_pelt"));
+    c.args(args).current_dir(root());
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run pelt")
+}
+
+/// Runs pelt and asserts success.
+pub fn pelt_ok(args: &[&str]) -> Output {
+    let out = pelt(args, &[]);
+    assert!(out.status.success(), "pelt {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    out
+}
+
+/// Bakes `input` to `dir/name.glb` with extra args; returns the output path.
+pub fn bake(input: &Path, dir: &Path, extra: &[&str]) -> PathBuf {
+    let out = dir.join(format!("{}.glb", input.file_stem().unwrap_or_default().to_string_lossy()));
+    let mut args = vec!["bake", "-q", input.to_str().unwrap_or_default(), "-o", out.to_str().unwrap_or_default()];
+    args.extend_from_slice(extra);
+    pelt_ok(&args);
+    out
+}
+
+/// One baked primitive read back.
+pub struct Baked {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub tangents: Vec<Vec4>,
+    pub colors: Vec<Vec4>,
+    pub comb: Vec<[f32; 4]>,
+    pub comb_normalized: bool,
+    pub indices: Vec<u32>,
+}
+
+/// Reads primitive (mesh, prim) of a baked file.
+pub fn read_baked(path: &Path, mesh: usize, prim: usize) -> Baked {
+    let doc = Document::load(path).expect("load output");
+    let r = pelt_io::PrimitiveRef { mesh, primitive: prim };
+    let m = pelt_io::mesh::read_primitive(&doc, r).expect("read primitive");
+    let ci = doc.attribute(r, "_FUR_COMB").expect("attr").expect("_FUR_COMB present");
+    let e = accessor::read(&doc, ci, "_FUR_COMB").expect("read comb");
+    Baked {
+        positions: m.mesh.positions.clone(),
+        normals: m.mesh.normals.clone().expect("NORMAL present"),
+        tangents: m.mesh.tangents.clone().expect("TANGENT present"),
+        colors: m.mesh.colors.clone().expect("COLOR_0 kept"),
+        comb: e.to_f32::<4>(),
+        comb_normalized: e.normalized,
+        indices: m.mesh.indices,
+    }
+}
+
+impl Baked {
+    /// Object-space comb direction of vertex `v`, decoded as the README documents.
+    pub fn object_comb(&self, v: usize) -> DVec3 {
+        let mut c = self.comb[v];
+        if self.comb_normalized {
+            c = pelt_bake::comb::decode_unorm(c);
+        }
+        let (frame, _) = pelt_bake::frame::Frame::new(self.normals[v], self.tangents[v]);
+        frame.to_object(DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
+    }
+
+    /// The input comb of vertex `v` after Gram-Schmidt against the normal (the expected result).
+    pub fn expected_comb(&self, v: usize) -> Option<DVec3> {
+        let c = self.colors[v];
+        let d = DVec3::new(f64::from(c.x), f64::from(c.y), f64::from(c.z)) * 2.0 - DVec3::ONE;
+        let n = self.normals[v].as_dvec3().normalize();
+        let g = d - n * n.dot(d);
+        (d.length() > pelt_bake::comb::GRAY_EPSILON && g.length() > 1e-3 * d.length()).then(|| g.normalize())
+    }
+}
+
+/// Angle between two directions, radians.
+pub fn angle(a: DVec3, b: DVec3) -> f64 {
+    a.normalize().dot(b.normalize()).clamp(-1.0, 1.0).acos()
+}
