@@ -46,7 +46,10 @@ struct InputReport {
 
 /// Loads any supported input by extension.
 pub fn load(path: &Path) -> Result<Document, pelt_io::IoError> {
-    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+    {
         pelt_io::obj::load(path)
     } else {
         Document::load(path)
@@ -76,21 +79,38 @@ fn options(args: &BakeArgs) -> BakeOptions {
 fn outputs(args: &BakeArgs) -> anyhow::Result<Vec<PathBuf>> {
     if args.inputs.len() == 1 && !args.output.is_dir() {
         let out = &args.output;
-        if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
-            bail!("output {} must end in .glb (pelt writes self-contained binary glTF)", out.display());
+        if !out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+        {
+            bail!(
+                "output {} must end in .glb (pelt writes self-contained binary glTF)",
+                out.display()
+            );
         }
         return Ok(vec![out.clone()]);
     }
     if args.output.exists() && !args.output.is_dir() {
-        bail!("output {} must be a folder when baking several inputs", args.output.display());
+        bail!(
+            "output {} must be a folder when baking several inputs",
+            args.output.display()
+        );
     }
     let mut seen = std::collections::BTreeMap::new();
     let mut outs = Vec::new();
     for input in &args.inputs {
-        let stem = input.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = input
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let out = args.output.join(format!("{stem}.glb"));
         if let Some(prev) = seen.insert(out.clone(), input.clone()) {
-            bail!("{} and {} would both be written to {}", prev.display(), input.display(), out.display());
+            bail!(
+                "{} and {} would both be written to {}",
+                prev.display(),
+                input.display(),
+                out.display()
+            );
         }
         outs.push(out);
     }
@@ -102,7 +122,8 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let opts = options(args);
     let outs = outputs(args)?;
     if args.inputs.len() > 1 || args.output.is_dir() {
-        std::fs::create_dir_all(&args.output).with_context(|| format!("cannot create {}", args.output.display()))?;
+        std::fs::create_dir_all(&args.output)
+            .with_context(|| format!("cannot create {}", args.output.display()))?;
     }
     let mut failed = 0;
     let mut inputs = Vec::new();

@@ -42,12 +42,22 @@ fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
         let mode = doc.mode(r)?;
         let mut attrs = serde_json::Map::new();
         let mut count = 0usize;
-        for (name, v) in p.get("attributes").and_then(Value::as_object).into_iter().flatten() {
-            let Some(i) = v.as_u64().map(|i| i as usize) else { continue };
+        for (name, v) in p
+            .get("attributes")
+            .and_then(Value::as_object)
+            .into_iter()
+            .flatten()
+        {
+            let Some(i) = v.as_u64().map(|i| i as usize) else {
+                continue;
+            };
             let e = accessor::read(doc, i, &format!("{place} attribute {name}"))?;
             count = e.count;
             let enc = encoding(doc, i).map(|e| e.describe()).unwrap_or_default();
-            attrs.insert(name.clone(), json!({"accessor": i, "encoding": enc, "count": e.count}));
+            attrs.insert(
+                name.clone(),
+                json!({"accessor": i, "encoding": enc, "count": e.count}),
+            );
         }
         let indices = match p.get("indices").and_then(Value::as_u64) {
             Some(i) => accessor::read_indices(doc, i as usize, &format!("{place} indices"))?.len(),
@@ -62,18 +72,38 @@ fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
         });
         if let Some(i) = doc.attribute(r, "POSITION")? {
             let p = accessor::read_vec::<3>(doc, i, &format!("{place} attribute POSITION"))?;
-            let (lo, hi) = p.iter().fold(([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]), |(lo, hi), v| {
-                (std::array::from_fn(|k| lo[k].min(v[k])), std::array::from_fn(|k| hi[k].max(v[k])))
-            });
+            let (lo, hi) = p.iter().fold(
+                ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+                |(lo, hi), v| {
+                    (
+                        std::array::from_fn(|k| lo[k].min(v[k])),
+                        std::array::from_fn(|k| hi[k].max(v[k])),
+                    )
+                },
+            );
             entry["bounds"] = json!({"min": lo, "max": hi});
         }
         if let Some(i) = doc.attribute(r, "_FUR_COMB")? {
             let c = accessor::read_vec::<4>(doc, i, &format!("{place} attribute _FUR_COMB"))?;
             let normalized = accessor::read(doc, i, "")?.normalized;
-            entry["comb"] = comb_stats(c.iter().map(|&c| if normalized { pelt_bake::comb::decode_unorm(c) } else { c }));
+            entry["comb"] = comb_stats(c.iter().map(|&c| {
+                if normalized {
+                    pelt_bake::comb::decode_unorm(c)
+                } else {
+                    c
+                }
+            }));
         } else if let Some(i) = doc.attribute(r, "COLOR_0")? {
             let e = accessor::read(doc, i, &format!("{place} attribute COLOR_0"))?;
-            let lens: Vec<f32> = (0..e.count).map(|k| if e.components == 4 { e.component_f32(4 * k + 3) } else { 1.0 }).collect();
+            let lens: Vec<f32> = (0..e.count)
+                .map(|k| {
+                    if e.components == 4 {
+                        e.component_f32(4 * k + 3)
+                    } else {
+                        1.0
+                    }
+                })
+                .collect();
             entry["color_0_length"] = range_stats(&lens);
         }
         prims.push(entry);
@@ -90,7 +120,11 @@ fn range_stats(v: &[f32]) -> Value {
     if v.is_empty() {
         return json!(null);
     }
-    let (lo, hi) = v.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let (lo, hi) = v
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
     let mean = v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64;
     json!({"min": lo, "mean": mean, "max": hi})
 }
@@ -112,16 +146,30 @@ fn print_text(v: &Value) {
     println!(
         "{}: {} meshes, {} primitives, {} vertices, {} triangles, {} nodes, {} materials, {} images",
         v["file"].as_str().unwrap_or("?"),
-        v["meshes"], v["primitives"], v["vertices"], v["triangles"], v["nodes"], v["materials"], v["images"]
+        v["meshes"],
+        v["primitives"],
+        v["vertices"],
+        v["triangles"],
+        v["nodes"],
+        v["materials"],
+        v["images"]
     );
     for p in v["primitive"].as_array().into_iter().flatten() {
-        let name = p["name"].as_str().map(|n| format!(" {n:?}")).unwrap_or_default();
+        let name = p["name"]
+            .as_str()
+            .map(|n| format!(" {n:?}"))
+            .unwrap_or_default();
         println!(
             "meshes[{}]{name} primitives[{}]: mode {}, {} vertices, {} triangles",
             p["mesh"], p["primitive"], p["mode"], p["vertices"], p["triangles"]
         );
         for (k, a) in p["attributes"].as_object().into_iter().flatten() {
-            println!("  {k:<12} {} ({} elements, accessor {})", a["encoding"].as_str().unwrap_or("?"), a["count"], a["accessor"]);
+            println!(
+                "  {k:<12} {} ({} elements, accessor {})",
+                a["encoding"].as_str().unwrap_or("?"),
+                a["count"],
+                a["accessor"]
+            );
         }
         if let Some(b) = p.get("bounds") {
             println!("  bounds       min {} max {}", b["min"], b["max"]);
@@ -129,13 +177,22 @@ fn print_text(v: &Value) {
         if let Some(c) = p.get("comb") {
             println!(
                 "  comb         {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
-                c["count"], c["zero_length"], c["length"]["min"], c["length"]["max"],
-                c["length"]["mean"].as_f64().unwrap_or(0.0), c["max_abs_z"].as_f64().unwrap_or(0.0),
+                c["count"],
+                c["zero_length"],
+                c["length"]["min"],
+                c["length"]["max"],
+                c["length"]["mean"].as_f64().unwrap_or(0.0),
+                c["max_abs_z"].as_f64().unwrap_or(0.0),
                 c["max_unit_error"].as_f64().unwrap_or(0.0)
             );
         }
         if let Some(c) = p.get("color_0_length") {
-            println!("  COLOR_0 A    {}..{} (mean {:.3}); not baked yet", c["min"], c["max"], c["mean"].as_f64().unwrap_or(0.0));
+            println!(
+                "  COLOR_0 A    {}..{} (mean {:.3}); not baked yet",
+                c["min"],
+                c["max"],
+                c["mean"].as_f64().unwrap_or(0.0)
+            );
         }
     }
 }

@@ -20,13 +20,21 @@ fn max_round_trip_error(fixture_name: &str, extra: &[&str]) -> f64 {
             checked += 1;
         }
     }
-    assert!(checked > b.positions.len() / 2, "too few combed vertices checked ({checked})");
+    assert!(
+        checked > b.positions.len() / 2,
+        "too few combed vertices checked ({checked})"
+    );
     worst
 }
 
 #[test]
 fn float_comb_round_trips_within_1e_4_rad() {
-    for f in ["creature.glb", "sphere.glb", "torus.glb", "edge/color-u16-tangents.gltf"] {
+    for f in [
+        "creature.glb",
+        "sphere.glb",
+        "torus.glb",
+        "edge/color-u16-tangents.gltf",
+    ] {
         let e = max_round_trip_error(f, &[]);
         assert!(e < 1e-4, "{f}: {e} rad");
         let e = max_round_trip_error(f, &["--tangents", "regenerate"]);
@@ -64,9 +72,15 @@ fn comb_is_tangential_and_unit() {
 #[test]
 fn mirrored_uvs_split_the_seam_and_keep_the_comb() {
     let dir = scratch("mirror");
-    let out = bake(&fixture("edge/mirrored-uv.gltf"), &dir, &["--report", dir.join("r.json").to_str().unwrap_or_default()]);
+    let out = bake(
+        &fixture("edge/mirrored-uv.gltf"),
+        &dir,
+        &["--report", dir.join("r.json").to_str().unwrap_or_default()],
+    );
     let b = read_baked(&out, 0, 0);
-    let report: Value = serde_json::from_slice(&std::fs::read(dir.join("r.json")).unwrap_or_default()).unwrap_or_default();
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("r.json")).unwrap_or_default())
+            .unwrap_or_default();
     let prim = &report["inputs"][0]["primitives"][0];
     assert_eq!(prim["split_vertices"], 2, "{prim}");
     assert!(b.tangents.iter().any(|t| t.w == 1.0) && b.tangents.iter().any(|t| t.w == -1.0));
@@ -79,9 +93,14 @@ fn mirrored_uvs_split_the_seam_and_keep_the_comb() {
 fn comb_along_the_normal_and_gray_have_defined_results() {
     let dir = scratch("parallel");
     let rep = dir.join("r.json");
-    let out = bake(&fixture("edge/comb-parallel.gltf"), &dir, &["--report", rep.to_str().unwrap_or_default()]);
+    let out = bake(
+        &fixture("edge/comb-parallel.gltf"),
+        &dir,
+        &["--report", rep.to_str().unwrap_or_default()],
+    );
     let b = read_baked(&out, 0, 0);
-    let report: Value = serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
     let prim = &report["inputs"][0]["primitives"][0];
     // Grid 4 wide, 3 tall; top row +Y. Rows 0-1: x=0 along N, x=1 1e-7 rad off, x=2 gray.
     assert_eq!(prim["parallel_combs"], 4, "{prim}");
@@ -91,7 +110,11 @@ fn comb_along_the_normal_and_gray_have_defined_results() {
         let x = v % 4;
         let y = v / 4;
         if y < 2 && x < 2 {
-            assert_eq!(*c, [1.0, 0.0, 0.0, 0.8], "vertex {v}: tangent fallback, length kept");
+            assert_eq!(
+                *c,
+                [1.0, 0.0, 0.0, 0.8],
+                "vertex {v}: tangent fallback, length kept"
+            );
         } else if y < 2 && x == 2 {
             assert_eq!(c[3], 0.0, "vertex {v}: gray gives length 0");
         } else {
@@ -104,7 +127,11 @@ fn comb_along_the_normal_and_gray_have_defined_results() {
 fn missing_normals_become_flat_and_split() {
     let dir = scratch("flat");
     let rep = dir.join("r.json");
-    let out = bake(&fixture("edge/no-normals.gltf"), &dir, &["--report", rep.to_str().unwrap_or_default()]);
+    let out = bake(
+        &fixture("edge/no-normals.gltf"),
+        &dir,
+        &["--report", rep.to_str().unwrap_or_default()],
+    );
     let b = read_baked(&out, 0, 0);
     assert_eq!(b.positions.len(), 24, "8 corners × 3 faces each");
     for tri in b.indices.chunks(3) {
@@ -114,7 +141,8 @@ fn missing_normals_become_flat_and_split() {
             assert!((b.normals[v as usize].as_dvec3() - flat).length() < 1e-6);
         }
     }
-    let report: Value = serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
     assert_eq!(report["inputs"][0]["primitives"][0]["flat_normals"], true);
 }
 
@@ -122,10 +150,22 @@ fn missing_normals_become_flat_and_split() {
 fn bad_normals_are_repaired_and_counted() {
     let dir = scratch("badn");
     let rep = dir.join("r.json");
-    let out = bake(&fixture("edge/bad-normals.gltf"), &dir, &["--report", rep.to_str().unwrap_or_default()]);
-    let report: Value = serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let out = bake(
+        &fixture("edge/bad-normals.gltf"),
+        &dir,
+        &["--report", rep.to_str().unwrap_or_default()],
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
     let prim = &report["inputs"][0]["primitives"][0];
-    assert_eq!((prim["zero_normals"].as_u64(), prim["renormalized_normals"].as_u64()), (Some(1), Some(1)), "{prim}");
+    assert_eq!(
+        (
+            prim["zero_normals"].as_u64(),
+            prim["renormalized_normals"].as_u64()
+        ),
+        (Some(1), Some(1)),
+        "{prim}"
+    );
     let b = read_baked(&out, 0, 0);
     assert!(b.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-6));
 }
@@ -134,15 +174,24 @@ fn bad_normals_are_repaired_and_counted() {
 fn degenerate_triangles_are_counted_and_harmless() {
     let dir = scratch("degen");
     let rep = dir.join("r.json");
-    let out = bake(&fixture("edge/degenerate.gltf"), &dir, &["--report", rep.to_str().unwrap_or_default()]);
-    let report: Value = serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let out = bake(
+        &fixture("edge/degenerate.gltf"),
+        &dir,
+        &["--report", rep.to_str().unwrap_or_default()],
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
     let prim = &report["inputs"][0]["primitives"][0];
     assert_eq!(prim["degenerate_triangles"], 3, "{prim}");
     // The zero-UV-area triangle, and the collinear one (its derivatives vanish too).
     assert_eq!(prim["degenerate_uv_triangles"], 2, "{prim}");
     let b = read_baked(&out, 0, 0);
     assert!(b.comb.iter().flatten().all(|x| x.is_finite()));
-    assert!(b.tangents.iter().all(|t| (t.truncate().length() - 1.0).abs() < 1e-5));
+    assert!(
+        b.tangents
+            .iter()
+            .all(|t| (t.truncate().length() - 1.0).abs() < 1e-5)
+    );
 }
 
 #[test]
@@ -155,7 +204,10 @@ fn every_color_encoding_is_read() {
     let b = read_baked(&bake(&fixture("edge/sparse-color.gltf"), &dir, &[]), 0, 0);
     for (v, c) in b.comb.iter().enumerate() {
         if [0, 5, 7].contains(&v) {
-            assert!(angle(b.object_comb(v), DVec3::X) < 1e-6 && c[3] == 1.0, "vertex {v}");
+            assert!(
+                angle(b.object_comb(v), DVec3::X) < 1e-6 && c[3] == 1.0,
+                "vertex {v}"
+            );
         } else {
             assert_eq!(c[3], 0.0, "vertex {v}");
         }
@@ -166,19 +218,38 @@ fn every_color_encoding_is_read() {
 fn obj_with_vertex_colors_bakes() {
     let dir = scratch("obj");
     let b = read_baked(&bake(&fixture("edge/painted.obj"), &dir, &[]), 0, 0);
-    assert!(b.comb.iter().all(|c| c[3] == 1.0 && c.iter().all(|x| x.is_finite())));
+    assert!(
+        b.comb
+            .iter()
+            .all(|c| c[3] == 1.0 && c.iter().all(|x| x.is_finite()))
+    );
     assert!(b.positions.len() >= 5);
 }
 
 #[test]
 fn non_triangle_primitives_are_skipped_with_a_warning() {
     let dir = scratch("modes");
-    let out = pelt_ok(&["bake", "fixtures/edge/modes.gltf", "-o", dir.join("m.glb").to_str().unwrap_or_default(), "--report", "-"]);
+    let out = pelt_ok(&[
+        "bake",
+        "fixtures/edge/modes.gltf",
+        "-o",
+        dir.join("m.glb").to_str().unwrap_or_default(),
+        "--report",
+        "-",
+    ]);
     let report: Value = serde_json::from_slice(&out.stdout).unwrap_or_default();
     let prims = &report["inputs"][0]["primitives"];
     assert_eq!(prims[0]["status"], "baked");
-    assert!(prims[1]["status"].as_str().unwrap_or("").contains("mode 1"), "{prims}");
-    assert!(report["inputs"][0]["warnings"][0].as_str().unwrap_or("").contains("primitives[1]"));
+    assert!(
+        prims[1]["status"].as_str().unwrap_or("").contains("mode 1"),
+        "{prims}"
+    );
+    assert!(
+        report["inputs"][0]["warnings"][0]
+            .as_str()
+            .unwrap_or("")
+            .contains("primitives[1]")
+    );
 }
 
 #[test]
@@ -191,7 +262,10 @@ fn untouched_parts_are_preserved() {
     for key in ["asset", "scene", "scenes", "nodes", "materials"] {
         assert_eq!(a.json.get(key), b.json.get(key), "{key} changed");
     }
-    let (pa, pb) = (&a.json["meshes"][0]["primitives"][0], &b.json["meshes"][0]["primitives"][0]);
+    let (pa, pb) = (
+        &a.json["meshes"][0]["primitives"][0],
+        &b.json["meshes"][0]["primitives"][0],
+    );
     assert_eq!(pa["material"], pb["material"]);
     let ba = read_attr(&a, "COLOR_0");
     let bb = read_attr(&b, "COLOR_0");
@@ -200,7 +274,10 @@ fn untouched_parts_are_preserved() {
 }
 
 fn read_attr(doc: &pelt_io::Document, name: &str) -> Vec<u8> {
-    let r = pelt_io::PrimitiveRef { mesh: 0, primitive: 0 };
+    let r = pelt_io::PrimitiveRef {
+        mesh: 0,
+        primitive: 0,
+    };
     let i = doc.attribute(r, name).expect("attr").expect("present");
     pelt_io::accessor::read(doc, i, name).expect("read").bytes
 }
@@ -211,14 +288,28 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
     let mut outs = Vec::new();
     for threads in ["1", "2", "8"] {
         let o = dir.join(format!("t{threads}.glb"));
-        let r = pelt(&["bake", "-q", "fixtures/torus.glb", "-o", o.to_str().unwrap_or_default(), "--tangents", "regenerate"], &[("RAYON_NUM_THREADS", threads)]);
+        let r = pelt(
+            &[
+                "bake",
+                "-q",
+                "fixtures/torus.glb",
+                "-o",
+                o.to_str().unwrap_or_default(),
+                "--tangents",
+                "regenerate",
+            ],
+            &[("RAYON_NUM_THREADS", threads)],
+        );
         assert!(r.status.success());
         outs.push(std::fs::read(&o).unwrap_or_default());
     }
     assert!(!outs[0].is_empty());
     assert!(outs.iter().all(|o| *o == outs[0]));
     let text = String::from_utf8_lossy(&outs[0]);
-    assert!(!text.contains(dir.to_str().unwrap_or("?")), "absolute path inside output");
+    assert!(
+        !text.contains(dir.to_str().unwrap_or("?")),
+        "absolute path inside output"
+    );
 }
 
 #[test]
@@ -226,18 +317,38 @@ fn nan_is_an_error_naming_file_place_and_vertex() {
     let dir = scratch("nan");
     // Take the degenerate fixture and poison one normal.
     let mut doc = pelt_io::Document::load(&fixture("edge/mirrored-uv.gltf")).expect("load");
-    let r = pelt_io::PrimitiveRef { mesh: 0, primitive: 0 };
+    let r = pelt_io::PrimitiveRef {
+        mesh: 0,
+        primitive: 0,
+    };
     let i = doc.attribute(r, "NORMAL").expect("a").expect("normal");
     let view = doc.json["accessors"][i]["bufferView"].as_u64().unwrap_or(0) as usize;
-    let off = doc.json["bufferViews"][view]["byteOffset"].as_u64().unwrap_or(0) as usize;
+    let off = doc.json["bufferViews"][view]["byteOffset"]
+        .as_u64()
+        .unwrap_or(0) as usize;
     doc.buffers[0][off + 12 * 3 + 4..off + 12 * 3 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
     let bad = dir.join("nan.glb");
     pelt_io::glb::write_glb(&doc, &bad).expect("write");
     let out_path = dir.join("out.glb");
-    let out = pelt(&["bake", bad.to_str().unwrap_or_default(), "-o", out_path.to_str().unwrap_or_default()], &[]);
+    let out = pelt(
+        &[
+            "bake",
+            bad.to_str().unwrap_or_default(),
+            "-o",
+            out_path.to_str().unwrap_or_default(),
+        ],
+        &[],
+    );
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    for part in ["nan.glb", "meshes[0]", "primitives[0]", "NORMAL", "vertex 3", "NaN"] {
+    for part in [
+        "nan.glb",
+        "meshes[0]",
+        "primitives[0]",
+        "NORMAL",
+        "vertex 3",
+        "NaN",
+    ] {
         assert!(err.contains(part), "{part:?} missing from: {err}");
     }
     assert!(!out_path.exists(), "partial output written");
@@ -246,13 +357,50 @@ fn nan_is_an_error_naming_file_place_and_vertex() {
 #[test]
 fn usage_errors_exit_2_and_failures_exit_1() {
     assert_eq!(pelt(&["bake"], &[]).status.code(), Some(2));
-    assert_eq!(pelt(&["bake", "x.glb", "-o", "y.glb", "--quantize", "u4"], &[]).status.code(), Some(2));
-    assert_eq!(pelt(&["bake", "fixtures/torus.glb", "-o", "y.gltf"], &[]).status.code(), Some(2));
-    assert_eq!(pelt(&["bake", "fixtures/torus.glb", "-o", "y.glb", "--comb-axes", "x,x,y"], &[]).status.code(), Some(2));
+    assert_eq!(
+        pelt(&["bake", "x.glb", "-o", "y.glb", "--quantize", "u4"], &[])
+            .status
+            .code(),
+        Some(2)
+    );
+    assert_eq!(
+        pelt(&["bake", "fixtures/torus.glb", "-o", "y.gltf"], &[])
+            .status
+            .code(),
+        Some(2)
+    );
+    assert_eq!(
+        pelt(
+            &[
+                "bake",
+                "fixtures/torus.glb",
+                "-o",
+                "y.glb",
+                "--comb-axes",
+                "x,x,y"
+            ],
+            &[]
+        )
+        .status
+        .code(),
+        Some(2)
+    );
     let dir = scratch("fail");
-    let out = pelt(&["bake", "fixtures/torus.glb", "fixtures/missing.glb", "-o", dir.to_str().unwrap_or_default()], &[]);
+    let out = pelt(
+        &[
+            "bake",
+            "fixtures/torus.glb",
+            "fixtures/missing.glb",
+            "-o",
+            dir.to_str().unwrap_or_default(),
+        ],
+        &[],
+    );
     assert_eq!(out.status.code(), Some(1));
-    assert!(dir.join("torus.glb").exists(), "one failing input must not stop the others");
+    assert!(
+        dir.join("torus.glb").exists(),
+        "one failing input must not stop the others"
+    );
     assert!(!dir.join("missing.glb").exists());
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing.glb"));
 }
@@ -261,7 +409,10 @@ fn usage_errors_exit_2_and_failures_exit_1() {
 fn help_shows_examples() {
     let out = pelt_ok(&["bake", "--help"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("Examples:") && text.contains("--comb-axes x,z,-y"), "{text}");
+    assert!(
+        text.contains("Examples:") && text.contains("--comb-axes x,z,-y"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -270,7 +421,15 @@ fn comb_axes_remap_a_z_up_comb() {
     let dir = scratch("axes");
     let plain = read_baked(&bake(&fixture("edge/mirrored-uv.gltf"), &dir, &[]), 0, 0);
     let dir2 = scratch("axes2");
-    let mapped = read_baked(&bake(&fixture("edge/mirrored-uv.gltf"), &dir2, &["--comb-axes", "y,x,z"]), 0, 0);
+    let mapped = read_baked(
+        &bake(
+            &fixture("edge/mirrored-uv.gltf"),
+            &dir2,
+            &["--comb-axes", "y,x,z"],
+        ),
+        0,
+        0,
+    );
     // Painted +X; with y,x,z the direction becomes +Y, which is tangential on this +Z plane.
     for v in 0..plain.positions.len() {
         assert!(angle(plain.object_comb(v), DVec3::X) < 1e-6);
@@ -285,7 +444,10 @@ fn inspect_reports_attributes_and_comb() {
     let r = pelt_ok(&["inspect", out.to_str().unwrap_or_default(), "--json"]);
     let v: Value = serde_json::from_slice(&r.stdout).unwrap_or_default();
     let p = &v["primitive"][0];
-    assert_eq!(p["attributes"]["_FUR_COMB"]["encoding"], "VEC4 unsigned short normalized");
+    assert_eq!(
+        p["attributes"]["_FUR_COMB"]["encoding"],
+        "VEC4 unsigned short normalized"
+    );
     assert_eq!(p["comb"]["count"], p["vertices"]);
     assert!(p["comb"]["max_abs_z"].as_f64().unwrap_or(1.0) < 1e-3);
     let text = pelt_ok(&["inspect", out.to_str().unwrap_or_default()]);

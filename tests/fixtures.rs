@@ -16,11 +16,20 @@ fn generator_reproduces_the_committed_fixtures() {
     for rel in ["sphere.glb", "torus.glb", "creature.glb"]
         .into_iter()
         .map(String::from)
-        .chain(std::fs::read_dir(dir.join("edge")).expect("edge dir").flatten().map(|e| format!("edge/{}", e.file_name().to_string_lossy())))
+        .chain(
+            std::fs::read_dir(dir.join("edge"))
+                .expect("edge dir")
+                .flatten()
+                .map(|e| format!("edge/{}", e.file_name().to_string_lossy())),
+        )
     {
         let made = std::fs::read(dir.join(&rel)).expect("generated");
-        let kept = std::fs::read(fixture(&rel)).unwrap_or_else(|_| panic!("fixtures/{rel} is not committed"));
-        assert!(made == kept, "fixtures/{rel} differs from the generator's output: run `just fixtures`");
+        let kept = std::fs::read(fixture(&rel))
+            .unwrap_or_else(|_| panic!("fixtures/{rel} is not committed"));
+        assert!(
+            made == kept,
+            "fixtures/{rel} differs from the generator's output: run `just fixtures`"
+        );
         compared += 1;
     }
     assert!(compared >= 12, "only {compared} fixtures compared");
@@ -29,8 +38,13 @@ fn generator_reproduces_the_committed_fixtures() {
 #[test]
 fn every_baked_fixture_passes_the_khronos_validator() {
     let script = root().join("tools/validator/validate.mjs");
-    let installed = root().join("tools/validator/node_modules/gltf-validator").exists();
-    let node = Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success());
+    let installed = root()
+        .join("tools/validator/node_modules/gltf-validator")
+        .exists();
+    let node = Command::new("node")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
     if !(installed && node) {
         assert!(
             std::env::var_os("PELT_REQUIRE_VALIDATOR").is_none(),
@@ -41,17 +55,34 @@ fn every_baked_fixture_passes_the_khronos_validator() {
     }
     let dir = scratch("validate");
     let mut outputs = Vec::new();
-    let mut inputs: Vec<String> = ["sphere.glb", "torus.glb", "creature.glb"].map(String::from).to_vec();
-    inputs.extend(std::fs::read_dir(fixture("edge")).expect("edge").flatten().map(|e| format!("edge/{}", e.file_name().to_string_lossy())));
+    let mut inputs: Vec<String> = ["sphere.glb", "torus.glb", "creature.glb"]
+        .map(String::from)
+        .to_vec();
+    inputs.extend(
+        std::fs::read_dir(fixture("edge"))
+            .expect("edge")
+            .flatten()
+            .map(|e| format!("edge/{}", e.file_name().to_string_lossy())),
+    );
     for rel in &inputs {
-        for extra in [&[][..], &["--tangents", "regenerate", "--quantize", "u8"][..]] {
+        for extra in [
+            &[][..],
+            &["--tangents", "regenerate", "--quantize", "u8"][..],
+        ] {
             let sub = dir.join(format!("{}{}", rel.replace('/', "-"), extra.len()));
             std::fs::create_dir_all(&sub).expect("mkdir");
             outputs.push(bake(&fixture(rel), &sub, extra));
         }
     }
-    let out = Command::new("node").arg(&script).args(&outputs).output().expect("run validator");
+    let out = Command::new("node")
+        .arg(&script)
+        .args(&outputs)
+        .output()
+        .expect("run validator");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "validator found errors:\n{text}");
-    assert!(text.contains(&format!("{} passed, 0 failed", outputs.len())), "{text}");
+    assert!(
+        text.contains(&format!("{} passed, 0 failed", outputs.len())),
+        "{text}"
+    );
 }

@@ -1,6 +1,9 @@
 //! Helpers for pelt's CLI tests: run the binary, scratch folders, read baked outputs back.
 
-#![allow(dead_code, reason = "each test binary uses a different subset of these helpers")]
+#![allow(
+    dead_code,
+    reason = "each test binary uses a different subset of these helpers"
+)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -22,10 +25,11 @@ pub fn fixture(rel: &str) -> PathBuf {
 /// A fresh, empty scratch folder under the target directory.
 pub fn scratch(name: &str) -> PathBuf {
     static N: AtomicUsize = AtomicUsize::new(0);
-    let dir = root()
-        .join("target")
-        .join("test-scratch")
-        .join(format!("{name}-{}-{}", std::process::id(), N.fetch_add(1, Ordering::Relaxed)));
+    let dir = root().join("target").join("test-scratch").join(format!(
+        "{name}-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create scratch folder");
     dir
@@ -44,14 +48,27 @@ pub fn pelt(args: &[&str], env: &[(&str, &str)]) -> Output {
 /// Runs pelt and asserts success.
 pub fn pelt_ok(args: &[&str]) -> Output {
     let out = pelt(args, &[]);
-    assert!(out.status.success(), "pelt {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "pelt {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     out
 }
 
 /// Bakes `input` to `dir/name.glb` with extra args; returns the output path.
 pub fn bake(input: &Path, dir: &Path, extra: &[&str]) -> PathBuf {
-    let out = dir.join(format!("{}.glb", input.file_stem().unwrap_or_default().to_string_lossy()));
-    let mut args = vec!["bake", "-q", input.to_str().unwrap_or_default(), "-o", out.to_str().unwrap_or_default()];
+    let out = dir.join(format!(
+        "{}.glb",
+        input.file_stem().unwrap_or_default().to_string_lossy()
+    ));
+    let mut args = vec![
+        "bake",
+        "-q",
+        input.to_str().unwrap_or_default(),
+        "-o",
+        out.to_str().unwrap_or_default(),
+    ];
     args.extend_from_slice(extra);
     pelt_ok(&args);
     out
@@ -71,9 +88,15 @@ pub struct Baked {
 /// Reads primitive (mesh, prim) of a baked file.
 pub fn read_baked(path: &Path, mesh: usize, prim: usize) -> Baked {
     let doc = Document::load(path).expect("load output");
-    let r = pelt_io::PrimitiveRef { mesh, primitive: prim };
+    let r = pelt_io::PrimitiveRef {
+        mesh,
+        primitive: prim,
+    };
     let m = pelt_io::mesh::read_primitive(&doc, r).expect("read primitive");
-    let ci = doc.attribute(r, "_FUR_COMB").expect("attr").expect("_FUR_COMB present");
+    let ci = doc
+        .attribute(r, "_FUR_COMB")
+        .expect("attr")
+        .expect("_FUR_COMB present");
     let e = accessor::read(&doc, ci, "_FUR_COMB").expect("read comb");
     Baked {
         positions: m.mesh.positions.clone(),
@@ -94,7 +117,11 @@ impl Baked {
             c = pelt_bake::comb::decode_unorm(c);
         }
         let (frame, _) = pelt_bake::frame::Frame::new(self.normals[v], self.tangents[v]);
-        frame.to_object(DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
+        frame.to_object(DVec3::new(
+            f64::from(c[0]),
+            f64::from(c[1]),
+            f64::from(c[2]),
+        ))
     }
 
     /// The input comb of vertex `v` after Gram-Schmidt against the normal (the expected result).
@@ -103,7 +130,8 @@ impl Baked {
         let d = DVec3::new(f64::from(c.x), f64::from(c.y), f64::from(c.z)) * 2.0 - DVec3::ONE;
         let n = self.normals[v].as_dvec3().normalize();
         let g = d - n * n.dot(d);
-        (d.length() > pelt_bake::comb::GRAY_EPSILON && g.length() > 1e-3 * d.length()).then(|| g.normalize())
+        (d.length() > pelt_bake::comb::GRAY_EPSILON && g.length() > 1e-3 * d.length())
+            .then(|| g.normalize())
     }
 }
 

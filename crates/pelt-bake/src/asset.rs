@@ -121,8 +121,20 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         }
         let comb = match opts.quantize {
             Quantize::Float => NewAccessor::f32(&baked.comb),
-            Quantize::U16 => NewAccessor::u16_norm(&baked.comb.iter().map(|&c| comb::encode_u16(c)).collect::<Vec<_>>()),
-            Quantize::U8 => NewAccessor::u8_norm(&baked.comb.iter().map(|&c| comb::encode_u8(c)).collect::<Vec<_>>()),
+            Quantize::U16 => NewAccessor::u16_norm(
+                &baked
+                    .comb
+                    .iter()
+                    .map(|&c| comb::encode_u16(c))
+                    .collect::<Vec<_>>(),
+            ),
+            Quantize::U8 => NewAccessor::u8_norm(
+                &baked
+                    .comb
+                    .iter()
+                    .map(|&c| comb::encode_u8(c))
+                    .collect::<Vec<_>>(),
+            ),
         };
         let a = doc.push_accessor(comb);
         doc.set_attribute(r, COMB_ATTRIBUTE, a)?;
@@ -131,7 +143,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         report.vertices += baked.stats.vertices_out;
         report.triangles += baked.stats.triangles;
         report.primitives_baked += 1;
-        report.warnings.extend(baked.warnings.iter().map(|w| format!("{place}: {w}")));
+        report
+            .warnings
+            .extend(baked.warnings.iter().map(|w| format!("{place}: {w}")));
         entry.status = "baked".to_owned();
         entry.stats = Some(baked.stats);
         report.primitives.push(entry);

@@ -38,7 +38,11 @@ pub enum CombCase {
 
 /// sRGB encoding (linear → sRGB), per IEC 61966-2-1.
 pub fn linear_to_srgb(c: f64) -> f64 {
-    if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// Decodes COLOR_0 into (object-space direction, not normalized; length). RGBA is clamped to
@@ -51,7 +55,11 @@ pub fn decode_color(c: Vec4, space: ColorSpace, axes: &AxisMap) -> (DVec3, f64) 
             ColorSpace::Srgb => linear_to_srgb(v),
         }
     };
-    let d = [ch(c.x) * 2.0 - 1.0, ch(c.y) * 2.0 - 1.0, ch(c.z) * 2.0 - 1.0];
+    let d = [
+        ch(c.x) * 2.0 - 1.0,
+        ch(c.y) * 2.0 - 1.0,
+        ch(c.z) * 2.0 - 1.0,
+    ];
     let d = if axes.is_identity() { d } else { axes.apply(d) };
     (DVec3::from_array(d), f64::from(c.w).clamp(0.0, 1.0))
 }
@@ -70,7 +78,10 @@ pub fn bake(d: DVec3, length: f64, frame: &Frame) -> ([f32; 4], CombCase) {
         return ([1.0, 0.0, 0.0, length as f32], CombCase::ParallelToNormal);
     }
     let c = frame.to_tangent(tangential / s);
-    ([c.x as f32, c.y as f32, c.z as f32, length as f32], CombCase::Combed)
+    (
+        [c.x as f32, c.y as f32, c.z as f32, length as f32],
+        CombCase::Combed,
+    )
 }
 
 /// Maps [-1, 1] → [0, 1] (the paper's color mapping).
@@ -82,13 +93,23 @@ fn unit(v: f32) -> f32 {
 /// `_FUR_COMB` as normalized unsigned shorts.
 pub fn encode_u16(c: [f32; 4]) -> [u16; 4] {
     let q = |v: f32| (v * 65535.0).round() as u16;
-    [q(unit(c[0])), q(unit(c[1])), q(unit(c[2])), q(c[3].clamp(0.0, 1.0))]
+    [
+        q(unit(c[0])),
+        q(unit(c[1])),
+        q(unit(c[2])),
+        q(c[3].clamp(0.0, 1.0)),
+    ]
 }
 
 /// `_FUR_COMB` as normalized unsigned bytes.
 pub fn encode_u8(c: [f32; 4]) -> [u8; 4] {
     let q = |v: f32| (v * 255.0).round() as u8;
-    [q(unit(c[0])), q(unit(c[1])), q(unit(c[2])), q(c[3].clamp(0.0, 1.0))]
+    [
+        q(unit(c[0])),
+        q(unit(c[1])),
+        q(unit(c[2])),
+        q(c[3].clamp(0.0, 1.0)),
+    ]
 }
 
 /// Decodes a normalized-integer `_FUR_COMB` (components already divided by 65535 or 255, as a
@@ -117,13 +138,20 @@ mod tests {
 
     #[test]
     fn gray_and_parallel_cases() {
-        let (d, l) = decode_color(Vec4::new(0.5, 0.5, 0.5, 1.0), ColorSpace::Linear, &AxisMap::default());
+        let (d, l) = decode_color(
+            Vec4::new(0.5, 0.5, 0.5, 1.0),
+            ColorSpace::Linear,
+            &AxisMap::default(),
+        );
         assert_eq!(bake(d, l, &frame()), ([1.0, 0.0, 0.0, 0.0], CombCase::Gray));
         let eight_bit_gray = Vec4::new(128.0 / 255.0, 127.0 / 255.0, 128.0 / 255.0, 1.0);
         let (d, l) = decode_color(eight_bit_gray, ColorSpace::Linear, &AxisMap::default());
         assert_eq!(bake(d, l, &frame()).1, CombCase::Gray);
         let (c, case) = bake(DVec3::Z * 0.7, 0.25, &frame());
-        assert_eq!((c, case), ([1.0, 0.0, 0.0, 0.25], CombCase::ParallelToNormal));
+        assert_eq!(
+            (c, case),
+            ([1.0, 0.0, 0.0, 0.25], CombCase::ParallelToNormal)
+        );
     }
 
     #[test]
@@ -131,7 +159,11 @@ mod tests {
         // A painted 8-bit value 200/255, linearized by an exporter.
         let painted = 200.0 / 255.0;
         let lin = ((painted + 0.055) / 1.055_f64).powf(2.4) as f32;
-        let (d, _) = decode_color(Vec4::new(lin, lin, lin, 1.0), ColorSpace::Srgb, &AxisMap::default());
+        let (d, _) = decode_color(
+            Vec4::new(lin, lin, lin, 1.0),
+            ColorSpace::Srgb,
+            &AxisMap::default(),
+        );
         assert!((d.x - (painted * 2.0 - 1.0)).abs() < 1e-6);
     }
 

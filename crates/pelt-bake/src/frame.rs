@@ -57,7 +57,15 @@ impl Frame {
         let degenerate = projected.is_none();
         let t = projected.unwrap_or_else(|| perpendicular(n));
         let w = handedness(tangent.w);
-        (Frame { t, b: n.cross(t) * w, n, w }, degenerate)
+        (
+            Frame {
+                t,
+                b: n.cross(t) * w,
+                n,
+                w,
+            },
+            degenerate,
+        )
     }
 
     /// Tangent-space coordinates of an object-space vector.
@@ -72,7 +80,12 @@ impl Frame {
 
     /// The tangent as glTF stores it (xyz unit, w = ±1).
     pub fn tangent4(&self) -> [f32; 4] {
-        [self.t.x as f32, self.t.y as f32, self.t.z as f32, self.w as f32]
+        [
+            self.t.x as f32,
+            self.t.y as f32,
+            self.t.z as f32,
+            self.w as f32,
+        ]
     }
 }
 

@@ -45,7 +45,9 @@ pub struct AxisMap {
 
 impl Default for AxisMap {
     fn default() -> Self {
-        AxisMap { axes: [(0, 1.0), (1, 1.0), (2, 1.0)] }
+        AxisMap {
+            axes: [(0, 1.0), (1, 1.0), (2, 1.0)],
+        }
     }
 }
 
@@ -63,7 +65,9 @@ impl AxisMap {
 
 /// Error parsing an [`AxisMap`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("invalid axis map {0:?}: expected three of x, y, z, each once, optionally negated (e.g. x,z,-y)")]
+#[error(
+    "invalid axis map {0:?}: expected three of x, y, z, each once, optionally negated (e.g. x,z,-y)"
+)]
 pub struct AxisMapError(String);
 
 impl FromStr for AxisMap {

@@ -4,10 +4,10 @@
 //! with usable NORMAL and TANGENT nothing is done per corner and no vertex is split.
 
 use glam::{Vec2, Vec3, Vec4};
+use pelt_geom::Mesh;
 use pelt_geom::mikktspace;
 use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, face_normal, normalize_f64};
 use pelt_geom::weld::{key_bits, weld};
-use pelt_geom::Mesh;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -121,7 +121,12 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 .par_iter()
                 .with_min_len(4096)
                 .map(|&n| {
-                    normalize_f64(n).map(|u| (u.as_vec3(), (n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE))
+                    normalize_f64(n).map(|u| {
+                        (
+                            u.as_vec3(),
+                            (n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE,
+                        )
+                    })
                 })
                 .collect();
             stats.renormalized_normals = unit.iter().flatten().filter(|u| u.1).count();
@@ -130,20 +135,29 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 let v: Vec<Vec3> = unit.into_iter().flatten().map(|u| u.0).collect();
                 (Attr::Vertex(v), stats.renormalized_normals > 0)
             } else {
-                (Attr::Corner(corner_normals(&mesh.positions, Some(ns), idx).0), true)
+                (
+                    Attr::Corner(corner_normals(&mesh.positions, Some(ns), idx).0),
+                    true,
+                )
             }
         }
         None => {
             stats.flat_normals = true;
             warnings.push("no NORMAL: flat normals generated and written".to_owned());
-            (Attr::Corner(corner_normals(&mesh.positions, None, idx).0), true)
+            (
+                Attr::Corner(corner_normals(&mesh.positions, None, idx).0),
+                true,
+            )
         }
     };
 
     // Tangents: kept (per vertex) or MikkTSpace (per corner).
-    let keep = opts.tangents == TangentMode::Keep && mesh.tangents.is_some() && mesh.normals.is_some();
+    let keep =
+        opts.tangents == TangentMode::Keep && mesh.tangents.is_some() && mesh.normals.is_some();
     if mesh.tangents.is_some() && mesh.normals.is_none() {
-        warnings.push("TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned());
+        warnings.push(
+            "TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned(),
+        );
     }
     let tangents: Attr<Vec4> = if keep {
         stats.tangents = Some(TangentSource::Kept);
@@ -169,14 +183,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     let first_corner = first_corners(remap.as_ref().map_or(idx, |(_, i)| i), out_count);
     let source = |o: usize| remap.as_ref().map_or(o, |(m, _)| m[o] as usize);
     stats.vertices_out = out_count;
-    let referenced = {
-        let mut seen = vec![false; mesh.vertex_count()];
-        for &i in idx {
-            seen[i as usize] = true;
-        }
-        seen.iter().filter(|&&s| s).count()
-    };
-    stats.split_vertices = remap.as_ref().map_or(0, |(m, _)| m.len().saturating_sub(referenced));
+    stats.split_vertices = out_count - mesh.vertex_count();
 
     let colors = mesh.colors.as_deref().unwrap_or_default();
     let per_vertex: Vec<(Vec3, [f32; 4], bool, [f32; 4], CombCase)> = (0..out_count)
@@ -189,7 +196,11 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 // Unreferenced vertex: stored normal (or +Z), any tangent.
                 let n = match &normals {
                     Attr::Vertex(ns) => ns[v],
-                    Attr::Corner(_) => mesh.normals.as_ref().and_then(|ns| normalize_f64(ns[v])).map_or(Vec3::Z, |d| d.as_vec3()),
+                    Attr::Corner(_) => mesh
+                        .normals
+                        .as_ref()
+                        .and_then(|ns| normalize_f64(ns[v]))
+                        .map_or(Vec3::Z, |d| d.as_vec3()),
                 };
                 let t = match &tangents {
                     Attr::Vertex(ts) => ts[v],
@@ -200,7 +211,11 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 (normals.at(v, c as usize), tangents.at(v, c as usize))
             };
             let (frame, degenerate) = Frame::new(n, t);
-            let (d, len) = comb::decode_color(colors.get(v).copied().unwrap_or(Vec4::ONE), opts.color_space, &opts.axes);
+            let (d, len) = comb::decode_color(
+                colors.get(v).copied().unwrap_or(Vec4::ONE),
+                opts.color_space,
+                &opts.axes,
+            );
             let (combed, case) = comb::bake(d, len, &frame);
             (n, frame.tangent4(), degenerate, combed, case)
         })
@@ -208,7 +223,10 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
 
     stats.degenerate_tangents = per_vertex.iter().filter(|p| p.2).count();
     stats.gray_combs = per_vertex.iter().filter(|p| p.4 == CombCase::Gray).count();
-    stats.parallel_combs = per_vertex.iter().filter(|p| p.4 == CombCase::ParallelToNormal).count();
+    stats.parallel_combs = per_vertex
+        .iter()
+        .filter(|p| p.4 == CombCase::ParallelToNormal)
+        .count();
 
     let out_normals = rewrite_normals.then(|| per_vertex.iter().map(|p| p.0.to_array()).collect());
     let out_tangents = match &tangents {
@@ -217,16 +235,32 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
             per_vertex
                 .iter()
                 .zip(ts)
-                .map(|(p, t)| if p.2 { p.1 } else { [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32] })
+                .map(|(p, t)| {
+                    if p.2 {
+                        p.1
+                    } else {
+                        [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
+                    }
+                })
                 .collect(),
         ),
         Attr::Vertex(_) => None,
     };
     if stats.degenerate_tangents > 0 && keep {
-        warnings.push(format!("{} kept tangents were zero or along the normal and were replaced", stats.degenerate_tangents));
+        warnings.push(format!(
+            "{} kept tangents were zero or along the normal and were replaced",
+            stats.degenerate_tangents
+        ));
     }
     let comb = per_vertex.iter().map(|p| p.3).collect();
-    BakedPrimitive { remap, normals: out_normals, tangents: out_tangents, comb, stats, warnings }
+    BakedPrimitive {
+        remap,
+        normals: out_normals,
+        tangents: out_tangents,
+        comb,
+        stats,
+        warnings,
+    }
 }
 
 /// MikkTSpace over the mesh, per corner; corners whose tangent comes out zero keep it (the
@@ -266,40 +300,50 @@ fn generate_tangents(mesh: &Mesh, normals: &Attr<Vec3>, stats: &mut PrimitiveSta
     result.corners.into_iter().map(Vec4::from).collect()
 }
 
-/// Splits vertices whose corners disagree: (output vertex → source vertex, new indices), or
-/// None when the corners of every vertex agree.
-fn split_vertices(mesh: &Mesh, normals: &Attr<Vec3>, tangents: &Attr<Vec4>) -> Option<(Vec<u32>, Vec<u32>)> {
+/// Splits vertices whose corners disagree. Each vertex keeps its slot with the values of its
+/// first corner; corners that differ from it get new vertices appended after the originals (one
+/// per distinct (vertex, normal, tangent)). Returns (output vertex → source vertex, new
+/// indices), or None when the corners of every vertex agree.
+fn split_vertices(
+    mesh: &Mesh,
+    normals: &Attr<Vec3>,
+    tangents: &Attr<Vec4>,
+) -> Option<(Vec<u32>, Vec<u32>)> {
     let idx = &mesh.indices;
+    let nv = mesh.vertex_count();
     let key = |c: usize| {
         let v = idx[c] as usize;
         let n = normals.at(v, c);
         let t = tangents.at(v, c);
         [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(key_bits)
     };
-    // Fast check: do all corners of each vertex agree with its first corner?
-    let mut first = vec![u32::MAX; mesh.vertex_count()];
-    let mut agree = true;
-    for c in 0..idx.len() {
-        let v = idx[c] as usize;
-        if first[v] == u32::MAX {
-            first[v] = c as u32;
-        } else if key(first[v] as usize) != key(c) {
-            agree = false;
-            break;
+    let mut first = vec![u32::MAX; nv];
+    let mut differing = Vec::new();
+    for (c, &v) in idx.iter().enumerate() {
+        let f = &mut first[v as usize];
+        if *f == u32::MAX {
+            *f = c as u32;
+        } else if key(*f as usize) != key(c) {
+            differing.push(c);
         }
     }
-    if agree {
+    if differing.is_empty() {
         return None;
     }
-    let (ids, count) = weld(idx.len(), |c| {
-        let k = key(c);
-        [idx[c], k[0], k[1], k[2], k[3], k[4], k[5], k[6]]
+    let (ids, count) = weld(differing.len(), |k| {
+        let c = differing[k];
+        let q = key(c);
+        [idx[c], q[0], q[1], q[2], q[3], q[4], q[5], q[6]]
     });
-    let mut map = vec![0u32; count];
-    for (c, &id) in ids.iter().enumerate() {
-        map[id as usize] = idx[c];
+    let mut map: Vec<u32> = (0..nv as u32).collect();
+    map.resize(nv + count, 0);
+    let mut indices = idx.clone();
+    for (&c, &id) in differing.iter().zip(&ids) {
+        let o = nv + id as usize;
+        map[o] = idx[c];
+        indices[c] = o as u32;
     }
-    Some((map, ids))
+    Some((map, indices))
 }
 
 /// For each output vertex, the first corner that uses it (u32::MAX when none).

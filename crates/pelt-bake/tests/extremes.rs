@@ -22,16 +22,25 @@ fn grid(scale: f32, dirs: &[DVec3], normals: bool, tangents: Option<f32>) -> Mes
     for y in 0..4 {
         for x in 0..4 {
             let z = ((x * 7 + y * 3) % 5) as f32 * 0.1;
-            m.positions.push(Vec3::new(x as f32 * scale, y as f32 * scale, z * scale));
-            m.uvs.get_or_insert_with(Vec::new).push(Vec2::new(x as f32 / 3.0, y as f32 / 3.0));
+            m.positions
+                .push(Vec3::new(x as f32 * scale, y as f32 * scale, z * scale));
+            m.uvs
+                .get_or_insert_with(Vec::new)
+                .push(Vec2::new(x as f32 / 3.0, y as f32 / 3.0));
             let d = dirs[(x + 4 * y) % dirs.len()];
             let c = d * 0.5 + DVec3::splat(0.5);
-            m.colors.get_or_insert_with(Vec::new).push(Vec4::new(c.x as f32, c.y as f32, c.z as f32, 0.75));
+            m.colors
+                .get_or_insert_with(Vec::new)
+                .push(Vec4::new(c.x as f32, c.y as f32, c.z as f32, 0.75));
             if normals {
-                m.normals.get_or_insert_with(Vec::new).push(Vec3::new(-z * 0.2, 0.1, 1.0).normalize());
+                m.normals
+                    .get_or_insert_with(Vec::new)
+                    .push(Vec3::new(-z * 0.2, 0.1, 1.0).normalize());
             }
             if let Some(w) = tangents {
-                m.tangents.get_or_insert_with(Vec::new).push(Vec4::new(1.0, 0.0, 0.0, w));
+                m.tangents
+                    .get_or_insert_with(Vec::new)
+                    .push(Vec4::new(1.0, 0.0, 0.0, w));
             }
         }
     }
@@ -69,7 +78,11 @@ fn check(mesh: &Mesh, opts: &BakeOptions) -> Result<(), TestCaseError> {
         let (d, _) = comb::decode_color(col, opts.color_space, &opts.axes);
         let g = d - frame.n * frame.n.dot(d);
         if d.length() > GRAY_EPSILON && g.length() > 1e-2 * d.length() {
-            let back = frame.to_object(DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])));
+            let back = frame.to_object(DVec3::new(
+                f64::from(c[0]),
+                f64::from(c[1]),
+                f64::from(c[2]),
+            ));
             let err = back.normalize().dot(g.normalize()).clamp(-1.0, 1.0).acos();
             prop_assert!(err < 1e-5, "vertex {o}: {err} rad");
         }

@@ -39,7 +39,11 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        BuildOptions { colors: ColorEncoding::F32x4, normals: true, tangents: false }
+        BuildOptions {
+            colors: ColorEncoding::F32x4,
+            normals: true,
+            tangents: false,
+        }
     }
 }
 
@@ -49,10 +53,24 @@ pub fn color_accessor(colors: &[[f32; 4]], enc: ColorEncoding) -> NewAccessor {
     let q16 = |v: f32| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;
     match enc {
         ColorEncoding::F32x4 => NewAccessor::f32(colors),
-        ColorEncoding::F32x3 => NewAccessor::f32(&colors.iter().map(|c| [c[0], c[1], c[2]]).collect::<Vec<_>>()),
-        ColorEncoding::U8x4 => NewAccessor::u8_norm(&colors.iter().map(|c| c.map(q8)).collect::<Vec<_>>()),
-        ColorEncoding::U8x3 => NewAccessor::u8_norm(&colors.iter().map(|c| [q8(c[0]), q8(c[1]), q8(c[2])]).collect::<Vec<_>>()),
-        ColorEncoding::U16x4 => NewAccessor::u16_norm(&colors.iter().map(|c| c.map(q16)).collect::<Vec<_>>()),
+        ColorEncoding::F32x3 => NewAccessor::f32(
+            &colors
+                .iter()
+                .map(|c| [c[0], c[1], c[2]])
+                .collect::<Vec<_>>(),
+        ),
+        ColorEncoding::U8x4 => {
+            NewAccessor::u8_norm(&colors.iter().map(|c| c.map(q8)).collect::<Vec<_>>())
+        }
+        ColorEncoding::U8x3 => NewAccessor::u8_norm(
+            &colors
+                .iter()
+                .map(|c| [q8(c[0]), q8(c[1]), q8(c[2])])
+                .collect::<Vec<_>>(),
+        ),
+        ColorEncoding::U16x4 => {
+            NewAccessor::u16_norm(&colors.iter().map(|c| c.map(q16)).collect::<Vec<_>>())
+        }
     }
 }
 
@@ -65,10 +83,16 @@ pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
     attrs.insert("POSITION".into(), json!(doc.push_accessor(p)));
     if opts.normals {
         let n: Vec<[f32; 3]> = shape.normals.iter().map(|p| p.to_array()).collect();
-        attrs.insert("NORMAL".into(), json!(doc.push_accessor(NewAccessor::f32(&n))));
+        attrs.insert(
+            "NORMAL".into(),
+            json!(doc.push_accessor(NewAccessor::f32(&n))),
+        );
     }
     let uv: Vec<[f32; 2]> = shape.uvs.iter().map(|p| p.to_array()).collect();
-    attrs.insert("TEXCOORD_0".into(), json!(doc.push_accessor(NewAccessor::f32(&uv))));
+    attrs.insert(
+        "TEXCOORD_0".into(),
+        json!(doc.push_accessor(NewAccessor::f32(&uv))),
+    );
     if opts.tangents {
         // Per-corner MikkTSpace; the parametric shapes' corners of one vertex agree, so the
         // first corner of each vertex stands for it.
@@ -77,9 +101,15 @@ pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
         for (c, &v) in shape.indices.iter().enumerate().rev() {
             per_vertex[v as usize] = t.corners[c];
         }
-        attrs.insert("TANGENT".into(), json!(doc.push_accessor(NewAccessor::f32(&per_vertex))));
+        attrs.insert(
+            "TANGENT".into(),
+            json!(doc.push_accessor(NewAccessor::f32(&per_vertex))),
+        );
     }
-    attrs.insert("COLOR_0".into(), json!(doc.push_accessor(color_accessor(&shape.colors, opts.colors))));
+    attrs.insert(
+        "COLOR_0".into(),
+        json!(doc.push_accessor(color_accessor(&shape.colors, opts.colors))),
+    );
     let idx = doc.push_accessor(NewAccessor::indices(&shape.indices, shape.positions.len()));
     let mesh = doc.add_mesh_node(&shape.name, attrs, idx);
     decorate(doc, mesh, &shape.name);
@@ -89,25 +119,41 @@ pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
 /// extras, as DCC exports look.
 fn decorate(doc: &mut Document, mesh: usize, name: &str) {
     let materials = doc.json.entry("materials").or_insert_with(|| json!([]));
-    let Some(materials) = materials.as_array_mut() else { return };
+    let Some(materials) = materials.as_array_mut() else {
+        return;
+    };
     materials.push(json!({
         "name": format!("{name}-fur"),
         "pbrMetallicRoughness": {"baseColorFactor": [0.55, 0.4, 0.3, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8},
         "extras": {"painted_with": "pelt-fixtures"}
     }));
     let material = materials.len() - 1;
-    if let Some(prims) = doc.json.get_mut("meshes").and_then(|m| m.get_mut(mesh)).and_then(|m| m.get_mut("primitives")).and_then(Value::as_array_mut) {
+    if let Some(prims) = doc
+        .json
+        .get_mut("meshes")
+        .and_then(|m| m.get_mut(mesh))
+        .and_then(|m| m.get_mut("primitives"))
+        .and_then(Value::as_array_mut)
+    {
         for p in prims {
             if let Some(p) = p.as_object_mut() {
                 p.insert("material".into(), json!(material));
             }
         }
     }
-    let Some(nodes) = doc.json.get_mut("nodes").and_then(Value::as_array_mut) else { return };
+    let Some(nodes) = doc.json.get_mut("nodes").and_then(Value::as_array_mut) else {
+        return;
+    };
     let child = nodes.len() - 1;
     nodes.push(json!({"name": format!("{name}-root"), "children": [child], "translation": [0.0, 0.5, 0.0], "extras": {"rig": "none"}}));
     let root = nodes.len() - 1;
-    if let Some(scene) = doc.json.get_mut("scenes").and_then(|s| s.get_mut(0)).and_then(|s| s.get_mut("nodes")).and_then(Value::as_array_mut) {
+    if let Some(scene) = doc
+        .json
+        .get_mut("scenes")
+        .and_then(|s| s.get_mut(0))
+        .and_then(|s| s.get_mut("nodes"))
+        .and_then(Value::as_array_mut)
+    {
         scene.retain(|n| n.as_u64() != Some(child as u64));
         scene.push(json!(root));
     }

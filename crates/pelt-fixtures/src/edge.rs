@@ -9,18 +9,22 @@ use pelt_io::edit::NewAccessor;
 use serde_json::{Map, json};
 
 use crate::build::{BuildOptions, ColorEncoding, add_shape};
-use crate::shapes::{Shape, sphere};
 use crate::paint;
+use crate::shapes::{Shape, sphere};
 
 /// A flat grid in the XY plane (normal +Z), `w`×`h` quads, UV = position / size.
 fn plane(name: &str, w: u32, h: u32, color: impl Fn(Vec3) -> [f32; 4]) -> Shape {
-    let mut s = Shape { name: name.to_owned(), ..Shape::default() };
+    let mut s = Shape {
+        name: name.to_owned(),
+        ..Shape::default()
+    };
     for y in 0..=h {
         for x in 0..=w {
             let p = Vec3::new(x as f32, y as f32, 0.0);
             s.positions.push(p);
             s.normals.push(Vec3::Z);
-            s.uvs.push(Vec2::new(x as f32 / w as f32, 1.0 - y as f32 / h as f32));
+            s.uvs
+                .push(Vec2::new(x as f32 / w as f32, 1.0 - y as f32 / h as f32));
             s.colors.push(color(p));
         }
     }
@@ -53,7 +57,11 @@ fn comb_x(_: Vec3) -> [f32; 4] {
 pub fn mirrored_uv() -> Document {
     let mut s = plane("mirrored-uv", 4, 1, comb_x);
     for (p, uv) in s.positions.iter().zip(s.uvs.iter_mut()) {
-        uv.x = if p.x <= 2.0 { p.x / 2.0 } else { (4.0 - p.x) / 2.0 };
+        uv.x = if p.x <= 2.0 {
+            p.x / 2.0
+        } else {
+            (4.0 - p.x) / 2.0
+        };
     }
     doc_with("mirrored-uv", &[(&s, BuildOptions::default())])
 }
@@ -66,7 +74,11 @@ pub fn degenerate() -> Document {
     s.indices.extend([5, 6, 6]);
     s.indices.extend([0, 1, 2]); // collinear (y = 0 row)
     let n = s.positions.len() as u32;
-    s.positions.extend([Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)]);
+    s.positions.extend([
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(0.0, 1.0, 1.0),
+    ]);
     s.normals.extend([Vec3::Z; 3]);
     s.uvs.extend([Vec2::new(0.5, 0.5); 3]); // zero UV area
     s.colors.extend([comb_x(Vec3::ZERO); 3]);
@@ -96,13 +108,18 @@ pub fn comb_parallel() -> Document {
 /// A unit cube of 8 shared vertices without NORMAL: flat normals must be generated, which
 /// splits every vertex into one per face (24).
 pub fn no_normals() -> Document {
-    let mut s = Shape { name: "no-normals".into(), ..Shape::default() };
+    let mut s = Shape {
+        name: "no-normals".into(),
+        ..Shape::default()
+    };
     for i in 0..8u32 {
-        let p = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32) - Vec3::splat(0.5);
+        let p = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32)
+            - Vec3::splat(0.5);
         s.positions.push(p);
         s.normals.push(p.normalize());
         s.uvs.push(Vec2::new(p.x + 0.5 + p.z * 0.25, p.y + 0.5));
-        s.colors.push(paint(Vec3::new(0.2, -1.0, 0.1).normalize(), 1.0));
+        s.colors
+            .push(paint(Vec3::new(0.2, -1.0, 0.1).normalize(), 1.0));
     }
     // Outward, counter-clockwise.
     s.indices = vec![
@@ -113,30 +130,78 @@ pub fn no_normals() -> Document {
         0, 4, 2, 2, 4, 6, // -X
         1, 3, 5, 3, 7, 5, // +X
     ];
-    doc_with("no-normals", &[(&s, BuildOptions { normals: false, ..BuildOptions::default() })])
+    doc_with(
+        "no-normals",
+        &[(
+            &s,
+            BuildOptions {
+                normals: false,
+                ..BuildOptions::default()
+            },
+        )],
+    )
 }
 
 /// A small sphere whose COLOR_0 is VEC3 unsigned byte normalized (length 1 everywhere).
 pub fn color_vec3_u8() -> Document {
     let mut s = sphere(8, 16);
     s.name = "color-vec3-u8".into();
-    doc_with("color-vec3-u8", &[(&s, BuildOptions { colors: ColorEncoding::U8x3, ..BuildOptions::default() })])
+    doc_with(
+        "color-vec3-u8",
+        &[(
+            &s,
+            BuildOptions {
+                colors: ColorEncoding::U8x3,
+                ..BuildOptions::default()
+            },
+        )],
+    )
 }
 
 /// A small torus with VEC4 unsigned short colors and MikkTSpace tangents already present.
 pub fn color_u16_with_tangents() -> Document {
     let mut s = crate::shapes::torus(6, 12);
     s.name = "color-u16-tangents".into();
-    doc_with("color-u16-tangents", &[(&s, BuildOptions { colors: ColorEncoding::U16x4, tangents: true, ..BuildOptions::default() })])
+    doc_with(
+        "color-u16-tangents",
+        &[(
+            &s,
+            BuildOptions {
+                colors: ColorEncoding::U16x4,
+                tangents: true,
+                ..BuildOptions::default()
+            },
+        )],
+    )
 }
 
 /// A plane whose COLOR_0 is sparse: a gray base with vertices 0, 5 and 7 overridden to +X.
 pub fn sparse_color() -> Document {
     let s = plane("sparse-color", 3, 2, |_| [0.5, 0.5, 0.5, 1.0]);
     let mut doc = doc_with("sparse-color", &[(&s, BuildOptions::default())]);
-    let base = doc.push_view(s.colors.iter().flatten().flat_map(|x| x.to_le_bytes()).collect(), None);
-    let idx = doc.push_view([0u16, 5, 7, 0].iter().flat_map(|x| x.to_le_bytes()).collect(), None);
-    let vals = doc.push_view([comb_x(Vec3::ZERO); 3].iter().flatten().flat_map(|x| x.to_le_bytes()).collect(), None);
+    let base = doc.push_view(
+        s.colors
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect(),
+        None,
+    );
+    let idx = doc.push_view(
+        [0u16, 5, 7, 0]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect(),
+        None,
+    );
+    let vals = doc.push_view(
+        [comb_x(Vec3::ZERO); 3]
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect(),
+        None,
+    );
     let acc = doc.push_accessor_json(json!({
         "bufferView": base, "componentType": 5126, "count": s.positions.len(), "type": "VEC4",
         "sparse": {"count": 3, "indices": {"bufferView": idx, "componentType": 5123}, "values": {"bufferView": vals}}
@@ -158,11 +223,21 @@ pub fn bad_normals() -> Document {
 pub fn modes() -> Document {
     let s = plane("modes", 1, 1, comb_x);
     let mut doc = doc_with("modes", &[(&s, BuildOptions::default())]);
-    let pos = doc.primitives().first().and_then(|r| doc.attribute(*r, "POSITION").ok().flatten()).unwrap_or(0);
+    let pos = doc
+        .primitives()
+        .first()
+        .and_then(|r| doc.attribute(*r, "POSITION").ok().flatten())
+        .unwrap_or(0);
     let lines = doc.push_accessor(NewAccessor::indices(&[0, 1, 1, 3], 4));
     let mut attrs = Map::new();
     attrs.insert("POSITION".into(), json!(pos));
-    if let Some(prims) = doc.json.get_mut("meshes").and_then(|m| m.get_mut(0)).and_then(|m| m.get_mut("primitives")).and_then(serde_json::Value::as_array_mut) {
+    if let Some(prims) = doc
+        .json
+        .get_mut("meshes")
+        .and_then(|m| m.get_mut(0))
+        .and_then(|m| m.get_mut("primitives"))
+        .and_then(serde_json::Value::as_array_mut)
+    {
         prims.push(json!({"attributes": attrs, "indices": lines, "mode": 1}));
     }
     doc

@@ -36,13 +36,27 @@ pub fn write_all(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
     use build::{BuildOptions, ColorEncoding, document};
     use pelt_io::glb::{write_glb, write_gltf_embedded};
     let mkdir = |p: &std::path::Path| {
-        std::fs::create_dir_all(p).map_err(|source| pelt_io::IoError::Fs { path: p.to_owned(), action: "create", source })
+        std::fs::create_dir_all(p).map_err(|source| pelt_io::IoError::Fs {
+            path: p.to_owned(),
+            action: "create",
+            source,
+        })
     };
     mkdir(&out.join("edge"))?;
-    let u8x4 = BuildOptions { colors: ColorEncoding::U8x4, ..BuildOptions::default() };
+    let u8x4 = BuildOptions {
+        colors: ColorEncoding::U8x4,
+        ..BuildOptions::default()
+    };
     for (name, shape, opts) in [
         ("sphere", shapes::sphere(24, 48), BuildOptions::default()),
-        ("torus", shapes::torus(24, 48), BuildOptions { tangents: true, ..BuildOptions::default() }),
+        (
+            "torus",
+            shapes::torus(24, 48),
+            BuildOptions {
+                tangents: true,
+                ..BuildOptions::default()
+            },
+        ),
         ("creature", shapes::creature(64, 128), u8x4),
     ] {
         write_glb(&document(&shape, opts), &out.join(format!("{name}.glb")))?;
@@ -57,6 +71,9 @@ pub fn write_all(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
 /// tangents present), about 58 MB.
 pub fn write_big(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
     let shape = shapes::creature(570, 1140);
-    let opts = build::BuildOptions { tangents: true, ..build::BuildOptions::default() };
+    let opts = build::BuildOptions {
+        tangents: true,
+        ..build::BuildOptions::default()
+    };
     pelt_io::glb::write_glb(&build::document(&shape, opts), out).map(|_| ())
 }

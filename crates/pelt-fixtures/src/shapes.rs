@@ -31,7 +31,10 @@ fn parametric(
     f: impl Fn(f32, f32) -> Vec3,
     fallback: impl Fn(f32, f32) -> Vec3,
 ) -> Shape {
-    let mut s = Shape { name: name.to_owned(), ..Shape::default() };
+    let mut s = Shape {
+        name: name.to_owned(),
+        ..Shape::default()
+    };
     let h = 1e-3;
     for r in 0..=rings {
         for k in 0..=segs {
@@ -39,7 +42,10 @@ fn parametric(
             let p = f(u, v);
             let du = f(u + h, v) - f(u - h, v);
             let dv = f(u, (v + h).min(1.0)) - f(u, (v - h).max(0.0));
-            let n = dv.cross(du).try_normalize().unwrap_or_else(|| fallback(u, v).normalize());
+            let n = dv
+                .cross(du)
+                .try_normalize()
+                .unwrap_or_else(|| fallback(u, v).normalize());
             let (d, len) = comb_field(p, n);
             s.positions.push(p);
             s.normals.push(n);
@@ -81,13 +87,13 @@ pub fn torus(rings: u32, segs: u32) -> Shape {
 /// smooth radial bumps.
 pub fn creature(rings: u32, segs: u32) -> Shape {
     let bumps: [(Vec3, f32, f32); 7] = [
-        (Vec3::new(1.0, 0.35, 0.0), 0.55, 0.25),    // head
-        (Vec3::new(0.55, -0.8, 0.45), 0.7, 0.12),   // legs
+        (Vec3::new(1.0, 0.35, 0.0), 0.55, 0.25),  // head
+        (Vec3::new(0.55, -0.8, 0.45), 0.7, 0.12), // legs
         (Vec3::new(0.55, -0.8, -0.45), 0.7, 0.12),
         (Vec3::new(-0.55, -0.8, 0.45), 0.7, 0.12),
         (Vec3::new(-0.55, -0.8, -0.45), 0.7, 0.12),
-        (Vec3::new(-1.0, 0.3, 0.0), 0.6, 0.06),     // tail
-        (Vec3::new(0.9, 0.75, 0.25), 0.3, 0.05),    // ear
+        (Vec3::new(-1.0, 0.3, 0.0), 0.6, 0.06),  // tail
+        (Vec3::new(0.9, 0.75, 0.25), 0.3, 0.05), // ear
     ];
     let f = move |u: f32, v: f32| {
         let d = spherical(u, v);

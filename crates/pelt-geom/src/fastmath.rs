@@ -15,12 +15,20 @@ pub struct V3 {
 
 impl V3 {
     /// The zero vector.
-    pub const ZERO: V3 = V3 { x: 0.0, y: 0.0, z: 0.0 };
+    pub const ZERO: V3 = V3 {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+    };
 
     /// Builds a vector from an array.
     #[inline]
     pub const fn new(a: [f32; 3]) -> Self {
-        V3 { x: a[0], y: a[1], z: a[2] }
+        V3 {
+            x: a[0],
+            y: a[1],
+            z: a[2],
+        }
     }
 
     /// `x*x + y*y + z*z`, added left to right.
@@ -32,19 +40,31 @@ impl V3 {
     /// Componentwise sum.
     #[inline]
     pub fn add(self, r: V3) -> V3 {
-        V3 { x: self.x + r.x, y: self.y + r.y, z: self.z + r.z }
+        V3 {
+            x: self.x + r.x,
+            y: self.y + r.y,
+            z: self.z + r.z,
+        }
     }
 
     /// Componentwise difference.
     #[inline]
     pub fn sub(self, r: V3) -> V3 {
-        V3 { x: self.x - r.x, y: self.y - r.y, z: self.z - r.z }
+        V3 {
+            x: self.x - r.x,
+            y: self.y - r.y,
+            z: self.z - r.z,
+        }
     }
 
     /// Scales by `s` (computed as `s * component`, as the reference does).
     #[inline]
     pub fn scale(self, s: f32) -> V3 {
-        V3 { x: s * self.x, y: s * self.y, z: s * self.z }
+        V3 {
+            x: s * self.x,
+            y: s * self.y,
+            z: s * self.z,
+        }
     }
 
     /// Euclidean length with f32 sqrt.

@@ -117,12 +117,20 @@ pub fn check_finite<const N: usize>(
 /// Fails when an index is out of range or the count is not a multiple of three.
 pub fn check_indices(indices: &[u32], vertex_count: usize) -> Result<(), GeomError> {
     if indices.len() % 3 != 0 {
-        return Err(GeomError::PartialTriangle { count: indices.len() });
+        return Err(GeomError::PartialTriangle {
+            count: indices.len(),
+        });
     }
-    if let Some((position, &index)) =
-        indices.iter().enumerate().find(|&(_, &i)| i as usize >= vertex_count)
+    if let Some((position, &index)) = indices
+        .iter()
+        .enumerate()
+        .find(|&(_, &i)| i as usize >= vertex_count)
     {
-        return Err(GeomError::IndexOutOfRange { position, index, vertex_count });
+        return Err(GeomError::IndexOutOfRange {
+            position,
+            index,
+            vertex_count,
+        });
     }
     Ok(())
 }
@@ -131,7 +139,11 @@ fn check_len(attribute: &str, len: usize, vertex_count: usize) -> Result<(), Geo
     if len == vertex_count {
         Ok(())
     } else {
-        Err(GeomError::LengthMismatch { attribute: attribute.to_owned(), len, vertex_count })
+        Err(GeomError::LengthMismatch {
+            attribute: attribute.to_owned(),
+            len,
+            vertex_count,
+        })
     }
 }
 
@@ -154,7 +166,11 @@ mod tests {
         let err = m.validate().unwrap_err();
         assert_eq!(
             err,
-            GeomError::NonFinite { attribute: "NORMAL".into(), vertex: 1, value: "NaN".into() }
+            GeomError::NonFinite {
+                attribute: "NORMAL".into(),
+                vertex: 1,
+                value: "NaN".into()
+            }
         );
     }
 
@@ -162,9 +178,19 @@ mod tests {
     fn index_out_of_range_is_reported() {
         let mut m = tri();
         m.indices = vec![0, 1, 3];
-        assert!(matches!(m.validate(), Err(GeomError::IndexOutOfRange { position: 2, index: 3, .. })));
+        assert!(matches!(
+            m.validate(),
+            Err(GeomError::IndexOutOfRange {
+                position: 2,
+                index: 3,
+                ..
+            })
+        ));
         m.indices = vec![0, 1];
-        assert!(matches!(m.validate(), Err(GeomError::PartialTriangle { count: 2 })));
+        assert!(matches!(
+            m.validate(),
+            Err(GeomError::PartialTriangle { count: 2 })
+        ));
     }
 
     #[test]

@@ -70,7 +70,10 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         let (p, n, t) = (positions[v], normals[v], uvs[v]);
         [p.x, p.y, p.z, n.x, n.y, n.z, t.x, t.y].map(key_bits)
     });
-    let wid: Vec<u32> = indices.par_iter().map(|&v| vertex_weld[v as usize]).collect();
+    let wid: Vec<u32> = indices
+        .par_iter()
+        .map(|&v| vertex_weld[v as usize])
+        .collect();
 
     let mut faces: Vec<Face> = (0..nf)
         .into_par_iter()
@@ -105,9 +108,11 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
 
     // Neighbour across each edge (edge e runs from corner e to corner e+1).
     let mut neighbours = vec![NONE; 3 * nf];
-    neighbours.par_chunks_mut(3).enumerate().with_min_len(2048).for_each_init(
-        Vec::new,
-        |entries: &mut Vec<(u32, bool)>, (f, out)| {
+    neighbours
+        .par_chunks_mut(3)
+        .enumerate()
+        .with_min_len(2048)
+        .for_each_init(Vec::new, |entries: &mut Vec<(u32, bool)>, (f, out)| {
             if faces[f].degenerate {
                 return;
             }
@@ -129,8 +134,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
                 }
                 *slot = pair_in_edge_group(entries, me);
             }
-        },
-    );
+        });
 
     // The 4-rule groups, a depth-first walk around each vertex as in the reference (the order
     // matters where a face without usable UVs takes the orientation of the first group that
@@ -163,7 +167,9 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
                     continue;
                 }
                 let t = t as usize;
-                let Some(i) = (0..3).find(|&i| wid[3 * t + i] == rep) else { continue };
+                let Some(i) = (0..3).find(|&i| wid[3 * t + i] == rep) else {
+                    continue;
+                };
                 if assigned[3 * t + i] != NONE {
                     continue;
                 }
@@ -189,8 +195,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         .into_par_iter()
         .map(|b| {
             let mut out = Vec::new();
-            let mut subgroups: Vec<(Vec<u32>, V3)> = Vec::new();
-            let mut projected: Vec<(V3, V3)> = Vec::new();
+            let mut scratch = GroupScratch::default();
             for g in b * BLOCK..groups.min((b + 1) * BLOCK) {
                 let members = &group_faces[group_start[g] as usize..group_start[g + 1] as usize];
                 let rep = group_rep[g];
@@ -200,34 +205,8 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
                 };
                 // Every member shares the welded vertex, hence the normal.
                 let n = nrm(corner_of(members[0]));
-                projected.clear();
-                projected.extend(members.iter().map(|&f| {
-                    let face = &faces[f as usize];
-                    (face.s.project_normalized(n), face.t.project_normalized(n))
-                }));
-                subgroups.clear();
-                for (ia, &a) in members.iter().enumerate() {
-                    let (sa, ta) = projected[ia];
-                    let any_a = faces[a as usize].any;
-                    let mut sub: Vec<u32> = members
-                        .iter()
-                        .zip(&projected)
-                        .filter(|&(&bf, &(sb, tb))| {
-                            let meets = sa.dot(sb) > ANGULAR_THRESHOLD_COS
-                                && ta.dot(tb) > ANGULAR_THRESHOLD_COS;
-                            any_a || faces[bf as usize].any || a == bf || meets
-                        })
-                        .map(|(&bf, _)| bf)
-                        .collect();
-                    sub.sort_unstable();
-                    let s = match subgroups.iter().find(|(m, _)| *m == sub) {
-                        Some((_, s)) => *s,
-                        None => {
-                            let s = evaluate(&sub, &faces, n, &corner_of, &pos);
-                            subgroups.push((sub, s));
-                            s
-                        }
-                    };
+                evaluate_group(members, &faces, n, &corner_of, &pos, &mut scratch);
+                for (&a, &s) in members.iter().zip(&scratch.result) {
                     out.push((corner_of(a) as u32, s, group_orient[g]));
                 }
             }
@@ -272,7 +251,13 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
 /// order of operations.
 fn face_info(p: [[f32; 3]; 3], tx: [[f32; 2]; 3]) -> Face {
     if p[0] == p[1] || p[1] == p[2] || p[2] == p[0] {
-        return Face { s: V3::ZERO, t: V3::ZERO, orient: false, any: false, degenerate: true };
+        return Face {
+            s: V3::ZERO,
+            t: V3::ZERO,
+            orient: false,
+            any: false,
+            degenerate: true,
+        };
     }
     let v = p.map(V3::new);
     let d_tx = [1, 2].map(|t| [0, 1].map(|i| tx[t][i] - tx[0][i]));
@@ -282,7 +267,13 @@ fn face_info(p: [[f32; 3]; 3], tx: [[f32; 2]; 3]) -> Face {
     let s = d_v[0].scale(d_tx[1][1]).sub(d_v[1].scale(d_tx[0][1]));
     let t = d_v[0].scale(-d_tx[1][0]).add(d_v[1].scale(d_tx[0][0]));
     let orient = signed_area > 0.0;
-    let mut face = Face { s: V3::ZERO, t: V3::ZERO, orient, any: true, degenerate: false };
+    let mut face = Face {
+        s: V3::ZERO,
+        t: V3::ZERO,
+        orient,
+        any: true,
+        degenerate: false,
+    };
     if not_zero(area) {
         let sign = if orient { 1.0 } else { -1.0 };
         face.s = s.normalized_or_zero().scale(sign);
@@ -312,8 +303,8 @@ fn pair_in_edge_group(entries: &[(u32, bool)], me: usize) -> u32 {
         if partner[i] != NONE {
             continue;
         }
-        if let Some(j) = (i + 1..entries.len())
-            .find(|&j| partner[j] == NONE && entries[j].1 != entries[i].1)
+        if let Some(j) =
+            (i + 1..entries.len()).find(|&j| partner[j] == NONE && entries[j].1 != entries[i].1)
         {
             partner[i] = j as u32;
             partner[j] = i as u32;
@@ -325,16 +316,81 @@ fn pair_in_edge_group(entries: &[(u32, bool)], me: usize) -> u32 {
     }
 }
 
+/// Reused buffers for [`evaluate_group`].
+#[derive(Default)]
+struct GroupScratch {
+    /// Members in ascending face order.
+    sorted: Vec<u32>,
+    /// Projected (s, t) per sorted member.
+    projected: Vec<(V3, V3)>,
+    /// Membership of each distinct sub-group (over `sorted`), and its tangent.
+    subgroups: Vec<(Vec<bool>, V3)>,
+    /// Membership being built.
+    member: Vec<bool>,
+    /// Result per member, in the group's order.
+    result: Vec<V3>,
+}
+
+/// The tangent of every member of a group: each member's sub-group holds the members whose
+/// projected derivatives agree with its own within the angular threshold; equal sub-groups are
+/// evaluated once, summing in ascending face order as the reference does.
+fn evaluate_group(
+    members: &[u32],
+    faces: &[Face],
+    n: V3,
+    corner_of: &impl Fn(u32) -> usize,
+    pos: &impl Fn(usize) -> V3,
+    sc: &mut GroupScratch,
+) {
+    sc.sorted.clear();
+    sc.sorted.extend_from_slice(members);
+    sc.sorted.sort_unstable();
+    sc.projected.clear();
+    sc.projected.extend(sc.sorted.iter().map(|&f| {
+        let face = &faces[f as usize];
+        (face.s.project_normalized(n), face.t.project_normalized(n))
+    }));
+    sc.subgroups.clear();
+    sc.result.clear();
+    for &a in members {
+        let ia = sc.sorted.binary_search(&a).unwrap_or(0);
+        let (sa, ta) = sc.projected[ia];
+        let any_a = faces[a as usize].any;
+        sc.member.clear();
+        sc.member
+            .extend(sc.sorted.iter().zip(&sc.projected).map(|(&bf, &(sb, tb))| {
+                let meets =
+                    sa.dot(sb) > ANGULAR_THRESHOLD_COS && ta.dot(tb) > ANGULAR_THRESHOLD_COS;
+                any_a || faces[bf as usize].any || a == bf || meets
+            }));
+        let s = match sc.subgroups.iter().find(|(m, _)| *m == sc.member) {
+            Some((_, s)) => *s,
+            None => {
+                let sub = sc
+                    .sorted
+                    .iter()
+                    .zip(&sc.member)
+                    .filter(|(_, m)| **m)
+                    .map(|(&f, _)| f);
+                let s = evaluate(sub, faces, n, corner_of, pos);
+                sc.subgroups.push((sc.member.clone(), s));
+                s
+            }
+        };
+        sc.result.push(s);
+    }
+}
+
 /// Angle-weighted average of the projected tangents of a sub-group (faces in ascending order).
 fn evaluate(
-    sub: &[u32],
+    sub: impl Iterator<Item = u32>,
     faces: &[Face],
     n: V3,
     corner_of: &impl Fn(u32) -> usize,
     pos: &impl Fn(usize) -> V3,
 ) -> V3 {
     let mut res = V3::ZERO;
-    for &f in sub {
+    for f in sub {
         let face = &faces[f as usize];
         if face.any {
             continue;

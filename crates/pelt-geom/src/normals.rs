@@ -65,11 +65,18 @@ pub fn corner_normals(
     normals: Option<&[Vec3]>,
     indices: &[u32],
 ) -> (Vec<Vec3>, NormalStats) {
-    let mut stats = NormalStats { generated_flat: normals.is_none(), ..NormalStats::default() };
+    let mut stats = NormalStats {
+        generated_flat: normals.is_none(),
+        ..NormalStats::default()
+    };
     let faces: Vec<Option<DVec3>> = indices
         .chunks_exact(3)
         .map(|t| {
-            face_normal(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize])
+            face_normal(
+                positions[t[0] as usize],
+                positions[t[1] as usize],
+                positions[t[2] as usize],
+            )
         })
         .collect();
     stats.degenerate_triangles = faces.iter().filter(|f| f.is_none()).count();

@@ -36,7 +36,13 @@ impl bevy_mikktspace::Geometry for Oracle<'_> {
 }
 
 fn oracle(p: &[Vec3], n: &[Vec3], t: &[Vec2], i: &[u32]) -> Vec<[f32; 4]> {
-    let mut o = Oracle { p, n, t, i, out: vec![[0.0; 4]; i.len()] };
+    let mut o = Oracle {
+        p,
+        n,
+        t,
+        i,
+        out: vec![[0.0; 4]; i.len()],
+    };
     bevy_mikktspace::generate_tangents(&mut o).expect("oracle never fails");
     o.out
 }
@@ -45,7 +51,11 @@ fn assert_matches(p: &[Vec3], n: &[Vec3], t: &[Vec2], i: &[u32]) -> mikktspace::
     let ours = mikktspace::generate(p, n, t, i);
     let theirs = oracle(p, n, t, i);
     for (c, (a, b)) in ours.corners.iter().zip(&theirs).enumerate() {
-        assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "corner {c}: pelt {a:?}, oracle {b:?}");
+        assert_eq!(
+            a.map(f32::to_bits),
+            b.map(f32::to_bits),
+            "corner {c}: pelt {a:?}, oracle {b:?}"
+        );
     }
     assert_eq!(ours.corners.len(), theirs.len());
     ours
@@ -58,7 +68,11 @@ fn uv_sphere(rings: u32, segs: u32) -> (Vec<Vec3>, Vec<Vec3>, Vec<Vec2>, Vec<u32
         for s in 0..=segs {
             let (v, u) = (r as f32 / rings as f32, s as f32 / segs as f32);
             let (th, ph) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-            p.push(Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()));
+            p.push(Vec3::new(
+                th.sin() * ph.cos(),
+                th.cos(),
+                th.sin() * ph.sin(),
+            ));
             t.push(Vec2::new(u, v));
         }
     }

@@ -132,17 +132,25 @@ impl Elements {
         if c == ComponentType::F32 {
             return b
                 .chunks_exact(4 * N)
-                .map(|e| std::array::from_fn(|k| f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]])))
+                .map(|e| {
+                    std::array::from_fn(|k| {
+                        f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]])
+                    })
+                })
                 .collect();
         }
-        (0..self.count).map(|e| std::array::from_fn(|k| decode(c, n, b, e * N + k))).collect()
+        (0..self.count)
+            .map(|e| std::array::from_fn(|k| decode(c, n, b, e * N + k)))
+            .collect()
     }
 }
 
 #[inline]
 fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
     match c {
-        ComponentType::F32 => f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]),
+        ComponentType::F32 => {
+            f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])
+        }
         ComponentType::U8 => {
             let v = f32::from(b[i]);
             if normalized { v / 255.0 } else { v }
@@ -157,7 +165,11 @@ fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
         }
         ComponentType::I16 => {
             let v = f32::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]]));
-            if normalized { (v / 32767.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
         }
         ComponentType::U32 => {
             let v = u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
@@ -167,35 +179,59 @@ fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
 }
 
 /// A checked view of `bufferViews[index]`: (buffer bytes of the view, byteStride).
-fn view_bytes<'d>(doc: &'d Document, index: usize, place: &str) -> Result<(&'d [u8], Option<usize>)> {
+fn view_bytes<'d>(
+    doc: &'d Document,
+    index: usize,
+    place: &str,
+) -> Result<(&'d [u8], Option<usize>)> {
     let views = doc.array("bufferViews");
     if index >= doc.source_views && index < views.len() {
         // A view added by an edit: its bytes live in the document, already checked.
-        let stride = views[index].get("byteStride").and_then(Value::as_u64).map(|s| s as usize);
+        let stride = views[index]
+            .get("byteStride")
+            .and_then(Value::as_u64)
+            .map(|s| s as usize);
         return Ok((&doc.new_views[index - doc.source_views], stride));
     }
     let v = views.get(index).ok_or_else(|| {
-        doc.invalid(place, format!("bufferView {index} does not exist ({} defined)", views.len()))
+        doc.invalid(
+            place,
+            format!(
+                "bufferView {index} does not exist ({} defined)",
+                views.len()
+            ),
+        )
     })?;
     let vplace = format!("{place} bufferViews[{index}]");
-    let buffer = uint(v, "buffer").ok_or_else(|| doc.invalid(&vplace, "buffer is missing"))? as usize;
+    let buffer =
+        uint(v, "buffer").ok_or_else(|| doc.invalid(&vplace, "buffer is missing"))? as usize;
     let data = doc
         .buffers
         .get(buffer)
         .ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
     let offset = uint(v, "byteOffset").unwrap_or(0);
-    let length = uint(v, "byteLength").ok_or_else(|| doc.invalid(&vplace, "byteLength is missing"))?;
-    let end = offset.checked_add(length).filter(|&e| e <= data.len() as u64).ok_or_else(|| {
-        doc.invalid(
-            &vplace,
-            format!("bytes {offset}..{offset}+{length} exceed buffer {buffer} ({} bytes)", data.len()),
-        )
-    })?;
+    let length =
+        uint(v, "byteLength").ok_or_else(|| doc.invalid(&vplace, "byteLength is missing"))?;
+    let end = offset
+        .checked_add(length)
+        .filter(|&e| e <= data.len() as u64)
+        .ok_or_else(|| {
+            doc.invalid(
+                &vplace,
+                format!(
+                    "bytes {offset}..{offset}+{length} exceed buffer {buffer} ({} bytes)",
+                    data.len()
+                ),
+            )
+        })?;
     let stride = match v.get("byteStride") {
         None => None,
-        Some(s) => Some(s.as_u64().filter(|&s| (4..=252).contains(&s)).ok_or_else(|| {
-            doc.invalid(&vplace, format!("byteStride {s} is outside 4..=252"))
-        })? as usize),
+        Some(s) => Some(
+            s.as_u64()
+                .filter(|&s| (4..=252).contains(&s))
+                .ok_or_else(|| doc.invalid(&vplace, format!("byteStride {s} is outside 4..=252")))?
+                as usize,
+        ),
     };
     Ok((&data[offset as usize..end as usize], stride))
 }
@@ -248,22 +284,44 @@ pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
     let accessors = doc.array("accessors");
     let place = format!("{place} (accessor {index})");
     let a = accessors.get(index).ok_or_else(|| {
-        doc.invalid(&place, format!("accessor {index} does not exist ({} defined)", accessors.len()))
+        doc.invalid(
+            &place,
+            format!(
+                "accessor {index} does not exist ({} defined)",
+                accessors.len()
+            ),
+        )
     })?;
     let component = uint(a, "componentType")
         .and_then(ComponentType::from_gl)
         .ok_or_else(|| doc.invalid(&place, "componentType is missing or invalid"))?;
-    let ty = a.get("type").and_then(Value::as_str).unwrap_or("").to_owned();
-    let components = components_of(&ty).ok_or_else(|| doc.invalid(&place, format!("type {ty:?} is invalid")))?;
+    let ty = a
+        .get("type")
+        .and_then(Value::as_str)
+        .unwrap_or("")
+        .to_owned();
+    let components =
+        components_of(&ty).ok_or_else(|| doc.invalid(&place, format!("type {ty:?} is invalid")))?;
     if ty.starts_with("MAT") {
-        return Err(doc.invalid(&place, format!("matrix accessors ({ty}) are not vertex data pelt reads")));
+        return Err(doc.invalid(
+            &place,
+            format!("matrix accessors ({ty}) are not vertex data pelt reads"),
+        ));
     }
-    let normalized = a.get("normalized").and_then(Value::as_bool).unwrap_or(false);
-    let count = uint(a, "count").filter(|&c| c >= 1).ok_or_else(|| doc.invalid(&place, "count is missing or zero"))?;
+    let normalized = a
+        .get("normalized")
+        .and_then(Value::as_bool)
+        .unwrap_or(false);
+    let count = uint(a, "count")
+        .filter(|&c| c >= 1)
+        .ok_or_else(|| doc.invalid(&place, "count is missing or zero"))?;
     let elem = components * component.size();
     let offset = uint(a, "byteOffset").unwrap_or(0);
     if offset % component.size() as u64 != 0 {
-        return Err(doc.invalid(&place, format!("byteOffset {offset} is not a multiple of the component size")));
+        return Err(doc.invalid(
+            &place,
+            format!("byteOffset {offset} is not a multiple of the component size"),
+        ));
     }
 
     let mut bytes = match uint(a, "bufferView") {
@@ -271,7 +329,10 @@ pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
             let (data, stride) = view_bytes(doc, v as usize, &place)?;
             let stride = stride.unwrap_or(elem);
             if stride < elem {
-                return Err(doc.invalid(&place, format!("byteStride {stride} is smaller than an element ({elem} bytes)")));
+                return Err(doc.invalid(
+                    &place,
+                    format!("byteStride {stride} is smaller than an element ({elem} bytes)"),
+                ));
             }
             gather(doc, &place, data, offset, stride, count, elem)?
         }
@@ -290,30 +351,85 @@ pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
     if let Some(sparse) = a.get("sparse") {
         apply_sparse(doc, &place, sparse, count, elem, &mut bytes)?;
     }
-    Ok(Elements { component, components, ty, normalized, count: count as usize, bytes })
+    Ok(Elements {
+        component,
+        components,
+        ty,
+        normalized,
+        count: count as usize,
+        bytes,
+    })
 }
 
-fn apply_sparse(doc: &Document, place: &str, sparse: &Value, count: u64, elem: usize, out: &mut [u8]) -> Result<()> {
+fn apply_sparse(
+    doc: &Document,
+    place: &str,
+    sparse: &Value,
+    count: u64,
+    elem: usize,
+    out: &mut [u8],
+) -> Result<()> {
     let sp = format!("{place} sparse");
-    let n = uint(sparse, "count").filter(|&n| n >= 1 && n <= count).ok_or_else(|| {
-        doc.invalid(&sp, format!("sparse count is missing or outside 1..={count}"))
-    })?;
-    let idx = sparse.get("indices").ok_or_else(|| doc.invalid(&sp, "indices missing"))?;
-    let val = sparse.get("values").ok_or_else(|| doc.invalid(&sp, "values missing"))?;
-    let ict = uint(idx, "componentType").and_then(ComponentType::from_gl).filter(|c| {
-        matches!(c, ComponentType::U8 | ComponentType::U16 | ComponentType::U32)
-    }).ok_or_else(|| doc.invalid(&sp, "indices componentType must be an unsigned integer type"))?;
-    let iview = uint(idx, "bufferView").ok_or_else(|| doc.invalid(&sp, "indices bufferView missing"))?;
-    let vview = uint(val, "bufferView").ok_or_else(|| doc.invalid(&sp, "values bufferView missing"))?;
+    let n = uint(sparse, "count")
+        .filter(|&n| n >= 1 && n <= count)
+        .ok_or_else(|| {
+            doc.invalid(
+                &sp,
+                format!("sparse count is missing or outside 1..={count}"),
+            )
+        })?;
+    let idx = sparse
+        .get("indices")
+        .ok_or_else(|| doc.invalid(&sp, "indices missing"))?;
+    let val = sparse
+        .get("values")
+        .ok_or_else(|| doc.invalid(&sp, "values missing"))?;
+    let ict = uint(idx, "componentType")
+        .and_then(ComponentType::from_gl)
+        .filter(|c| {
+            matches!(
+                c,
+                ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+            )
+        })
+        .ok_or_else(|| {
+            doc.invalid(
+                &sp,
+                "indices componentType must be an unsigned integer type",
+            )
+        })?;
+    let iview =
+        uint(idx, "bufferView").ok_or_else(|| doc.invalid(&sp, "indices bufferView missing"))?;
+    let vview =
+        uint(val, "bufferView").ok_or_else(|| doc.invalid(&sp, "values bufferView missing"))?;
     let (ib, _) = view_bytes(doc, iview as usize, &format!("{sp} indices"))?;
-    let ibytes = gather(doc, &format!("{sp} indices"), ib, uint(idx, "byteOffset").unwrap_or(0), ict.size(), n, ict.size())?;
+    let ibytes = gather(
+        doc,
+        &format!("{sp} indices"),
+        ib,
+        uint(idx, "byteOffset").unwrap_or(0),
+        ict.size(),
+        n,
+        ict.size(),
+    )?;
     let (vb, _) = view_bytes(doc, vview as usize, &format!("{sp} values"))?;
-    let vbytes = gather(doc, &format!("{sp} values"), vb, uint(val, "byteOffset").unwrap_or(0), elem, n, elem)?;
+    let vbytes = gather(
+        doc,
+        &format!("{sp} values"),
+        vb,
+        uint(val, "byteOffset").unwrap_or(0),
+        elem,
+        n,
+        elem,
+    )?;
     let mut last: Option<u64> = None;
     for k in 0..n as usize {
         let i = u64::from(read_index(ict, &ibytes, k));
         if i >= count || last.is_some_and(|l| i <= l) {
-            return Err(doc.invalid(&sp, format!("index {k} is {i}: sparse indices must increase and stay below {count}")));
+            return Err(doc.invalid(
+                &sp,
+                format!("index {k} is {i}: sparse indices must increase and stay below {count}"),
+            ));
         }
         last = Some(i);
         let i = i as usize;
@@ -332,10 +448,17 @@ fn read_index(c: ComponentType, b: &[u8], k: usize) -> u32 {
 }
 
 /// Reads a float vector attribute with `N` components (any component type, normalized or not).
-pub fn read_vec<const N: usize>(doc: &Document, index: usize, place: &str) -> Result<Vec<[f32; N]>> {
+pub fn read_vec<const N: usize>(
+    doc: &Document,
+    index: usize,
+    place: &str,
+) -> Result<Vec<[f32; N]>> {
     let e = read(doc, index, place)?;
     if e.components != N {
-        return Err(doc.invalid(format!("{place} (accessor {index})"), format!("type is {}, expected {}", e.ty, type_of(N))));
+        return Err(doc.invalid(
+            format!("{place} (accessor {index})"),
+            format!("type is {}, expected {}", e.ty, type_of(N)),
+        ));
     }
     Ok(e.to_f32::<N>())
 }
@@ -345,9 +468,21 @@ pub fn read_indices(doc: &Document, index: usize, place: &str) -> Result<Vec<u32
     let e = read(doc, index, place)?;
     let ok = e.components == 1
         && !e.normalized
-        && matches!(e.component, ComponentType::U8 | ComponentType::U16 | ComponentType::U32);
+        && matches!(
+            e.component,
+            ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+        );
     if !ok {
-        return Err(doc.invalid(format!("{place} (accessor {index})"), format!("indices must be SCALAR unsigned integers, found {} {}", e.ty, e.component.name())));
+        return Err(doc.invalid(
+            format!("{place} (accessor {index})"),
+            format!(
+                "indices must be SCALAR unsigned integers, found {} {}",
+                e.ty,
+                e.component.name()
+            ),
+        ));
     }
-    Ok((0..e.count).map(|k| read_index(e.component, &e.bytes, k)).collect())
+    Ok((0..e.count)
+        .map(|k| read_index(e.component, &e.bytes, k))
+        .collect())
 }

@@ -60,17 +60,26 @@ pub struct Document {
 impl Document {
     /// Loads a `.gltf` or `.glb` file (detected by its magic bytes).
     pub fn load(path: &Path) -> Result<Document> {
-        let bytes = std::fs::read(path)
-            .map_err(|source| IoError::Fs { path: path.to_owned(), action: "read", source })?;
+        let bytes = std::fs::read(path).map_err(|source| IoError::Fs {
+            path: path.to_owned(),
+            action: "read",
+            source,
+        })?;
         Self::from_bytes(path, bytes)
     }
 
     /// Parses a glTF or GLB held in memory; `path` names it in errors and anchors relative URIs.
     pub fn from_bytes(path: &Path, mut bytes: Vec<u8>) -> Result<Document> {
         let is_glb = bytes.starts_with(GLB_MAGIC);
-        let has_glb_ext = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+        let has_glb_ext = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
         if has_glb_ext && !is_glb {
-            return Err(IoError::invalid(path, "GLB header", "bad magic: expected \"glTF\""));
+            return Err(IoError::invalid(
+                path,
+                "GLB header",
+                "bad magic: expected \"glTF\"",
+            ));
         }
         let (json, bin) = if is_glb {
             let (json_range, bin_range) = split_glb(path, &bytes)?;
@@ -103,8 +112,14 @@ impl Document {
 
     /// Builds a document from JSON and buffers made in memory (OBJ import, fixtures).
     pub fn from_parts(path: &Path, json: Map<String, Value>, buffers: Vec<Vec<u8>>) -> Document {
-        let source_views = json.get("bufferViews").and_then(Value::as_array).map_or(0, Vec::len);
-        let images = json.get("images").and_then(Value::as_array).map_or(0, Vec::len);
+        let source_views = json
+            .get("bufferViews")
+            .and_then(Value::as_array)
+            .map_or(0, Vec::len);
+        let images = json
+            .get("images")
+            .and_then(Value::as_array)
+            .map_or(0, Vec::len);
         Document {
             path: path.to_owned(),
             json,
@@ -118,7 +133,10 @@ impl Document {
 
     /// The top-level array `name` (empty when absent or not an array).
     pub fn array(&self, name: &str) -> &[Value] {
-        self.json.get(name).and_then(Value::as_array).map_or(&[], Vec::as_slice)
+        self.json
+            .get(name)
+            .and_then(Value::as_array)
+            .map_or(&[], Vec::as_slice)
     }
 
     /// Every primitive of every mesh, in order.
@@ -127,7 +145,10 @@ impl Document {
             .iter()
             .enumerate()
             .flat_map(|(mesh, m)| {
-                let n = m.get("primitives").and_then(Value::as_array).map_or(0, Vec::len);
+                let n = m
+                    .get("primitives")
+                    .and_then(Value::as_array)
+                    .map_or(0, Vec::len);
                 (0..n).map(move |primitive| PrimitiveRef { mesh, primitive })
             })
             .collect()
@@ -174,7 +195,10 @@ impl Document {
         match self.primitive(r)?.get("mode") {
             None => Ok(4),
             Some(v) => v.as_u64().filter(|&m| m <= 6).ok_or_else(|| {
-                self.invalid(format!("{} mode", self.place(r)), format!("invalid mode {v}"))
+                self.invalid(
+                    format!("{} mode", self.place(r)),
+                    format!("invalid mode {v}"),
+                )
             }),
         }
     }
@@ -182,9 +206,14 @@ impl Document {
     /// The accessor index of attribute `name`, if the primitive has it.
     pub fn attribute(&self, r: PrimitiveRef, name: &str) -> Result<Option<usize>> {
         let prim = self.primitive(r)?;
-        let Some(v) = prim.get("attributes").and_then(|a| a.get(name)) else { return Ok(None) };
+        let Some(v) = prim.get("attributes").and_then(|a| a.get(name)) else {
+            return Ok(None);
+        };
         v.as_u64().map(|i| Some(i as usize)).ok_or_else(|| {
-            self.invalid(format!("{} attributes.{name}", self.place(r)), "not an accessor index")
+            self.invalid(
+                format!("{} attributes.{name}", self.place(r)),
+                "not an accessor index",
+            )
         })
     }
 
@@ -196,15 +225,26 @@ impl Document {
     /// Total bytes held (buffers and URI images): the yardstick for accessors without data.
     pub fn real_bytes(&self) -> u64 {
         let b: usize = self.buffers.iter().map(Vec::len).sum();
-        let i: usize = self.uri_images.iter().flatten().map(|i| i.bytes.len()).sum();
+        let i: usize = self
+            .uri_images
+            .iter()
+            .flatten()
+            .map(|i| i.bytes.len())
+            .sum();
         (b + i) as u64
     }
 
     fn check_asset(&self) -> Result<()> {
-        let version = self.json.get("asset").and_then(|a| a.get("version")).and_then(Value::as_str);
+        let version = self
+            .json
+            .get("asset")
+            .and_then(|a| a.get("version"))
+            .and_then(Value::as_str);
         match version {
             Some(v) if v.split('.').next() == Some("2") => {}
-            Some(v) => return Err(self.invalid("asset.version", format!("glTF {v} is not glTF 2.x"))),
+            Some(v) => {
+                return Err(self.invalid("asset.version", format!("glTF {v} is not glTF 2.x")));
+            }
             None => return Err(self.invalid("asset.version", "missing (not a glTF 2.0 file?)")),
         }
         for key in ["extensionsUsed", "extensionsRequired"] {
@@ -236,7 +276,8 @@ impl Document {
             .collect();
         for (i, (uri, len)) in specs.into_iter().enumerate() {
             let place = format!("buffers[{i}]");
-            let len = len.ok_or_else(|| self.invalid(&place, "byteLength is missing or not an integer"))?;
+            let len =
+                len.ok_or_else(|| self.invalid(&place, "byteLength is missing or not an integer"))?;
             let mut data = match uri {
                 None if i == 0 => bin.take().ok_or_else(|| {
                     self.invalid(&place, "has no uri, and the file has no GLB BIN chunk")
@@ -247,7 +288,10 @@ impl Document {
             if (data.len() as u64) < len {
                 return Err(self.invalid(
                     &place,
-                    format!("byteLength is {len}, but only {} bytes are there", data.len()),
+                    format!(
+                        "byteLength is {len}, but only {} bytes are there",
+                        data.len()
+                    ),
                 ));
             }
             data.truncate(len as usize);
@@ -263,7 +307,9 @@ impl Document {
             .map(|im| {
                 (
                     im.get("uri").and_then(Value::as_str).map(str::to_owned),
-                    im.get("mimeType").and_then(Value::as_str).map(str::to_owned),
+                    im.get("mimeType")
+                        .and_then(Value::as_str)
+                        .map(str::to_owned),
                 )
             })
             .collect();
@@ -302,10 +348,14 @@ impl Document {
             let mime = (!mime.is_empty()).then(|| mime.to_owned());
             return Ok((bytes, mime));
         }
-        let rel = safe_relative_path(uri).map_err(|why| self.invalid(place, format!("uri {uri:?} {why}")))?;
+        let rel = safe_relative_path(uri)
+            .map_err(|why| self.invalid(place, format!("uri {uri:?} {why}")))?;
         let full = self.path.parent().unwrap_or(Path::new("")).join(rel);
         let bytes = std::fs::read(&full).map_err(|e| {
-            self.invalid(place, format!("cannot read uri {uri:?} ({}): {e}", full.display()))
+            self.invalid(
+                place,
+                format!("cannot read uri {uri:?} ({}): {e}", full.display()),
+            )
         })?;
         self.files_read.push(full);
         Ok((bytes, None))
@@ -318,9 +368,15 @@ fn split_glb(
     b: &[u8],
 ) -> Result<(std::ops::Range<usize>, Option<std::ops::Range<usize>>)> {
     let bad = |place: &str, msg: String| IoError::invalid(path, place, msg);
-    let u32_at = |o: usize| b.get(o..o + 4).map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]));
+    let u32_at = |o: usize| {
+        b.get(o..o + 4)
+            .map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+    };
     let (Some(version), Some(length)) = (u32_at(4), u32_at(8)) else {
-        return Err(bad("GLB header", format!("truncated: the file has only {} bytes", b.len())));
+        return Err(bad(
+            "GLB header",
+            format!("truncated: the file has only {} bytes", b.len()),
+        ));
     };
     if version != 2 {
         return Err(bad("GLB header", format!("version {version}, expected 2")));
@@ -335,7 +391,10 @@ fn split_glb(
     let mut at = 12usize;
     while at < b.len() {
         let (Some(len), Some(kind)) = (u32_at(at), u32_at(at + 4)) else {
-            return Err(bad(&format!("GLB chunk at byte {at}"), "truncated chunk header".into()));
+            return Err(bad(
+                &format!("GLB chunk at byte {at}"),
+                "truncated chunk header".into(),
+            ));
         };
         let start = at + 8;
         let end = start
@@ -354,14 +413,20 @@ fn split_glb(
     let json = match it.next() {
         Some((CHUNK_JSON, r)) => r,
         Some((kind, _)) => {
-            return Err(bad("GLB chunk 0", format!("type 0x{kind:08X}, expected JSON")));
+            return Err(bad(
+                "GLB chunk 0",
+                format!("type 0x{kind:08X}, expected JSON"),
+            ));
         }
         None => return Err(bad("GLB", "no JSON chunk".into())),
     };
     let bin = match it.next() {
         Some((CHUNK_BIN, r)) => Some(r),
         Some((kind, _)) => {
-            return Err(bad("GLB chunk 1", format!("type 0x{kind:08X}, expected BIN")));
+            return Err(bad(
+                "GLB chunk 1",
+                format!("type 0x{kind:08X}, expected BIN"),
+            ));
         }
         None => None,
     };
@@ -454,7 +519,16 @@ mod tests {
     fn uris_may_not_escape_the_folder() {
         assert!(safe_relative_path("a/b.bin").is_ok());
         assert!(safe_relative_path("./b%20c.bin").is_ok());
-        for bad in ["../x.bin", "a/../../x", "/etc/passwd", "file:///etc/passwd", "C:\\x", "%2e%2e/x", "a\\..\\..\\x", ""] {
+        for bad in [
+            "../x.bin",
+            "a/../../x",
+            "/etc/passwd",
+            "file:///etc/passwd",
+            "C:\\x",
+            "%2e%2e/x",
+            "a\\..\\..\\x",
+            "",
+        ] {
             assert!(safe_relative_path(bad).is_err(), "{bad} was accepted");
         }
     }

@@ -37,29 +37,63 @@ impl NewAccessor {
     /// Float vectors.
     pub fn f32<const N: usize>(v: &[[f32; N]]) -> Self {
         let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
-        Self { component: ComponentType::F32, components: N, normalized: false, bytes, min_max: false, target: ARRAY_BUFFER }
+        Self {
+            component: ComponentType::F32,
+            components: N,
+            normalized: false,
+            bytes,
+            min_max: false,
+            target: ARRAY_BUFFER,
+        }
     }
 
     /// Normalized unsigned short vectors.
     pub fn u16_norm<const N: usize>(v: &[[u16; N]]) -> Self {
         let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
-        Self { component: ComponentType::U16, components: N, normalized: true, bytes, min_max: false, target: ARRAY_BUFFER }
+        Self {
+            component: ComponentType::U16,
+            components: N,
+            normalized: true,
+            bytes,
+            min_max: false,
+            target: ARRAY_BUFFER,
+        }
     }
 
     /// Normalized unsigned byte vectors.
     pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
         let bytes = v.iter().flatten().copied().collect();
-        Self { component: ComponentType::U8, components: N, normalized: true, bytes, min_max: false, target: ARRAY_BUFFER }
+        Self {
+            component: ComponentType::U8,
+            components: N,
+            normalized: true,
+            bytes,
+            min_max: false,
+            target: ARRAY_BUFFER,
+        }
     }
 
     /// Triangle indices: unsigned short when every vertex fits below 65535, else unsigned int.
     pub fn indices(v: &[u32], vertex_count: usize) -> Self {
         let (component, bytes) = if vertex_count <= 65535 {
-            (ComponentType::U16, v.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect())
+            (
+                ComponentType::U16,
+                v.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),
+            )
         } else {
-            (ComponentType::U32, v.iter().flat_map(|i| i.to_le_bytes()).collect())
+            (
+                ComponentType::U32,
+                v.iter().flat_map(|i| i.to_le_bytes()).collect(),
+            )
         };
-        Self { component, components: 1, normalized: false, bytes, min_max: false, target: ELEMENT_ARRAY_BUFFER }
+        Self {
+            component,
+            components: 1,
+            normalized: false,
+            bytes,
+            min_max: false,
+            target: ELEMENT_ARRAY_BUFFER,
+        }
     }
 
     /// Elements of an existing accessor gathered through `map` (new element i = old map[i]).
@@ -70,7 +104,14 @@ impl NewAccessor {
             let s = m as usize * size;
             bytes.extend_from_slice(&e.bytes[s..s + size]);
         }
-        Self { component: e.component, components: e.components, normalized: e.normalized, bytes, min_max, target: ARRAY_BUFFER }
+        Self {
+            component: e.component,
+            components: e.components,
+            normalized: e.normalized,
+            bytes,
+            min_max,
+            target: ARRAY_BUFFER,
+        }
     }
 
     fn element_size(&self) -> usize {
@@ -100,21 +141,38 @@ impl NewAccessor {
             hi[k] = hi[k].max(v);
         }
         let num = |v: f64| {
-            if self.component == ComponentType::F32 { json!(v) } else { json!(v as i64) }
+            if self.component == ComponentType::F32 {
+                json!(v)
+            } else {
+                json!(v as i64)
+            }
         };
-        (lo.into_iter().map(num).collect(), hi.into_iter().map(num).collect())
+        (
+            lo.into_iter().map(num).collect(),
+            hi.into_iter().map(num).collect(),
+        )
     }
 }
 
 fn raw_value(e: &Elements, i: usize) -> f64 {
     let b = &e.bytes;
     match e.component {
-        ComponentType::F32 => f64::from(f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])),
+        ComponentType::F32 => f64::from(f32::from_le_bytes([
+            b[4 * i],
+            b[4 * i + 1],
+            b[4 * i + 2],
+            b[4 * i + 3],
+        ])),
         ComponentType::U8 => f64::from(b[i]),
         ComponentType::I8 => f64::from(b[i] as i8),
         ComponentType::U16 => f64::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
         ComponentType::I16 => f64::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
-        ComponentType::U32 => f64::from(u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])),
+        ComponentType::U32 => f64::from(u32::from_le_bytes([
+            b[4 * i],
+            b[4 * i + 1],
+            b[4 * i + 2],
+            b[4 * i + 3],
+        ])),
     }
 }
 
@@ -123,7 +181,11 @@ impl Document {
     pub fn push_accessor(&mut self, a: NewAccessor) -> usize {
         let size = a.element_size();
         let count = a.count();
-        let stride = if a.target == ARRAY_BUFFER { size.next_multiple_of(4) } else { size };
+        let stride = if a.target == ARRAY_BUFFER {
+            size.next_multiple_of(4)
+        } else {
+            size
+        };
         let data = if stride == size {
             a.bytes.clone()
         } else {
@@ -184,7 +246,9 @@ impl Document {
     pub fn set_attribute(&mut self, r: PrimitiveRef, name: &str, index: usize) -> Result<()> {
         let place = self.place(r);
         let prim = self.primitive_checked(r)?;
-        let attrs = prim.entry("attributes").or_insert_with(|| Value::Object(Map::new()));
+        let attrs = prim
+            .entry("attributes")
+            .or_insert_with(|| Value::Object(Map::new()));
         match attrs.as_object_mut() {
             Some(a) => {
                 a.insert(name.to_owned(), json!(index));
@@ -197,21 +261,43 @@ impl Document {
     /// Re-indexes a primitive after a vertex split: new vertex i copies old vertex `map[i]` in
     /// every attribute and morph target, and `indices` (into the new vertices) replace the old.
     /// Attributes named in `replaced` are dropped, not gathered: the caller sets them anew.
-    pub fn remap_primitive(&mut self, r: PrimitiveRef, map: &[u32], indices: &[u32], replaced: &[&str]) -> Result<()> {
+    pub fn remap_primitive(
+        &mut self,
+        r: PrimitiveRef,
+        map: &[u32],
+        indices: &[u32],
+        replaced: &[&str],
+    ) -> Result<()> {
         let place = self.place(r);
         let prim = self.primitive(r)?.clone();
-        let mut attrs = prim.get("attributes").and_then(Value::as_object).cloned().unwrap_or_default();
+        let mut attrs = prim
+            .get("attributes")
+            .and_then(Value::as_object)
+            .cloned()
+            .unwrap_or_default();
         attrs.retain(|name, _| !replaced.contains(&name.as_str()));
         for (name, v) in attrs.iter_mut() {
-            let old = v.as_u64().ok_or_else(|| self.invalid(format!("{place} attributes.{name}"), "not an accessor index"))? as usize;
+            let old = v.as_u64().ok_or_else(|| {
+                self.invalid(
+                    format!("{place} attributes.{name}"),
+                    "not an accessor index",
+                )
+            })? as usize;
             *v = json!(self.regather(old, map, &format!("{place} attributes.{name}"))?);
         }
-        let mut targets = prim.get("targets").and_then(Value::as_array).cloned().unwrap_or_default();
+        let mut targets = prim
+            .get("targets")
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default();
         for (t, target) in targets.iter_mut().enumerate() {
             if let Some(obj) = target.as_object_mut() {
                 for (name, v) in obj.iter_mut() {
                     let tp = format!("{place} targets[{t}].{name}");
-                    let old = v.as_u64().ok_or_else(|| self.invalid(&tp, "not an accessor index"))? as usize;
+                    let old = v
+                        .as_u64()
+                        .ok_or_else(|| self.invalid(&tp, "not an accessor index"))?
+                        as usize;
                     *v = json!(self.regather(old, map, &tp)?);
                 }
             }
@@ -234,9 +320,15 @@ impl Document {
     fn regather(&mut self, old: usize, map: &[u32], place: &str) -> Result<usize> {
         let e = accessor::read(self, old, place)?;
         if let Some(&bad) = map.iter().find(|&&m| m as usize >= e.count) {
-            return Err(self.invalid(format!("{place} (accessor {old})"), format!("has {} elements, vertex {bad} is referenced", e.count)));
+            return Err(self.invalid(
+                format!("{place} (accessor {old})"),
+                format!("has {} elements, vertex {bad} is referenced", e.count),
+            ));
         }
-        let had_bounds = self.array("accessors").get(old).is_some_and(|a| a.get("min").is_some() || a.get("max").is_some());
+        let had_bounds = self
+            .array("accessors")
+            .get(old)
+            .is_some_and(|a| a.get("min").is_some() || a.get("max").is_some());
         Ok(self.push_accessor(NewAccessor::gathered(&e, map, had_bounds)))
     }
 }

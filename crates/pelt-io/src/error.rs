@@ -31,8 +31,16 @@ pub enum IoError {
 
 impl IoError {
     /// An [`IoError::Invalid`] for `path` at `place`.
-    pub fn invalid(path: &std::path::Path, place: impl Into<String>, message: impl Into<String>) -> Self {
-        IoError::Invalid { path: path.to_owned(), place: place.into(), message: message.into() }
+    pub fn invalid(
+        path: &std::path::Path,
+        place: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        IoError::Invalid {
+            path: path.to_owned(),
+            place: place.into(),
+            message: message.into(),
+        }
     }
 }
 

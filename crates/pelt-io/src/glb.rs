@@ -44,18 +44,42 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         off
     };
 
-    let mut views: Vec<Value> = json.get("bufferViews").and_then(Value::as_array).cloned().unwrap_or_default();
+    let mut views: Vec<Value> = json
+        .get("bufferViews")
+        .and_then(Value::as_array)
+        .cloned()
+        .unwrap_or_default();
     for (i, v) in views.iter_mut().enumerate() {
         let vplace = format!("bufferViews[{i}]");
-        let obj = v.as_object_mut().ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
+        let obj = v
+            .as_object_mut()
+            .ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
         let bytes: Piece<'_> = if i < doc.source_views {
-            let buffer = obj.get("buffer").and_then(Value::as_u64).ok_or_else(|| doc.invalid(&vplace, "buffer missing"))?;
-            let data = doc.buffers.get(buffer as usize).ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
+            let buffer = obj
+                .get("buffer")
+                .and_then(Value::as_u64)
+                .ok_or_else(|| doc.invalid(&vplace, "buffer missing"))?;
+            let data = doc
+                .buffers
+                .get(buffer as usize)
+                .ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
             let off = obj.get("byteOffset").and_then(Value::as_u64).unwrap_or(0);
-            let len = obj.get("byteLength").and_then(Value::as_u64).ok_or_else(|| doc.invalid(&vplace, "byteLength missing"))?;
-            let end = off.checked_add(len).filter(|&e| e <= data.len() as u64).ok_or_else(|| {
-                doc.invalid(&vplace, format!("bytes {off}..{off}+{len} exceed buffer {buffer} ({} bytes)", data.len()))
-            })?;
+            let len = obj
+                .get("byteLength")
+                .and_then(Value::as_u64)
+                .ok_or_else(|| doc.invalid(&vplace, "byteLength missing"))?;
+            let end = off
+                .checked_add(len)
+                .filter(|&e| e <= data.len() as u64)
+                .ok_or_else(|| {
+                    doc.invalid(
+                        &vplace,
+                        format!(
+                            "bytes {off}..{off}+{len} exceed buffer {buffer} ({} bytes)",
+                            data.len()
+                        ),
+                    )
+                })?;
             Piece(&data[off as usize..end as usize])
         } else {
             Piece(&doc.new_views[i - doc.source_views])
@@ -71,10 +95,18 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
     }
 
     // Embed URI images as bufferViews.
-    let mut images: Vec<Value> = json.get("images").and_then(Value::as_array).cloned().unwrap_or_default();
+    let mut images: Vec<Value> = json
+        .get("images")
+        .and_then(Value::as_array)
+        .cloned()
+        .unwrap_or_default();
     for (i, img) in images.iter_mut().enumerate() {
-        let Some(Some(uri)) = doc.uri_images.get(i) else { continue };
-        let obj = img.as_object_mut().ok_or_else(|| doc.invalid(format!("images[{i}]"), "not an object"))?;
+        let Some(Some(uri)) = doc.uri_images.get(i) else {
+            continue;
+        };
+        let obj = img
+            .as_object_mut()
+            .ok_or_else(|| doc.invalid(format!("images[{i}]"), "not an object"))?;
         let off = place(uri.bytes.len());
         let mut view = Map::new();
         view.insert("buffer".into(), json!(0));
@@ -132,11 +164,16 @@ pub fn write_gltf_embedded(doc: &Document, out: &Path) -> Result<()> {
             "data:application/octet-stream;base64,{}",
             base64::engine::general_purpose::STANDARD.encode(&bin)
         );
-        if let Some(b) = root.get_mut("buffers").and_then(|b| b.get_mut(0)).and_then(Value::as_object_mut) {
+        if let Some(b) = root
+            .get_mut("buffers")
+            .and_then(|b| b.get_mut(0))
+            .and_then(Value::as_object_mut)
+        {
             b.insert("uri".into(), json!(uri));
         }
     }
-    let mut text = serde_json::to_vec_pretty(&Value::Object(root)).map_err(|e| doc.invalid("JSON", e.to_string()))?;
+    let mut text = serde_json::to_vec_pretty(&Value::Object(root))
+        .map_err(|e| doc.invalid("JSON", e.to_string()))?;
     text.push(b'\n');
     write_atomic(out, &text)
 }
@@ -147,7 +184,11 @@ pub fn write_atomic(out: &Path, bytes: &[u8]) -> Result<()> {
     let r = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, out));
     r.map_err(|source| {
         let _ = std::fs::remove_file(&tmp);
-        IoError::Fs { path: out.to_owned(), action: "write", source }
+        IoError::Fs {
+            path: out.to_owned(),
+            action: "write",
+            source,
+        }
     })
 }
 
@@ -158,13 +199,20 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
     let bin_padded = bin_len.next_multiple_of(4);
     let total = 12 + 8 + json_padded + if bin_len > 0 { 8 + bin_padded } else { 0 };
     if total > u64::from(u32::MAX) {
-        return Err(doc.invalid("output", format!("{total} bytes exceed the 4 GiB GLB limit")));
+        return Err(doc.invalid(
+            "output",
+            format!("{total} bytes exceed the 4 GiB GLB limit"),
+        ));
     }
 
     let tmp = temp_path(out);
     let fs_err = |action: &'static str| {
         let path = out.to_owned();
-        move |source| IoError::Fs { path: path.clone(), action, source }
+        move |source| IoError::Fs {
+            path: path.clone(),
+            action,
+            source,
+        }
     };
     let result = (|| -> std::io::Result<()> {
         let file = std::fs::File::create(&tmp)?;
@@ -188,7 +236,9 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
             }
             w.write_all(&[0u8; 4][..(bin_padded - at) as usize])?;
         }
-        let file = w.into_inner().map_err(std::io::IntoInnerError::into_error)?;
+        let file = w
+            .into_inner()
+            .map_err(std::io::IntoInnerError::into_error)?;
         drop(file);
         std::fs::rename(&tmp, out)
     })();
@@ -196,11 +246,17 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
         let _ = std::fs::remove_file(&tmp);
         return Err(fs_err("write")(e));
     }
-    Ok(WriteStats { file_bytes: total, bin_bytes: bin_padded })
+    Ok(WriteStats {
+        file_bytes: total,
+        bin_bytes: bin_padded,
+    })
 }
 
 /// `dir/.name.pelt-tmp-PID`: in the target folder so the final rename stays on one filesystem.
 fn temp_path(out: &Path) -> PathBuf {
-    let name = out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     out.with_file_name(format!(".{name}.pelt-tmp-{}", std::process::id()))
 }

@@ -59,7 +59,10 @@ pub fn encoding(doc: &Document, index: usize) -> Option<Encoding> {
         accessor: index,
         ty: a.get("type")?.as_str()?.to_owned(),
         component: ComponentType::from_gl(a.get("componentType")?.as_u64()?)?,
-        normalized: a.get("normalized").and_then(Value::as_bool).unwrap_or(false),
+        normalized: a
+            .get("normalized")
+            .and_then(Value::as_bool)
+            .unwrap_or(false),
         sparse: a.get("sparse").is_some(),
     })
 }
@@ -70,8 +73,12 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
     let attr = |name: &str| -> Result<Option<usize>> { doc.attribute(r, name) };
     let at = |name: &str| format!("{place} attribute {name}");
 
-    let pos_i = attr("POSITION")?.ok_or_else(|| doc.invalid(&place, "has no POSITION attribute"))?;
-    let positions: Vec<Vec3> = accessor::read_vec::<3>(doc, pos_i, &at("POSITION"))?.into_iter().map(Vec3::from).collect();
+    let pos_i =
+        attr("POSITION")?.ok_or_else(|| doc.invalid(&place, "has no POSITION attribute"))?;
+    let positions: Vec<Vec3> = accessor::read_vec::<3>(doc, pos_i, &at("POSITION"))?
+        .into_iter()
+        .map(Vec3::from)
+        .collect();
     let n = positions.len();
     let checked_len = |name: &str, len: usize| -> Result<()> {
         if len == n {
@@ -120,7 +127,10 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
             let c: Vec<Vec4> = if e.components == 4 {
                 e.to_f32::<4>().into_iter().map(Vec4::from).collect()
             } else {
-                e.to_f32::<3>().into_iter().map(|[r, g, b]| Vec4::new(r, g, b, 1.0)).collect()
+                e.to_f32::<3>()
+                    .into_iter()
+                    .map(|[r, g, b]| Vec4::new(r, g, b, 1.0))
+                    .collect()
             };
             (Some(c), encoding(doc, i))
         }
@@ -130,16 +140,34 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
     let prim = doc.primitive(r)?;
     let (indices, indexed) = match prim.get("indices") {
         Some(v) => {
-            let i = v.as_u64().ok_or_else(|| doc.invalid(format!("{place} indices"), "not an accessor index"))? as usize;
-            (accessor::read_indices(doc, i, &format!("{place} indices"))?, true)
+            let i = v
+                .as_u64()
+                .ok_or_else(|| doc.invalid(format!("{place} indices"), "not an accessor index"))?
+                as usize;
+            (
+                accessor::read_indices(doc, i, &format!("{place} indices"))?,
+                true,
+            )
         }
         None => ((0..n as u32).collect(), false),
     };
 
-    let mesh = Mesh { positions, normals, uvs, tangents, colors, indices };
-    mesh.validate().map_err(|e| doc.invalid(&place, e.to_string()))?;
+    let mesh = Mesh {
+        positions,
+        normals,
+        uvs,
+        tangents,
+        colors,
+        indices,
+    };
+    mesh.validate()
+        .map_err(|e| doc.invalid(&place, e.to_string()))?;
     check_other_floats(doc, r)?;
-    Ok(PrimitiveMesh { mesh, color, indexed })
+    Ok(PrimitiveMesh {
+        mesh,
+        color,
+        indexed,
+    })
 }
 
 /// Every other float attribute (and morph target) must be finite too.
@@ -173,7 +201,10 @@ fn check_other_floats(doc: &Document, r: PrimitiveRef) -> Result<()> {
             check_finite(&what, values).map_err(|err| {
                 // Report the element (vertex), not the flat component index.
                 let msg = match err {
-                    pelt_geom::GeomError::NonFinite { vertex, value, .. } => format!("{what}: vertex {} has a non-finite value ({value})", vertex / e.components),
+                    pelt_geom::GeomError::NonFinite { vertex, value, .. } => format!(
+                        "{what}: vertex {} has a non-finite value ({value})",
+                        vertex / e.components
+                    ),
                     other => other.to_string(),
                 };
                 doc.invalid(&place, msg)

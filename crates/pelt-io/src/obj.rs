@@ -29,24 +29,53 @@ pub fn load(path: &Path) -> Result<Document> {
             continue;
         }
         if let Some(&bad) = mesh.indices.iter().find(|&&x| x as usize >= n) {
-            return Err(IoError::invalid(path, place, format!("face index {bad} is past the {n} vertices")));
+            return Err(IoError::invalid(
+                path,
+                place,
+                format!("face index {bad} is past the {n} vertices"),
+            ));
         }
-        let pos: Vec<[f32; 3]> = mesh.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let pos: Vec<[f32; 3]> = mesh
+            .positions
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
         let mut attrs = Map::new();
         let mut p = NewAccessor::f32(&pos);
         p.min_max = true;
         attrs.insert("POSITION".into(), json!(doc.push_accessor(p)));
         if mesh.normals.len() == 3 * n {
-            let v: Vec<[f32; 3]> = mesh.normals.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-            attrs.insert("NORMAL".into(), json!(doc.push_accessor(NewAccessor::f32(&v))));
+            let v: Vec<[f32; 3]> = mesh
+                .normals
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            attrs.insert(
+                "NORMAL".into(),
+                json!(doc.push_accessor(NewAccessor::f32(&v))),
+            );
         }
         if mesh.texcoords.len() == 2 * n {
-            let v: Vec<[f32; 2]> = mesh.texcoords.chunks_exact(2).map(|c| [c[0], 1.0 - c[1]]).collect();
-            attrs.insert("TEXCOORD_0".into(), json!(doc.push_accessor(NewAccessor::f32(&v))));
+            let v: Vec<[f32; 2]> = mesh
+                .texcoords
+                .chunks_exact(2)
+                .map(|c| [c[0], 1.0 - c[1]])
+                .collect();
+            attrs.insert(
+                "TEXCOORD_0".into(),
+                json!(doc.push_accessor(NewAccessor::f32(&v))),
+            );
         }
         if mesh.vertex_color.len() == 3 * n {
-            let v: Vec<[f32; 3]> = mesh.vertex_color.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-            attrs.insert("COLOR_0".into(), json!(doc.push_accessor(NewAccessor::f32(&v))));
+            let v: Vec<[f32; 3]> = mesh
+                .vertex_color
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            attrs.insert(
+                "COLOR_0".into(),
+                json!(doc.push_accessor(NewAccessor::f32(&v))),
+            );
         }
         let idx = doc.push_accessor(NewAccessor::indices(&mesh.indices, n));
         doc.add_mesh_node(&m.name, attrs, idx);
@@ -61,14 +90,22 @@ impl Document {
     /// An empty glTF 2.0 document with one scene, for assets built in memory.
     pub fn empty(path: &Path) -> Document {
         let mut json = Map::new();
-        json.insert("asset".into(), json!({"version": "2.0", "generator": "pelt"}));
+        json.insert(
+            "asset".into(),
+            json!({"version": "2.0", "generator": "pelt"}),
+        );
         json.insert("scene".into(), json!(0));
         json.insert("scenes".into(), json!([{"nodes": []}]));
         Document::from_parts(path, json, Vec::new())
     }
 
     /// Adds a mesh with one triangle primitive, and a node for it in scene 0.
-    pub fn add_mesh_node(&mut self, name: &str, attributes: Map<String, Value>, indices: usize) -> usize {
+    pub fn add_mesh_node(
+        &mut self,
+        name: &str,
+        attributes: Map<String, Value>,
+        indices: usize,
+    ) -> usize {
         let mut prim = Map::new();
         prim.insert("attributes".into(), Value::Object(attributes));
         prim.insert("indices".into(), json!(indices));

@@ -7,11 +7,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let big = args.iter().any(|a| a == "--big");
-    let Some(out) = args.iter().find(|a| !a.starts_with("--")).map(PathBuf::from) else {
+    let Some(out) = args
+        .iter()
+        .find(|a| !a.starts_with("--"))
+        .map(PathBuf::from)
+    else {
         eprintln!("usage: gen-fixtures OUT_DIR [--big]");
         return ExitCode::from(2);
     };

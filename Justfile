@@ -1,0 +1,30 @@
+# pelt's everyday commands (https://github.com/casey/just).
+
+# Build everything (release).
+build:
+    cargo build --release --workspace
+
+# Run every test (the README's test command).
+test:
+    cargo test --workspace
+
+# The main job on bundled data: bake the creature fixture and print its report.
+demo:
+    cargo run --release -- bake fixtures/creature.glb -o out/creature.glb --report -
+
+# Bake every fixture and check the outputs with the Khronos glTF-Validator.
+validate:
+    bash tools/validate-fixtures.sh
+
+# Regenerate the committed fixtures.
+fixtures:
+    cargo run --release -p pelt-fixtures --bin gen-fixtures -- fixtures
+
+# Benchmark the 1.3 M-triangle bake against gltfpack and glTF-Transform (5 runs each).
+bench runs="5":
+    bash bench/compare.sh {{runs}}
+
+# Lints and formatting.
+lint:
+    cargo fmt --all -- --check
+    cargo clippy --workspace --all-targets
