@@ -36,6 +36,7 @@ fn float_comb_round_trips_within_1e_4_rad() {
         "edge/color-u16-tangents.gltf",
     ] {
         let e = max_round_trip_error(f, &[]);
+        println!("{f}: float max error {e:.3e} rad");
         assert!(e < 1e-4, "{f}: {e} rad");
         let e = max_round_trip_error(f, &["--tangents", "regenerate"]);
         assert!(e < 1e-4, "{f} regenerated: {e} rad");
