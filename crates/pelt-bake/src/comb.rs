@@ -67,7 +67,7 @@ pub fn decode_color(c: Vec4, space: ColorSpace, axes: &AxisMap) -> (DVec3, f64) 
 /// Listing 2.7 for one vertex: direction `d` (object space, any length) and `length`.
 pub fn bake(d: DVec3, length: f64, frame: &Frame) -> ([f32; 4], CombCase) {
     let mag = d.length();
-    if !(mag > GRAY_EPSILON) {
+    if mag.is_nan() || mag <= GRAY_EPSILON {
         return ([1.0, 0.0, 0.0, 0.0], CombCase::Gray);
     }
     let u = d / mag;

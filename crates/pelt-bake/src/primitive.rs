@@ -77,6 +77,9 @@ pub struct BakedPrimitive {
     pub warnings: Vec<String>,
 }
 
+/// One output vertex: normal, tangent, tangent was degenerate, comb, comb case.
+type VertexOut = (Vec3, [f32; 4], bool, [f32; 4], CombCase);
+
 /// Per-vertex or per-corner data.
 enum Attr<T> {
     Vertex(Vec<T>),
@@ -186,7 +189,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     stats.split_vertices = out_count - mesh.vertex_count();
 
     let colors = mesh.colors.as_deref().unwrap_or_default();
-    let per_vertex: Vec<(Vec3, [f32; 4], bool, [f32; 4], CombCase)> = (0..out_count)
+    let per_vertex: Vec<VertexOut> = (0..out_count)
         .into_par_iter()
         .with_min_len(2048)
         .map(|o| {

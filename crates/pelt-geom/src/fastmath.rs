@@ -39,7 +39,7 @@ impl V3 {
 
     /// Componentwise sum.
     #[inline]
-    pub fn add(self, r: V3) -> V3 {
+    pub fn plus(self, r: V3) -> V3 {
         V3 {
             x: self.x + r.x,
             y: self.y + r.y,
@@ -49,7 +49,7 @@ impl V3 {
 
     /// Componentwise difference.
     #[inline]
-    pub fn sub(self, r: V3) -> V3 {
+    pub fn minus(self, r: V3) -> V3 {
         V3 {
             x: self.x - r.x,
             y: self.y - r.y,
@@ -86,7 +86,7 @@ impl V3 {
     /// `self` with its component along the unit vector `n` removed, then normalized.
     #[inline]
     pub fn project_normalized(self, n: V3) -> V3 {
-        self.sub(n.scale(n.dot(self))).normalized_or_zero()
+        self.minus(n.scale(n.dot(self))).normalized_or_zero()
     }
 
     /// As an array.

@@ -261,11 +261,11 @@ fn face_info(p: [[f32; 3]; 3], tx: [[f32; 2]; 3]) -> Face {
     }
     let v = p.map(V3::new);
     let d_tx = [1, 2].map(|t| [0, 1].map(|i| tx[t][i] - tx[0][i]));
-    let d_v = [v[1].sub(v[0]), v[2].sub(v[0])];
+    let d_v = [v[1].minus(v[0]), v[2].minus(v[0])];
     let signed_area = d_tx[0][0] * d_tx[1][1] - d_tx[0][1] * d_tx[1][0];
     let area = signed_area.abs();
-    let s = d_v[0].scale(d_tx[1][1]).sub(d_v[1].scale(d_tx[0][1]));
-    let t = d_v[0].scale(-d_tx[1][0]).add(d_v[1].scale(d_tx[0][0]));
+    let s = d_v[0].scale(d_tx[1][1]).minus(d_v[1].scale(d_tx[0][1]));
+    let t = d_v[0].scale(-d_tx[1][0]).plus(d_v[1].scale(d_tx[0][0]));
     let orient = signed_area > 0.0;
     let mut face = Face {
         s: V3::ZERO,
@@ -323,8 +323,10 @@ struct GroupScratch {
     sorted: Vec<u32>,
     /// Projected (s, t) per sorted member.
     projected: Vec<(V3, V3)>,
-    /// Membership of each distinct sub-group (over `sorted`), and its tangent.
-    subgroups: Vec<(Vec<bool>, V3)>,
+    /// Each distinct sub-group: where its membership starts in `masks`, and its tangent.
+    subgroups: Vec<(usize, V3)>,
+    /// Memberships of the sub-groups (over `sorted`), one after another.
+    masks: Vec<bool>,
     /// Membership being built.
     member: Vec<bool>,
     /// Result per member, in the group's order.
@@ -351,7 +353,9 @@ fn evaluate_group(
         (face.s.project_normalized(n), face.t.project_normalized(n))
     }));
     sc.subgroups.clear();
+    sc.masks.clear();
     sc.result.clear();
+    let k = members.len();
     for &a in members {
         let ia = sc.sorted.binary_search(&a).unwrap_or(0);
         let (sa, ta) = sc.projected[ia];
@@ -363,7 +367,11 @@ fn evaluate_group(
                     sa.dot(sb) > ANGULAR_THRESHOLD_COS && ta.dot(tb) > ANGULAR_THRESHOLD_COS;
                 any_a || faces[bf as usize].any || a == bf || meets
             }));
-        let s = match sc.subgroups.iter().find(|(m, _)| *m == sc.member) {
+        let found = sc
+            .subgroups
+            .iter()
+            .find(|(off, _)| sc.masks[*off..*off + k] == sc.member[..]);
+        let s = match found {
             Some((_, s)) => *s,
             None => {
                 let sub = sc
@@ -373,7 +381,8 @@ fn evaluate_group(
                     .filter(|(_, m)| **m)
                     .map(|(&f, _)| f);
                 let s = evaluate(sub, faces, n, corner_of, pos);
-                sc.subgroups.push((sc.member.clone(), s));
+                sc.subgroups.push((sc.masks.len(), s));
+                sc.masks.extend_from_slice(&sc.member);
                 s
             }
         };
@@ -399,11 +408,11 @@ fn evaluate(
         let base = c - c % 3;
         let i = c % 3;
         let p = [(i + 1) % 3, i, (i + 2) % 3].map(|k| pos(base + k));
-        let v0 = p[0].sub(p[1]).project_normalized(n);
-        let v1 = p[2].sub(p[1]).project_normalized(n);
+        let v0 = p[0].minus(p[1]).project_normalized(n);
+        let v1 = p[2].minus(p[1]).project_normalized(n);
         let cos = v0.dot(v1).clamp(-1.0, 1.0);
         let angle = f64::from(cos).acos() as f32;
-        res = res.add(face.s.project_normalized(n).scale(angle));
+        res = res.plus(face.s.project_normalized(n).scale(angle));
     }
     res.normalized_or_zero()
 }
