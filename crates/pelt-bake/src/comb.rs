@@ -90,9 +90,9 @@ fn unit(v: f32) -> f32 {
     ((v + 1.0) * 0.5).clamp(0.0, 1.0)
 }
 
-/// `_FUR_COMB` as normalized unsigned shorts.
-pub fn encode_u16(c: [f32; 4]) -> [u16; 4] {
-    let q = |v: f32| (v * 65535.0).round() as u16;
+/// The paper's [0, 1] mapping scaled to `max` and rounded: direction (x + 1) / 2, length as is.
+fn quantize(c: [f32; 4], max: f32) -> [f32; 4] {
+    let q = |v: f32| (v * max).round();
     [
         q(unit(c[0])),
         q(unit(c[1])),
@@ -101,15 +101,14 @@ pub fn encode_u16(c: [f32; 4]) -> [u16; 4] {
     ]
 }
 
+/// `_FUR_COMB` as normalized unsigned shorts.
+pub fn encode_u16(c: [f32; 4]) -> [u16; 4] {
+    quantize(c, 65535.0).map(|v| v as u16)
+}
+
 /// `_FUR_COMB` as normalized unsigned bytes.
 pub fn encode_u8(c: [f32; 4]) -> [u8; 4] {
-    let q = |v: f32| (v * 255.0).round() as u8;
-    [
-        q(unit(c[0])),
-        q(unit(c[1])),
-        q(unit(c[2])),
-        q(c[3].clamp(0.0, 1.0)),
-    ]
+    quantize(c, 255.0).map(|v| v as u8)
 }
 
 /// Decodes a normalized-integer `_FUR_COMB` (components already divided by 65535 or 255, as a

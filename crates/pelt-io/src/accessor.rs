@@ -145,41 +145,48 @@ impl Elements {
     }
 }
 
+/// Component `i` of packed little-endian `b` as its raw value (integers not normalized).
 #[inline]
-fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
+pub fn raw(c: ComponentType, b: &[u8], i: usize) -> f64 {
     match c {
-        ComponentType::F32 => {
-            f32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]])
-        }
-        ComponentType::U8 => {
-            let v = f32::from(b[i]);
-            if normalized { v / 255.0 } else { v }
-        }
-        ComponentType::I8 => {
-            let v = f32::from(b[i] as i8);
-            if normalized { (v / 127.0).max(-1.0) } else { v }
-        }
-        ComponentType::U16 => {
-            let v = f32::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]]));
-            if normalized { v / 65535.0 } else { v }
-        }
-        ComponentType::I16 => {
-            let v = f32::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]]));
-            if normalized {
-                (v / 32767.0).max(-1.0)
-            } else {
-                v
-            }
-        }
-        ComponentType::U32 => {
-            let v = u32::from_le_bytes([b[4 * i], b[4 * i + 1], b[4 * i + 2], b[4 * i + 3]]);
-            v as f32
-        }
+        ComponentType::F32 => f64::from(f32::from_le_bytes([
+            b[4 * i],
+            b[4 * i + 1],
+            b[4 * i + 2],
+            b[4 * i + 3],
+        ])),
+        ComponentType::U8 => f64::from(b[i]),
+        ComponentType::I8 => f64::from(b[i] as i8),
+        ComponentType::U16 => f64::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
+        ComponentType::I16 => f64::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
+        ComponentType::U32 => f64::from(u32::from_le_bytes([
+            b[4 * i],
+            b[4 * i + 1],
+            b[4 * i + 2],
+            b[4 * i + 3],
+        ])),
     }
 }
 
-/// A checked view of `bufferViews[index]`: (buffer bytes of the view, byteStride).
-fn view_bytes<'d>(
+/// Component `i` as f32 with glTF's normalization rules (§3.11) where `normalized`.
+#[inline]
+fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
+    let v = raw(c, b, i);
+    if !normalized {
+        return v as f32;
+    }
+    match c {
+        ComponentType::U8 => (v / 255.0) as f32,
+        ComponentType::I8 => (v / 127.0).max(-1.0) as f32,
+        ComponentType::U16 => (v / 65535.0) as f32,
+        ComponentType::I16 => (v / 32767.0).max(-1.0) as f32,
+        ComponentType::U32 | ComponentType::F32 => v as f32,
+    }
+}
+
+/// A checked view of `bufferViews[index]` (a source view, or one added by an edit):
+/// (the view's bytes, byteStride).
+pub(crate) fn view_bytes<'d>(
     doc: &'d Document,
     index: usize,
     place: &str,

@@ -124,19 +124,11 @@ impl NewAccessor {
 
     /// Per-component (min, max) in the accessor's own type, as JSON numbers.
     fn bounds(&self) -> (Vec<Value>, Vec<Value>) {
-        let e = Elements {
-            component: self.component,
-            components: self.components,
-            ty: String::new(),
-            normalized: false,
-            count: self.count(),
-            bytes: self.bytes.clone(),
-        };
         let mut lo = vec![f64::INFINITY; self.components];
         let mut hi = vec![f64::NEG_INFINITY; self.components];
-        for i in 0..e.count * self.components {
+        for i in 0..self.count() * self.components {
             let k = i % self.components;
-            let v = raw_value(&e, i);
+            let v = accessor::raw(self.component, &self.bytes, i);
             lo[k] = lo[k].min(v);
             hi[k] = hi[k].max(v);
         }
@@ -154,28 +146,6 @@ impl NewAccessor {
     }
 }
 
-fn raw_value(e: &Elements, i: usize) -> f64 {
-    let b = &e.bytes;
-    match e.component {
-        ComponentType::F32 => f64::from(f32::from_le_bytes([
-            b[4 * i],
-            b[4 * i + 1],
-            b[4 * i + 2],
-            b[4 * i + 3],
-        ])),
-        ComponentType::U8 => f64::from(b[i]),
-        ComponentType::I8 => f64::from(b[i] as i8),
-        ComponentType::U16 => f64::from(u16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
-        ComponentType::I16 => f64::from(i16::from_le_bytes([b[2 * i], b[2 * i + 1]])),
-        ComponentType::U32 => f64::from(u32::from_le_bytes([
-            b[4 * i],
-            b[4 * i + 1],
-            b[4 * i + 2],
-            b[4 * i + 3],
-        ])),
-    }
-}
-
 impl Document {
     /// Appends an accessor (and its bufferView); returns the accessor index.
     pub fn push_accessor(&mut self, a: NewAccessor) -> usize {
@@ -186,8 +156,9 @@ impl Document {
         } else {
             size
         };
+        let bounds = (a.min_max && count > 0).then(|| a.bounds());
         let data = if stride == size {
-            a.bytes.clone()
+            a.bytes
         } else {
             let mut d = vec![0u8; count * stride];
             for (dst, src) in d.chunks_exact_mut(stride).zip(a.bytes.chunks_exact(size)) {
@@ -214,8 +185,7 @@ impl Document {
         }
         acc.insert("count".into(), json!(count));
         acc.insert("type".into(), json!(accessor::type_of(a.components)));
-        if a.min_max && count > 0 {
-            let (lo, hi) = a.bounds();
+        if let Some((lo, hi)) = bounds {
             acc.insert("min".into(), Value::Array(lo));
             acc.insert("max".into(), Value::Array(hi));
         }

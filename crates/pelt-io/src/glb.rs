@@ -54,36 +54,8 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         let obj = v
             .as_object_mut()
             .ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
-        let bytes: Piece<'_> = if i < doc.source_views {
-            let buffer = obj
-                .get("buffer")
-                .and_then(Value::as_u64)
-                .ok_or_else(|| doc.invalid(&vplace, "buffer missing"))?;
-            let data = doc
-                .buffers
-                .get(buffer as usize)
-                .ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
-            let off = obj.get("byteOffset").and_then(Value::as_u64).unwrap_or(0);
-            let len = obj
-                .get("byteLength")
-                .and_then(Value::as_u64)
-                .ok_or_else(|| doc.invalid(&vplace, "byteLength missing"))?;
-            let end = off
-                .checked_add(len)
-                .filter(|&e| e <= data.len() as u64)
-                .ok_or_else(|| {
-                    doc.invalid(
-                        &vplace,
-                        format!(
-                            "bytes {off}..{off}+{len} exceed buffer {buffer} ({} bytes)",
-                            data.len()
-                        ),
-                    )
-                })?;
-            Piece(&data[off as usize..end as usize])
-        } else {
-            Piece(&doc.new_views[i - doc.source_views])
-        };
+        let (data, _) = crate::accessor::view_bytes(doc, i, "output")?;
+        let bytes = Piece(data);
         let off = place(bytes.bytes().len());
         obj.insert("buffer".into(), json!(0));
         if off == 0 {

@@ -88,30 +88,27 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
         }
     };
 
-    let normals = match attr("NORMAL")? {
-        Some(i) => {
-            let v = accessor::read_vec::<3>(doc, i, &at("NORMAL"))?;
-            checked_len("NORMAL", v.len())?;
-            Some(v.into_iter().map(Vec3::from).collect::<Vec<_>>())
-        }
-        None => None,
-    };
-    let uvs = match attr("TEXCOORD_0")? {
-        Some(i) => {
-            let v = accessor::read_vec::<2>(doc, i, &at("TEXCOORD_0"))?;
-            checked_len("TEXCOORD_0", v.len())?;
-            Some(v.into_iter().map(Vec2::from).collect::<Vec<_>>())
-        }
-        None => None,
-    };
-    let tangents = match attr("TANGENT")? {
-        Some(i) => {
-            let v = accessor::read_vec::<4>(doc, i, &at("TANGENT"))?;
-            checked_len("TANGENT", v.len())?;
-            Some(v.into_iter().map(Vec4::from).collect::<Vec<_>>())
-        }
-        None => None,
-    };
+    // An optional float vector attribute, with its length checked against POSITION.
+    fn optional<const N: usize, T: From<[f32; N]>>(
+        doc: &Document,
+        index: Option<usize>,
+        place: &str,
+        checked_len: &dyn Fn(usize) -> Result<()>,
+    ) -> Result<Option<Vec<T>>> {
+        let Some(i) = index else { return Ok(None) };
+        let v = accessor::read_vec::<N>(doc, i, place)?;
+        checked_len(v.len())?;
+        Ok(Some(v.into_iter().map(T::from).collect()))
+    }
+    let normals: Option<Vec<Vec3>> = optional(doc, attr("NORMAL")?, &at("NORMAL"), &|l| {
+        checked_len("NORMAL", l)
+    })?;
+    let uvs: Option<Vec<Vec2>> = optional(doc, attr("TEXCOORD_0")?, &at("TEXCOORD_0"), &|l| {
+        checked_len("TEXCOORD_0", l)
+    })?;
+    let tangents: Option<Vec<Vec4>> = optional(doc, attr("TANGENT")?, &at("TANGENT"), &|l| {
+        checked_len("TANGENT", l)
+    })?;
     let (colors, color) = match attr("COLOR_0")? {
         Some(i) => {
             let e = accessor::read(doc, i, &at("COLOR_0"))?;
