@@ -3,8 +3,12 @@
 //! A thin binary: argument parsing here, the work in `pelt-bake`, `pelt-io` and `pelt-geom`.
 //! Exit codes: 0 ok, 1 some input failed, 2 usage error.
 
+mod alloc;
 mod bake;
 mod inspect;
+
+#[global_allocator]
+static GLOBAL: alloc::HugePageAlloc = alloc::HugePageAlloc;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -280,7 +280,10 @@ fn read_attr(doc: &pelt_io::Document, name: &str) -> Vec<u8> {
         primitive: 0,
     };
     let i = doc.attribute(r, name).expect("attr").expect("present");
-    pelt_io::accessor::read(doc, i, name).expect("read").bytes
+    pelt_io::accessor::read(doc, i, name)
+        .expect("read")
+        .bytes
+        .into_owned()
 }
 
 #[test]

@@ -3,6 +3,8 @@
 //! normals), then the comb of every output vertex. Only the work the primitive needs is done:
 //! with usable NORMAL and TANGENT nothing is done per corner and no vertex is split.
 
+use std::borrow::Cow;
+
 use glam::{Vec2, Vec3, Vec4};
 use pelt_geom::Mesh;
 use pelt_geom::mikktspace;
@@ -77,16 +79,14 @@ pub struct BakedPrimitive {
     pub warnings: Vec<String>,
 }
 
-/// One output vertex: normal, tangent, tangent was degenerate, comb, comb case.
-type VertexOut = (Vec3, [f32; 4], bool, [f32; 4], CombCase);
-
-/// Per-vertex or per-corner data.
-enum Attr<T> {
-    Vertex(Vec<T>),
+/// Per-vertex or per-corner data; per-vertex data is borrowed from the mesh when usable as is.
+enum Attr<'a, T: Clone> {
+    Vertex(Cow<'a, [T]>),
     Corner(Vec<T>),
 }
 
-impl<T: Copy> Attr<T> {
+impl<T: Copy> Attr<'_, T> {
+    #[inline]
     fn at(&self, vertex: usize, corner: usize) -> T {
         match self {
             Attr::Vertex(v) => v[vertex],
@@ -95,6 +95,35 @@ impl<T: Copy> Attr<T> {
     }
     fn is_corner(&self) -> bool {
         matches!(self, Attr::Corner(_))
+    }
+}
+
+/// Output vertices handled by one parallel task.
+const CHUNK: usize = 4096;
+
+/// Counts gathered by the per-vertex pass.
+#[derive(Debug, Clone, Copy, Default)]
+struct Counts {
+    degenerate_tangents: usize,
+    gray: usize,
+    parallel: usize,
+}
+
+impl Counts {
+    fn add(self, o: Counts) -> Counts {
+        Counts {
+            degenerate_tangents: self.degenerate_tangents + o.degenerate_tangents,
+            gray: self.gray + o.gray,
+            parallel: self.parallel + o.parallel,
+        }
+    }
+}
+
+/// `n` chunks of `v` (or `n` Nones), for zipping optional outputs into the per-vertex pass.
+fn chunks_or_none<T>(v: Option<&mut Vec<T>>, n: usize) -> Vec<Option<&mut [T]>> {
+    match v {
+        Some(v) => v.chunks_mut(CHUNK).map(Some).collect(),
+        None => (0..n).map(|_| None).collect(),
     }
 }
 
@@ -110,38 +139,44 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
 
     stats.degenerate_triangles = idx
         .par_chunks_exact(3)
-        .with_min_len(4096)
+        .with_min_len(CHUNK)
         .filter(|t| {
             let p = |k: usize| mesh.positions[t[k] as usize];
             face_normal(p(0), p(1), p(2)).is_none()
         })
         .count();
 
-    // Normals: per vertex when the file's are usable, per corner (flat) otherwise.
+    // Normals: per vertex when the file's are usable (borrowed when already unit), per corner
+    // (flat) otherwise.
     let (normals, rewrite_normals) = match &mesh.normals {
         Some(ns) => {
-            let unit: Vec<Option<(Vec3, bool)>> = ns
+            let (zero, renormalized) = ns
                 .par_iter()
-                .with_min_len(4096)
-                .map(|&n| {
-                    normalize_f64(n).map(|u| {
-                        (
-                            u.as_vec3(),
-                            (n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE,
-                        )
-                    })
+                .with_min_len(CHUNK)
+                .map(|&n| match normalize_f64(n) {
+                    None => (1, 0),
+                    Some(_) => (
+                        0,
+                        usize::from((n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE),
+                    ),
                 })
-                .collect();
-            stats.renormalized_normals = unit.iter().flatten().filter(|u| u.1).count();
-            stats.zero_normals = unit.iter().filter(|u| u.is_none()).count();
-            if stats.zero_normals == 0 {
-                let v: Vec<Vec3> = unit.into_iter().flatten().map(|u| u.0).collect();
-                (Attr::Vertex(v), stats.renormalized_normals > 0)
-            } else {
+                .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+            stats.zero_normals = zero;
+            stats.renormalized_normals = renormalized;
+            if zero > 0 {
                 (
                     Attr::Corner(corner_normals(&mesh.positions, Some(ns), idx).0),
                     true,
                 )
+            } else if renormalized > 0 {
+                let unit = ns
+                    .par_iter()
+                    .with_min_len(CHUNK)
+                    .map(|&n| normalize_f64(n).map_or(Vec3::Z, |u| u.as_vec3()))
+                    .collect();
+                (Attr::Vertex(Cow::Owned(unit)), true)
+            } else {
+                (Attr::Vertex(Cow::Borrowed(ns.as_slice())), false)
             }
         }
         None => {
@@ -162,100 +197,130 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
             "TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned(),
         );
     }
-    let tangents: Attr<Vec4> = if keep {
-        stats.tangents = Some(TangentSource::Kept);
-        let ts = mesh.tangents.as_deref().unwrap_or_default();
-        stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
-        Attr::Vertex(ts.to_vec())
-    } else {
-        stats.tangents = Some(TangentSource::Generated);
-        if mesh.uvs.is_none() {
-            warnings.push("no TEXCOORD_0: tangents follow MikkTSpace's fallback frame".to_owned());
+    let tangents: Attr<Vec4> = match (&mesh.tangents, keep) {
+        (Some(ts), true) => {
+            stats.tangents = Some(TangentSource::Kept);
+            stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
+            Attr::Vertex(Cow::Borrowed(ts.as_slice()))
         }
-        Attr::Corner(generate_tangents(mesh, &normals, &mut stats))
+        _ => {
+            stats.tangents = Some(TangentSource::Generated);
+            if mesh.uvs.is_none() {
+                warnings
+                    .push("no TEXCOORD_0: tangents follow MikkTSpace's fallback frame".to_owned());
+            }
+            Attr::Corner(generate_tangents(mesh, &normals, &mut stats))
+        }
     };
 
     // Output vertices: one per distinct (source vertex, normal, tangent).
-    let remap = if normals.is_corner() || tangents.is_corner() {
+    let per_corner = normals.is_corner() || tangents.is_corner();
+    let remap = if per_corner {
         split_vertices(mesh, &normals, &tangents)
     } else {
         None
     };
     let out_count = remap.as_ref().map_or(mesh.vertex_count(), |(m, _)| m.len());
-    // Each output vertex's source vertex and one corner using it (for per-corner data).
-    let first_corner = first_corners(remap.as_ref().map_or(idx, |(_, i)| i), out_count);
-    let source = |o: usize| remap.as_ref().map_or(o, |(m, _)| m[o] as usize);
+    // With per-corner data, each output vertex reads it at one corner that uses it.
+    let first_corner =
+        per_corner.then(|| first_corners(remap.as_ref().map_or(idx, |(_, i)| i), out_count));
+    let map = remap.as_ref().map(|(m, _)| m.as_slice());
     stats.vertices_out = out_count;
     stats.split_vertices = out_count - mesh.vertex_count();
 
+    // The (normal, tangent) an output vertex is framed by.
+    let inputs = |o: usize| -> (usize, Vec3, Vec4) {
+        let v = map.map_or(o, |m| m[o] as usize);
+        let c = first_corner.as_ref().map_or(u32::MAX, |f| f[o]);
+        if c != u32::MAX {
+            return (v, normals.at(v, c as usize), tangents.at(v, c as usize));
+        }
+        // Per-vertex data, or a vertex no triangle uses: stored normal (or +Z), any tangent.
+        let n = match &normals {
+            Attr::Vertex(ns) => ns[v],
+            Attr::Corner(_) => mesh
+                .normals
+                .as_ref()
+                .and_then(|ns| normalize_f64(ns[v]))
+                .map_or(Vec3::Z, |d| d.as_vec3()),
+        };
+        let t = match &tangents {
+            Attr::Vertex(ts) => ts[v],
+            Attr::Corner(_) => Vec4::new(1.0, 0.0, 0.0, 1.0),
+        };
+        (v, n, t)
+    };
+
+    // One parallel pass over the output vertices writes the comb and whatever else is needed.
     let colors = mesh.colors.as_deref().unwrap_or_default();
-    let per_vertex: Vec<VertexOut> = (0..out_count)
-        .into_par_iter()
-        .with_min_len(2048)
-        .map(|o| {
-            let v = source(o);
-            let c = first_corner[o];
-            let (n, t) = if c == u32::MAX {
-                // Unreferenced vertex: stored normal (or +Z), any tangent.
-                let n = match &normals {
-                    Attr::Vertex(ns) => ns[v],
-                    Attr::Corner(_) => mesh
-                        .normals
-                        .as_ref()
-                        .and_then(|ns| normalize_f64(ns[v]))
-                        .map_or(Vec3::Z, |d| d.as_vec3()),
-                };
-                let t = match &tangents {
-                    Attr::Vertex(ts) => ts[v],
-                    Attr::Corner(_) => Vec4::new(1.0, 0.0, 0.0, 1.0),
-                };
-                (n, t)
-            } else {
-                (normals.at(v, c as usize), tangents.at(v, c as usize))
-            };
-            let (frame, degenerate) = Frame::new(n, t);
-            let (d, len) = comb::decode_color(
-                colors.get(v).copied().unwrap_or(Vec4::ONE),
-                opts.color_space,
-                &opts.axes,
-            );
-            let (combed, case) = comb::bake(d, len, &frame);
-            (n, frame.tangent4(), degenerate, combed, case)
+    let tasks = out_count.div_ceil(CHUNK);
+    let mut comb = vec![[0.0f32; 4]; out_count];
+    let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
+    let mut out_tangents =
+        (tangents.is_corner() || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
+    let counts = comb
+        .par_chunks_mut(CHUNK)
+        .zip(chunks_or_none(out_normals.as_mut(), tasks))
+        .zip(chunks_or_none(out_tangents.as_mut(), tasks))
+        .enumerate()
+        .map(|(task, ((comb, mut normals_out), mut tangents_out))| {
+            let mut counts = Counts::default();
+            for (k, slot) in comb.iter_mut().enumerate() {
+                let o = task * CHUNK + k;
+                let (v, n, t) = inputs(o);
+                let (frame, degenerate) = Frame::new(n, t);
+                let (d, len) = comb::decode_color(
+                    colors.get(v).copied().unwrap_or(Vec4::ONE),
+                    opts.color_space,
+                    &opts.axes,
+                );
+                let (combed, case) = comb::bake(d, len, &frame);
+                *slot = combed;
+                if let Some(out) = normals_out.as_deref_mut() {
+                    out[k] = n.to_array();
+                }
+                if let Some(out) = tangents_out.as_deref_mut() {
+                    out[k] = if degenerate || tangents.is_corner() {
+                        frame.tangent4()
+                    } else {
+                        [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
+                    };
+                }
+                counts.degenerate_tangents += usize::from(degenerate);
+                counts.gray += usize::from(case == CombCase::Gray);
+                counts.parallel += usize::from(case == CombCase::ParallelToNormal);
+            }
+            counts
         })
-        .collect();
+        .reduce(Counts::default, Counts::add);
+    stats.degenerate_tangents = counts.degenerate_tangents;
+    stats.gray_combs = counts.gray;
+    stats.parallel_combs = counts.parallel;
 
-    stats.degenerate_tangents = per_vertex.iter().filter(|p| p.2).count();
-    stats.gray_combs = per_vertex.iter().filter(|p| p.4 == CombCase::Gray).count();
-    stats.parallel_combs = per_vertex
-        .iter()
-        .filter(|p| p.4 == CombCase::ParallelToNormal)
-        .count();
-
-    let out_normals = rewrite_normals.then(|| per_vertex.iter().map(|p| p.0.to_array()).collect());
-    let out_tangents = match &tangents {
-        Attr::Corner(_) => Some(per_vertex.iter().map(|p| p.1).collect()),
-        Attr::Vertex(ts) if stats.degenerate_tangents > 0 || stats.tangent_w_fixed > 0 => Some(
-            per_vertex
-                .iter()
-                .zip(ts)
-                .map(|(p, t)| {
-                    if p.2 {
-                        p.1
+    // Kept tangents that were unusable are replaced: only then is TANGENT rewritten.
+    if out_tangents.is_none() && stats.degenerate_tangents > 0 {
+        out_tangents = Some(
+            (0..out_count)
+                .into_par_iter()
+                .with_min_len(CHUNK)
+                .map(|o| {
+                    let (_, n, t) = inputs(o);
+                    let (frame, degenerate) = Frame::new(n, t);
+                    if degenerate {
+                        frame.tangent4()
                     } else {
                         [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
                     }
                 })
                 .collect(),
-        ),
-        Attr::Vertex(_) => None,
-    };
+        );
+    }
     if stats.degenerate_tangents > 0 && keep {
         warnings.push(format!(
             "{} kept tangents were zero or along the normal and were replaced",
             stats.degenerate_tangents
         ));
     }
-    let comb = per_vertex.iter().map(|p| p.3).collect();
     BakedPrimitive {
         remap,
         normals: out_normals,
@@ -300,7 +365,7 @@ fn generate_tangents(mesh: &Mesh, normals: &Attr<Vec3>, stats: &mut PrimitiveSta
     };
     stats.degenerate_uv_triangles = result.stats.degenerate_uv_triangles;
     stats.default_tangent_corners = result.stats.default_corners;
-    result.corners.into_iter().map(Vec4::from).collect()
+    result.corners
 }
 
 /// Splits vertices whose corners disagree. Each vertex keeps its slot with the values of its

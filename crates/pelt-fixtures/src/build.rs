@@ -99,7 +99,7 @@ pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
         let t = mikktspace::generate(&shape.positions, &shape.normals, &shape.uvs, &shape.indices);
         let mut per_vertex = vec![[1.0, 0.0, 0.0, 1.0]; shape.positions.len()];
         for (c, &v) in shape.indices.iter().enumerate().rev() {
-            per_vertex[v as usize] = t.corners[c];
+            per_vertex[v as usize] = t.corners[c].to_array();
         }
         attrs.insert(
             "TANGENT".into(),

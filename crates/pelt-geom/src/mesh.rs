@@ -97,11 +97,18 @@ impl Mesh {
     }
 }
 
-/// Fails on the first element with a NaN or infinite component.
+/// Fails on the first element with a NaN or infinite component. The common all-finite case
+/// is settled by a branch-free scan; the first bad element is then found in order.
 pub fn check_finite<const N: usize>(
     attribute: &str,
-    values: impl Iterator<Item = [f32; N]>,
+    values: impl Iterator<Item = [f32; N]> + Clone,
 ) -> Result<(), GeomError> {
+    let all_finite = values
+        .clone()
+        .fold(true, |ok, v| v.iter().fold(ok, |ok, c| ok & c.is_finite()));
+    if all_finite {
+        return Ok(());
+    }
     for (vertex, v) in values.enumerate() {
         if let Some(bad) = v.iter().find(|c| !c.is_finite()) {
             return Err(GeomError::NonFinite {
@@ -120,6 +127,11 @@ pub fn check_indices(indices: &[u32], vertex_count: usize) -> Result<(), GeomErr
         return Err(GeomError::PartialTriangle {
             count: indices.len(),
         });
+    }
+    // Branch-free maximum first; the offending position only when there is one.
+    let max = indices.iter().fold(0u32, |m, &i| m.max(i));
+    if (max as usize) < vertex_count {
+        return Ok(());
     }
     if let Some((position, &index)) = indices
         .iter()

@@ -15,7 +15,7 @@
 //! the order its (off-by-one) quicksort leaves them for the largest vertex id; pelt pairs them in
 //! face order everywhere. Triangles only (glTF primitives are triangles).
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::fastmath::{V3, not_zero};
@@ -33,7 +33,7 @@ pub struct Tangents {
     /// One tangent per corner (`indices.len()`): xyz as generated, w = +1 or -1. xyz is unit
     /// except where the reference yields zero (a face whose UV derivative lies along the normal);
     /// callers decide the fallback there.
-    pub corners: Vec<[f32; 4]>,
+    pub corners: Vec<Vec4>,
     /// What happened, for the report.
     pub stats: TangentStats,
 }
@@ -62,8 +62,6 @@ struct Face {
 /// `uvs` are per vertex; `indices.len()` must be a multiple of three with every index in range.
 pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> Tangents {
     let nf = indices.len() / 3;
-    let pos = |c: usize| V3::new(positions[indices[c] as usize].to_array());
-    let nrm = |c: usize| V3::new(normals[indices[c] as usize].to_array());
 
     // Welded id per corner: identical position, normal and UV.
     let (vertex_weld, welded) = weld(positions.len(), |v| {
@@ -97,9 +95,12 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     }
     let mut fill = fan_start.clone();
     let mut fan = vec![0u32; fan_start[welded] as usize];
+    // Each proper corner's position in `fan` (where its tangent space will be written).
+    let mut fan_pos = vec![NONE; 3 * nf];
     for (c, &w) in wid.iter().enumerate() {
         if !faces[c / 3].degenerate {
             fan[fill[w as usize] as usize] = c as u32;
+            fan_pos[c] = fill[w as usize];
             fill[w as usize] += 1;
         }
     }
@@ -136,38 +137,240 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
             }
         });
 
-    // The 4-rule groups, a depth-first walk around each vertex as in the reference (the order
-    // matters where a face without usable UVs takes the orientation of the first group that
-    // reaches it).
+    // The 4-rule groups: around each welded vertex, the faces connected across shared edges
+    // with one orientation. Each corner's tangent space is written at its place in `fan`
+    // (w = ±1; w = 0 while no group has reached it).
+    let mut fan_space = vec![[0.0f32; 4]; fan.len()];
+    let ctx = Context {
+        wid: &wid,
+        fan: &fan,
+        fan_start: &fan_start,
+        neighbours: &neighbours,
+        positions,
+        normals,
+        indices,
+    };
+
+    // A face without usable UVs takes the orientation of the first group that reaches it, so
+    // around vertices with such faces the walk must follow the reference's global order:
+    // seeds in corner order, one at a time. Everywhere else groups are connected components,
+    // independent of order, and vertices are done in parallel.
+    let ordered: Vec<bool> = (0..welded)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|w| {
+            ctx.fan_of(w as u32)
+                .iter()
+                .any(|&c| faces[c as usize / 3].any)
+        })
+        .collect();
+    if ordered.iter().any(|&o| o) {
+        ordered_groups(&ctx, &mut faces, &ordered, &fan_pos, &mut fan_space);
+    }
+    let faces = &faces;
+    let mut blocks = Vec::new();
+    let mut rest = fan_space.as_mut_slice();
+    for w0 in (0..welded).step_by(4096) {
+        let w1 = welded.min(w0 + 4096);
+        let len = (fan_start[w1] - fan_start[w0]) as usize;
+        let (run, tail) = rest.split_at_mut(len);
+        blocks.push((w0..w1, run));
+        rest = tail;
+    }
+    blocks.into_par_iter().for_each(|(range, run)| {
+        let mut scratch = GroupScratch::default();
+        let mut walk = Walk::default();
+        let base = fan_start[range.start] as usize;
+        for w in range.filter(|&w| !ordered[w]) {
+            let at = fan_start[w] as usize - base;
+            let fan_w = ctx.fan_of(w as u32);
+            walk.groups(&ctx, faces, w as u32);
+            for g in 0..walk.count() {
+                let (members, orient) = walk.group(g);
+                let rep = w as u32;
+                ctx.evaluate(rep, members, faces, &mut scratch);
+                let sign = if orient { 1.0 } else { -1.0 };
+                for (&f, s) in members.iter().zip(&scratch.result) {
+                    let q = fan_w
+                        .binary_search(&(ctx.corner_of(rep, f) as u32))
+                        .unwrap_or(0);
+                    run[at + q] = [s.x, s.y, s.z, sign];
+                }
+            }
+        }
+    });
+
+    // Each corner's space: its own, or for a degenerate triangle the space of the first proper
+    // corner at the same welded vertex; corners no group reached get the reference default.
+    let source = |c: usize| -> Option<[f32; 4]> {
+        let q = if faces[c / 3].degenerate {
+            let w = wid[c] as usize;
+            (fan_start[w] < fan_start[w + 1]).then_some(fan_start[w])?
+        } else {
+            fan_pos[c]
+        };
+        let s = fan_space[q as usize];
+        (s[3] != 0.0).then_some(s)
+    };
+    let corners: Vec<Vec4> = (0..3 * nf)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|c| Vec4::from(source(c).unwrap_or([1.0, 0.0, 0.0, -1.0])))
+        .collect();
+    let default_corners = (0..3 * nf)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&c| source(c).is_none())
+        .count();
+    Tangents {
+        corners,
+        stats: TangentStats {
+            degenerate_triangles: faces.iter().filter(|f| f.degenerate).count(),
+            degenerate_uv_triangles: faces.iter().filter(|f| !f.degenerate && f.any).count(),
+            default_corners,
+        },
+    }
+}
+
+/// What the group walk and evaluation read.
+struct Context<'a> {
+    wid: &'a [u32],
+    fan: &'a [u32],
+    fan_start: &'a [u32],
+    neighbours: &'a [u32],
+    positions: &'a [Vec3],
+    normals: &'a [Vec3],
+    indices: &'a [u32],
+}
+
+impl Context<'_> {
+    /// The proper-face corners at welded vertex `w`, ascending.
+    fn fan_of(&self, w: u32) -> &[u32] {
+        &self.fan[self.fan_start[w as usize] as usize..self.fan_start[w as usize + 1] as usize]
+    }
+
+    /// The corner of face `f` at welded vertex `rep` (its first, as the reference finds it).
+    fn corner_of(&self, rep: u32, f: u32) -> usize {
+        let f = f as usize;
+        3 * f + (0..3).find(|&i| self.wid[3 * f + i] == rep).unwrap_or(0)
+    }
+
+    fn pos(&self, c: usize) -> V3 {
+        V3::new(self.positions[self.indices[c] as usize].to_array())
+    }
+
+    /// Tangent spaces of the members of one group around `rep`, into `scratch.result`.
+    fn evaluate(&self, rep: u32, members: &[u32], faces: &[Face], scratch: &mut GroupScratch) {
+        let corner_of = |f: u32| self.corner_of(rep, f);
+        // Every member shares the welded vertex, hence the normal.
+        let n = V3::new(self.normals[self.indices[corner_of(members[0])] as usize].to_array());
+        evaluate_group(members, faces, n, &corner_of, &|c| self.pos(c), scratch);
+    }
+}
+
+/// The groups around one welded vertex (reused between vertices).
+#[derive(Default)]
+struct Walk {
+    /// Group index per fan entry of the vertex (NONE: not reached yet).
+    assigned: Vec<u32>,
+    /// Members of each group, one group after another.
+    members: Vec<u32>,
+    /// (start in `members`, orientation) per group.
+    starts: Vec<(usize, bool)>,
+    stack: Vec<u32>,
+}
+
+impl Walk {
+    fn count(&self) -> usize {
+        self.starts.len()
+    }
+
+    fn group(&self, g: usize) -> (&[u32], bool) {
+        let (a, orient) = self.starts[g];
+        let b = self.starts.get(g + 1).map_or(self.members.len(), |s| s.0);
+        (&self.members[a..b], orient)
+    }
+
+    /// The groups around welded vertex `w` whose faces all have usable UVs: the connected
+    /// components, across shared edges, of the faces with one orientation.
+    fn groups(&mut self, ctx: &Context, faces: &[Face], w: u32) {
+        let fan_w = ctx.fan_of(w);
+        self.assigned.clear();
+        self.assigned.resize(fan_w.len(), NONE);
+        self.members.clear();
+        self.starts.clear();
+        for (p, &c) in fan_w.iter().enumerate() {
+            if self.assigned[p] != NONE {
+                continue;
+            }
+            let (f, k) = (c as usize / 3, c as usize % 3);
+            let orient = faces[f].orient;
+            let g = self.starts.len() as u32;
+            self.starts.push((self.members.len(), orient));
+            self.members.push(f as u32);
+            self.assigned[p] = g;
+            self.stack.clear();
+            self.stack.push(ctx.neighbours[3 * f + k]);
+            self.stack.push(ctx.neighbours[3 * f + (k + 2) % 3]);
+            while let Some(t) = self.stack.pop() {
+                if t == NONE {
+                    continue;
+                }
+                let t = t as usize;
+                let Some(i) = (0..3).find(|&i| ctx.wid[3 * t + i] == w) else {
+                    continue;
+                };
+                let Ok(q) = fan_w.binary_search(&((3 * t + i) as u32)) else {
+                    continue;
+                };
+                if self.assigned[q] != NONE || faces[t].orient != orient {
+                    continue;
+                }
+                self.members.push(t as u32);
+                self.assigned[q] = g;
+                self.stack.push(ctx.neighbours[3 * t + i]);
+                self.stack.push(ctx.neighbours[3 * t + (i + 2) % 3]);
+            }
+        }
+    }
+}
+
+/// The groups around the `ordered` vertices, walked as the reference does: seeds in corner
+/// order, depth first, a face without usable UVs taking the orientation of the first group that
+/// reaches it. Writes their tangent spaces into `fan_space`.
+fn ordered_groups(
+    ctx: &Context,
+    faces: &mut [Face],
+    ordered: &[bool],
+    fan_pos: &[u32],
+    fan_space: &mut [[f32; 4]],
+) {
+    let nf = faces.len();
+    // Group per corner (only corners at ordered vertices are used).
     let mut assigned = vec![NONE; 3 * nf];
-    let mut group_rep = Vec::<u32>::new();
-    let mut group_orient = Vec::<bool>::new();
-    let mut group_start = vec![0u32];
-    let mut group_faces = Vec::<u32>::with_capacity(3 * nf);
+    let mut groups: Vec<(u32, bool, Vec<u32>)> = Vec::new();
     let mut stack = Vec::<u32>::new();
     for f in 0..nf {
         if faces[f].degenerate || faces[f].any {
             continue;
         }
         for k in 0..3 {
-            if assigned[3 * f + k] != NONE {
+            let rep = ctx.wid[3 * f + k];
+            if !ordered[rep as usize] || assigned[3 * f + k] != NONE {
                 continue;
             }
-            let gid = group_rep.len() as u32;
-            let rep = wid[3 * f + k];
+            let gid = groups.len() as u32;
             let orient = faces[f].orient;
-            group_rep.push(rep);
-            group_orient.push(orient);
-            group_faces.push(f as u32);
+            let mut members = vec![f as u32];
             assigned[3 * f + k] = gid;
-            stack.push(neighbours[3 * f + k]);
-            stack.push(neighbours[3 * f + (k + 2) % 3]);
+            stack.push(ctx.neighbours[3 * f + k]);
+            stack.push(ctx.neighbours[3 * f + (k + 2) % 3]);
             while let Some(t) = stack.pop() {
                 if t == NONE {
                     continue;
                 }
                 let t = t as usize;
-                let Some(i) = (0..3).find(|&i| wid[3 * t + i] == rep) else {
+                let Some(i) = (0..3).find(|&i| ctx.wid[3 * t + i] == rep) else {
                     continue;
                 };
                 if assigned[3 * t + i] != NONE {
@@ -179,71 +382,32 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
                 if faces[t].orient != orient {
                     continue;
                 }
-                group_faces.push(t as u32);
+                members.push(t as u32);
                 assigned[3 * t + i] = gid;
-                stack.push(neighbours[3 * t + i]);
-                stack.push(neighbours[3 * t + (i + 2) % 3]);
+                stack.push(ctx.neighbours[3 * t + i]);
+                stack.push(ctx.neighbours[3 * t + (i + 2) % 3]);
             }
-            group_start.push(group_faces.len() as u32);
+            groups.push((rep, orient, members));
         }
     }
-
-    // Evaluate every group (in parallel blocks) and scatter to corners.
-    const BLOCK: usize = 2048;
-    let groups = group_rep.len();
-    let results: Vec<Vec<(u32, V3, bool)>> = (0..groups.div_ceil(BLOCK))
-        .into_par_iter()
-        .map(|b| {
-            let mut out = Vec::new();
+    let faces = &*faces;
+    let results: Vec<Vec<(u32, [f32; 4])>> = groups
+        .par_chunks(256)
+        .map(|chunk| {
             let mut scratch = GroupScratch::default();
-            for g in b * BLOCK..groups.min((b + 1) * BLOCK) {
-                let members = &group_faces[group_start[g] as usize..group_start[g + 1] as usize];
-                let rep = group_rep[g];
-                let corner_of = |f: u32| {
-                    let f = f as usize;
-                    3 * f + (0..3).find(|&i| wid[3 * f + i] == rep).unwrap_or(0)
-                };
-                // Every member shares the welded vertex, hence the normal.
-                let n = nrm(corner_of(members[0]));
-                evaluate_group(members, &faces, n, &corner_of, &pos, &mut scratch);
-                for (&a, &s) in members.iter().zip(&scratch.result) {
-                    out.push((corner_of(a) as u32, s, group_orient[g]));
+            let mut out = Vec::new();
+            for (rep, orient, members) in chunk {
+                ctx.evaluate(*rep, members, faces, &mut scratch);
+                let sign = if *orient { 1.0 } else { -1.0 };
+                for (&f, s) in members.iter().zip(&scratch.result) {
+                    out.push((fan_pos[ctx.corner_of(*rep, f)], [s.x, s.y, s.z, sign]));
                 }
             }
             out
         })
         .collect();
-
-    let mut space: Vec<Option<(V3, bool)>> = vec![None; 3 * nf];
-    for &(c, s, o) in results.iter().flatten() {
-        space[c as usize] = Some((s, o));
-    }
-
-    // Degenerate triangles copy the space of the first proper corner at the same welded vertex.
-    for f in (0..nf).filter(|&f| faces[f].degenerate) {
-        for k in 0..3 {
-            let c = 3 * f + k;
-            if let Some(&src) = fan_of(wid[c]).first() {
-                space[c] = space[src as usize];
-            }
-        }
-    }
-
-    let default_corners = space.iter().filter(|s| s.is_none()).count();
-    let corners = space
-        .iter()
-        .map(|s| match s {
-            Some((s, o)) => [s.x, s.y, s.z, if *o { 1.0 } else { -1.0 }],
-            None => [1.0, 0.0, 0.0, -1.0],
-        })
-        .collect();
-    Tangents {
-        corners,
-        stats: TangentStats {
-            degenerate_triangles: faces.iter().filter(|f| f.degenerate).count(),
-            degenerate_uv_triangles: faces.iter().filter(|f| !f.degenerate && f.any).count(),
-            default_corners,
-        },
+    for (q, s) in results.into_iter().flatten() {
+        fan_space[q as usize] = s;
     }
 }
 
@@ -325,10 +489,10 @@ struct GroupScratch {
     projected: Vec<(V3, V3)>,
     /// Each distinct sub-group: where its membership starts in `masks`, and its tangent.
     subgroups: Vec<(usize, V3)>,
-    /// Memberships of the sub-groups (over `sorted`), one after another.
-    masks: Vec<bool>,
+    /// Memberships of the sub-groups (bit j = sorted member j), `words` u64 each, in a row.
+    masks: Vec<u64>,
     /// Membership being built.
-    member: Vec<bool>,
+    member: Vec<u64>,
     /// Result per member, in the group's order.
     result: Vec<V3>,
 }
@@ -355,32 +519,27 @@ fn evaluate_group(
     sc.subgroups.clear();
     sc.masks.clear();
     sc.result.clear();
-    let k = members.len();
+    let words = members.len().div_ceil(64);
     for &a in members {
         let ia = sc.sorted.binary_search(&a).unwrap_or(0);
         let (sa, ta) = sc.projected[ia];
         let any_a = faces[a as usize].any;
         sc.member.clear();
-        sc.member
-            .extend(sc.sorted.iter().zip(&sc.projected).map(|(&bf, &(sb, tb))| {
-                let meets =
-                    sa.dot(sb) > ANGULAR_THRESHOLD_COS && ta.dot(tb) > ANGULAR_THRESHOLD_COS;
-                any_a || faces[bf as usize].any || a == bf || meets
-            }));
+        sc.member.resize(words, 0);
+        for (j, (&bf, &(sb, tb))) in sc.sorted.iter().zip(&sc.projected).enumerate() {
+            let meets = sa.dot(sb) > ANGULAR_THRESHOLD_COS && ta.dot(tb) > ANGULAR_THRESHOLD_COS;
+            if any_a || faces[bf as usize].any || a == bf || meets {
+                sc.member[j / 64] |= 1 << (j % 64);
+            }
+        }
         let found = sc
             .subgroups
             .iter()
-            .find(|(off, _)| sc.masks[*off..*off + k] == sc.member[..]);
+            .find(|(off, _)| sc.masks[*off..*off + words] == sc.member[..]);
         let s = match found {
             Some((_, s)) => *s,
             None => {
-                let sub = sc
-                    .sorted
-                    .iter()
-                    .zip(&sc.member)
-                    .filter(|(_, m)| **m)
-                    .map(|(&f, _)| f);
-                let s = evaluate(sub, faces, n, corner_of, pos);
+                let s = evaluate(sc, faces, n, corner_of, pos);
                 sc.subgroups.push((sc.masks.len(), s));
                 sc.masks.extend_from_slice(&sc.member);
                 s
@@ -390,18 +549,18 @@ fn evaluate_group(
     }
 }
 
-/// Angle-weighted average of the projected tangents of a sub-group (faces in ascending order).
+/// Angle-weighted average of the projected tangents of the sub-group `sc.member` (summed in
+/// ascending face order).
 fn evaluate(
-    sub: impl Iterator<Item = u32>,
+    sc: &GroupScratch,
     faces: &[Face],
     n: V3,
     corner_of: &impl Fn(u32) -> usize,
     pos: &impl Fn(usize) -> V3,
 ) -> V3 {
     let mut res = V3::ZERO;
-    for f in sub {
-        let face = &faces[f as usize];
-        if face.any {
+    for (j, (&f, &(s, _))) in sc.sorted.iter().zip(&sc.projected).enumerate() {
+        if sc.member[j / 64] & (1 << (j % 64)) == 0 || faces[f as usize].any {
             continue;
         }
         let c = corner_of(f);
@@ -412,7 +571,7 @@ fn evaluate(
         let v1 = p[2].minus(p[1]).project_normalized(n);
         let cos = v0.dot(v1).clamp(-1.0, 1.0);
         let angle = f64::from(cos).acos() as f32;
-        res = res.plus(face.s.project_normalized(n).scale(angle));
+        res = res.plus(s.scale(angle));
     }
     res.normalized_or_zero()
 }

@@ -1,9 +1,8 @@
 //! Exact welding: vertices whose keys are bit-for-bit equal (after mapping -0.0 to +0.0, so
 //! equality is IEEE `==` for finite values) share one id. Ids are dense and numbered in order of
-//! first appearance, so the result does not depend on hashing or thread count.
+//! first appearance, so the result does not depend on hashing, sorting or thread count.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use rayon::prelude::*;
 
 /// The f32 bit pattern used as a weld key: `-0.0` becomes `+0.0`.
 #[inline]
@@ -12,52 +11,76 @@ pub fn key_bits(x: f32) -> u32 {
 }
 
 /// Welds `n` vertices by the key `key(i)`. Returns the id of every vertex and the number of ids.
-pub fn weld<const N: usize>(n: usize, key: impl Fn(usize) -> [u32; N]) -> (Vec<u32>, usize) {
-    let mut map: HashMap<[u32; N], u32, BuildHasherDefault<FxHasher>> =
-        HashMap::with_capacity_and_hasher(n, BuildHasherDefault::default());
-    let ids = (0..n)
-        .map(|i| {
-            let next = map.len() as u32;
-            *map.entry(key(i)).or_insert(next)
-        })
-        .collect();
-    (ids, map.len())
+///
+/// Parallel and deterministic: keys are hashed (in parallel), (hash, index) pairs sorted (in
+/// parallel), and each run of equal hashes split by exact key comparison, so a hash collision
+/// can never weld different keys. The representative of each key is its first vertex; ids are
+/// numbered in the order representatives appear.
+pub fn weld<const N: usize>(n: usize, key: impl Fn(usize) -> [u32; N] + Sync) -> (Vec<u32>, usize) {
+    weld_by(n, key, hash_key)
 }
 
-/// The multiply-rotate hash of rustc (`FxHasher`): fast for small integer keys, not DoS-proof,
-/// which does not matter for mesh data.
-#[derive(Default, Clone, Copy)]
-pub struct FxHasher(u64);
+/// [`weld`] with the hash as a parameter (tests force collisions with it).
+fn weld_by<const N: usize>(
+    n: usize,
+    key: impl Fn(usize) -> [u32; N] + Sync,
+    hash: impl Fn(&[u32; N]) -> u64 + Sync,
+) -> (Vec<u32>, usize) {
+    let mut order: Vec<(u64, u32)> = (0..n)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| (hash(&key(i)), i as u32))
+        .collect();
+    order.par_sort_unstable();
 
-impl Hasher for FxHasher {
-    #[inline]
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..chunk.len()].copy_from_slice(chunk);
-            self.write_u64(u64::from_le_bytes(w));
+    // First vertex with the same key, for every vertex.
+    let mut rep = vec![0u32; n];
+    let mut distinct: Vec<([u32; N], u32)> = Vec::new();
+    for run in order.chunk_by(|a, b| a.0 == b.0) {
+        if let [(_, i)] = run {
+            rep[*i as usize] = *i;
+            continue;
+        }
+        // Equal hashes: indices ascend, so the first of each distinct key is its representative.
+        distinct.clear();
+        for &(_, i) in run {
+            let k = key(i as usize);
+            rep[i as usize] = match distinct.iter().find(|(d, _)| *d == k) {
+                Some(&(_, r)) => r,
+                None => {
+                    distinct.push((k, i));
+                    i
+                }
+            };
         }
     }
+    drop(order);
 
-    #[inline]
-    fn write_u32(&mut self, i: u32) {
-        self.write_u64(u64::from(i));
+    let mut ids = vec![0u32; n];
+    let mut count = 0u32;
+    for i in 0..n {
+        let r = rep[i] as usize;
+        ids[i] = if r == i {
+            count += 1;
+            count - 1
+        } else {
+            ids[r]
+        };
     }
+    (ids, count as usize)
+}
 
-    #[inline]
-    fn write_u64(&mut self, i: u64) {
-        self.0 = (self.0.rotate_left(5) ^ i).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+/// A 64-bit hash of a key (multiply-xorshift per word, murmur3's finalizer at the end).
+#[inline]
+fn hash_key<const N: usize>(k: &[u32; N]) -> u64 {
+    let mut h = 0x9E37_79B9_7F4A_7C15u64;
+    for &w in k {
+        h = (h ^ u64::from(w)).wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+        h ^= h >> 32;
     }
-
-    #[inline]
-    fn write_usize(&mut self, i: usize) {
-        self.write_u64(i as u64);
-    }
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    h ^ (h >> 33)
 }
 
 #[cfg(test)]
@@ -70,6 +93,26 @@ mod tests {
         let (ids, n) = weld(keys.len(), |i| keys[i]);
         assert_eq!(ids, vec![0, 1, 0, 2, 1]);
         assert_eq!(n, 3);
+    }
+
+    #[test]
+    fn hash_collisions_never_weld_different_keys() {
+        // Many keys, few distinct: runs of equal hashes hold equal keys only; and ids follow
+        // first appearance whatever the sort did.
+        let keys: Vec<[u32; 2]> = (0..10_000u32).map(|i| [i % 7, (i * 31) % 5]).collect();
+        let (ids, n) = weld(keys.len(), |i| keys[i]);
+        assert_eq!(n, 35);
+        // Every hash equal: exact comparison alone must give the same ids.
+        assert_eq!(weld_by(keys.len(), |i| keys[i], |_| 7), (ids.clone(), n));
+        let mut first = std::collections::HashMap::new();
+        let mut next = 0;
+        for (i, k) in keys.iter().enumerate() {
+            let id = *first.entry(*k).or_insert_with(|| {
+                next += 1;
+                next - 1
+            });
+            assert_eq!(ids[i], id, "vertex {i}");
+        }
     }
 
     #[test]

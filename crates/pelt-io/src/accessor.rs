@@ -2,6 +2,8 @@
 //! strides, accessors without a bufferView and sparse substitution. Every range is checked in
 //! u64 against the buffer's real bytes before anything is allocated.
 
+use std::borrow::Cow;
+
 use serde_json::Value;
 
 use crate::document::Document;
@@ -96,9 +98,10 @@ pub fn type_of(components: usize) -> &'static str {
     }
 }
 
-/// An accessor's elements, tightly packed, sparse values applied.
+/// An accessor's elements, tightly packed, sparse values applied. The bytes are borrowed from
+/// the document when they already lie there packed.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Elements {
+pub struct Elements<'d> {
     /// Component type.
     pub component: ComponentType,
     /// Components per element.
@@ -110,10 +113,10 @@ pub struct Elements {
     /// Element count.
     pub count: usize,
     /// `count * components * component.size()` bytes.
-    pub bytes: Vec<u8>,
+    pub bytes: Cow<'d, [u8]>,
 }
 
-impl Elements {
+impl Elements<'_> {
     /// Bytes per element.
     pub fn element_size(&self) -> usize {
         self.components * self.component.size()
@@ -128,21 +131,35 @@ impl Elements {
     /// Elements as `[f32; N]` (N must equal the component count).
     pub fn to_f32<const N: usize>(&self) -> Vec<[f32; N]> {
         debug_assert_eq!(N, self.components);
-        let (c, n, b) = (self.component, self.normalized, &self.bytes);
-        if c == ComponentType::F32 {
-            return b
-                .chunks_exact(4 * N)
-                .map(|e| {
-                    std::array::from_fn(|k| {
-                        f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]])
-                    })
-                })
-                .collect();
+        let (c, n, b) = (self.component, self.normalized, &*self.bytes);
+        match c {
+            ComponentType::F32 => map_elements::<N, 4>(b, f32::from_le_bytes),
+            ComponentType::U8 => map_elements::<N, 1>(b, |x| normalize(c, n, f64::from(x[0]))),
+            ComponentType::I8 => {
+                map_elements::<N, 1>(b, |x| normalize(c, n, f64::from(x[0] as i8)))
+            }
+            ComponentType::U16 => {
+                map_elements::<N, 2>(b, |x| normalize(c, n, f64::from(u16::from_le_bytes(x))))
+            }
+            ComponentType::I16 => {
+                map_elements::<N, 2>(b, |x| normalize(c, n, f64::from(i16::from_le_bytes(x))))
+            }
+            ComponentType::U32 => {
+                map_elements::<N, 4>(b, |x| normalize(c, n, f64::from(u32::from_le_bytes(x))))
+            }
         }
-        (0..self.count)
-            .map(|e| std::array::from_fn(|k| decode(c, n, b, e * N + k)))
-            .collect()
     }
+}
+
+/// Decodes packed elements of `N` components of `S` bytes each with `f`.
+#[inline]
+fn map_elements<const N: usize, const S: usize>(
+    b: &[u8],
+    f: impl Fn([u8; S]) -> f32,
+) -> Vec<[f32; N]> {
+    b.chunks_exact(N * S)
+        .map(|e| std::array::from_fn(|k| f(std::array::from_fn(|j| e[k * S + j]))))
+        .collect()
 }
 
 /// Component `i` of packed little-endian `b` as its raw value (integers not normalized).
@@ -171,7 +188,12 @@ pub fn raw(c: ComponentType, b: &[u8], i: usize) -> f64 {
 /// Component `i` as f32 with glTF's normalization rules (§3.11) where `normalized`.
 #[inline]
 fn decode(c: ComponentType, normalized: bool, b: &[u8], i: usize) -> f32 {
-    let v = raw(c, b, i);
+    normalize(c, normalized, raw(c, b, i))
+}
+
+/// A raw component value as f32, with glTF's normalization rules where `normalized`.
+#[inline]
+fn normalize(c: ComponentType, normalized: bool, v: f64) -> f32 {
     if !normalized {
         return v as f32;
     }
@@ -247,16 +269,17 @@ fn uint(v: &Value, key: &str) -> Option<u64> {
     v.get(key).and_then(Value::as_u64)
 }
 
-/// Copies `count` elements of `elem` bytes, `stride` apart from `offset`, out of `bytes`.
-fn gather(
+/// `count` elements of `elem` bytes, `stride` apart from `offset` in `bytes`: borrowed when
+/// packed, copied out otherwise.
+fn gather<'d>(
     doc: &Document,
     place: &str,
-    bytes: &[u8],
+    bytes: &'d [u8],
     offset: u64,
     stride: usize,
     count: u64,
     elem: usize,
-) -> Result<Vec<u8>> {
+) -> Result<Cow<'d, [u8]>> {
     let need = (count - 1)
         .checked_mul(stride as u64)
         .and_then(|x| x.checked_add(offset))
@@ -276,18 +299,20 @@ fn gather(
     }
     let offset = offset as usize;
     if stride == elem {
-        return Ok(bytes[offset..offset + count as usize * elem].to_vec());
+        return Ok(Cow::Borrowed(
+            &bytes[offset..offset + count as usize * elem],
+        ));
     }
     let mut out = Vec::with_capacity(count as usize * elem);
     for e in 0..count as usize {
         let s = offset + e * stride;
         out.extend_from_slice(&bytes[s..s + elem]);
     }
-    Ok(out)
+    Ok(Cow::Owned(out))
 }
 
 /// Reads accessor `index` into packed elements. `place` prefixes errors (e.g. the attribute).
-pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
+pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
     let accessors = doc.array("accessors");
     let place = format!("{place} (accessor {index})");
     let a = accessors.get(index).ok_or_else(|| {
@@ -351,12 +376,12 @@ pub fn read(doc: &Document, index: usize, place: &str) -> Result<Elements> {
             if want > limit {
                 return Err(doc.invalid(&place, format!("count {count} without a bufferView would need {want} bytes; the asset holds {}", doc.real_bytes())));
             }
-            vec![0u8; want as usize]
+            Cow::Owned(vec![0u8; want as usize])
         }
     };
 
     if let Some(sparse) = a.get("sparse") {
-        apply_sparse(doc, &place, sparse, count, elem, &mut bytes)?;
+        apply_sparse(doc, &place, sparse, count, elem, bytes.to_mut())?;
     }
     Ok(Elements {
         component,
@@ -489,7 +514,16 @@ pub fn read_indices(doc: &Document, index: usize, place: &str) -> Result<Vec<u32
             ),
         ));
     }
-    Ok((0..e.count)
-        .map(|k| read_index(e.component, &e.bytes, k))
-        .collect())
+    let b = &*e.bytes;
+    Ok(match e.component {
+        ComponentType::U8 => b.iter().map(|&i| u32::from(i)).collect(),
+        ComponentType::U16 => b
+            .chunks_exact(2)
+            .map(|i| u32::from(u16::from_le_bytes([i[0], i[1]])))
+            .collect(),
+        _ => b
+            .chunks_exact(4)
+            .map(|i| u32::from_le_bytes([i[0], i[1], i[2], i[3]]))
+            .collect(),
+    })
 }

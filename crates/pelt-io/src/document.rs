@@ -38,6 +38,48 @@ pub struct UriImage {
     pub mime: String,
 }
 
+/// The bytes of one buffer. A GLB's BIN chunk stays inside the bytes read from the file (no
+/// copy); [`Buffer`] derefs to exactly the buffer's `byteLength` bytes.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Buffer {
+    data: Vec<u8>,
+    start: usize,
+    len: usize,
+}
+
+impl Buffer {
+    /// The buffer `data[start..start + len]` (clamped to `data`).
+    pub fn new(data: Vec<u8>, start: usize, len: usize) -> Buffer {
+        let start = start.min(data.len());
+        let len = len.min(data.len() - start);
+        Buffer { data, start, len }
+    }
+}
+
+impl From<Vec<u8>> for Buffer {
+    fn from(data: Vec<u8>) -> Buffer {
+        let len = data.len();
+        Buffer {
+            data,
+            start: 0,
+            len,
+        }
+    }
+}
+
+impl std::ops::Deref for Buffer {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        &self.data[self.start..self.start + self.len]
+    }
+}
+
+impl std::ops::DerefMut for Buffer {
+    fn deref_mut(&mut self) -> &mut [u8] {
+        &mut self.data[self.start..self.start + self.len]
+    }
+}
+
 /// A loaded glTF asset.
 #[derive(Debug, Clone)]
 pub struct Document {
@@ -46,7 +88,7 @@ pub struct Document {
     /// The JSON root object.
     pub json: Map<String, Value>,
     /// The bytes of each buffer, exactly `byteLength` long.
-    pub buffers: Vec<Vec<u8>>,
+    pub buffers: Vec<Buffer>,
     /// For each image: its bytes when it was given by URI (None when it lives in a bufferView).
     pub uri_images: Vec<Option<UriImage>>,
     /// Every file read to build this document (the asset, external buffers, images).
@@ -69,7 +111,7 @@ impl Document {
     }
 
     /// Parses a glTF or GLB held in memory; `path` names it in errors and anchors relative URIs.
-    pub fn from_bytes(path: &Path, mut bytes: Vec<u8>) -> Result<Document> {
+    pub fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<Document> {
         let is_glb = bytes.starts_with(GLB_MAGIC);
         let has_glb_ext = path
             .extension()
@@ -84,11 +126,8 @@ impl Document {
         let (json, bin) = if is_glb {
             let (json_range, bin_range) = split_glb(path, &bytes)?;
             let json = parse_json(path, &bytes[json_range])?;
-            let bin = bin_range.map(|r| {
-                bytes.truncate(r.end);
-                bytes.drain(..r.start);
-                bytes
-            });
+            // The BIN chunk stays where it was read: no copy of the (large) binary data.
+            let bin = bin_range.map(|r| Buffer::new(bytes, r.start, r.len()));
             (json, bin)
         } else {
             let json = parse_json(path, &bytes)?;
@@ -123,7 +162,7 @@ impl Document {
         Document {
             path: path.to_owned(),
             json,
-            buffers,
+            buffers: buffers.into_iter().map(Buffer::from).collect(),
             uri_images: vec![None; images],
             files_read: vec![path.to_owned()],
             new_views: Vec::new(),
@@ -224,7 +263,7 @@ impl Document {
 
     /// Total bytes held (buffers and URI images): the yardstick for accessors without data.
     pub fn real_bytes(&self) -> u64 {
-        let b: usize = self.buffers.iter().map(Vec::len).sum();
+        let b: usize = self.buffers.iter().map(|b| b.len()).sum();
         let i: usize = self
             .uri_images
             .iter()
@@ -263,7 +302,7 @@ impl Document {
         Ok(())
     }
 
-    fn load_buffers(&mut self, mut bin: Option<Vec<u8>>) -> Result<()> {
+    fn load_buffers(&mut self, mut bin: Option<Buffer>) -> Result<()> {
         let specs: Vec<(Option<String>, Option<u64>)> = self
             .array("buffers")
             .iter()
@@ -283,7 +322,7 @@ impl Document {
                     self.invalid(&place, "has no uri, and the file has no GLB BIN chunk")
                 })?,
                 None => return Err(self.invalid(&place, "has no uri (only buffer 0 of a GLB may)")),
-                Some(uri) => self.resolve_uri(&uri, &place)?.0,
+                Some(uri) => Buffer::from(self.resolve_uri(&uri, &place)?.0),
             };
             if (data.len() as u64) < len {
                 return Err(self.invalid(
@@ -294,7 +333,7 @@ impl Document {
                     ),
                 ));
             }
-            data.truncate(len as usize);
+            data.len = len as usize;
             self.buffers.push(data);
         }
         Ok(())

@@ -20,5 +20,5 @@ pub mod glb;
 pub mod mesh;
 pub mod obj;
 
-pub use document::{Document, PrimitiveRef};
+pub use document::{Buffer, Document, PrimitiveRef};
 pub use error::IoError;
