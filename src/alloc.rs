@@ -14,12 +14,23 @@
 )]
 
 use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Blocks at least this large are advised.
 pub const THRESHOLD: usize = 4 << 20;
 
 /// Size and alignment of a transparent huge page on x86-64 and aarch64 (4 KiB base pages).
 const HUGE_PAGE: usize = 2 << 20;
+
+/// Whether the hint is given (on unless `PELT_HUGE_PAGES=0`; see [`configure_from_env`]).
+static ENABLED: AtomicBool = AtomicBool::new(true);
+
+/// Reads `PELT_HUGE_PAGES`: `0` turns the hint off (to compare, or where THP misbehaves).
+pub fn configure_from_env() {
+    if std::env::var_os("PELT_HUGE_PAGES").is_some_and(|v| v == "0") {
+        ENABLED.store(false, Ordering::Relaxed);
+    }
+}
 
 /// [`System`] plus the huge-page hint.
 pub struct HugePageAlloc;
@@ -33,7 +44,7 @@ pub fn huge_span(start: usize, len: usize) -> Option<(usize, usize)> {
 
 #[cfg(target_os = "linux")]
 fn advise(ptr: *mut u8, len: usize) {
-    if ptr.is_null() || len < THRESHOLD {
+    if ptr.is_null() || len < THRESHOLD || !ENABLED.load(Ordering::Relaxed) {
         return;
     }
     if let Some((start, span)) = huge_span(ptr as usize, len) {

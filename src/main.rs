@@ -115,6 +115,7 @@ pub enum QuantizeArg {
 }
 
 fn main() -> ExitCode {
+    alloc::configure_from_env();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bake(args) => bake::run(&args),

@@ -91,6 +91,39 @@ fn mirrored_uvs_split_the_seam_and_keep_the_comb() {
 }
 
 #[test]
+fn a_split_leaves_no_unused_accessors_or_views() {
+    let dir = scratch("prune");
+    let rep = dir.join("r.json");
+    let out = bake(
+        &fixture("edge/mirrored-uv.gltf"),
+        &dir,
+        &["--report", rep.to_str().unwrap_or_default()],
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    assert!(
+        report["inputs"][0]["removed_accessors"].as_u64() > Some(0),
+        "{report}"
+    );
+    let doc = pelt_io::Document::load(&out).expect("load output");
+    let mut used = vec![false; doc.array("accessors").len()];
+    for m in doc.array("meshes") {
+        for p in m["primitives"].as_array().into_iter().flatten() {
+            let attrs = p["attributes"].as_object().into_iter().flatten();
+            for a in attrs.map(|(_, v)| v).chain(p.get("indices")) {
+                used[a.as_u64().expect("index") as usize] = true;
+            }
+        }
+    }
+    assert!(used.iter().all(|&u| u), "unused accessors: {used:?}");
+    let mut views = vec![false; doc.array("bufferViews").len()];
+    for a in doc.array("accessors") {
+        views[a["bufferView"].as_u64().expect("view") as usize] = true;
+    }
+    assert!(views.iter().all(|&u| u), "unused views: {views:?}");
+}
+
+#[test]
 fn comb_along_the_normal_and_gray_have_defined_results() {
     let dir = scratch("parallel");
     let rep = dir.join("r.json");

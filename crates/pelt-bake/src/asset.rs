@@ -59,6 +59,10 @@ pub struct AssetReport {
     pub primitives_baked: usize,
     /// Per primitive.
     pub primitives: Vec<PrimitiveReport>,
+    /// Accessors the bake replaced and removed (nothing else referred to them).
+    pub removed_accessors: usize,
+    /// BufferViews removed with them.
+    pub removed_buffer_views: usize,
     /// Warnings, each naming its primitive.
     pub warnings: Vec<String>,
     /// Stage timings.
@@ -150,6 +154,12 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         entry.stats = Some(baked.stats);
         report.primitives.push(entry);
     }
+    let t3 = Instant::now();
+    let pruned = doc.prune_detached();
+    report.removed_accessors = pruned.accessors;
+    report.removed_buffer_views = pruned.buffer_views;
+    report.warnings.extend(pruned.kept_because);
+    report.timings.encode_ms += ms(t3);
     Ok(report)
 }
 

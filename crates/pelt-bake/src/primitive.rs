@@ -214,16 +214,15 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     };
 
     // Output vertices: one per distinct (source vertex, normal, tangent).
+    // With per-corner data, each output vertex reads it at the first corner that uses it.
     let per_corner = normals.is_corner() || tangents.is_corner();
-    let remap = if per_corner {
-        split_vertices(mesh, &normals, &tangents)
+    let (remap, first_corner) = if per_corner {
+        let split = split_vertices(mesh, &normals, &tangents);
+        (split.remap, Some(split.first_corner))
     } else {
-        None
+        (None, None)
     };
     let out_count = remap.as_ref().map_or(mesh.vertex_count(), |(m, _)| m.len());
-    // With per-corner data, each output vertex reads it at one corner that uses it.
-    let first_corner =
-        per_corner.then(|| first_corners(remap.as_ref().map_or(idx, |(_, i)| i), out_count));
     let map = remap.as_ref().map(|(m, _)| m.as_slice());
     stats.vertices_out = out_count;
     stats.split_vertices = out_count - mesh.vertex_count();
@@ -368,15 +367,18 @@ fn generate_tangents(mesh: &Mesh, normals: &Attr<Vec3>, stats: &mut PrimitiveSta
     result.corners
 }
 
+/// The vertex split: the new vertex table (when any vertex was split) and the first corner
+/// of every output vertex (`u32::MAX` for a vertex no triangle uses).
+struct Split {
+    remap: Option<(Vec<u32>, Vec<u32>)>,
+    first_corner: Vec<u32>,
+}
+
 /// Splits vertices whose corners disagree. Each vertex keeps its slot with the values of its
 /// first corner; corners that differ from it get new vertices appended after the originals (one
-/// per distinct (vertex, normal, tangent)). Returns (output vertex → source vertex, new
+/// per distinct (vertex, normal, tangent)). The remap is (output vertex → source vertex, new
 /// indices), or None when the corners of every vertex agree.
-fn split_vertices(
-    mesh: &Mesh,
-    normals: &Attr<Vec3>,
-    tangents: &Attr<Vec4>,
-) -> Option<(Vec<u32>, Vec<u32>)> {
+fn split_vertices(mesh: &Mesh, normals: &Attr<Vec3>, tangents: &Attr<Vec4>) -> Split {
     let idx = &mesh.indices;
     let nv = mesh.vertex_count();
     let key = |c: usize| {
@@ -385,18 +387,26 @@ fn split_vertices(
         let t = tangents.at(v, c);
         [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(key_bits)
     };
-    let mut first = vec![u32::MAX; nv];
-    let mut differing = Vec::new();
+    let mut first_corner = vec![u32::MAX; nv];
     for (c, &v) in idx.iter().enumerate() {
-        let f = &mut first[v as usize];
+        let f = &mut first_corner[v as usize];
         if *f == u32::MAX {
             *f = c as u32;
-        } else if key(*f as usize) != key(c) {
-            differing.push(c);
         }
     }
+    let differing: Vec<usize> = (0..idx.len())
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .filter(|&c| {
+            let f = first_corner[idx[c] as usize] as usize;
+            f != c && key(f) != key(c)
+        })
+        .collect();
     if differing.is_empty() {
-        return None;
+        return Split {
+            remap: None,
+            first_corner,
+        };
     }
     let (ids, count) = weld(differing.len(), |k| {
         let c = differing[k];
@@ -405,23 +415,19 @@ fn split_vertices(
     });
     let mut map: Vec<u32> = (0..nv as u32).collect();
     map.resize(nv + count, 0);
+    first_corner.resize(nv + count, u32::MAX);
     let mut indices = idx.clone();
     for (&c, &id) in differing.iter().zip(&ids) {
         let o = nv + id as usize;
         map[o] = idx[c];
         indices[c] = o as u32;
-    }
-    Some((map, indices))
-}
-
-/// For each output vertex, the first corner that uses it (u32::MAX when none).
-fn first_corners(idx: &[u32], out_count: usize) -> Vec<u32> {
-    let mut first = vec![u32::MAX; out_count];
-    for (c, &v) in idx.iter().enumerate() {
-        let f = &mut first[v as usize];
-        if *f == u32::MAX {
-            *f = c as u32;
+        // `differing` ascends, so the first corner seen for a new vertex is its first.
+        if first_corner[o] == u32::MAX {
+            first_corner[o] = c as u32;
         }
     }
-    first
+    Split {
+        remap: Some((map, indices)),
+        first_corner,
+    }
 }

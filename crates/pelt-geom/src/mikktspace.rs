@@ -15,6 +15,8 @@
 //! the order its (off-by-one) quicksort leaves them for the largest vertex id; pelt pairs them in
 //! face order everywhere. Triangles only (glTF primitives are triangles).
 
+use std::collections::HashMap;
+
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
@@ -345,50 +347,54 @@ fn ordered_groups(
     fan_pos: &[u32],
     fan_space: &mut [[f32; 4]],
 ) {
-    let nf = faces.len();
-    // Group per corner (only corners at ordered vertices are used).
-    let mut assigned = vec![NONE; 3 * nf];
+    // Seeds: the corners at ordered vertices, in corner order, of faces with usable UVs.
+    let mut seeds: Vec<u32> = ordered
+        .iter()
+        .enumerate()
+        .filter(|&(_, &o)| o)
+        .flat_map(|(w, _)| ctx.fan_of(w as u32).iter().copied())
+        .collect();
+    seeds.sort_unstable();
+    // Group per corner; every corner met lies at an ordered vertex.
+    let mut assigned: HashMap<u32, u32> = HashMap::new();
+    let is_assigned = |a: &HashMap<u32, u32>, c: usize| a.contains_key(&(c as u32));
     let mut groups: Vec<(u32, bool, Vec<u32>)> = Vec::new();
     let mut stack = Vec::<u32>::new();
-    for f in 0..nf {
-        if faces[f].degenerate || faces[f].any {
+    for c in seeds {
+        let (f, k) = (c as usize / 3, c as usize % 3);
+        if faces[f].any || is_assigned(&assigned, 3 * f + k) {
             continue;
         }
-        for k in 0..3 {
-            let rep = ctx.wid[3 * f + k];
-            if !ordered[rep as usize] || assigned[3 * f + k] != NONE {
+        let rep = ctx.wid[3 * f + k];
+        let gid = groups.len() as u32;
+        let orient = faces[f].orient;
+        let mut members = vec![f as u32];
+        assigned.insert(c, gid);
+        stack.push(ctx.neighbours[3 * f + k]);
+        stack.push(ctx.neighbours[3 * f + (k + 2) % 3]);
+        while let Some(t) = stack.pop() {
+            if t == NONE {
                 continue;
             }
-            let gid = groups.len() as u32;
-            let orient = faces[f].orient;
-            let mut members = vec![f as u32];
-            assigned[3 * f + k] = gid;
-            stack.push(ctx.neighbours[3 * f + k]);
-            stack.push(ctx.neighbours[3 * f + (k + 2) % 3]);
-            while let Some(t) = stack.pop() {
-                if t == NONE {
-                    continue;
-                }
-                let t = t as usize;
-                let Some(i) = (0..3).find(|&i| ctx.wid[3 * t + i] == rep) else {
-                    continue;
-                };
-                if assigned[3 * t + i] != NONE {
-                    continue;
-                }
-                if faces[t].any && assigned[3 * t..3 * t + 3].iter().all(|&a| a == NONE) {
-                    faces[t].orient = orient;
-                }
-                if faces[t].orient != orient {
-                    continue;
-                }
-                members.push(t as u32);
-                assigned[3 * t + i] = gid;
-                stack.push(ctx.neighbours[3 * t + i]);
-                stack.push(ctx.neighbours[3 * t + (i + 2) % 3]);
+            let t = t as usize;
+            let Some(i) = (0..3).find(|&i| ctx.wid[3 * t + i] == rep) else {
+                continue;
+            };
+            if is_assigned(&assigned, 3 * t + i) {
+                continue;
             }
-            groups.push((rep, orient, members));
+            if faces[t].any && (0..3).all(|j| !is_assigned(&assigned, 3 * t + j)) {
+                faces[t].orient = orient;
+            }
+            if faces[t].orient != orient {
+                continue;
+            }
+            members.push(t as u32);
+            assigned.insert((3 * t + i) as u32, gid);
+            stack.push(ctx.neighbours[3 * t + i]);
+            stack.push(ctx.neighbours[3 * t + (i + 2) % 3]);
         }
+        groups.push((rep, orient, members));
     }
     let faces = &*faces;
     let results: Vec<Vec<(u32, [f32; 4])>> = groups

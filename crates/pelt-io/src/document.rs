@@ -97,6 +97,8 @@ pub struct Document {
     pub(crate) new_views: Vec<Vec<u8>>,
     /// Number of bufferViews in the source.
     pub(crate) source_views: usize,
+    /// Accessors an edit stopped using (candidates for [`Document::prune_detached`]).
+    pub(crate) detached: Vec<usize>,
 }
 
 impl Document {
@@ -141,6 +143,7 @@ impl Document {
             files_read: vec![path.to_owned()],
             new_views: Vec::new(),
             source_views: 0,
+            detached: Vec::new(),
         };
         doc.check_asset()?;
         doc.load_buffers(bin)?;
@@ -167,6 +170,7 @@ impl Document {
             files_read: vec![path.to_owned()],
             new_views: Vec::new(),
             source_views,
+            detached: Vec::new(),
         }
     }
 

@@ -33,10 +33,20 @@ pub struct NewAccessor {
     pub target: u32,
 }
 
+/// Little-endian bytes of plain numbers (a copy on little-endian targets).
+fn le_bytes<T: bytemuck::Pod, const S: usize>(v: &[T], to_le: impl Fn(&T) -> [u8; S]) -> Vec<u8> {
+    if cfg!(target_endian = "little") {
+        bytemuck::cast_slice(v).to_vec()
+    } else {
+        v.iter().flat_map(to_le).collect()
+    }
+}
+
 impl NewAccessor {
     /// Float vectors.
     pub fn f32<const N: usize>(v: &[[f32; N]]) -> Self {
-        let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let flat: &[f32] = v.as_flattened();
+        let bytes = le_bytes(flat, |x| x.to_le_bytes());
         Self {
             component: ComponentType::F32,
             components: N,
@@ -49,7 +59,8 @@ impl NewAccessor {
 
     /// Normalized unsigned short vectors.
     pub fn u16_norm<const N: usize>(v: &[[u16; N]]) -> Self {
-        let bytes = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let flat: &[u16] = v.as_flattened();
+        let bytes = le_bytes(flat, |x| x.to_le_bytes());
         Self {
             component: ComponentType::U16,
             components: N,
@@ -62,7 +73,7 @@ impl NewAccessor {
 
     /// Normalized unsigned byte vectors.
     pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
-        let bytes = v.iter().flatten().copied().collect();
+        let bytes = v.as_flattened().to_vec();
         Self {
             component: ComponentType::U8,
             components: N,
@@ -76,15 +87,10 @@ impl NewAccessor {
     /// Triangle indices: unsigned short when every vertex fits below 65535, else unsigned int.
     pub fn indices(v: &[u32], vertex_count: usize) -> Self {
         let (component, bytes) = if vertex_count <= 65535 {
-            (
-                ComponentType::U16,
-                v.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect(),
-            )
+            let short: Vec<u16> = v.iter().map(|&i| i as u16).collect();
+            (ComponentType::U16, le_bytes(&short, |x| x.to_le_bytes()))
         } else {
-            (
-                ComponentType::U32,
-                v.iter().flat_map(|i| i.to_le_bytes()).collect(),
-            )
+            (ComponentType::U32, le_bytes(v, |x| x.to_le_bytes()))
         };
         Self {
             component,
@@ -97,10 +103,17 @@ impl NewAccessor {
     }
 
     /// Elements of an existing accessor gathered through `map` (new element i = old map[i]).
+    /// A leading run where `map[i] == i` (vertices kept in place by a split) is one copy.
     pub fn gathered(e: &Elements, map: &[u32], min_max: bool) -> Self {
         let size = e.element_size();
         let mut bytes = Vec::with_capacity(map.len() * size);
-        for &m in map {
+        let kept = map
+            .iter()
+            .enumerate()
+            .take_while(|&(i, &m)| m as usize == i)
+            .count();
+        bytes.extend_from_slice(&e.bytes[..kept * size]);
+        for &m in &map[kept..] {
             let s = m as usize * size;
             bytes.extend_from_slice(&e.bytes[s..s + size]);
         }
@@ -124,13 +137,29 @@ impl NewAccessor {
 
     /// Per-component (min, max) in the accessor's own type, as JSON numbers.
     fn bounds(&self) -> (Vec<Value>, Vec<Value>) {
-        let mut lo = vec![f64::INFINITY; self.components];
-        let mut hi = vec![f64::NEG_INFINITY; self.components];
-        for i in 0..self.count() * self.components {
-            let k = i % self.components;
-            let v = accessor::raw(self.component, &self.bytes, i);
-            lo[k] = lo[k].min(v);
-            hi[k] = hi[k].max(v);
+        let n = self.components;
+        let mut lo = vec![f64::INFINITY; n];
+        let mut hi = vec![f64::NEG_INFINITY; n];
+        if self.component == ComponentType::F32 {
+            let mut lo32 = vec![f32::INFINITY; n];
+            let mut hi32 = vec![f32::NEG_INFINITY; n];
+            for e in self.bytes.chunks_exact(4 * n) {
+                for k in 0..n {
+                    let v =
+                        f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]);
+                    lo32[k] = lo32[k].min(v);
+                    hi32[k] = hi32[k].max(v);
+                }
+            }
+            lo = lo32.into_iter().map(f64::from).collect();
+            hi = hi32.into_iter().map(f64::from).collect();
+        } else {
+            for i in 0..self.count() * n {
+                let k = i % n;
+                let v = accessor::raw(self.component, &self.bytes, i);
+                lo[k] = lo[k].min(v);
+                hi[k] = hi[k].max(v);
+            }
         }
         let num = |v: f64| {
             if self.component == ComponentType::F32 {
@@ -221,7 +250,10 @@ impl Document {
             .or_insert_with(|| Value::Object(Map::new()));
         match attrs.as_object_mut() {
             Some(a) => {
-                a.insert(name.to_owned(), json!(index));
+                let old = a.insert(name.to_owned(), json!(index));
+                if let Some(old) = old.as_ref().and_then(Value::as_u64) {
+                    self.detached.push(old as usize);
+                }
                 Ok(())
             }
             None => Err(self.invalid(place, "attributes is not an object")),
@@ -273,6 +305,22 @@ impl Document {
             }
         }
         let idx = self.push_accessor(NewAccessor::indices(indices, map.len()));
+        // Everything the primitive used before is now detached from it.
+        let old_targets = prim.get("targets").and_then(Value::as_array);
+        let old = prim
+            .get("attributes")
+            .and_then(Value::as_object)
+            .into_iter()
+            .chain(
+                old_targets
+                    .into_iter()
+                    .flatten()
+                    .filter_map(Value::as_object),
+            )
+            .flat_map(|o| o.values())
+            .chain(prim.get("indices"));
+        self.detached
+            .extend(old.filter_map(Value::as_u64).map(|a| a as usize));
         let prim = self.primitive_checked(r)?;
         prim.insert("attributes".into(), Value::Object(attrs));
         if !targets.is_empty() {

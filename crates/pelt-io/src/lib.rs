@@ -10,6 +10,7 @@
 //! - [`glb`]: the self-contained `.glb` writer (all buffers and images in one BIN chunk),
 //!   streamed and written atomically.
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
+//! - [`prune`]: removing the accessors and bufferViews a bake left unused.
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -19,6 +20,7 @@ pub mod error;
 pub mod glb;
 pub mod mesh;
 pub mod obj;
+pub mod prune;
 
 pub use document::{Buffer, Document, PrimitiveRef};
 pub use error::IoError;
