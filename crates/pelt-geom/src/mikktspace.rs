@@ -526,6 +526,23 @@ fn evaluate_group(
     sc.masks.clear();
     sc.result.clear();
     let words = members.len().div_ceil(64);
+    // Common case: every pair agrees (or involves a face without usable UVs), so every
+    // member's sub-group is the whole group and one evaluation serves all.
+    let agree = |i: usize, j: usize| {
+        let (fi, fj) = (sc.sorted[i] as usize, sc.sorted[j] as usize);
+        let ((si, ti), (sj, tj)) = (sc.projected[i], sc.projected[j]);
+        faces[fi].any
+            || faces[fj].any
+            || (si.dot(sj) > ANGULAR_THRESHOLD_COS && ti.dot(tj) > ANGULAR_THRESHOLD_COS)
+    };
+    let k = members.len();
+    if (0..k).all(|i| (i + 1..k).all(|j| agree(i, j))) {
+        sc.member.clear();
+        sc.member.resize(words, u64::MAX);
+        let s = evaluate(sc, faces, n, corner_of, pos);
+        sc.result.resize(k, s);
+        return;
+    }
     for &a in members {
         let ia = sc.sorted.binary_search(&a).unwrap_or(0);
         let (sa, ta) = sc.projected[ia];
