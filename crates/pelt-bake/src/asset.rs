@@ -160,6 +160,11 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
     report.removed_buffer_views = pruned.buffer_views;
     report.warnings.extend(pruned.kept_because);
     report.timings.encode_ms += ms(t3);
+    // Sums of rounded values: round again so the report shows two decimals.
+    let t = &mut report.timings;
+    for v in [&mut t.decode_ms, &mut t.bake_ms, &mut t.encode_ms] {
+        *v = (*v * 100.0).round() / 100.0;
+    }
     Ok(report)
 }
 

@@ -2,8 +2,8 @@
 //! 4-byte aligned elements as glTF requires for vertex attributes), point a primitive's
 //! attribute at one, and re-index a primitive whose vertices were split (every attribute and
 //! morph target gathered through the same vertex map, min/max recomputed where present).
-//! Existing accessors are never removed or renumbered: animations, skins and extensions that
-//! point at them stay valid.
+//! Edits only append: the accessors a primitive stops using are recorded as detached, and
+//! [`crate::prune`] removes those nothing else refers to once the bake is done.
 
 use serde_json::{Map, Value, json};
 
