@@ -1,4 +1,4 @@
-//! Parametric painted shapes: a grid of (rings+1)×(segs+1) vertices over (u, v) ∈ [0,1]², with
+//! Parametric painted shapes: a grid of (rings+1)×(segs+1) vertices over (u, v) ∈ \[0, 1\]², with
 //! a duplicated seam column (same position, U = 0 and U = 1) as exporters write it.
 
 use glam::{Vec2, Vec3};

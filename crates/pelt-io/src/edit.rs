@@ -102,7 +102,7 @@ impl NewAccessor {
         }
     }
 
-    /// Elements of an existing accessor gathered through `map` (new element i = old map[i]).
+    /// Elements of an existing accessor gathered through `map` (new element `i` = old `map[i]`).
     /// A leading run where `map[i] == i` (vertices kept in place by a split) is one copy.
     pub fn gathered(e: &Elements, map: &[u32], min_max: bool) -> Self {
         let size = e.element_size();
