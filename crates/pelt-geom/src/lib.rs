@@ -7,6 +7,8 @@
 //! - [`weld`]: exact-bit welding of vertex tables.
 //! - [`mikktspace`]: a parallel MikkTSpace tangent generator that matches the reference
 //!   implementation (tested against `bevy_mikktspace`).
+//! - [`topology`]: welded positions, unique edges with their faces, and normal groups (the
+//!   dual-graph components of Kircher & Lawrance §3.1); not yet wired into the bake.
 //! - [`fastmath`]: the scalar f32 vector operations MikkTSpace needs, in the reference's order
 //!   of operations.
 
@@ -14,6 +16,7 @@ pub mod fastmath;
 pub mod mesh;
 pub mod mikktspace;
 pub mod normals;
+pub mod topology;
 pub mod weld;
 
 pub use mesh::{GeomError, Mesh};
