@@ -250,6 +250,16 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
         (v, n, t)
     };
 
+    // TANGENT as written: the frame's where generated or unusable, else the kept xyz with
+    // w made exactly ±1.
+    let tangent_out = |frame: &Frame, degenerate: bool, t: Vec4| {
+        if degenerate || tangents.is_corner() {
+            frame.tangent4()
+        } else {
+            [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
+        }
+    };
+
     // One parallel pass over the output vertices writes the comb and whatever else is needed.
     let colors = mesh.colors.as_deref().unwrap_or_default();
     let tasks = out_count.div_ceil(CHUNK);
@@ -279,11 +289,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                     out[k] = n.to_array();
                 }
                 if let Some(out) = tangents_out.as_deref_mut() {
-                    out[k] = if degenerate || tangents.is_corner() {
-                        frame.tangent4()
-                    } else {
-                        [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
-                    };
+                    out[k] = tangent_out(&frame, degenerate, t);
                 }
                 counts.degenerate_tangents += usize::from(degenerate);
                 counts.gray += usize::from(case == CombCase::Gray);
@@ -305,11 +311,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 .map(|o| {
                     let (_, n, t) = inputs(o);
                     let (frame, degenerate) = Frame::new(n, t);
-                    if degenerate {
-                        frame.tangent4()
-                    } else {
-                        [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
-                    }
+                    tangent_out(&frame, degenerate, t)
                 })
                 .collect(),
         );

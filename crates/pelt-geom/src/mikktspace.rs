@@ -185,18 +185,13 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         let base = fan_start[range.start] as usize;
         for w in range.filter(|&w| !ordered[w]) {
             let at = fan_start[w] as usize - base;
-            let fan_w = ctx.fan_of(w as u32);
             walk.groups(&ctx, faces, w as u32);
             for g in 0..walk.count() {
-                let (members, orient) = walk.group(g);
-                let rep = w as u32;
-                ctx.evaluate(rep, members, faces, &mut scratch);
+                let (members, places, orient) = walk.group(g);
+                ctx.evaluate(w as u32, members, faces, &mut scratch);
                 let sign = if orient { 1.0 } else { -1.0 };
-                for (&f, s) in members.iter().zip(&scratch.result) {
-                    let q = fan_w
-                        .binary_search(&(ctx.corner_of(rep, f) as u32))
-                        .unwrap_or(0);
-                    run[at + q] = [s.x, s.y, s.z, sign];
+                for (&q, s) in places.iter().zip(&scratch.result) {
+                    run[at + q as usize] = [s.x, s.y, s.z, sign];
                 }
             }
         }
@@ -219,11 +214,14 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         .with_min_len(4096)
         .map(|c| Vec4::from(source(c).unwrap_or([1.0, 0.0, 0.0, -1.0])))
         .collect();
-    let default_corners = (0..3 * nf)
-        .into_par_iter()
-        .with_min_len(4096)
+    // Proper corners and fan entries correspond one to one; degenerate corners are few.
+    let unreached = fan_space.par_iter().filter(|s| s[3] == 0.0).count();
+    let degenerate_unreached = (0..nf)
+        .filter(|&f| faces[f].degenerate)
+        .flat_map(|f| 3 * f..3 * f + 3)
         .filter(|&c| source(c).is_none())
         .count();
+    let default_corners = unreached + degenerate_unreached;
     Tangents {
         corners,
         stats: TangentStats {
@@ -275,8 +273,10 @@ impl Context<'_> {
 struct Walk {
     /// Group index per fan entry of the vertex (NONE: not reached yet).
     assigned: Vec<u32>,
-    /// Members of each group, one group after another.
+    /// Members (faces) of each group, one group after another.
     members: Vec<u32>,
+    /// Each member's place in the vertex's fan.
+    places: Vec<u32>,
     /// (start in `members`, orientation) per group.
     starts: Vec<(usize, bool)>,
     stack: Vec<u32>,
@@ -287,10 +287,11 @@ impl Walk {
         self.starts.len()
     }
 
-    fn group(&self, g: usize) -> (&[u32], bool) {
+    /// Group `g`: its member faces, their places in the fan, its orientation.
+    fn group(&self, g: usize) -> (&[u32], &[u32], bool) {
         let (a, orient) = self.starts[g];
         let b = self.starts.get(g + 1).map_or(self.members.len(), |s| s.0);
-        (&self.members[a..b], orient)
+        (&self.members[a..b], &self.places[a..b], orient)
     }
 
     /// The groups around welded vertex `w` whose faces all have usable UVs: the connected
@@ -300,6 +301,7 @@ impl Walk {
         self.assigned.clear();
         self.assigned.resize(fan_w.len(), NONE);
         self.members.clear();
+        self.places.clear();
         self.starts.clear();
         for (p, &c) in fan_w.iter().enumerate() {
             if self.assigned[p] != NONE {
@@ -310,6 +312,7 @@ impl Walk {
             let g = self.starts.len() as u32;
             self.starts.push((self.members.len(), orient));
             self.members.push(f as u32);
+            self.places.push(p as u32);
             self.assigned[p] = g;
             self.stack.clear();
             self.stack.push(ctx.neighbours[3 * f + k]);
@@ -329,6 +332,7 @@ impl Walk {
                     continue;
                 }
                 self.members.push(t as u32);
+                self.places.push(q as u32);
                 self.assigned[q] = g;
                 self.stack.push(ctx.neighbours[3 * t + i]);
                 self.stack.push(ctx.neighbours[3 * t + (i + 2) % 3]);

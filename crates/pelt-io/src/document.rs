@@ -408,43 +408,43 @@ impl Document {
 /// Reads a whole file. Large files are read by several threads, each into its own part of
 /// the buffer (the copy out of the page cache is most of the cost, and it parallelizes).
 fn read_file(path: &Path) -> std::io::Result<Vec<u8>> {
-    const PARALLEL_FROM: u64 = 16 << 20;
     let file = std::fs::File::open(path)?;
-    let len = file.metadata()?.len();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
-    if len < PARALLEL_FROM || threads < 2 || !cfg!(unix) {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut &file, &mut bytes)?;
-        return Ok(bytes);
-    }
     #[cfg(unix)]
     {
-        use std::os::unix::fs::FileExt;
-        // Sized by the file's real length (from the file system), not by anything it claims.
-        let mut bytes = vec![0u8; len as usize];
-        let part = (len as usize).div_ceil(threads);
-        std::thread::scope(|scope| {
-            let jobs: Vec<_> = bytes
-                .chunks_mut(part)
-                .enumerate()
-                .map(|(i, chunk)| {
-                    let file = &file;
-                    scope.spawn(move || file.read_exact_at(chunk, (i * part) as u64))
-                })
-                .collect();
-            jobs.into_iter().try_for_each(|j| {
-                j.join()
-                    .unwrap_or_else(|_| Err(std::io::Error::other("reader thread panicked")))
-            })
-        })?;
-        // A file that grew while being read would be truncated here; report it as changed.
-        if file.metadata()?.len() != len {
-            return Err(std::io::Error::other("the file changed while it was read"));
+        const PARALLEL_FROM: u64 = 16 << 20;
+        let len = file.metadata()?.len();
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+        if len >= PARALLEL_FROM && threads >= 2 {
+            return read_parallel(&file, len, threads);
         }
-        Ok(bytes)
     }
-    #[cfg(not(unix))]
-    unreachable!("handled above")
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut &file, &mut bytes)?;
+    Ok(bytes)
+}
+
+/// `len` bytes of `file` (its real length, from the file system) read by `threads` threads.
+#[cfg(unix)]
+fn read_parallel(file: &std::fs::File, len: u64, threads: usize) -> std::io::Result<Vec<u8>> {
+    use std::os::unix::fs::FileExt;
+    let mut bytes = vec![0u8; len as usize];
+    let part = (len as usize).div_ceil(threads);
+    std::thread::scope(|scope| {
+        let jobs: Vec<_> = bytes
+            .chunks_mut(part)
+            .enumerate()
+            .map(|(i, chunk)| scope.spawn(move || file.read_exact_at(chunk, (i * part) as u64)))
+            .collect();
+        jobs.into_iter().try_for_each(|j| {
+            j.join()
+                .unwrap_or_else(|_| Err(std::io::Error::other("reader thread panicked")))
+        })
+    })?;
+    // A file that grew while being read would be truncated here; report it as changed.
+    if file.metadata()?.len() != len {
+        return Err(std::io::Error::other("the file changed while it was read"));
+    }
+    Ok(bytes)
 }
 
 /// Checks a GLB's header and chunks; returns the JSON chunk's and the BIN chunk's byte ranges.

@@ -43,45 +43,38 @@ fn le_bytes<T: bytemuck::Pod, const S: usize>(v: &[T], to_le: impl Fn(&T) -> [u8
 }
 
 impl NewAccessor {
-    /// Float vectors.
-    pub fn f32<const N: usize>(v: &[[f32; N]]) -> Self {
-        let flat: &[f32] = v.as_flattened();
-        let bytes = le_bytes(flat, |x| x.to_le_bytes());
+    /// A vertex attribute of `components`-vectors.
+    fn vectors(
+        component: ComponentType,
+        components: usize,
+        normalized: bool,
+        bytes: Vec<u8>,
+    ) -> Self {
         Self {
-            component: ComponentType::F32,
-            components: N,
-            normalized: false,
+            component,
+            components,
+            normalized,
             bytes,
             min_max: false,
             target: ARRAY_BUFFER,
         }
+    }
+
+    /// Float vectors.
+    pub fn f32<const N: usize>(v: &[[f32; N]]) -> Self {
+        let bytes = le_bytes(v.as_flattened(), |x| x.to_le_bytes());
+        Self::vectors(ComponentType::F32, N, false, bytes)
     }
 
     /// Normalized unsigned short vectors.
     pub fn u16_norm<const N: usize>(v: &[[u16; N]]) -> Self {
-        let flat: &[u16] = v.as_flattened();
-        let bytes = le_bytes(flat, |x| x.to_le_bytes());
-        Self {
-            component: ComponentType::U16,
-            components: N,
-            normalized: true,
-            bytes,
-            min_max: false,
-            target: ARRAY_BUFFER,
-        }
+        let bytes = le_bytes(v.as_flattened(), |x| x.to_le_bytes());
+        Self::vectors(ComponentType::U16, N, true, bytes)
     }
 
     /// Normalized unsigned byte vectors.
     pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
-        let bytes = v.as_flattened().to_vec();
-        Self {
-            component: ComponentType::U8,
-            components: N,
-            normalized: true,
-            bytes,
-            min_max: false,
-            target: ARRAY_BUFFER,
-        }
+        Self::vectors(ComponentType::U8, N, true, v.as_flattened().to_vec())
     }
 
     /// Triangle indices: unsigned short when every vertex fits below 65535, else unsigned int.

@@ -141,6 +141,17 @@ fn renumber(v: &mut Value, map: &[Option<usize>]) {
     }
 }
 
+/// Removes the entries of top-level array `key` marked in `removed`.
+fn remove_entries(json: &mut serde_json::Map<String, Value>, key: &str, removed: &[bool]) {
+    if let Some(entries) = json.get_mut(key).and_then(Value::as_array_mut) {
+        let mut i = 0;
+        entries.retain(|_| {
+            i += 1;
+            !removed.get(i - 1).copied().unwrap_or(false)
+        });
+    }
+}
+
 /// Old → new indices for an array of `len` entries with `removed` taken out.
 fn index_map(len: usize, removed: &[bool]) -> Vec<Option<usize>> {
     let mut next = 0;
@@ -214,13 +225,7 @@ impl Document {
         }
         let map = index_map(n_acc, &removed);
         for_each_accessor_ref(&mut self.json, &mut |v| renumber(v, &map));
-        if let Some(accessors) = self.json.get_mut("accessors").and_then(Value::as_array_mut) {
-            let mut i = 0;
-            accessors.retain(|_| {
-                i += 1;
-                !removed[i - 1]
-            });
-        }
+        remove_entries(&mut self.json, "accessors", &removed);
         pruned.accessors = removed.iter().filter(|&&r| r).count();
         self.detached.clear();
 
@@ -238,17 +243,7 @@ impl Document {
         if view_removed.contains(&true) {
             let vmap = index_map(n_views, &view_removed);
             for_each_view_ref(&mut self.json, &mut |v| renumber(v, &vmap));
-            if let Some(views) = self
-                .json
-                .get_mut("bufferViews")
-                .and_then(Value::as_array_mut)
-            {
-                let mut i = 0;
-                views.retain(|_| {
-                    i += 1;
-                    !view_removed[i - 1]
-                });
-            }
+            remove_entries(&mut self.json, "bufferViews", &view_removed);
             // New views are stored after the source ones: keep both parts in step.
             let source = self.source_views;
             let mut k = source;
