@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use pelt_bake::options::{ColorSpace, Quantize, TangentMode};
+use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyOptions};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
 use pelt_io::Document;
 use serde::Serialize;
@@ -71,6 +71,10 @@ fn options(args: &BakeArgs) -> BakeOptions {
             QuantizeArg::Float => Quantize::Float,
             QuantizeArg::U16 => Quantize::U16,
             QuantizeArg::U8 => Quantize::U8,
+        },
+        topology: TopologyOptions {
+            weld_epsilon: args.weld_epsilon,
+            normal_tolerance: args.normal_tolerance.to_radians(),
         },
     }
 }

@@ -3,12 +3,11 @@
 //! A thin binary: argument parsing here, the work in `pelt-bake`, `pelt-io` and `pelt-geom`.
 //! Exit codes: 0 ok, 1 some input failed, 2 usage error.
 
-mod alloc;
 mod bake;
 mod inspect;
 
 #[global_allocator]
-static GLOBAL: alloc::HugePageAlloc = alloc::HugePageAlloc;
+static GLOBAL: pelt_alloc::HugePageAlloc = pelt_alloc::HugePageAlloc;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -70,6 +69,14 @@ pub struct BakeArgs {
     /// Storage of _FUR_COMB: float, or normalized u16 / u8.
     #[arg(long, value_enum, default_value_t = QuantizeArg::Float)]
     pub quantize: QuantizeArg,
+    /// Weld positions closer than this (in the mesh's units) for topology, for exports whose
+    /// seams do not meet exactly. 0 welds bit-equal positions only.
+    #[arg(long, value_name = "DIST", default_value_t = 0.0, value_parser = non_negative)]
+    pub weld_epsilon: f32,
+    /// Normals at a shared edge that differ by at most this angle (degrees) keep the two faces
+    /// in one normal group; larger differences are creases.
+    #[arg(long, value_name = "DEG", default_value_t = pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG, value_parser = degrees)]
+    pub normal_tolerance: f32,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
@@ -114,8 +121,24 @@ pub enum QuantizeArg {
     U8,
 }
 
+/// A finite number ≥ 0.
+fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("{s:?} is not a finite number >= 0")),
+    }
+}
+
+/// An angle in degrees, 0 to 180.
+fn degrees(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=180.0).contains(&v) => Ok(v),
+        _ => Err(format!("{s:?} is not an angle from 0 to 180 degrees")),
+    }
+}
+
 fn main() -> ExitCode {
-    alloc::configure_from_env();
+    pelt_alloc::configure_from_env();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bake(args) => bake::run(&args),

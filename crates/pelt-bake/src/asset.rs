@@ -1,18 +1,22 @@
 //! Baking a whole asset: every TRIANGLES primitive with COLOR_0 gets `_FUR_COMB` (and TANGENT,
-//! NORMAL or a vertex split where needed); everything else is left as it was. Any error fails
-//! the whole asset, so no partial output is ever written. The report counts every special case
-//! per primitive and times each stage.
+//! NORMAL or a vertex split where needed), `_NORMAL_GROUP` and its fin edges; a TRIANGLES
+//! primitive without COLOR_0 but with NORMAL gets `_NORMAL_GROUP` only; everything else is
+//! left as it was. Topology goes into each primitive's `extras.pelt` (format in
+//! [`pelt_io::topology`]). Any error fails the whole asset, so no partial output is ever
+//! written. The report counts every special case per primitive and times each stage.
 
 use std::time::Instant;
 
 use pelt_io::edit::NewAccessor;
 use pelt_io::mesh::read_primitive;
-use pelt_io::{Document, IoError};
+use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, encode_fins};
+use pelt_io::{Document, IoError, PrimitiveRef};
 use serde::Serialize;
+use serde_json::{Map, Value, json};
 
 use crate::comb;
 use crate::options::{BakeOptions, Quantize};
-use crate::primitive::{PrimitiveStats, bake_primitive};
+use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive, group_primitive};
 
 /// The attribute pelt writes.
 pub const COMB_ATTRIBUTE: &str = "_FUR_COMB";
@@ -35,6 +39,9 @@ pub struct PrimitiveReport {
     /// Counts (absent when skipped).
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub stats: Option<PrimitiveStats>,
+    /// Topology counts of a primitive that got normal groups only.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub groups_only: Option<TopologyStats>,
 }
 
 /// Stage timings in milliseconds.
@@ -42,8 +49,10 @@ pub struct PrimitiveReport {
 pub struct Timings {
     /// Decoding primitives.
     pub decode_ms: f64,
-    /// Normals, tangents and comb.
+    /// Normals, tangents, comb and topology.
     pub bake_ms: f64,
+    /// Of which topology: normal groups, IDs and fin edges.
+    pub topology_ms: f64,
     /// Encoding the new accessors into the document.
     pub encode_ms: f64,
 }
@@ -57,6 +66,8 @@ pub struct AssetReport {
     pub triangles: usize,
     /// Primitives baked.
     pub primitives_baked: usize,
+    /// Primitives without a comb that got normal groups only.
+    pub primitives_grouped: usize,
     /// Per primitive.
     pub primitives: Vec<PrimitiveReport>,
     /// Accessors the bake replaced and removed (nothing else referred to them).
@@ -81,6 +92,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             status: String::new(),
             color_0: None,
             stats: None,
+            groups_only: None,
         };
         let mode = doc.mode(r)?;
         if mode != 4 {
@@ -94,7 +106,33 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         report.timings.decode_ms += ms(t0);
         entry.color_0 = prim.color.as_ref().map(pelt_io::mesh::Encoding::describe);
         if prim.mesh.colors.is_none() {
-            entry.status = "skipped: no COLOR_0 (no comb painted)".to_owned();
+            let t1 = Instant::now();
+            let grouped = group_primitive(&prim.mesh, opts);
+            report.timings.bake_ms += ms(t1);
+            match grouped {
+                Some(g) => {
+                    let t2 = Instant::now();
+                    if let Some((map, indices)) = &g.remap {
+                        doc.remap_primitive(r, map, indices, &[NORMAL_GROUP_ATTRIBUTE])?;
+                    }
+                    let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&g.normal_group)));
+                    doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
+                    write_extras(doc, r, &g.stats, opts, None, &mut report.warnings)?;
+                    report.timings.encode_ms += ms(t2);
+                    report.timings.topology_ms += g.topology_ms;
+                    report.primitives_grouped += 1;
+                    entry.status = "normal groups only: no COLOR_0 (no comb painted)".to_owned();
+                    report
+                        .warnings
+                        .extend(g.warnings.iter().map(|w| format!("{place}: {w}")));
+                    entry.groups_only = Some(g.stats);
+                }
+                None => {
+                    entry.status =
+                        "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat shaded)"
+                            .to_owned();
+                }
+            }
             report.warnings.push(format!("{place}: {}", entry.status));
             report.primitives.push(entry);
             continue;
@@ -105,8 +143,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
+        report.timings.topology_ms += baked.topology_ms;
         if let Some((map, indices)) = &baked.remap {
-            let mut replaced = vec![COMB_ATTRIBUTE];
+            let mut replaced = vec![COMB_ATTRIBUTE, NORMAL_GROUP_ATTRIBUTE];
             if baked.normals.is_some() {
                 replaced.push("NORMAL");
             }
@@ -142,6 +181,16 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         };
         let a = doc.push_accessor(comb);
         doc.set_attribute(r, COMB_ATTRIBUTE, a)?;
+        let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
+        doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
+        write_extras(
+            doc,
+            r,
+            &baked.stats.topology,
+            opts,
+            Some(encode_fins(&baked.fins)),
+            &mut report.warnings,
+        )?;
         report.timings.encode_ms += ms(t2);
 
         report.vertices += baked.stats.vertices_out;
@@ -162,10 +211,67 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
     report.timings.encode_ms += ms(t3);
     // Sums of rounded values: round again so the report shows two decimals.
     let t = &mut report.timings;
-    for v in [&mut t.decode_ms, &mut t.bake_ms, &mut t.encode_ms] {
+    for v in [
+        &mut t.decode_ms,
+        &mut t.bake_ms,
+        &mut t.topology_ms,
+        &mut t.encode_ms,
+    ] {
         *v = (*v * 100.0).round() / 100.0;
     }
     Ok(report)
+}
+
+/// IDs as one-component elements.
+fn as_scalars(v: &[u16]) -> Vec<[u16; 1]> {
+    v.iter().map(|&x| [x]).collect()
+}
+
+/// Writes `extras.pelt` (format version, normal groups, and fins when given).
+fn write_extras(
+    doc: &mut Document,
+    r: PrimitiveRef,
+    t: &TopologyStats,
+    opts: &BakeOptions,
+    fins: Option<Vec<u8>>,
+    warnings: &mut Vec<String>,
+) -> Result<(), IoError> {
+    let mut pelt = Map::new();
+    pelt.insert("version".into(), json!(FORMAT_VERSION));
+    pelt.insert(
+        "normalGroups".into(),
+        json!({
+            "attribute": NORMAL_GROUP_ATTRIBUTE,
+            "groups": t.normal_groups,
+            "idsUsed": t.ids_used,
+            "splitVertices": t.group_split_vertices,
+            "sharedIdPairs": t.shared_id_pairs,
+            "normalToleranceDeg": round6(f64::from(opts.topology.normal_tolerance).to_degrees()),
+            "weldEpsilon": opts.topology.weld_epsilon,
+        }),
+    );
+    if fins.is_some() {
+        pelt.insert(
+            "fins".into(),
+            json!({
+                "count": t.fin_edges,
+                "edges": t.edges,
+                "boundaryEdges": t.boundary_edges,
+                "nonmanifoldEdges": t.nonmanifold_edges,
+            }),
+        );
+    }
+    if !doc.set_pelt_extras(r, pelt, fins)? {
+        warnings.push(format!(
+            "{}: extras is not a JSON object: normal-group counts and fin edges were not stored",
+            doc.place(r)
+        ));
+    }
+    Ok(())
+}
+
+fn round6(v: f64) -> Value {
+    json!((v * 1e6).round() / 1e6)
 }
 
 fn ms(t: Instant) -> f64 {

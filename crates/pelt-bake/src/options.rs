@@ -3,6 +3,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+pub use pelt_geom::topology::TopologyOptions;
+
 /// What to do with tangents.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum TangentMode {
@@ -124,6 +126,8 @@ pub struct BakeOptions {
     pub axes: AxisMap,
     /// Storage of `_FUR_COMB`.
     pub quantize: Quantize,
+    /// Welding and the normal-group rule.
+    pub topology: TopologyOptions,
 }
 
 #[cfg(test)]

@@ -1,14 +1,23 @@
 //! Baking one primitive: unit normals (flat where missing or zero), tangents (kept, or
-//! MikkTSpace), vertex splits where corners of one vertex disagree (mirrored-UV seams, flat
-//! normals), then the comb of every output vertex. Only the work the primitive needs is done:
-//! with usable NORMAL and TANGENT nothing is done per corner and no vertex is split.
+//! MikkTSpace), topology (normal groups and their IDs, Kircher & Lawrance §3.1), vertex splits
+//! where corners of one vertex disagree (mirrored-UV seams, flat normals, different group
+//! IDs), then the comb and group ID of every output vertex, and the fin edges of the furry
+//! part. Only the work the primitive needs is done: with usable NORMAL and TANGENT and one
+//! normal group nothing is done per corner and no vertex is split.
+//!
+//! [`group_primitive`] is the part of this a primitive without a painted comb gets: normal
+//! groups and their IDs only, so the renderer's filter keeps its creases too.
 
 use std::borrow::Cow;
+use std::time::Instant;
 
 use glam::{Vec2, Vec3, Vec4};
 use pelt_geom::Mesh;
+use pelt_geom::fins::{self, FinEdge};
+use pelt_geom::group_ids::{self, GroupIds};
 use pelt_geom::mikktspace;
-use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, face_normal, normalize_f64};
+use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, normalize_f64};
+use pelt_geom::topology::{self, CornerNormals, Topology};
 use pelt_geom::weld::{key_bits, weld};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -27,6 +36,72 @@ pub enum TangentSource {
     Generated,
 }
 
+/// Topology counts for the report.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct TopologyStats {
+    /// Distinct positions after welding.
+    pub welded_positions: usize,
+    /// Normal groups (connected components of the face dual graph).
+    pub normal_groups: usize,
+    /// Distinct group IDs written.
+    pub ids_used: usize,
+    /// Vertices added so that every face sees its own group ID (some may also have been split
+    /// for normals or tangents).
+    pub group_split_vertices: usize,
+    /// Pairs of groups sharing an edge or a vertex.
+    pub neighbour_group_pairs: usize,
+    /// Neighbouring pairs that share an ID (0 unless the IDs could not separate them).
+    pub shared_id_pairs: usize,
+    /// Groups left sharing an ID with a neighbour.
+    pub uncolorable_groups: usize,
+    /// Most groups meeting at one position.
+    pub most_groups_at_a_vertex: usize,
+    /// Neighbouring pairs the paper's random 8-bit IDs would have given the same ID (one
+    /// seeded draw).
+    pub random_id_collisions: usize,
+    /// Unique welded edges of proper triangles.
+    pub edges: usize,
+    /// Edges with one face.
+    pub boundary_edges: usize,
+    /// Edges with three or more faces.
+    pub nonmanifold_edges: usize,
+    /// Fin edges written.
+    pub fin_edges: usize,
+    /// Edges left out of the fins: no vertex beside them has fur.
+    pub bare_edges: usize,
+}
+
+impl TopologyStats {
+    fn new(t: &Topology, ids: &GroupIds) -> Self {
+        TopologyStats {
+            welded_positions: t.positions,
+            normal_groups: t.groups,
+            ids_used: ids.ids_used,
+            neighbour_group_pairs: ids.neighbour_pairs,
+            shared_id_pairs: ids.shared_id_pairs,
+            uncolorable_groups: ids.uncolorable_groups,
+            most_groups_at_a_vertex: ids.most_groups_at_a_vertex,
+            random_id_collisions: ids.random_collisions,
+            edges: t.edges.len(),
+            boundary_edges: t.boundary_edges(),
+            nonmanifold_edges: t.nonmanifold_edges(),
+            ..TopologyStats::default()
+        }
+    }
+
+    fn warnings(&self, out: &mut Vec<String>) {
+        if self.shared_id_pairs > 0 {
+            out.push(format!(
+                "{} normal groups: {} neighbouring pairs share an ID ({} groups left without a                  free ID; up to {} groups meet at one vertex, 255 IDs exist)",
+                self.normal_groups,
+                self.shared_id_pairs,
+                self.uncolorable_groups,
+                self.most_groups_at_a_vertex
+            ));
+        }
+    }
+}
+
 /// Counts for the report; every special case is counted.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct PrimitiveStats {
@@ -38,7 +113,7 @@ pub struct PrimitiveStats {
     pub triangles: usize,
     /// Vertices added by splitting (mirrored UV seams, flat normals).
     pub split_vertices: usize,
-    /// Triangles with zero area.
+    /// Triangles with zero area (or collapsed by `--weld-epsilon`).
     pub degenerate_triangles: usize,
     /// Triangles with zero UV area or derivatives (MikkTSpace's fallback applies).
     pub degenerate_uv_triangles: usize,
@@ -60,6 +135,9 @@ pub struct PrimitiveStats {
     pub gray_combs: usize,
     /// Combs along the normal: tangent direction used.
     pub parallel_combs: usize,
+    /// Topology.
+    #[serde(flatten)]
+    pub topology: TopologyStats,
 }
 
 /// What the bake writes back for one primitive. Per-vertex arrays are indexed by output vertex.
@@ -73,10 +151,16 @@ pub struct BakedPrimitive {
     pub tangents: Option<Vec<[f32; 4]>>,
     /// `_FUR_COMB` (float; quantized by the writer if asked).
     pub comb: Vec<[f32; 4]>,
+    /// `_NORMAL_GROUP`: the group ID of every output vertex (0 for a vertex no face uses).
+    pub normal_group: Vec<u16>,
+    /// Fin edges, referring to output vertices.
+    pub fins: Vec<FinEdge>,
     /// Counts.
     pub stats: PrimitiveStats,
     /// Things the user should know.
     pub warnings: Vec<String>,
+    /// Time spent on topology (groups, IDs, fins), in milliseconds.
+    pub topology_ms: f64,
 }
 
 /// Per-vertex or per-corner data; per-vertex data is borrowed from the mesh when usable as is.
@@ -136,15 +220,6 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     };
     let mut warnings = Vec::new();
     let idx = &mesh.indices;
-
-    stats.degenerate_triangles = idx
-        .par_chunks_exact(3)
-        .with_min_len(CHUNK)
-        .filter(|t| {
-            let p = |k: usize| mesh.positions[t[k] as usize];
-            face_normal(p(0), p(1), p(2)).is_none()
-        })
-        .count();
 
     // Normals: per vertex when the file's are usable (borrowed when already unit), per corner
     // (flat) otherwise.
@@ -213,11 +288,26 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
         }
     };
 
-    // Output vertices: one per distinct (source vertex, normal, tangent).
+    // Topology over the normals as written: groups, their IDs.
+    let t_topology = Instant::now();
+    let topo = topology::build(
+        &mesh.positions,
+        idx,
+        corner_normals_of(&normals),
+        &opts.topology,
+    );
+    let ids = group_ids::assign(&topo);
+    stats.degenerate_triangles = topo.degenerate_faces();
+    stats.topology = TopologyStats::new(&topo, &ids);
+    let corner_id = |c: usize| ids.id[topo.face_group[c / 3] as usize];
+    let mut topology_ms = ms(t_topology);
+
+    // Output vertices: one per distinct (source vertex, normal, tangent, group ID).
     // With per-corner data, each output vertex reads it at the first corner that uses it.
-    let per_corner = normals.is_corner() || tangents.is_corner();
+    let per_corner = normals.is_corner() || tangents.is_corner() || topo.groups > 1;
     let (remap, first_corner) = if per_corner {
-        let split = split_vertices(mesh, &normals, &tangents);
+        let split = split_vertices(mesh, &normals, Some(&tangents), &corner_id);
+        stats.topology.group_split_vertices = split.for_ids;
         (split.remap, Some(split.first_corner))
     } else {
         (None, None)
@@ -267,36 +357,46 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
     let mut out_tangents =
         (tangents.is_corner() || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
+    let mut normal_group = vec![0u16; out_count];
+    let only_id = (topo.groups == 1).then(|| u16::from(ids.id[0]));
     let counts = comb
         .par_chunks_mut(CHUNK)
+        .zip(normal_group.par_chunks_mut(CHUNK))
         .zip(chunks_or_none(out_normals.as_mut(), tasks))
         .zip(chunks_or_none(out_tangents.as_mut(), tasks))
         .enumerate()
-        .map(|(task, ((comb, mut normals_out), mut tangents_out))| {
-            let mut counts = Counts::default();
-            for (k, slot) in comb.iter_mut().enumerate() {
-                let o = task * CHUNK + k;
-                let (v, n, t) = inputs(o);
-                let (frame, degenerate) = Frame::new(n, t);
-                let (d, len) = comb::decode_color(
-                    colors.get(v).copied().unwrap_or(Vec4::ONE),
-                    opts.color_space,
-                    &opts.axes,
-                );
-                let (combed, case) = comb::bake(d, len, &frame);
-                *slot = combed;
-                if let Some(out) = normals_out.as_deref_mut() {
-                    out[k] = n.to_array();
+        .map(
+            |(task, (((comb, group), mut normals_out), mut tangents_out))| {
+                let mut counts = Counts::default();
+                for (k, slot) in comb.iter_mut().enumerate() {
+                    let o = task * CHUNK + k;
+                    group[k] = match (&first_corner, only_id) {
+                        (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
+                        (None, Some(id)) => id,
+                        _ => 0,
+                    };
+                    let (v, n, t) = inputs(o);
+                    let (frame, degenerate) = Frame::new(n, t);
+                    let (d, len) = comb::decode_color(
+                        colors.get(v).copied().unwrap_or(Vec4::ONE),
+                        opts.color_space,
+                        &opts.axes,
+                    );
+                    let (combed, case) = comb::bake(d, len, &frame);
+                    *slot = combed;
+                    if let Some(out) = normals_out.as_deref_mut() {
+                        out[k] = n.to_array();
+                    }
+                    if let Some(out) = tangents_out.as_deref_mut() {
+                        out[k] = tangent_out(&frame, degenerate, t);
+                    }
+                    counts.degenerate_tangents += usize::from(degenerate);
+                    counts.gray += usize::from(case == CombCase::Gray);
+                    counts.parallel += usize::from(case == CombCase::ParallelToNormal);
                 }
-                if let Some(out) = tangents_out.as_deref_mut() {
-                    out[k] = tangent_out(&frame, degenerate, t);
-                }
-                counts.degenerate_tangents += usize::from(degenerate);
-                counts.gray += usize::from(case == CombCase::Gray);
-                counts.parallel += usize::from(case == CombCase::ParallelToNormal);
-            }
-            counts
-        })
+                counts
+            },
+        )
         .reduce(Counts::default, Counts::add);
     stats.degenerate_tangents = counts.degenerate_tangents;
     stats.gray_combs = counts.gray;
@@ -322,14 +422,104 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
             stats.degenerate_tangents
         ));
     }
+    // Fin edges over the output vertices, where there is fur.
+    let t_fins = Instant::now();
+    let out_indices = remap.as_ref().map_or(idx.as_slice(), |(_, i)| i.as_slice());
+    let fins = fins::build(&topo, out_indices, |v| comb[v as usize][3] > 0.0);
+    stats.topology.fin_edges = fins.len();
+    stats.topology.bare_edges = topo.edges.len() - fins.len();
+    topology_ms += ms(t_fins);
+    stats.topology.warnings(&mut warnings);
     BakedPrimitive {
         remap,
         normals: out_normals,
         tangents: out_tangents,
         comb,
+        normal_group,
+        fins,
         stats,
         warnings,
+        topology_ms,
     }
+}
+
+/// A primitive without a painted comb: normal groups and their IDs only.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupedPrimitive {
+    /// When vertices were split: (output vertex → source vertex, new indices).
+    pub remap: Option<(Vec<u32>, Vec<u32>)>,
+    /// `_NORMAL_GROUP` per output vertex.
+    pub normal_group: Vec<u16>,
+    /// Topology counts.
+    pub stats: TopologyStats,
+    /// Triangles with zero area.
+    pub degenerate_triangles: usize,
+    /// Things the user should know.
+    pub warnings: Vec<String>,
+    /// Time spent, in milliseconds.
+    pub topology_ms: f64,
+}
+
+/// Normal groups of a primitive without a comb, from its own NORMAL (which must be present:
+/// without it glTF clients shade flat, and every face would be a group of its own).
+pub fn group_primitive(mesh: &Mesh, opts: &BakeOptions) -> Option<GroupedPrimitive> {
+    let t0 = Instant::now();
+    let ns = mesh.normals.as_ref()?;
+    let idx = &mesh.indices;
+    let topo = topology::build(
+        &mesh.positions,
+        idx,
+        CornerNormals::Vertex(ns),
+        &opts.topology,
+    );
+    let ids = group_ids::assign(&topo);
+    let mut stats = TopologyStats::new(&topo, &ids);
+    let corner_id = |c: usize| ids.id[topo.face_group[c / 3] as usize];
+    let (remap, first_corner) = if topo.groups > 1 {
+        let normals = Attr::Vertex(Cow::Borrowed(ns.as_slice()));
+        let split = split_vertices(mesh, &normals, None, &corner_id);
+        stats.group_split_vertices = split.for_ids;
+        (split.remap, Some(split.first_corner))
+    } else {
+        (None, None)
+    };
+    let out_count = remap.as_ref().map_or(mesh.vertex_count(), |(m, _)| m.len());
+    let normal_group: Vec<u16> = match &first_corner {
+        Some(f) => f
+            .par_iter()
+            .with_min_len(CHUNK)
+            .map(|&c| {
+                if c == u32::MAX {
+                    0
+                } else {
+                    u16::from(corner_id(c as usize))
+                }
+            })
+            .collect(),
+        None => vec![ids.id.first().map_or(0, |&i| u16::from(i)); out_count],
+    };
+    let mut warnings = Vec::new();
+    stats.warnings(&mut warnings);
+    Some(GroupedPrimitive {
+        remap,
+        normal_group,
+        degenerate_triangles: topo.degenerate_faces(),
+        stats,
+        warnings,
+        topology_ms: ms(t0),
+    })
+}
+
+/// The normals topology compares, borrowed from the bake's.
+fn corner_normals_of<'a>(normals: &'a Attr<'_, Vec3>) -> CornerNormals<'a> {
+    match normals {
+        Attr::Vertex(v) => CornerNormals::Vertex(v),
+        Attr::Corner(c) => CornerNormals::Corner(c),
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
 }
 
 /// MikkTSpace over the mesh, per corner; corners whose tangent comes out zero keep it (the
@@ -369,25 +559,43 @@ fn generate_tangents(mesh: &Mesh, normals: &Attr<Vec3>, stats: &mut PrimitiveSta
     result.corners
 }
 
-/// The vertex split: the new vertex table (when any vertex was split) and the first corner
-/// of every output vertex (`u32::MAX` for a vertex no triangle uses).
+/// The vertex split: the new vertex table (when any vertex was split), the first corner of
+/// every output vertex (`u32::MAX` for a vertex no triangle uses), and how many (vertex, group
+/// ID) pairs needed a vertex of their own.
 struct Split {
     remap: Option<(Vec<u32>, Vec<u32>)>,
     first_corner: Vec<u32>,
+    for_ids: usize,
 }
 
-/// Splits vertices whose corners disagree. Each vertex keeps its slot with the values of its
-/// first corner; corners that differ from it get new vertices appended after the originals (one
-/// per distinct (vertex, normal, tangent)). The remap is (output vertex → source vertex, new
-/// indices), or None when the corners of every vertex agree.
-fn split_vertices(mesh: &Mesh, normals: &Attr<Vec3>, tangents: &Attr<Vec4>) -> Split {
+/// Splits vertices whose corners disagree (normal, tangent or group ID). Each vertex keeps its
+/// slot with the values of its first corner; corners that differ from it get new vertices
+/// appended after the originals (one per distinct (vertex, normal, tangent, ID)). The remap is
+/// (output vertex → source vertex, new indices), or None when the corners of every vertex
+/// agree.
+fn split_vertices(
+    mesh: &Mesh,
+    normals: &Attr<Vec3>,
+    tangents: Option<&Attr<Vec4>>,
+    corner_id: &(impl Fn(usize) -> u8 + Sync),
+) -> Split {
     let idx = &mesh.indices;
     let nv = mesh.vertex_count();
     let key = |c: usize| {
         let v = idx[c] as usize;
         let n = normals.at(v, c);
-        let t = tangents.at(v, c);
-        [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(key_bits)
+        let t = tangents.map_or(Vec4::ZERO, |t| t.at(v, c));
+        let b = [n.x, n.y, n.z, t.x, t.y, t.z, t.w].map(key_bits);
+        [
+            b[0],
+            b[1],
+            b[2],
+            b[3],
+            b[4],
+            b[5],
+            b[6],
+            u32::from(corner_id(c)),
+        ]
     };
     let mut first_corner = vec![u32::MAX; nv];
     for (c, &v) in idx.iter().enumerate() {
@@ -408,12 +616,25 @@ fn split_vertices(mesh: &Mesh, normals: &Attr<Vec3>, tangents: &Attr<Vec4>) -> S
         return Split {
             remap: None,
             first_corner,
+            for_ids: 0,
         };
     }
+    // (vertex, ID) pairs beyond each vertex's first: the duplication group IDs alone need.
+    let other_id: Vec<usize> = differing
+        .par_iter()
+        .with_min_len(CHUNK)
+        .copied()
+        .filter(|&c| corner_id(c) != corner_id(first_corner[idx[c] as usize] as usize))
+        .collect();
+    let for_ids = weld(other_id.len(), |k| {
+        let c = other_id[k];
+        [idx[c], u32::from(corner_id(c))]
+    })
+    .1;
     let (ids, count) = weld(differing.len(), |k| {
         let c = differing[k];
         let q = key(c);
-        [idx[c], q[0], q[1], q[2], q[3], q[4], q[5], q[6]]
+        [idx[c], q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]]
     });
     let mut map: Vec<u32> = (0..nv as u32).collect();
     map.resize(nv + count, 0);
@@ -431,5 +652,6 @@ fn split_vertices(mesh: &Mesh, normals: &Attr<Vec3>, tangents: &Attr<Vec4>) -> S
     Split {
         remap: Some((map, indices)),
         first_corner,
+        for_ids,
     }
 }

@@ -1,5 +1,7 @@
 //! Parametric painted shapes: a grid of (rings+1)×(segs+1) vertices over (u, v) ∈ \[0, 1\]², with
-//! a duplicated seam column (same position, U = 0 and U = 1) as exporters write it.
+//! a duplicated seam column (same position, U = 0 and U = 1) as exporters write it. Seam
+//! vertices copy their twin's position and normal bit for bit (and so do the pole rows of a
+//! sphere), as an exporter splitting a vertex along a UV seam does.
 
 use glam::{Vec2, Vec3};
 
@@ -22,12 +24,14 @@ pub struct Shape {
     pub indices: Vec<u32>,
 }
 
-/// Builds a shape from a parametric surface `f(u, v) -> position`; normals by central
-/// differences (falling back to `fallback(u, v)` where the surface pinches, as at poles).
+/// Builds a shape from a parametric surface `f(u, v) -> position`, periodic in u (and in v when
+/// `closed_v`); normals by central differences (falling back to `fallback(u, v)` where the
+/// surface pinches, as at poles).
 fn parametric(
     name: &str,
     rings: u32,
     segs: u32,
+    closed_v: bool,
     f: impl Fn(f32, f32) -> Vec3,
     fallback: impl Fn(f32, f32) -> Vec3,
 ) -> Shape {
@@ -39,6 +43,11 @@ fn parametric(
     for r in 0..=rings {
         for k in 0..=segs {
             let (u, v) = (k as f32 / segs as f32, r as f32 / rings as f32);
+            // Seam twins are evaluated where their first copy is, so they match exactly.
+            let (u, v) = (
+                if k == segs { 0.0 } else { u },
+                if closed_v && r == rings { 0.0 } else { v },
+            );
             let p = f(u, v);
             let du = f(u + h, v) - f(u - h, v);
             let dv = f(u, (v + h).min(1.0)) - f(u, (v - h).max(0.0));
@@ -49,7 +58,8 @@ fn parametric(
             let (d, len) = comb_field(p, n);
             s.positions.push(p);
             s.normals.push(n);
-            s.uvs.push(Vec2::new(u, v));
+            s.uvs
+                .push(Vec2::new(k as f32 / segs as f32, r as f32 / rings as f32));
             s.colors.push(paint(d, len));
         }
     }
@@ -65,12 +75,14 @@ fn parametric(
 
 fn spherical(u: f32, v: f32) -> Vec3 {
     let (th, ph) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-    Vec3::new(th.sin() * ph.cos(), th.cos(), -th.sin() * ph.sin())
+    // Exactly on the axis at the poles (sin(π) in f32 is not 0).
+    let s = if v <= 0.0 || v >= 1.0 { 0.0 } else { th.sin() };
+    Vec3::new(s * ph.cos(), th.cos(), -s * ph.sin())
 }
 
 /// Unit UV sphere (pole rows hold degenerate triangles, as real UV spheres do).
 pub fn sphere(rings: u32, segs: u32) -> Shape {
-    parametric("sphere", rings, segs, spherical, spherical)
+    parametric("sphere", rings, segs, false, spherical, spherical)
 }
 
 /// Torus with major radius 1 and minor radius 0.35 (seams in both U and V).
@@ -80,7 +92,7 @@ pub fn torus(rings: u32, segs: u32) -> Shape {
         let r = 1.0 + 0.35 * b.cos();
         Vec3::new(r * a.cos(), 0.35 * b.sin(), -r * a.sin())
     };
-    parametric("torus", rings, segs, f, spherical)
+    parametric("torus", rings, segs, true, f, spherical)
 }
 
 /// A blobby four-legged creature: an ellipsoid body with a head, four legs and a tail made of
@@ -104,5 +116,5 @@ pub fn creature(rings: u32, segs: u32) -> Shape {
         }
         d * r * Vec3::new(1.3, 0.8, 0.7)
     };
-    parametric("creature", rings, segs, f, spherical)
+    parametric("creature", rings, segs, false, f, spherical)
 }

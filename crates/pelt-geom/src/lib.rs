@@ -13,10 +13,13 @@
 //!   of operations.
 
 pub mod fastmath;
+pub mod fins;
+pub mod group_ids;
 pub mod mesh;
 pub mod mikktspace;
 pub mod normals;
 pub mod topology;
+pub mod union_find;
 pub mod weld;
 
 pub use mesh::{GeomError, Mesh};

@@ -42,9 +42,11 @@ pub fn face_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Option<DVec3> {
     if !(scale > 0.0 && scale.is_finite()) {
         return None;
     }
-    let c = (a / scale).cross(b / scale);
-    let len = c.length();
-    (len > 0.0 && len.is_finite()).then(|| c / len)
+    // Scaling by a power of two is exact, and a reciprocal is cheaper than six divisions.
+    let inv = f64::from_bits(((2046 - (scale.to_bits() >> 52)) & 0x7FF) << 52);
+    let c = (a * inv).cross(b * inv);
+    let len_sq = c.length_squared();
+    (len_sq > 0.0 && len_sq.is_finite()).then(|| c * (1.0 / len_sq.sqrt()))
 }
 
 /// Unit length in f64, or `None` when the vector is too short to have a direction.

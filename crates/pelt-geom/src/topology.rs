@@ -1,36 +1,88 @@
-//! Mesh topology for the inferred-lighting filter and silhouette fins (issue 3, first step):
-//! welded positions, unique edges with their faces, and normal groups.
+//! Mesh topology for the inferred-lighting filter and silhouette fins: welded positions, the
+//! faces around each position, unique edges with their faces, and normal groups.
 //!
 //! Normal groups follow Kircher & Lawrance, "Inferred Lighting", §3.1: the faces of a mesh are
-//! the nodes of its dual graph; two faces are joined where they share a (welded) edge and the
+//! the nodes of its dual graph; two faces are joined where they share a welded edge and the
 //! normals at both ends of that edge agree on both sides within a tolerance; the connected
-//! components are the groups. Seams that only split UVs or other attributes therefore neither
-//! cut groups nor duplicate edges. Where three or more faces share an edge, every pair that
-//! meets the rule is joined. Degenerate triangles are ordinary nodes: their vertex normals
-//! decide, as for any face.
+//! components are the groups. Positions are welded first (exactly, or within an epsilon), so
+//! seams that only split UVs or other attributes neither cut groups nor duplicate edges. Where
+//! three or more faces share an edge, every pair that meets the rule is joined.
+//!
+//! Degenerate triangles (zero area, or two corners welded into one position) have no normal and
+//! cover no pixels. They are not faces of any edge (so they make no fins and are not counted as
+//! boundary or non-manifold), but they still belong to a group, so that their vertices need no
+//! split of their own: a degenerate triangle joins every proper triangle across its edges whose
+//! normals meet the rule, and is a group of its own when none does.
+//!
+//! Edges are found per face through the faces around its corners, in parallel; each edge is
+//! emitted once, by its lowest face, so the edge list is in order of (lowest face, corner) and
+//! does not depend on the thread count.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::weld::{key_bits, weld};
+use crate::normals::face_normal;
+use crate::union_find::AtomicUnionFind;
+use crate::weld::weld_positions;
+
+/// "No face": the second face of a boundary edge.
+pub const NO_FACE: u32 = u32::MAX;
 
 /// One unique welded edge and the faces around it.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Edge {
     /// Welded position ids of the two ends, smaller first.
     pub ends: [u32; 2],
-    /// Faces using the edge, ascending.
-    pub faces: Vec<u32>,
+    /// The two lowest faces using the edge, ascending; the second is [`NO_FACE`] on a boundary.
+    pub faces: [u32; 2],
+    /// The corner of `faces[0]` where the edge starts in that face's winding (the edge runs
+    /// from it to the next corner of the face).
+    pub corner: u32,
+    /// Number of faces using the edge: 1 on a boundary, 2 on a manifold edge, more otherwise.
+    pub face_count: u32,
 }
 
+/// What topology is built with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TopologyOptions {
+    /// Positions closer than this weld (0: bit-equal positions only).
+    pub weld_epsilon: f32,
+    /// Two corner normals agree when the angle between them is at most this (radians).
+    pub normal_tolerance: f32,
+}
+
+impl Default for TopologyOptions {
+    fn default() -> Self {
+        TopologyOptions {
+            weld_epsilon: 0.0,
+            normal_tolerance: DEFAULT_NORMAL_TOLERANCE_DEG.to_radians(),
+        }
+    }
+}
+
+/// The default normal tolerance, in degrees.
+pub const DEFAULT_NORMAL_TOLERANCE_DEG: f32 = 0.1;
+
 /// Topology of an indexed triangle mesh.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Topology {
     /// Welded position id per vertex.
     pub position_id: Vec<u32>,
     /// Number of welded positions.
     pub positions: usize,
-    /// Unique edges, ordered by their ends.
+    /// Welded position id per corner.
+    pub corner_pid: Vec<u32>,
+    /// Corners at each welded position: those of position `p` are
+    /// `star[star_start[p]..star_start[p + 1]]`, in corner order.
+    star_start: Vec<u32>,
+    /// Per corner around a position: [corner, position of the next corner of its face,
+    /// position of the previous one].
+    star: Vec<[u32; 3]>,
+    /// Degenerate faces (zero area or collapsed by welding).
+    pub degenerate: Vec<bool>,
+    /// Unit geometric normal per face (counter-clockwise winding); zero when degenerate.
+    pub face_normal: Vec<[f32; 3]>,
+    /// Unique edges of the proper faces, in order of (lowest face, corner).
     pub edges: Vec<Edge>,
     /// Normal group per face, numbered in order of each group's first face.
     pub face_group: Vec<u32>,
@@ -41,110 +93,210 @@ pub struct Topology {
 impl Topology {
     /// Edges with one face.
     pub fn boundary_edges(&self) -> usize {
-        self.edges.iter().filter(|e| e.faces.len() == 1).count()
+        self.edges.iter().filter(|e| e.face_count == 1).count()
     }
 
     /// Edges with three or more faces.
     pub fn nonmanifold_edges(&self) -> usize {
-        self.edges.iter().filter(|e| e.faces.len() > 2).count()
+        self.edges.iter().filter(|e| e.face_count > 2).count()
+    }
+
+    /// Number of degenerate faces.
+    pub fn degenerate_faces(&self) -> usize {
+        self.degenerate.iter().filter(|&&d| d).count()
+    }
+
+    /// The faces around welded position `p`, ascending (a face that collapses two corners into
+    /// `p` appears twice).
+    pub fn faces_at(&self, p: u32) -> impl Iterator<Item = u32> + '_ {
+        let p = p as usize;
+        self.star[self.star_start[p] as usize..self.star_start[p + 1] as usize]
+            .iter()
+            .map(|e| e[0] / 3)
     }
 }
 
-/// Union-find with path halving; the root of a set is its smallest member.
-struct Sets(Vec<u32>);
+/// Faces handled by one parallel task.
+const CHUNK: usize = 8192;
 
-impl Sets {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let p = self.0[x as usize];
-            self.0[x as usize] = self.0[p as usize];
-            x = p;
-        }
-        x
+/// Two corner normals agree: bit-equal, or both non-zero within the angle whose cosine is
+/// `cos_tol` (in f64, so tiny tolerances are not lost to rounding).
+#[inline]
+fn agree(n: Vec3, m: Vec3, cos_tol: f64) -> bool {
+    if n == m {
+        return true;
     }
-
-    fn join(&mut self, a: u32, b: u32) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-        self.0[hi as usize] = lo;
-    }
+    let (n, m) = (n.as_dvec3(), m.as_dvec3());
+    let lens = (n.length_squared() * m.length_squared()).sqrt();
+    lens > 0.0 && n.dot(m) >= cos_tol * lens
 }
 
-/// Builds the topology. `normals` are per vertex; two corner normals agree when the angle
-/// between them is at most `normal_tolerance` radians.
+/// The normals the grouping rule compares.
+#[derive(Debug, Clone, Copy)]
+pub enum CornerNormals<'a> {
+    /// One per vertex (corners of the same vertex agree without a look).
+    Vertex(&'a [Vec3]),
+    /// One per corner (index into `indices`).
+    Corner(&'a [Vec3]),
+}
+
+/// Builds the topology of the triangles `indices` over `positions`.
 pub fn build(
     positions: &[Vec3],
-    normals: &[Vec3],
     indices: &[u32],
-    normal_tolerance: f32,
+    normals: CornerNormals<'_>,
+    opts: &TopologyOptions,
 ) -> Topology {
-    let (position_id, n_pos) = weld(positions.len(), |v| positions[v].to_array().map(key_bits));
+    let (position_id, n_pos) = weld_positions(positions, opts.weld_epsilon);
     let nf = indices.len() / 3;
-    let pid = |c: usize| position_id[indices[c] as usize];
-
-    // Every face edge keyed by its welded ends; sorting gathers the faces of each edge.
-    let mut half: Vec<(u64, u32)> = (0..3 * nf)
+    let corner_pid: Vec<u32> = indices
+        .par_iter()
+        .with_min_len(CHUNK)
+        .map(|&v| position_id[v as usize])
+        .collect();
+    let pid = |c: usize| corner_pid[c];
+    let face_normal: Vec<[f32; 3]> = (0..nf)
         .into_par_iter()
-        .with_min_len(4096)
-        .filter_map(|c| {
-            let f = c / 3;
-            let (a, b) = (pid(c), pid(3 * f + (c + 1) % 3));
-            (a != b).then(|| {
-                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                ((u64::from(lo) << 32) | u64::from(hi), c as u32)
-            })
+        .with_min_len(CHUNK)
+        .map(|f| {
+            let [a, b, c] = [pid(3 * f), pid(3 * f + 1), pid(3 * f + 2)];
+            let p = |k: usize| positions[indices[3 * f + k] as usize];
+            if a == b || b == c || a == c {
+                return [0.0; 3];
+            }
+            face_normal(p(0), p(1), p(2)).map_or([0.0; 3], |n| n.as_vec3().to_array())
         })
         .collect();
-    half.par_sort_unstable();
+    let degenerate: Vec<bool> = face_normal
+        .par_iter()
+        .with_min_len(CHUNK)
+        .map(|n| *n == [0.0; 3])
+        .collect();
 
-    let cos_tol = normal_tolerance.cos();
-    let agree = |c: usize, d: usize| {
-        let (n, m) = (normals[indices[c] as usize], normals[indices[d] as usize]);
-        n.dot(m) >= cos_tol * n.length() * m.length()
+    // Corners around each position (a counting sort by position, so corners ascend in each
+    // run), with the positions of their neighbours in their face.
+    let mut star_start = vec![0u32; n_pos + 1];
+    for &p in &corner_pid {
+        star_start[p as usize + 1] += 1;
+    }
+    for p in 0..n_pos {
+        star_start[p + 1] += star_start[p];
+    }
+    let mut fill = star_start.clone();
+    let mut star = vec![[0u32; 3]; corner_pid.len()];
+    for (t, tri) in corner_pid.chunks_exact(3).enumerate() {
+        for k in 0..3 {
+            let slot = &mut fill[tri[k] as usize];
+            star[*slot as usize] = [(3 * t + k) as u32, tri[(k + 1) % 3], tri[(k + 2) % 3]];
+            *slot += 1;
+        }
+    }
+    drop(fill);
+    let star_at =
+        |p: u32| &star[star_start[p as usize] as usize..star_start[p as usize + 1] as usize];
+    // The corner of face f at position p (f has exactly one when it is proper).
+    let corner_at = |f: u32, p: u32| {
+        let c = 3 * f as usize;
+        if pid(c) == p {
+            c
+        } else if pid(c + 1) == p {
+            c + 1
+        } else {
+            c + 2
+        }
     };
-    // The corner of face f at welded position p.
-    let corner_at = |f: usize, p: u32| (3 * f..3 * f + 3).find(|&c| pid(c) == p);
+    let cos_tol = f64::from(opts.normal_tolerance.clamp(0.0, std::f32::consts::PI)).cos();
+    let corners_agree = |c: usize, d: usize| match normals {
+        CornerNormals::Vertex(n) => {
+            let (v, w) = (indices[c] as usize, indices[d] as usize);
+            v == w || agree(n[v], n[w], cos_tol)
+        }
+        CornerNormals::Corner(n) => agree(n[c], n[d], cos_tol),
+    };
+    let same_group = |f: u32, g: u32, ends: [u32; 2]| {
+        corners_agree(corner_at(f, ends[0]), corner_at(g, ends[0]))
+            && corners_agree(corner_at(f, ends[1]), corner_at(g, ends[1]))
+    };
 
-    let mut sets = Sets((0..nf as u32).collect());
-    let mut edges = Vec::new();
-    for run in half.chunk_by(|a, b| a.0 == b.0) {
-        let ends = [(run[0].0 >> 32) as u32, run[0].0 as u32];
-        let mut faces: Vec<u32> = run.iter().map(|&(_, c)| c / 3).collect();
-        faces.dedup();
-        for (i, &f) in faces.iter().enumerate() {
-            for &g in &faces[i + 1..] {
-                let same = ends.iter().all(|&p| {
-                    match (corner_at(f as usize, p), corner_at(g as usize, p)) {
-                        (Some(c), Some(d)) => agree(c, d),
-                        _ => false,
+    // Edges, each emitted by its lowest face; faces joined across them as they are found.
+    let sets = AtomicUnionFind::new(nf);
+    let parts: Vec<Vec<Edge>> = (0..nf.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|task| {
+            let mut edges = Vec::with_capacity(CHUNK * 3 / 2 + 16);
+            let mut around: Vec<u32> = Vec::new();
+            for f in (task * CHUNK..((task + 1) * CHUNK).min(nf)).map(|f| f as u32) {
+                if degenerate[f as usize] {
+                    continue;
+                }
+                for k in 0..3 {
+                    let a = pid(3 * f as usize + k);
+                    let b = pid(3 * f as usize + (k + 1) % 3);
+                    around.clear();
+                    around.push(f);
+                    let mut owner = true;
+                    for &[d, next, prev] in star_at(a) {
+                        let g = d / 3;
+                        if g != f && (next == b || prev == b) && !degenerate[g as usize] {
+                            if g < f {
+                                owner = false;
+                                break;
+                            }
+                            around.push(g);
+                        }
                     }
-                });
-                if same {
+                    if !owner {
+                        continue;
+                    }
+                    let ends = if a < b { [a, b] } else { [b, a] };
+                    for (i, &x) in around.iter().enumerate() {
+                        for &y in &around[i + 1..] {
+                            if same_group(x, y, ends) {
+                                sets.join(x, y);
+                            }
+                        }
+                    }
+                    edges.push(Edge {
+                        ends,
+                        faces: [f, around.get(1).copied().unwrap_or(NO_FACE)],
+                        corner: (3 * f as usize + k) as u32,
+                        face_count: around.len() as u32,
+                    });
+                }
+            }
+            edges
+        })
+        .collect();
+    let edges = parts.concat();
+    // Degenerate faces join proper neighbours across their edges by the same rule.
+    for f in (0..nf as u32).filter(|&f| degenerate[f as usize]) {
+        for k in 0..3 {
+            let a = pid(3 * f as usize + k);
+            let b = pid(3 * f as usize + (k + 1) % 3);
+            if a == b {
+                continue;
+            }
+            let ends = [a, b];
+            for &[d, next, prev] in star_at(a) {
+                let g = d / 3;
+                if (next == b || prev == b) && !degenerate[g as usize] && same_group(f, g, ends) {
                     sets.join(f, g);
                 }
             }
         }
-        edges.push(Edge { ends, faces });
     }
-
-    // Groups numbered by first face.
-    let mut face_group = vec![u32::MAX; nf];
-    let mut root_group = vec![u32::MAX; nf];
-    let mut groups = 0u32;
-    for f in 0..nf as u32 {
-        let r = sets.find(f) as usize;
-        if root_group[r] == u32::MAX {
-            root_group[r] = groups;
-            groups += 1;
-        }
-        face_group[f as usize] = root_group[r];
-    }
+    let (face_group, groups) = sets.into_sequential().labels();
     Topology {
         position_id,
         positions: n_pos,
+        corner_pid,
+        star_start,
+        star,
+        degenerate,
+        face_normal,
         edges,
         face_group,
-        groups: groups as usize,
+        groups,
     }
 }
 
@@ -177,7 +329,12 @@ mod tests {
     #[test]
     fn flat_cube_has_six_groups_and_closed_edges() {
         let (p, n, i) = cube();
-        let t = build(&p, &n, &i, 0.01);
+        let t = build(
+            &p,
+            &i,
+            CornerNormals::Vertex(&n),
+            &TopologyOptions::default(),
+        );
         assert_eq!(t.groups, 6);
         assert_eq!(t.positions, 8);
         // Closed manifold: every edge has two faces, 3F/2 edges.
@@ -192,7 +349,12 @@ mod tests {
         // (seams) with equal normals weld, so everything is one group.
         let (p, _, i) = cube();
         let n: Vec<Vec3> = p.iter().map(|v| v.normalize()).collect();
-        let t = build(&p, &n, &i, 0.01);
+        let t = build(
+            &p,
+            &i,
+            CornerNormals::Vertex(&n),
+            &TopologyOptions::default(),
+        );
         assert_eq!(t.groups, 1);
         assert_eq!(t.edges.len(), 18);
     }
@@ -212,8 +374,146 @@ mod tests {
                 i.extend([a, a + 1, b, a + 1, b + 1, b]);
             }
         }
-        let t = build(&p, &n, &i, 0.01);
+        let t = build(
+            &p,
+            &i,
+            CornerNormals::Vertex(&n),
+            &TopologyOptions::default(),
+        );
         assert_eq!(t.boundary_edges(), (2 * (w + h)) as usize);
         assert_eq!(t.groups, 1);
+    }
+
+    #[test]
+    fn non_manifold_edges_join_only_the_pairs_that_agree() {
+        // Three triangles on edge (0, 1): two share their normals there, the third does not.
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(0.5, 1.0, 0.0),
+            Vec3::new(0.5, -1.0, 0.0),
+            Vec3::new(0.5, 0.0, 1.0),
+        ];
+        let i = vec![0, 1, 2, 1, 0, 3, 0, 1, 4];
+        // Corner normals: faces 0 and 1 flat (+Z), face 2 tilted.
+        let n: Vec<Vec3> = (0..9)
+            .map(|c| if c < 6 { Vec3::Z } else { Vec3::Y })
+            .collect();
+        let t = build(
+            &p,
+            &i,
+            CornerNormals::Corner(&n),
+            &TopologyOptions::default(),
+        );
+        assert_eq!(t.nonmanifold_edges(), 1);
+        let e = t.edges.iter().find(|e| e.face_count == 3).unwrap();
+        assert_eq!((e.ends, e.faces), ([0, 1], [0, 1]));
+        assert_eq!(t.face_group, vec![0, 0, 1]);
+        assert_eq!(t.boundary_edges(), 6);
+    }
+
+    #[test]
+    fn degenerate_triangles_make_no_edges_but_join_a_neighbour() {
+        // A quad of two triangles, a zero-area sliver on its diagonal, and an isolated collapsed
+        // triangle.
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::Y,
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(5.0, 5.0, 0.0),
+            Vec3::new(5.0, 5.0, 0.0),
+            Vec3::new(6.0, 5.0, 0.0),
+        ];
+        let i = vec![0, 1, 2, 0, 2, 3, 0, 4, 2, 5, 6, 7];
+        let n = vec![Vec3::Z; p.len()];
+        let t = build(
+            &p,
+            &i,
+            CornerNormals::Vertex(&n),
+            &TopologyOptions::default(),
+        );
+        assert_eq!(t.degenerate, vec![false, false, true, true]);
+        // Only the quad's 5 edges: the sliver's edges and the collapsed face add nothing.
+        assert_eq!(t.edges.len(), 5);
+        assert_eq!(t.boundary_edges(), 4);
+        assert_eq!(t.nonmanifold_edges(), 0);
+        // The sliver lies on the quad's diagonal and joins it; the isolated collapsed triangle
+        // is a group of its own.
+        assert_eq!(t.face_group, vec![0, 0, 0, 1]);
+        assert_eq!(t.groups, 2);
+        // A collapsed triangle on an outer edge of the quad joins it too.
+        let i2 = [&i[..], &[0, 1, 1]].concat();
+        let t2 = build(
+            &p,
+            &i2,
+            CornerNormals::Vertex(&n),
+            &TopologyOptions::default(),
+        );
+        assert_eq!(t2.face_group[4], 0);
+        assert_eq!(t2.edges.len(), 5);
+    }
+
+    #[test]
+    fn tolerance_decides_between_nearly_equal_normals() {
+        // Two triangles sharing an edge whose normals differ by 0.05 degrees on one side.
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::ZERO,
+            Vec3::X,
+        ];
+        let a = 0.05f32.to_radians();
+        let tilted = Vec3::new(0.0, a.sin(), a.cos());
+        let n = [Vec3::Z, Vec3::Z, Vec3::Z, Vec3::Z, tilted, Vec3::Z];
+        let i = vec![0, 1, 2, 5, 4, 3];
+        let opts = |deg: f32| TopologyOptions {
+            normal_tolerance: deg.to_radians(),
+            ..TopologyOptions::default()
+        };
+        assert_eq!(
+            build(&p, &i, CornerNormals::Vertex(&n), &opts(0.1)).groups,
+            1
+        );
+        assert_eq!(
+            build(&p, &i, CornerNormals::Vertex(&n), &opts(0.01)).groups,
+            2
+        );
+        assert_eq!(
+            build(&p, &i, CornerNormals::Vertex(&n), &opts(0.0)).groups,
+            2
+        );
+    }
+
+    #[test]
+    fn weld_epsilon_closes_a_seam_that_does_not_meet_exactly() {
+        // Two triangles whose shared edge is off by 1e-5 on one side.
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(1.0, 1e-5, 0.0),
+            Vec3::new(0.0, 1e-5, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+        ];
+        let i = vec![0, 1, 2, 4, 5, 3];
+        let n = [Vec3::Z; 6];
+        let n = CornerNormals::Vertex(&n);
+        let exact = build(&p, &i, n, &TopologyOptions::default());
+        assert_eq!((exact.groups, exact.boundary_edges()), (2, 6));
+        let welded = build(
+            &p,
+            &i,
+            n,
+            &TopologyOptions {
+                weld_epsilon: 1e-4,
+                ..TopologyOptions::default()
+            },
+        );
+        assert_eq!((welded.groups, welded.boundary_edges()), (1, 4));
+        assert_eq!(welded.positions, 4);
     }
 }

@@ -1,8 +1,14 @@
 //! Exact welding: vertices whose keys are bit-for-bit equal (after mapping -0.0 to +0.0, so
 //! equality is IEEE `==` for finite values) share one id. Ids are dense and numbered in order of
 //! first appearance, so the result does not depend on hashing, sorting or thread count.
+//!
+//! [`weld_positions`] adds welding within a distance, for exports whose seams do not meet
+//! exactly: positions closer than epsilon join, transitively.
 
+use glam::Vec3;
 use rayon::prelude::*;
+
+use crate::union_find::UnionFind;
 
 /// The f32 bit pattern used as a weld key: `-0.0` becomes `+0.0`.
 #[inline]
@@ -70,6 +76,57 @@ fn weld_by<const N: usize>(
     (ids, count as usize)
 }
 
+/// Welds positions: bit-equal ones when `epsilon` is 0 (or not positive), otherwise every pair
+/// within `epsilon` (Euclidean distance, in f64) joins, and joins chain (a run of points each
+/// within epsilon of the next becomes one position). Ids are numbered in order of first
+/// appearance, as in [`weld`].
+pub fn weld_positions(positions: &[Vec3], epsilon: f32) -> (Vec<u32>, usize) {
+    let within = epsilon.is_finite() && epsilon > 0.0;
+    if !within {
+        return weld(positions.len(), |v| positions[v].to_array().map(key_bits));
+    }
+    let eps = f64::from(epsilon);
+    // A grid of cells of size epsilon: points within epsilon lie in the same or adjacent cells.
+    let limit = (1i64 << 52) as f64;
+    let cell = |p: Vec3| -> [i64; 3] {
+        (p.as_dvec3() / eps)
+            .floor()
+            .to_array()
+            .map(|c| c.clamp(-limit, limit) as i64)
+    };
+    let mut order: Vec<([i64; 3], u32)> = positions
+        .par_iter()
+        .enumerate()
+        .with_min_len(4096)
+        .map(|(v, &p)| (cell(p), v as u32))
+        .collect();
+    order.par_sort_unstable();
+    let joins: Vec<(u32, u32)> = order
+        .par_iter()
+        .with_min_len(1024)
+        .flat_map_iter(|&(c, v)| {
+            let p = positions[v as usize].as_dvec3();
+            let order = &order;
+            (0..27).flat_map(move |k| {
+                let n = [c[0] + k / 9 - 1, c[1] + (k / 3) % 3 - 1, c[2] + k % 3 - 1];
+                let lo = order.partition_point(|e| e.0 < n);
+                order[lo..]
+                    .iter()
+                    .take_while(move |e| e.0 == n)
+                    .filter(move |e| {
+                        e.1 > v && positions[e.1 as usize].as_dvec3().distance(p) <= eps
+                    })
+                    .map(move |e| (v, e.1))
+            })
+        })
+        .collect();
+    let mut sets = UnionFind::new(positions.len());
+    for (a, b) in joins {
+        sets.join(a, b);
+    }
+    sets.labels()
+}
+
 /// A 64-bit hash of a key (multiply-xorshift per word, murmur3's finalizer at the end).
 #[inline]
 fn hash_key<const N: usize>(k: &[u32; N]) -> u64 {
@@ -113,6 +170,24 @@ mod tests {
             });
             assert_eq!(ids[i], id, "vertex {i}");
         }
+    }
+
+    #[test]
+    fn epsilon_welds_near_points_across_cell_borders_and_chains() {
+        let p = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.001, 0.0, 0.0),
+            // Within 0.01 of vertex 1, but in another grid cell.
+            Vec3::new(0.998, 0.0, 0.004),
+            Vec3::new(0.0, 0.0, 0.0),
+            // A chain: each within epsilon of the next.
+            Vec3::new(0.0, 5.0, 0.0),
+            Vec3::new(0.0, 5.009, 0.0),
+            Vec3::new(0.0, 5.018, 0.0),
+            Vec3::new(0.0, 0.02, 0.0),
+        ];
+        assert_eq!(weld_positions(&p, 0.0), (vec![0, 1, 2, 0, 3, 4, 5, 6], 7));
+        assert_eq!(weld_positions(&p, 0.01), (vec![0, 1, 1, 0, 2, 2, 2, 3], 4));
     }
 
     #[test]

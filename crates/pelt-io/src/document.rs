@@ -99,6 +99,8 @@ pub struct Document {
     pub(crate) source_views: usize,
     /// Accessors an edit stopped using (candidates for [`Document::prune_detached`]).
     pub(crate) detached: Vec<usize>,
+    /// BufferViews an edit stopped using (fin records replaced by a new bake).
+    pub(crate) detached_views: Vec<usize>,
 }
 
 impl Document {
@@ -144,6 +146,7 @@ impl Document {
             new_views: Vec::new(),
             source_views: 0,
             detached: Vec::new(),
+            detached_views: Vec::new(),
         };
         doc.check_asset()?;
         doc.load_buffers(bin)?;
@@ -171,6 +174,7 @@ impl Document {
             new_views: Vec::new(),
             source_views,
             detached: Vec::new(),
+            detached_views: Vec::new(),
         }
     }
 

@@ -72,6 +72,12 @@ impl NewAccessor {
         Self::vectors(ComponentType::U16, N, true, bytes)
     }
 
+    /// Unsigned short vectors, not normalized (integer values such as IDs).
+    pub fn u16<const N: usize>(v: &[[u16; N]]) -> Self {
+        let bytes = le_bytes(v.as_flattened(), |x| x.to_le_bytes());
+        Self::vectors(ComponentType::U16, N, false, bytes)
+    }
+
     /// Normalized unsigned byte vectors.
     pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
         Self::vectors(ComponentType::U8, N, true, v.as_flattened().to_vec())
@@ -323,7 +329,7 @@ impl Document {
         Ok(())
     }
 
-    fn primitive_checked(&mut self, r: PrimitiveRef) -> Result<&mut Map<String, Value>> {
+    pub(crate) fn primitive_checked(&mut self, r: PrimitiveRef) -> Result<&mut Map<String, Value>> {
         let err = self.invalid(self.place(r), "primitive is not a JSON object");
         self.primitive_mut(r).ok_or(err)
     }

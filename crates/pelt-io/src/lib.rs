@@ -11,6 +11,8 @@
 //!   streamed and written atomically.
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
+//! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
+//!   `extras.pelt`, the fin-record bufferView).
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -21,6 +23,7 @@ pub mod glb;
 pub mod mesh;
 pub mod obj;
 pub mod prune;
+pub mod topology;
 
 pub use document::{Buffer, Document, PrimitiveRef};
 pub use error::IoError;

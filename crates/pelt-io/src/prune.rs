@@ -132,6 +132,22 @@ fn for_each_view_ref(json: &mut serde_json::Map<String, Value>, f: &mut impl FnM
             }
         }
     }
+    // pelt's own fin records (see crate::topology).
+    if let Some(meshes) = json.get_mut("meshes").and_then(Value::as_array_mut) {
+        for m in meshes {
+            let prims = m.get_mut("primitives").and_then(Value::as_array_mut);
+            for p in prims.into_iter().flatten() {
+                let view = p
+                    .get_mut("extras")
+                    .and_then(|e| e.get_mut("pelt"))
+                    .and_then(|e| e.get_mut("fins"))
+                    .and_then(|e| e.get_mut("bufferView"));
+                if let Some(v) = view {
+                    f(v);
+                }
+            }
+        }
+    }
 }
 
 /// Renumbers one reference through `map` (old index → new index; None = removed).
@@ -179,7 +195,13 @@ impl Document {
                 candidate[a] = true;
             }
         }
-        if !candidate.contains(&true) {
+        let mut view_candidate = vec![false; self.array("bufferViews").len()];
+        for &v in &self.detached_views {
+            if let Some(c) = view_candidate.get_mut(v) {
+                *c = true;
+            }
+        }
+        if !candidate.contains(&true) && !view_candidate.contains(&true) {
             return pruned;
         }
         if let Some(ext) = self
@@ -202,11 +224,7 @@ impl Document {
             }
         });
         let removed: Vec<bool> = (0..n_acc).map(|i| candidate[i] && !used[i]).collect();
-        if !removed.contains(&true) {
-            return pruned;
-        }
         // The bufferViews those accessors used (sparse parts included).
-        let mut view_candidate = vec![false; self.array("bufferViews").len()];
         for (a, acc) in self.array("accessors").iter().enumerate() {
             if !removed[a] {
                 continue;
@@ -223,11 +241,14 @@ impl Document {
                 }
             }
         }
-        let map = index_map(n_acc, &removed);
-        for_each_accessor_ref(&mut self.json, &mut |v| renumber(v, &map));
-        remove_entries(&mut self.json, "accessors", &removed);
-        pruned.accessors = removed.iter().filter(|&&r| r).count();
+        if removed.contains(&true) {
+            let map = index_map(n_acc, &removed);
+            for_each_accessor_ref(&mut self.json, &mut |v| renumber(v, &map));
+            remove_entries(&mut self.json, "accessors", &removed);
+            pruned.accessors = removed.iter().filter(|&&r| r).count();
+        }
         self.detached.clear();
+        self.detached_views.clear();
 
         // BufferViews no remaining accessor or image uses, among those the removed ones used.
         let n_views = self.array("bufferViews").len();
