@@ -5,12 +5,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyOptions};
+use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
 use pelt_io::Document;
 use serde::Serialize;
 
-use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents};
+use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
 
 #[derive(Serialize)]
 struct Report {
@@ -71,6 +71,11 @@ fn options(args: &BakeArgs) -> BakeOptions {
             QuantizeArg::Float => Quantize::Float,
             QuantizeArg::U16 => Quantize::U16,
             QuantizeArg::U8 => Quantize::U8,
+        },
+        topology_mode: match args.topology {
+            TopologyArg::Full => TopologyMode::Full,
+            TopologyArg::Groups => TopologyMode::Groups,
+            TopologyArg::Off => TopologyMode::Off,
         },
         topology: TopologyOptions {
             weld_epsilon: args.weld_epsilon,

@@ -69,6 +69,10 @@ pub struct BakeArgs {
     /// Storage of _FUR_COMB: float, or normalized u16 / u8.
     #[arg(long, value_enum, default_value_t = QuantizeArg::Float)]
     pub quantize: QuantizeArg,
+    /// Topology to write: full (_NORMAL_GROUP and fin edges), groups (_NORMAL_GROUP only) or
+    /// off (the comb bake alone, for engines that use neither).
+    #[arg(long, value_enum, default_value_t = TopologyArg::Full)]
+    pub topology: TopologyArg,
     /// Weld positions closer than this (in the mesh's units) for topology, for exports whose
     /// seams do not meet exactly. 0 welds bit-equal positions only.
     #[arg(long, value_name = "DIST", default_value_t = 0.0, value_parser = non_negative)]
@@ -108,6 +112,17 @@ pub enum ColorSpaceArg {
     Linear,
     /// Re-encode to sRGB first.
     Srgb,
+}
+
+/// `--topology`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TopologyArg {
+    /// Normal groups and fin edges.
+    Full,
+    /// Normal groups only.
+    Groups,
+    /// Neither.
+    Off,
 }
 
 /// `--quantize`.

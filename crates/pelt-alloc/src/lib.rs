@@ -93,6 +93,9 @@ unsafe impl GlobalAlloc for HugePageAlloc {
 mod tests {
     use super::*;
 
+    #[global_allocator]
+    static GLOBAL: HugePageAlloc = HugePageAlloc;
+
     #[test]
     fn span_covers_only_whole_aligned_huge_pages() {
         assert_eq!(huge_span(0, HUGE_PAGE), Some((0, HUGE_PAGE)));

@@ -9,13 +9,13 @@ use std::time::Instant;
 
 use pelt_io::edit::NewAccessor;
 use pelt_io::mesh::read_primitive;
-use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, encode_fins};
-use pelt_io::{Document, IoError, PrimitiveRef};
+use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, fins_view};
+use pelt_io::{Document, IoError, PrimitiveRef, ViewData};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use crate::comb;
-use crate::options::{BakeOptions, Quantize};
+use crate::options::{BakeOptions, Quantize, TopologyMode};
 use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive, group_primitive};
 
 /// The attribute pelt writes.
@@ -107,7 +107,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         entry.color_0 = prim.color.as_ref().map(pelt_io::mesh::Encoding::describe);
         if prim.mesh.colors.is_none() {
             let t1 = Instant::now();
-            let grouped = group_primitive(&prim.mesh, opts);
+            let grouped = (opts.topology_mode != TopologyMode::Off)
+                .then(|| group_primitive(&prim.mesh, opts))
+                .flatten();
             report.timings.bake_ms += ms(t1);
             match grouped {
                 Some(g) => {
@@ -127,6 +129,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                         .extend(g.warnings.iter().map(|w| format!("{place}: {w}")));
                     entry.groups_only = Some(g.stats);
                 }
+                None if opts.topology_mode == TopologyMode::Off => {
+                    entry.status = "skipped: no COLOR_0 (no comb painted)".to_owned();
+                }
                 None => {
                     entry.status =
                         "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat shaded)"
@@ -139,7 +144,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         }
 
         let t1 = Instant::now();
-        let baked = bake_primitive(&prim.mesh, opts);
+        let mut baked = bake_primitive(&prim.mesh, opts);
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
@@ -181,16 +186,19 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         };
         let a = doc.push_accessor(comb);
         doc.set_attribute(r, COMB_ATTRIBUTE, a)?;
-        let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
-        doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
-        write_extras(
-            doc,
-            r,
-            &baked.stats.topology,
-            opts,
-            Some(encode_fins(&baked.fins)),
-            &mut report.warnings,
-        )?;
+        if opts.topology_mode != TopologyMode::Off {
+            let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
+            doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
+            let fins = baked.fins.take().map(fins_view);
+            write_extras(
+                doc,
+                r,
+                &baked.stats.topology,
+                opts,
+                fins,
+                &mut report.warnings,
+            )?;
+        }
         report.timings.encode_ms += ms(t2);
 
         report.vertices += baked.stats.vertices_out;
@@ -233,7 +241,7 @@ fn write_extras(
     r: PrimitiveRef,
     t: &TopologyStats,
     opts: &BakeOptions,
-    fins: Option<Vec<u8>>,
+    fins: Option<ViewData>,
     warnings: &mut Vec<String>,
 ) -> Result<(), IoError> {
     let mut pelt = Map::new();

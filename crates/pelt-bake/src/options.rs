@@ -38,6 +38,18 @@ pub enum Quantize {
     U8,
 }
 
+/// How much topology a bake writes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum TopologyMode {
+    /// `_NORMAL_GROUP` and fin edges.
+    #[default]
+    Full,
+    /// `_NORMAL_GROUP` only (no fins).
+    Groups,
+    /// Neither (the comb bake alone).
+    Off,
+}
+
 /// A remapping of the comb's axes: output axis i = sign_i · input axis src_i.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisMap {
@@ -128,6 +140,8 @@ pub struct BakeOptions {
     pub quantize: Quantize,
     /// Welding and the normal-group rule.
     pub topology: TopologyOptions,
+    /// How much topology to write.
+    pub topology_mode: TopologyMode,
 }
 
 #[cfg(test)]

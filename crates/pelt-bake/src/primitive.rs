@@ -16,7 +16,7 @@ use pelt_geom::Mesh;
 use pelt_geom::fins::{self, FinEdge};
 use pelt_geom::group_ids::{self, GroupIds};
 use pelt_geom::mikktspace;
-use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, normalize_f64};
+use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, face_normal, normalize_f64};
 use pelt_geom::topology::{self, CornerNormals, Topology};
 use pelt_geom::weld::{key_bits, weld};
 use rayon::prelude::*;
@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use crate::comb::{self, CombCase};
 use crate::frame::Frame;
-use crate::options::{BakeOptions, TangentMode};
+use crate::options::{BakeOptions, TangentMode, TopologyMode};
 
 /// Where the output tangents came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -151,10 +151,11 @@ pub struct BakedPrimitive {
     pub tangents: Option<Vec<[f32; 4]>>,
     /// `_FUR_COMB` (float; quantized by the writer if asked).
     pub comb: Vec<[f32; 4]>,
-    /// `_NORMAL_GROUP`: the group ID of every output vertex (0 for a vertex no face uses).
+    /// `_NORMAL_GROUP`: the group ID of every output vertex (0 for a vertex no face uses);
+    /// empty with `--topology off`.
     pub normal_group: Vec<u16>,
-    /// Fin edges, referring to output vertices.
-    pub fins: Vec<FinEdge>,
+    /// Fin edges, referring to output vertices (None unless `--topology full`).
+    pub fins: Option<Vec<FinEdge>>,
     /// Counts.
     pub stats: PrimitiveStats,
     /// Things the user should know.
@@ -290,21 +291,33 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
 
     // Topology over the normals as written: groups, their IDs.
     let t_topology = Instant::now();
-    let topo = topology::build(
-        &mesh.positions,
-        idx,
-        corner_normals_of(&normals),
-        &opts.topology,
-    );
-    let ids = group_ids::assign(&topo);
-    stats.degenerate_triangles = topo.degenerate_faces();
-    stats.topology = TopologyStats::new(&topo, &ids);
-    let corner_id = |c: usize| ids.id[topo.face_group[c / 3] as usize];
+    let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
+        let t = topology::build(
+            &mesh.positions,
+            idx,
+            corner_normals_of(&normals),
+            &opts.topology,
+        );
+        let ids = group_ids::assign(&t);
+        (t, ids)
+    });
+    match &topo {
+        Some((t, ids)) => {
+            stats.degenerate_triangles = t.degenerate_faces();
+            stats.topology = TopologyStats::new(t, ids);
+        }
+        None => stats.degenerate_triangles = degenerate_triangles(mesh),
+    }
+    let groups = topo.as_ref().map_or(0, |(t, _)| t.groups);
+    let corner_id = |c: usize| {
+        topo.as_ref()
+            .map_or(0, |(t, ids)| ids.id[t.face_group[c / 3] as usize])
+    };
     let mut topology_ms = ms(t_topology);
 
     // Output vertices: one per distinct (source vertex, normal, tangent, group ID).
     // With per-corner data, each output vertex reads it at the first corner that uses it.
-    let per_corner = normals.is_corner() || tangents.is_corner() || topo.groups > 1;
+    let per_corner = normals.is_corner() || tangents.is_corner() || groups > 1;
     let (remap, first_corner) = if per_corner {
         let split = split_vertices(mesh, &normals, Some(&tangents), &corner_id);
         stats.topology.group_split_vertices = split.for_ids;
@@ -357,24 +370,29 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
     let mut out_tangents =
         (tangents.is_corner() || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
-    let mut normal_group = vec![0u16; out_count];
-    let only_id = (topo.groups == 1).then(|| u16::from(ids.id[0]));
+    let mut normal_group = vec![0u16; if topo.is_some() { out_count } else { 0 }];
+    let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
     let counts = comb
         .par_chunks_mut(CHUNK)
-        .zip(normal_group.par_chunks_mut(CHUNK))
+        .zip(chunks_or_none(
+            topo.is_some().then_some(&mut normal_group),
+            tasks,
+        ))
         .zip(chunks_or_none(out_normals.as_mut(), tasks))
         .zip(chunks_or_none(out_tangents.as_mut(), tasks))
         .enumerate()
         .map(
-            |(task, (((comb, group), mut normals_out), mut tangents_out))| {
+            |(task, (((comb, mut group), mut normals_out), mut tangents_out))| {
                 let mut counts = Counts::default();
                 for (k, slot) in comb.iter_mut().enumerate() {
                     let o = task * CHUNK + k;
-                    group[k] = match (&first_corner, only_id) {
-                        (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
-                        (None, Some(id)) => id,
-                        _ => 0,
-                    };
+                    if let Some(group) = group.as_deref_mut() {
+                        group[k] = match (&first_corner, only_id) {
+                            (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
+                            (None, Some(id)) => id,
+                            _ => 0,
+                        };
+                    }
                     let (v, n, t) = inputs(o);
                     let (frame, degenerate) = Frame::new(n, t);
                     let (d, len) = comb::decode_color(
@@ -424,10 +442,22 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     }
     // Fin edges over the output vertices, where there is fur.
     let t_fins = Instant::now();
-    let out_indices = remap.as_ref().map_or(idx.as_slice(), |(_, i)| i.as_slice());
-    let fins = fins::build(&topo, out_indices, |v| comb[v as usize][3] > 0.0);
-    stats.topology.fin_edges = fins.len();
-    stats.topology.bare_edges = topo.edges.len() - fins.len();
+    let fins = match &topo {
+        Some((t, _)) if opts.topology_mode == TopologyMode::Full => {
+            let out_indices = remap.as_ref().map_or(idx.as_slice(), |(_, i)| i.as_slice());
+            let lengths: Vec<f32> = comb.par_iter().with_min_len(CHUNK).map(|c| c[3]).collect();
+            let fur = if lengths.par_iter().all(|&l| l > 0.0) {
+                fins::Fur::Everywhere
+            } else {
+                fins::Fur::Lengths(&lengths)
+            };
+            let fins = fins::build(t, out_indices, fur);
+            stats.topology.fin_edges = fins.len();
+            stats.topology.bare_edges = t.edges.len() - fins.len();
+            Some(fins)
+        }
+        _ => None,
+    };
     topology_ms += ms(t_fins);
     stats.topology.warnings(&mut warnings);
     BakedPrimitive {
@@ -516,6 +546,18 @@ fn corner_normals_of<'a>(normals: &'a Attr<'_, Vec3>) -> CornerNormals<'a> {
         Attr::Vertex(v) => CornerNormals::Vertex(v),
         Attr::Corner(c) => CornerNormals::Corner(c),
     }
+}
+
+/// Triangles with zero area (when topology, which counts them too, is off).
+fn degenerate_triangles(mesh: &Mesh) -> usize {
+    mesh.indices
+        .par_chunks_exact(3)
+        .with_min_len(CHUNK)
+        .filter(|t| {
+            let p = |k: usize| mesh.positions[t[k] as usize];
+            face_normal(p(0), p(1), p(2)).is_none()
+        })
+        .count()
 }
 
 fn ms(t: Instant) -> f64 {

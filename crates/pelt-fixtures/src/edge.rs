@@ -184,14 +184,14 @@ pub fn sparse_color() -> Document {
             .iter()
             .flatten()
             .flat_map(|x| x.to_le_bytes())
-            .collect(),
+            .collect::<Vec<u8>>(),
         None,
     );
     let idx = doc.push_view(
         [0u16, 5, 7, 0]
             .iter()
             .flat_map(|x| x.to_le_bytes())
-            .collect(),
+            .collect::<Vec<u8>>(),
         None,
     );
     let vals = doc.push_view(
@@ -199,7 +199,7 @@ pub fn sparse_color() -> Document {
             .iter()
             .flatten()
             .flat_map(|x| x.to_le_bytes())
-            .collect(),
+            .collect::<Vec<u8>>(),
         None,
     );
     let acc = doc.push_accessor_json(json!({

@@ -34,19 +34,16 @@ impl NormalStats {
     }
 }
 
-/// Unit normal of a triangle in f64, or `None` when it has no area.
+/// Unit normal of a triangle in f64, or `None` when it has no area. From f32 inputs nothing in
+/// f64 can overflow or underflow (differences stay below 2^129, and the smallest non-zero f32
+/// difference, 2^-149, raised to the fourth power is still far above f64's smallest normal),
+/// so no scaling is needed for any coordinates, subnormal ones included.
 pub fn face_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Option<DVec3> {
     let a = p1.as_dvec3() - p0.as_dvec3();
     let b = p2.as_dvec3() - p0.as_dvec3();
-    let scale = a.abs().max_element().max(b.abs().max_element());
-    if !(scale > 0.0 && scale.is_finite()) {
-        return None;
-    }
-    // Scaling by a power of two is exact, and a reciprocal is cheaper than six divisions.
-    let inv = f64::from_bits(((2046 - (scale.to_bits() >> 52)) & 0x7FF) << 52);
-    let c = (a * inv).cross(b * inv);
+    let c = a.cross(b);
     let len_sq = c.length_squared();
-    (len_sq > 0.0 && len_sq.is_finite()).then(|| c * (1.0 / len_sq.sqrt()))
+    (len_sq > 0.0 && len_sq.is_finite()).then(|| c / len_sq.sqrt())
 }
 
 /// Unit length in f64, or `None` when the vector is too short to have a direction.

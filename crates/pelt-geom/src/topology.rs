@@ -22,24 +22,40 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::normals::face_normal;
+use crate::octahedral;
 use crate::union_find::AtomicUnionFind;
 use crate::weld::weld_positions;
 
 /// "No face": the second face of a boundary edge.
 pub const NO_FACE: u32 = u32::MAX;
 
+/// The [`Topology::face_normal`] of a degenerate face (an octahedral code the encoder never
+/// makes: both halves are -32768).
+pub const DEGENERATE: u32 = 0x8000_8000;
+
 /// One unique welded edge and the faces around it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Edge {
-    /// Welded position ids of the two ends, smaller first.
-    pub ends: [u32; 2],
-    /// The two lowest faces using the edge, ascending; the second is [`NO_FACE`] on a boundary.
-    pub faces: [u32; 2],
-    /// The corner of `faces[0]` where the edge starts in that face's winding (the edge runs
-    /// from it to the next corner of the face).
+    /// The corner where the edge starts in its lowest face's winding (the edge runs from it to
+    /// the next corner of that face, `corner / 3`).
     pub corner: u32,
+    /// The second-lowest face using the edge, or [`NO_FACE`] on a boundary.
+    pub second_face: u32,
     /// Number of faces using the edge: 1 on a boundary, 2 on a manifold edge, more otherwise.
     pub face_count: u32,
+}
+
+impl Edge {
+    /// The lowest face using the edge.
+    pub fn first_face(&self) -> u32 {
+        self.corner / 3
+    }
+
+    /// The corner after `corner` in its face (where the edge ends).
+    pub fn end_corner(&self) -> u32 {
+        let c = self.corner;
+        c - c % 3 + (c + 1) % 3
+    }
 }
 
 /// What topology is built with.
@@ -78,10 +94,9 @@ pub struct Topology {
     /// Per corner around a position: [corner, position of the next corner of its face,
     /// position of the previous one].
     star: Vec<[u32; 3]>,
-    /// Degenerate faces (zero area or collapsed by welding).
-    pub degenerate: Vec<bool>,
-    /// Unit geometric normal per face (counter-clockwise winding); zero when degenerate.
-    pub face_normal: Vec<[f32; 3]>,
+    /// Geometric normal per face (counter-clockwise winding), octahedral-encoded
+    /// ([`crate::octahedral`]); [`DEGENERATE`] for a face with no area or collapsed by welding.
+    pub face_normal: Vec<u32>,
     /// Unique edges of the proper faces, in order of (lowest face, corner).
     pub edges: Vec<Edge>,
     /// Normal group per face, numbered in order of each group's first face.
@@ -91,6 +106,15 @@ pub struct Topology {
 }
 
 impl Topology {
+    /// The welded positions at the ends of `e`, smaller first.
+    pub fn ends(&self, e: &Edge) -> [u32; 2] {
+        let (a, b) = (
+            self.corner_pid[e.corner as usize],
+            self.corner_pid[e.end_corner() as usize],
+        );
+        if a < b { [a, b] } else { [b, a] }
+    }
+
     /// Edges with one face.
     pub fn boundary_edges(&self) -> usize {
         self.edges.iter().filter(|e| e.face_count == 1).count()
@@ -101,9 +125,17 @@ impl Topology {
         self.edges.iter().filter(|e| e.face_count > 2).count()
     }
 
+    /// Whether face `f` is degenerate.
+    pub fn is_degenerate(&self, f: u32) -> bool {
+        self.face_normal[f as usize] == DEGENERATE
+    }
+
     /// Number of degenerate faces.
     pub fn degenerate_faces(&self) -> usize {
-        self.degenerate.iter().filter(|&&d| d).count()
+        self.face_normal
+            .iter()
+            .filter(|&&n| n == DEGENERATE)
+            .count()
     }
 
     /// The faces around welded position `p`, ascending (a face that collapses two corners into
@@ -155,23 +187,19 @@ pub fn build(
         .map(|&v| position_id[v as usize])
         .collect();
     let pid = |c: usize| corner_pid[c];
-    let face_normal: Vec<[f32; 3]> = (0..nf)
+    let face_normal: Vec<u32> = (0..nf)
         .into_par_iter()
         .with_min_len(CHUNK)
         .map(|f| {
             let [a, b, c] = [pid(3 * f), pid(3 * f + 1), pid(3 * f + 2)];
             let p = |k: usize| positions[indices[3 * f + k] as usize];
             if a == b || b == c || a == c {
-                return [0.0; 3];
+                return DEGENERATE;
             }
-            face_normal(p(0), p(1), p(2)).map_or([0.0; 3], |n| n.as_vec3().to_array())
+            face_normal(p(0), p(1), p(2)).map_or(DEGENERATE, |n| octahedral::encode(n.as_vec3()))
         })
         .collect();
-    let degenerate: Vec<bool> = face_normal
-        .par_iter()
-        .with_min_len(CHUNK)
-        .map(|n| *n == [0.0; 3])
-        .collect();
+    let degenerate = |f: u32| face_normal[f as usize] == DEGENERATE;
 
     // Corners around each position (a counting sort by position, so corners ascend in each
     // run), with the positions of their neighbours in their face.
@@ -194,17 +222,6 @@ pub fn build(
     drop(fill);
     let star_at =
         |p: u32| &star[star_start[p as usize] as usize..star_start[p as usize + 1] as usize];
-    // The corner of face f at position p (f has exactly one when it is proper).
-    let corner_at = |f: u32, p: u32| {
-        let c = 3 * f as usize;
-        if pid(c) == p {
-            c
-        } else if pid(c + 1) == p {
-            c + 1
-        } else {
-            c + 2
-        }
-    };
     let cos_tol = f64::from(opts.normal_tolerance.clamp(0.0, std::f32::consts::PI)).cos();
     let corners_agree = |c: usize, d: usize| match normals {
         CornerNormals::Vertex(n) => {
@@ -213,10 +230,12 @@ pub fn build(
         }
         CornerNormals::Corner(n) => agree(n[c], n[d], cos_tol),
     };
-    let same_group = |f: u32, g: u32, ends: [u32; 2]| {
-        corners_agree(corner_at(f, ends[0]), corner_at(g, ends[0]))
-            && corners_agree(corner_at(f, ends[1]), corner_at(g, ends[1]))
-    };
+    // Two faces given by their corners at the edge's two ends.
+    let same_group =
+        |x: [usize; 2], y: [usize; 2]| corners_agree(x[0], y[0]) && corners_agree(x[1], y[1]);
+    // The corner after / before corner d in its face.
+    let next_of = |d: u32| (d - d % 3 + (d + 1) % 3) as usize;
+    let prev_of = |d: u32| (d - d % 3 + (d + 2) % 3) as usize;
 
     // Edges, each emitted by its lowest face; faces joined across them as they are found.
     let sets = AtomicUnionFind::new(nf);
@@ -224,42 +243,43 @@ pub fn build(
         .into_par_iter()
         .map(|task| {
             let mut edges = Vec::with_capacity(CHUNK * 3 / 2 + 16);
-            let mut around: Vec<u32> = Vec::new();
+            // Faces on the edge, with their corners at its two ends.
+            let mut around: Vec<(u32, [usize; 2])> = Vec::new();
             for f in (task * CHUNK..((task + 1) * CHUNK).min(nf)).map(|f| f as u32) {
-                if degenerate[f as usize] {
+                if degenerate(f) {
                     continue;
                 }
                 for k in 0..3 {
-                    let a = pid(3 * f as usize + k);
-                    let b = pid(3 * f as usize + (k + 1) % 3);
+                    let c = 3 * f + k;
+                    let (a, b) = (pid(c as usize), pid(next_of(c)));
                     around.clear();
-                    around.push(f);
+                    around.push((f, [c as usize, next_of(c)]));
                     let mut owner = true;
                     for &[d, next, prev] in star_at(a) {
                         let g = d / 3;
-                        if g != f && (next == b || prev == b) && !degenerate[g as usize] {
-                            if g < f {
-                                owner = false;
-                                break;
-                            }
-                            around.push(g);
+                        if g == f || (next != b && prev != b) || degenerate(g) {
+                            continue;
                         }
+                        if g < f {
+                            owner = false;
+                            break;
+                        }
+                        let at_b = if next == b { next_of(d) } else { prev_of(d) };
+                        around.push((g, [d as usize, at_b]));
                     }
                     if !owner {
                         continue;
                     }
-                    let ends = if a < b { [a, b] } else { [b, a] };
-                    for (i, &x) in around.iter().enumerate() {
-                        for &y in &around[i + 1..] {
-                            if same_group(x, y, ends) {
+                    for (i, &(x, cx)) in around.iter().enumerate() {
+                        for &(y, cy) in &around[i + 1..] {
+                            if same_group(cx, cy) {
                                 sets.join(x, y);
                             }
                         }
                     }
                     edges.push(Edge {
-                        ends,
-                        faces: [f, around.get(1).copied().unwrap_or(NO_FACE)],
-                        corner: (3 * f as usize + k) as u32,
+                        corner: c,
+                        second_face: around.get(1).map_or(NO_FACE, |&(g, _)| g),
                         face_count: around.len() as u32,
                     });
                 }
@@ -269,17 +289,19 @@ pub fn build(
         .collect();
     let edges = parts.concat();
     // Degenerate faces join proper neighbours across their edges by the same rule.
-    for f in (0..nf as u32).filter(|&f| degenerate[f as usize]) {
-        for k in 0..3 {
-            let a = pid(3 * f as usize + k);
-            let b = pid(3 * f as usize + (k + 1) % 3);
+    for f in (0..nf as u32).filter(|&f| degenerate(f)) {
+        for c in 3 * f..3 * f + 3 {
+            let (a, b) = (pid(c as usize), pid(next_of(c)));
             if a == b {
                 continue;
             }
-            let ends = [a, b];
             for &[d, next, prev] in star_at(a) {
                 let g = d / 3;
-                if (next == b || prev == b) && !degenerate[g as usize] && same_group(f, g, ends) {
+                if (next != b && prev != b) || degenerate(g) {
+                    continue;
+                }
+                let at_b = if next == b { next_of(d) } else { prev_of(d) };
+                if same_group([c as usize, next_of(c)], [d as usize, at_b]) {
                     sets.join(f, g);
                 }
             }
@@ -292,7 +314,6 @@ pub fn build(
         corner_pid,
         star_start,
         star,
-        degenerate,
         face_normal,
         edges,
         face_group,
@@ -407,7 +428,7 @@ mod tests {
         );
         assert_eq!(t.nonmanifold_edges(), 1);
         let e = t.edges.iter().find(|e| e.face_count == 3).unwrap();
-        assert_eq!((e.ends, e.faces), ([0, 1], [0, 1]));
+        assert_eq!((t.ends(e), e.first_face(), e.second_face), ([0, 1], 0, 1));
         assert_eq!(t.face_group, vec![0, 0, 1]);
         assert_eq!(t.boundary_edges(), 6);
     }
@@ -434,7 +455,8 @@ mod tests {
             CornerNormals::Vertex(&n),
             &TopologyOptions::default(),
         );
-        assert_eq!(t.degenerate, vec![false, false, true, true]);
+        let degenerate: Vec<bool> = (0..4).map(|f| t.is_degenerate(f)).collect();
+        assert_eq!(degenerate, vec![false, false, true, true]);
         // Only the quad's 5 edges: the sliver's edges and the collapsed face add nothing.
         assert_eq!(t.edges.len(), 5);
         assert_eq!(t.boundary_edges(), 4);

@@ -32,12 +32,12 @@ fn weld_by<const N: usize>(
     key: impl Fn(usize) -> [u32; N] + Sync,
     hash: impl Fn(&[u32; N]) -> u64 + Sync,
 ) -> (Vec<u32>, usize) {
-    let mut order: Vec<(u64, u32)> = (0..n)
+    let order: Vec<(u64, u32)> = (0..n)
         .into_par_iter()
         .with_min_len(4096)
         .map(|i| (hash(&key(i)), i as u32))
         .collect();
-    order.par_sort_unstable();
+    let order = sort_hashed(order);
 
     // First vertex with the same key, for every vertex.
     let mut rep = vec![0u32; n];
@@ -127,6 +127,45 @@ pub fn weld_positions(positions: &[Vec3], epsilon: f32) -> (Vec<u32>, usize) {
     sets.labels()
 }
 
+/// Sorts (hash, index) pairs. Large inputs go through one counting-sort pass on the top 16 bits
+/// of the hash (hashes are uniform, so buckets are small), then each bucket is sorted in
+/// parallel; the result is the same total order as a comparison sort.
+fn sort_hashed(mut order: Vec<(u64, u32)>) -> Vec<(u64, u32)> {
+    const BITS: u32 = 16;
+    if order.len() < 1 << BITS {
+        order.par_sort_unstable();
+        return order;
+    }
+    let bucket = |h: u64| (h >> (64 - BITS)) as usize;
+    let mut start = vec![0usize; (1 << BITS) + 1];
+    for &(h, _) in &order {
+        start[bucket(h) + 1] += 1;
+    }
+    for b in 0..1 << BITS {
+        start[b + 1] += start[b];
+    }
+    let mut fill = start.clone();
+    let mut sorted = vec![(0u64, 0u32); order.len()];
+    for &e in &order {
+        let slot = &mut fill[bucket(e.0)];
+        sorted[*slot] = e;
+        *slot += 1;
+    }
+    drop(order);
+    let mut parts = Vec::with_capacity(1 << BITS);
+    let mut rest = sorted.as_mut_slice();
+    for b in 0..1 << BITS {
+        let (part, tail) = rest.split_at_mut(start[b + 1] - start[b]);
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .with_min_len(256)
+        .for_each(|p| p.sort_unstable());
+    sorted
+}
+
 /// A 64-bit hash of a key (multiply-xorshift per word, murmur3's finalizer at the end).
 #[inline]
 fn hash_key<const N: usize>(k: &[u32; N]) -> u64 {
@@ -188,6 +227,16 @@ mod tests {
         ];
         assert_eq!(weld_positions(&p, 0.0), (vec![0, 1, 2, 0, 3, 4, 5, 6], 7));
         assert_eq!(weld_positions(&p, 0.01), (vec![0, 1, 1, 0, 2, 2, 2, 3], 4));
+    }
+
+    #[test]
+    fn bucketed_sort_equals_a_comparison_sort() {
+        let v: Vec<(u64, u32)> = (0..200_000u64)
+            .map(|i| (hash_key(&[(i % 70_000) as u32]), i as u32))
+            .collect();
+        let mut expected = v.clone();
+        expected.sort_unstable();
+        assert_eq!(sort_hashed(v), expected);
     }
 
     #[test]

@@ -220,7 +220,7 @@ pub(crate) fn view_bytes<'d>(
             .get("byteStride")
             .and_then(Value::as_u64)
             .map(|s| s as usize);
-        return Ok((&doc.new_views[index - doc.source_views], stride));
+        return Ok((doc.new_views[index - doc.source_views].bytes(), stride));
     }
     let v = views.get(index).ok_or_else(|| {
         doc.invalid(

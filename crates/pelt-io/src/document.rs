@@ -80,6 +80,32 @@ impl std::ops::DerefMut for Buffer {
     }
 }
 
+/// The bytes of a bufferView an edit added: plain bytes, or 32-bit words already in
+/// little-endian order (records built as words are stored without a byte copy).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ViewData {
+    /// Bytes.
+    Bytes(Vec<u8>),
+    /// Little-endian 32-bit words.
+    Words(Vec<u32>),
+}
+
+impl ViewData {
+    /// The bytes.
+    pub fn bytes(&self) -> &[u8] {
+        match self {
+            ViewData::Bytes(b) => b,
+            ViewData::Words(w) => bytemuck::cast_slice(w),
+        }
+    }
+}
+
+impl From<Vec<u8>> for ViewData {
+    fn from(b: Vec<u8>) -> Self {
+        ViewData::Bytes(b)
+    }
+}
+
 /// A loaded glTF asset.
 #[derive(Debug, Clone)]
 pub struct Document {
@@ -94,7 +120,7 @@ pub struct Document {
     /// Every file read to build this document (the asset, external buffers, images).
     pub files_read: Vec<PathBuf>,
     /// Data of bufferViews added by edits, in order after the original ones.
-    pub(crate) new_views: Vec<Vec<u8>>,
+    pub(crate) new_views: Vec<ViewData>,
     /// Number of bufferViews in the source.
     pub(crate) source_views: usize,
     /// Accessors an edit stopped using (candidates for [`Document::prune_detached`]).

@@ -8,7 +8,7 @@
 use serde_json::{Map, Value, json};
 
 use crate::accessor::{self, ComponentType, Elements};
-use crate::document::{Document, PrimitiveRef};
+use crate::document::{Document, PrimitiveRef, ViewData};
 use crate::error::Result;
 
 /// bufferView target for vertex attributes.
@@ -203,7 +203,7 @@ impl Document {
         view.insert("target".into(), json!(a.target));
         let view_index = self.source_views + self.new_views.len();
         push_to(&mut self.json, "bufferViews", Value::Object(view));
-        self.new_views.push(data);
+        self.new_views.push(data.into());
 
         let mut acc = Map::new();
         acc.insert("bufferView".into(), json!(view_index));
@@ -221,10 +221,11 @@ impl Document {
     }
 
     /// Appends a raw bufferView (4-byte aligned at write time); returns its index.
-    pub fn push_view(&mut self, bytes: Vec<u8>, target: Option<u32>) -> usize {
+    pub fn push_view(&mut self, data: impl Into<ViewData>, target: Option<u32>) -> usize {
+        let bytes = data.into();
         let mut view = Map::new();
         view.insert("buffer".into(), json!(0));
-        view.insert("byteLength".into(), json!(bytes.len()));
+        view.insert("byteLength".into(), json!(bytes.bytes().len()));
         if let Some(t) = target {
             view.insert("target".into(), json!(t));
         }

@@ -25,5 +25,5 @@ pub mod obj;
 pub mod prune;
 pub mod topology;
 
-pub use document::{Buffer, Document, PrimitiveRef};
+pub use document::{Buffer, Document, PrimitiveRef, ViewData};
 pub use error::IoError;

@@ -6,84 +6,37 @@
 //! - `_NORMAL_GROUP`: SCALAR unsigned short, not normalized, one 8-bit ID per vertex (0 = none).
 //! - `extras.pelt.fins`: `{ "bufferView", "count", "byteStride": 28, ... }`, records of
 //!   [`FIN_RECORD_SIZE`] little-endian bytes: `v0 u32, v1 u32, f0 u32, f1 u32, n0 u32, n1 u32,
-//!   faceCount u32`, where n0 and n1 are the face normals in octahedral encoding (two snorm16,
-//!   x in the low half; WGSL's `unpack2x16snorm`). A boundary edge has `f1 = 0xFFFFFFFF` and
-//!   `n1 = 0`. A bufferView holds bytes only, so it needs no accessor (glTF forbids 32-bit
+//!   faceCount u32` ([`FinEdge`]), where n0 and n1 are the face normals in octahedral encoding
+//!   ([`pelt_geom::octahedral`]: two snorm16, x in the low half; WGSL's `unpack2x16snorm`). A
+//!   boundary edge has `f1 = 0xFFFFFFFF` and `n1 = 0`. A bufferView holds bytes only, so it needs no accessor (glTF forbids 32-bit
 //!   unsigned accessors outside indices) and validators accept it.
 
-use glam::{Vec2, Vec3};
 use pelt_geom::fins::FinEdge;
-use pelt_geom::topology::NO_FACE;
 use serde_json::{Map, Value, json};
 
 use crate::accessor::view_bytes;
-use crate::document::{Document, PrimitiveRef};
+use crate::document::{Document, PrimitiveRef, ViewData};
 use crate::error::Result;
 
 /// The attribute holding normal-group IDs.
 pub const NORMAL_GROUP_ATTRIBUTE: &str = "_NORMAL_GROUP";
 
 /// Bytes per fin record.
-pub const FIN_RECORD_SIZE: usize = 28;
+pub const FIN_RECORD_SIZE: usize = size_of::<FinEdge>();
 
 /// Version of the `extras.pelt` layout.
 pub const FORMAT_VERSION: u64 = 1;
 
-/// A unit vector in octahedral encoding, two snorm16 packed into a u32 (x low).
-pub fn oct_encode(n: [f32; 3]) -> u32 {
-    let n = Vec3::from_array(n);
-    let l1 = n.x.abs() + n.y.abs() + n.z.abs();
-    if l1.is_nan() || l1 <= 0.0 {
-        return 0;
+/// The fin records as a bufferView's data: the edges' own memory, as little-endian words.
+pub fn fins_view(edges: Vec<FinEdge>) -> ViewData {
+    let mut words: Vec<u32> = bytemuck::allocation::cast_vec(edges);
+    if cfg!(target_endian = "big") {
+        words.iter_mut().for_each(|w| *w = w.to_le());
     }
-    let mut p = Vec2::new(n.x, n.y) / l1;
-    if n.z < 0.0 {
-        let sign = Vec2::new(
-            if p.x >= 0.0 { 1.0 } else { -1.0 },
-            if p.y >= 0.0 { 1.0 } else { -1.0 },
-        );
-        p = (Vec2::ONE - Vec2::new(p.y.abs(), p.x.abs())) * sign;
-    }
-    let q = |v: f32| ((v.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16;
-    u32::from(q(p.x)) | (u32::from(q(p.y)) << 16)
+    ViewData::Words(words)
 }
 
-/// Decodes [`oct_encode`] (as `unpack2x16snorm` plus the octahedral fold, then normalized).
-pub fn oct_decode(bits: u32) -> [f32; 3] {
-    let s = |h: u32| (f32::from(h as u16 as i16) / 32767.0).max(-1.0);
-    let (x, y) = (s(bits & 0xFFFF), s(bits >> 16));
-    let mut n = Vec3::new(x, y, 1.0 - x.abs() - y.abs());
-    let t = (-n.z).max(0.0);
-    n.x += if n.x >= 0.0 { -t } else { t };
-    n.y += if n.y >= 0.0 { -t } else { t };
-    n.normalize_or_zero().to_array()
-}
-
-/// The fin records of `edges`, ready for a bufferView.
-pub fn encode_fins(edges: &[FinEdge]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(edges.len() * FIN_RECORD_SIZE);
-    for e in edges {
-        let n1 = if e.faces[1] == NO_FACE {
-            0
-        } else {
-            oct_encode(e.normals[1])
-        };
-        for w in [
-            e.vertices[0],
-            e.vertices[1],
-            e.faces[0],
-            e.faces[1],
-            oct_encode(e.normals[0]),
-            n1,
-            e.face_count,
-        ] {
-            out.extend_from_slice(&w.to_le_bytes());
-        }
-    }
-    out
-}
-
-/// Decodes fin records (normals decoded from octahedral).
+/// Decodes little-endian fin records.
 pub fn decode_fins(bytes: &[u8]) -> Vec<FinEdge> {
     bytes
         .chunks_exact(FIN_RECORD_SIZE)
@@ -93,14 +46,7 @@ pub fn decode_fins(bytes: &[u8]) -> Vec<FinEdge> {
             FinEdge {
                 vertices: [w(0), w(1)],
                 faces: [w(2), w(3)],
-                normals: [
-                    oct_decode(w(4)),
-                    if w(3) == NO_FACE {
-                        [0.0; 3]
-                    } else {
-                        oct_decode(w(5))
-                    },
-                ],
+                normals: [w(4), w(5)],
                 face_count: w(6),
             }
         })
@@ -125,7 +71,7 @@ impl Document {
         &mut self,
         r: PrimitiveRef,
         mut pelt: Map<String, Value>,
-        fins: Option<Vec<u8>>,
+        fins: Option<ViewData>,
     ) -> Result<bool> {
         let extras_ok = self
             .primitive(r)?
@@ -142,8 +88,8 @@ impl Document {
         {
             self.detached_views.push(old as usize);
         }
-        if let Some(bytes) = fins.filter(|b| !b.is_empty()) {
-            let view = self.push_view(bytes, None);
+        if let Some(data) = fins.filter(|d| !d.bytes().is_empty()) {
+            let view = self.push_view(data, None);
             if let Some(f) = pelt.get_mut("fins").and_then(Value::as_object_mut) {
                 f.insert("bufferView".into(), json!(view));
                 f.insert("byteStride".into(), json!(FIN_RECORD_SIZE));
