@@ -1,10 +1,14 @@
 //! `pelt inspect`: what a file holds, per primitive: attributes with their encodings and
-//! counts, position bounds, and statistics of `_FUR_COMB` (or of COLOR_0 before a bake).
+//! counts, position bounds, statistics of `_FUR_COMB` (or of COLOR_0 before a bake), and the
+//! topology a bake stored (normal groups, IDs used, fin edges, boundary and non-manifold
+//! edges, split vertices), with totals over the file.
 
+use std::collections::BTreeSet;
 use std::process::ExitCode;
 
 use pelt_io::accessor;
 use pelt_io::mesh::encoding;
+use pelt_io::topology::NORMAL_GROUP_ATTRIBUTE;
 use serde_json::{Value, json};
 
 use crate::InspectArgs;
@@ -35,6 +39,17 @@ pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
 
 fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
     let mut prims = Vec::new();
+    let mut ids = BTreeSet::new();
+    let mut totals: Vec<(&str, Option<u64>)> = [
+        "normal_groups",
+        "split_vertices",
+        "fin_edges",
+        "boundary_edges",
+        "nonmanifold_edges",
+    ]
+    .into_iter()
+    .map(|k| (k, None))
+    .collect();
     let (mut vertices, mut triangles) = (0usize, 0usize);
     for r in doc.primitives() {
         let place = doc.place(r);
@@ -106,13 +121,79 @@ fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
                 .collect();
             entry["color_0_length"] = range_stats(&lens);
         }
+        if let Some(t) = topology(doc, r, &place)? {
+            ids.extend(t.ids.iter().copied());
+            for (k, v) in &mut totals {
+                *v = v
+                    .or(Some(0))
+                    .map(|sum| sum + t.fields[*k].as_u64().unwrap_or(0));
+            }
+            entry["topology"] = t.fields;
+        }
         prims.push(entry);
     }
-    Ok(json!({
+    let mut info = json!({
         "file": doc.path, "meshes": doc.array("meshes").len(), "primitives": prims.len(),
         "vertices": vertices, "triangles": triangles, "nodes": doc.array("nodes").len(),
         "materials": doc.array("materials").len(), "images": doc.array("images").len(),
-        "primitive": prims,
+    });
+    // Topology totals: null when no primitive has any (not baked, or --topology off).
+    for (k, v) in totals {
+        info[k] = json!(v);
+    }
+    info["ids_used"] = if ids.is_empty() && info["normal_groups"].is_null() {
+        json!(null)
+    } else {
+        json!(ids.len())
+    };
+    info["primitive"] = Value::Array(prims);
+    Ok(info)
+}
+
+/// A primitive's topology as stored by a bake.
+struct Topology {
+    /// normal_groups, split_vertices, edges, boundary_edges, nonmanifold_edges, fin_edges,
+    /// ids_used (this primitive's).
+    fields: Value,
+    /// Distinct IDs in `_NORMAL_GROUP`.
+    ids: BTreeSet<u16>,
+}
+
+/// Reads `extras.pelt`, the fin records (checked against their bufferView) and the IDs
+/// actually stored in `_NORMAL_GROUP`. None when the primitive has no `extras.pelt`.
+fn topology(
+    doc: &pelt_io::Document,
+    r: pelt_io::PrimitiveRef,
+    place: &str,
+) -> Result<Option<Topology>, pelt_io::IoError> {
+    let Some(pelt) = doc.pelt_extras(r)? else {
+        return Ok(None);
+    };
+    let num = |v: &Value| v.as_u64().unwrap_or(0);
+    let groups = &pelt["normalGroups"];
+    let edges = &pelt["edges"];
+    let mut ids = BTreeSet::new();
+    if let Some(i) = doc.attribute(r, NORMAL_GROUP_ATTRIBUTE)? {
+        let e = accessor::read(
+            doc,
+            i,
+            &format!("{place} attribute {NORMAL_GROUP_ATTRIBUTE}"),
+        )?;
+        ids.extend((0..e.count).map(|k| accessor::raw(e.component, &e.bytes, k) as u16));
+        ids.remove(&0);
+    }
+    let fins = doc.read_fins(r)?.map(|f| f.len());
+    Ok(Some(Topology {
+        fields: json!({
+            "normal_groups": num(&groups["groups"]),
+            "ids_used": ids.len(),
+            "split_vertices": num(&groups["splitVertices"]),
+            "edges": num(&edges["unique"]),
+            "boundary_edges": num(&edges["boundary"]),
+            "nonmanifold_edges": num(&edges["nonmanifold"]),
+            "fin_edges": fins,
+        }),
+        ids,
     }))
 }
 
@@ -154,6 +235,17 @@ fn print_text(v: &Value) {
         v["materials"],
         v["images"]
     );
+    if !v["normal_groups"].is_null() {
+        println!(
+            "topology: {} normal groups, {} IDs used, {} split vertices, {} fin edges, {} boundary and {} non-manifold edges",
+            v["normal_groups"],
+            v["ids_used"],
+            v["split_vertices"],
+            v["fin_edges"],
+            v["boundary_edges"],
+            v["nonmanifold_edges"]
+        );
+    }
     for p in v["primitive"].as_array().into_iter().flatten() {
         let name = p["name"]
             .as_str()
@@ -165,18 +257,18 @@ fn print_text(v: &Value) {
         );
         for (k, a) in p["attributes"].as_object().into_iter().flatten() {
             println!(
-                "  {k:<12} {} ({} elements, accessor {})",
+                "  {k:<13} {} ({} elements, accessor {})",
                 a["encoding"].as_str().unwrap_or("?"),
                 a["count"],
                 a["accessor"]
             );
         }
         if let Some(b) = p.get("bounds") {
-            println!("  bounds       min {} max {}", b["min"], b["max"]);
+            println!("  bounds        min {} max {}", b["min"], b["max"]);
         }
         if let Some(c) = p.get("comb") {
             println!(
-                "  comb         {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
+                "  comb          {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
                 c["count"],
                 c["zero_length"],
                 c["length"]["min"],
@@ -188,7 +280,7 @@ fn print_text(v: &Value) {
         }
         if let Some(c) = p.get("color_0_length") {
             println!(
-                "  COLOR_0 A    {}..{} (mean {:.3}); not baked yet",
+                "  COLOR_0 A     {}..{} (mean {:.3}); not baked yet",
                 c["min"],
                 c["max"],
                 c["mean"].as_f64().unwrap_or(0.0)

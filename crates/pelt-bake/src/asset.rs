@@ -258,15 +258,18 @@ fn write_extras(
             "weldEpsilon": opts.topology.weld_epsilon,
         }),
     );
+    pelt.insert(
+        "edges".into(),
+        json!({
+            "unique": t.edges,
+            "boundary": t.boundary_edges,
+            "nonmanifold": t.nonmanifold_edges,
+        }),
+    );
     if fins.is_some() {
         pelt.insert(
             "fins".into(),
-            json!({
-                "count": t.fin_edges,
-                "edges": t.edges,
-                "boundaryEdges": t.boundary_edges,
-                "nonmanifoldEdges": t.nonmanifold_edges,
-            }),
+            json!({ "count": t.fin_edges, "bareEdgesLeftOut": t.bare_edges }),
         );
     }
     if !doc.set_pelt_extras(r, pelt, fins)? {

@@ -243,9 +243,44 @@ pub fn modes() -> Document {
     doc
 }
 
+/// A flat-shaded cube: 4 vertices per side with the side's normal, comb +X: six normal groups,
+/// 18 unique edges.
+fn flat_cube() -> Document {
+    let mut s = Shape {
+        name: "flat-cube".to_owned(),
+        ..Shape::default()
+    };
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let mut n = Vec3::ZERO;
+            n[axis] = sign;
+            let u = Vec3::from_array(std::array::from_fn(|k| f32::from(k == (axis + 1) % 3)));
+            let v = n.cross(u);
+            let base = s.positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                s.positions.push(n + u * a + v * b);
+                s.normals.push(n);
+                s.uvs.push(Vec2::new(0.5 + 0.5 * a, 0.5 + 0.5 * b));
+                s.colors.push(paint(Vec3::X, 1.0));
+            }
+            s.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+    }
+    doc_with("flat-cube", &[(&s, BuildOptions::default())])
+}
+
+/// The two-ring hard-edged torus ([`crate::shapes::hard_torus`]).
+fn hard_torus() -> Document {
+    let s = crate::shapes::hard_torus(12, 24);
+    doc_with("hard-torus", &[(&s, BuildOptions::default())])
+}
+
 /// Every edge case, by file stem.
 pub fn all() -> Vec<(&'static str, Document)> {
     vec![
+        ("flat-cube", flat_cube()),
+        ("hard-torus", hard_torus()),
         ("mirrored-uv", mirrored_uv()),
         ("degenerate", degenerate()),
         ("comb-parallel", comb_parallel()),

@@ -95,6 +95,59 @@ pub fn torus(rings: u32, segs: u32) -> Shape {
     parametric("torus", rings, segs, true, f, spherical)
 }
 
+/// A torus whose tube has two rings of hard edges (its outer and inner equators): the upper
+/// and lower halves are separate vertex grids with normals tilted up and down, so the two
+/// rings have the same positions but different normals on each side. Two normal groups.
+pub fn hard_torus(rings: u32, segs: u32) -> Shape {
+    let tau = std::f32::consts::TAU;
+    let f = |u: f32, v: f32| {
+        let (a, b) = (u * tau, v * tau);
+        let r = 1.0 + 0.35 * b.cos();
+        Vec3::new(r * a.cos(), 0.35 * b.sin(), -r * a.sin())
+    };
+    let mut s = Shape {
+        name: "hard-torus".to_owned(),
+        ..Shape::default()
+    };
+    let half = rings / 2;
+    for (lo, tilt) in [(0, 0.6f32), (half, -0.6)] {
+        let base = s.positions.len() as u32;
+        for r in lo..=lo + half {
+            for k in 0..=segs {
+                // Shared rings and the U seam use the same (u, v), so positions match exactly.
+                let u = if k == segs {
+                    0.0
+                } else {
+                    k as f32 / segs as f32
+                };
+                let v = if r == rings {
+                    0.0
+                } else {
+                    r as f32 / rings as f32
+                };
+                let p = f(u, v);
+                let (a, b) = (u * tau, v * tau);
+                let smooth = Vec3::new(b.cos() * a.cos(), b.sin(), -b.cos() * a.sin());
+                let n = (smooth + Vec3::Y * tilt).normalize();
+                let (d, len) = comb_field(p, n);
+                s.positions.push(p);
+                s.normals.push(n);
+                s.uvs
+                    .push(Vec2::new(k as f32 / segs as f32, r as f32 / rings as f32));
+                s.colors.push(paint(d, len));
+            }
+        }
+        for r in 0..half {
+            for k in 0..segs {
+                let a = base + r * (segs + 1) + k;
+                let b = a + segs + 1;
+                s.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
+            }
+        }
+    }
+    s
+}
+
 /// A blobby four-legged creature: an ellipsoid body with a head, four legs and a tail made of
 /// smooth radial bumps.
 pub fn creature(rings: u32, segs: u32) -> Shape {
