@@ -28,3 +28,7 @@ bench runs="5":
 lint:
     cargo fmt --all -- --check
     cargo clippy --workspace --all-targets
+
+# Topology benchmark (normal groups, IDs, fin edges) at 10 k, 100 k and 1.3 M triangles.
+bench-topology:
+    cargo bench --bench topology

@@ -31,7 +31,9 @@ measure() { # label, command...
 echo "| command (1.3 M triangles, $(du -m "$in" | cut -f1) MB .glb, median of $runs) | wall | peak RSS |"
 echo "|---|---|---|"
 measure "cp" cp "$in" "$out/cp.glb"
-measure "pelt bake (TANGENT present: kept)" ./target/release/pelt bake -q "$in" -o "$out/pelt.glb"
+measure "pelt bake (TANGENT kept; groups and fins)" ./target/release/pelt bake -q "$in" -o "$out/pelt.glb"
+measure "pelt bake --topology groups (TANGENT kept)" ./target/release/pelt bake -q "$in" -o "$out/pelt-groups.glb" --topology groups
+measure "pelt bake --topology off (TANGENT kept)" ./target/release/pelt bake -q "$in" -o "$out/pelt-off.glb" --topology off
 measure "gltfpack -kv" "$bin/gltfpack" -kv -i "$in" -o "$out/gltfpack.glb"
 measure "gltf-transform copy" "$bin/gltf-transform" copy "$in" "$out/gt-copy.glb"
 measure "pelt bake (no TANGENT: MikkTSpace generated)" ./target/release/pelt bake -q "$out/creature-1m3-notan.glb" -o "$out/pelt-gen.glb"
