@@ -25,6 +25,9 @@ struct OptionsReport {
     comb_color_space: &'static str,
     comb_axes: String,
     quantize: &'static str,
+    topology: &'static str,
+    weld_epsilon: f32,
+    normal_tolerance_deg: f32,
 }
 
 #[derive(Serialize)]
@@ -181,6 +184,13 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
                     Quantize::U16 => "u16",
                     Quantize::U8 => "u8",
                 },
+                topology: match opts.topology_mode {
+                    TopologyMode::Full => "full",
+                    TopologyMode::Groups => "groups",
+                    TopologyMode::Off => "off",
+                },
+                weld_epsilon: args.weld_epsilon,
+                normal_tolerance_deg: args.normal_tolerance,
             },
             inputs,
         };
