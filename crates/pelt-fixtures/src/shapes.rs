@@ -63,14 +63,20 @@ fn parametric(
             s.colors.push(paint(d, len));
         }
     }
+    grid_indices(&mut s.indices, 0, rings, segs);
+    s
+}
+
+/// Two triangles per cell of a `rings` × `segs` grid of (segs + 1)-wide rows starting at
+/// vertex `base`.
+fn grid_indices(out: &mut Vec<u32>, base: u32, rings: u32, segs: u32) {
     for r in 0..rings {
         for k in 0..segs {
-            let a = r * (segs + 1) + k;
+            let a = base + r * (segs + 1) + k;
             let b = a + segs + 1;
-            s.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
+            out.extend([a, b, a + 1, a + 1, b, b + 1]);
         }
     }
-    s
 }
 
 fn spherical(u: f32, v: f32) -> Vec3 {
@@ -137,13 +143,7 @@ pub fn hard_torus(rings: u32, segs: u32) -> Shape {
                 s.colors.push(paint(d, len));
             }
         }
-        for r in 0..half {
-            for k in 0..segs {
-                let a = base + r * (segs + 1) + k;
-                let b = a + segs + 1;
-                s.indices.extend([a, b, a + 1, a + 1, b, b + 1]);
-            }
-        }
+        grid_indices(&mut s.indices, base, half, segs);
     }
     s
 }

@@ -38,20 +38,26 @@ impl UnionFind {
     /// the number of sets.
     pub fn labels(mut self) -> (Vec<u32>, usize) {
         let n = self.0.len();
-        let mut label = vec![u32::MAX; n];
-        let mut count = 0u32;
-        for x in 0..n {
-            let r = self.find(x as u32) as usize;
-            // The root is the smallest member, so it is labelled before any other member.
-            label[x] = if r == x {
-                count += 1;
-                count - 1
-            } else {
-                label[r]
-            };
-        }
-        (label, count as usize)
+        // The root is the smallest member, so it is labelled before any other member.
+        let roots: Vec<u32> = (0..n as u32).map(|x| self.find(x)).collect();
+        first_seen_labels(&roots)
     }
+}
+
+/// Dense labels for elements given their representatives (`rep[i] <= i`, and a
+/// representative is its own): numbered in order of the representatives; and the count.
+pub(crate) fn first_seen_labels(rep: &[u32]) -> (Vec<u32>, usize) {
+    let mut label = vec![0u32; rep.len()];
+    let mut count = 0u32;
+    for (i, &r) in rep.iter().enumerate() {
+        label[i] = if r as usize == i {
+            count += 1;
+            count - 1
+        } else {
+            label[r as usize]
+        };
+    }
+    (label, count as usize)
 }
 
 /// [`UnionFind`] that many threads can join into at once (lock-free). Parents only ever point

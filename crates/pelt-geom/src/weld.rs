@@ -8,7 +8,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::union_find::UnionFind;
+use crate::union_find::{UnionFind, first_seen_labels};
 
 /// The f32 bit pattern used as a weld key: `-0.0` becomes `+0.0`.
 #[inline]
@@ -62,18 +62,7 @@ fn weld_by<const N: usize>(
     }
     drop(order);
 
-    let mut ids = vec![0u32; n];
-    let mut count = 0u32;
-    for i in 0..n {
-        let r = rep[i] as usize;
-        ids[i] = if r == i {
-            count += 1;
-            count - 1
-        } else {
-            ids[r]
-        };
-    }
-    (ids, count as usize)
+    first_seen_labels(&rep)
 }
 
 /// Welds positions: bit-equal ones when `epsilon` is 0 (or not positive), otherwise every pair
