@@ -5,9 +5,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
+use pelt_bake::config::BakeConfig;
+use pelt_bake::fur::{FurAssets, FurReport, embed};
 use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
 use pelt_io::Document;
+use pelt_io::PrimitiveRef;
 use serde::Serialize;
 
 use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
@@ -16,7 +19,20 @@ use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
 struct Report {
     pelt: &'static str,
     options: OptionsReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fur: Option<FurRun>,
     inputs: Vec<InputReport>,
+}
+
+/// The fur textures of a run (generated once, embedded in every output).
+#[derive(Serialize)]
+struct FurRun {
+    config: PathBuf,
+    generate_ms: f64,
+    images: usize,
+    texture_bytes: usize,
+    strands: pelt_fur::StrandParams,
+    coverage: pelt_fur::manifest::Coverage,
 }
 
 #[derive(Serialize)]
@@ -39,6 +55,8 @@ struct InputReport {
     error: Option<String>,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     bake: Option<AssetReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fur: Option<FurReport>,
     #[serde(skip_serializing_if = "Option::is_none")]
     read_ms: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -133,6 +151,16 @@ fn outputs(args: &BakeArgs) -> anyhow::Result<Vec<PathBuf>> {
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let opts = options(args);
     let outs = outputs(args)?;
+    let fur = match &args.config {
+        Some(path) => match BakeConfig::load(path)?.fur {
+            Some(config) => Some(
+                FurAssets::new(config)
+                    .with_context(|| format!("fur textures of {}", path.display()))?,
+            ),
+            None => None,
+        },
+        None => None,
+    };
     if args.inputs.len() > 1 || args.output.is_dir() {
         std::fs::create_dir_all(&args.output)
             .with_context(|| format!("cannot create {}", args.output.display()))?;
@@ -140,7 +168,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let mut failed = 0;
     let mut inputs = Vec::new();
     for (input, output) in args.inputs.iter().zip(&outs) {
-        let r = bake_one(input, output, &opts);
+        let r = bake_one(input, output, &opts, fur.as_ref());
         match &r.error {
             Some(e) => {
                 failed += 1;
@@ -192,6 +220,17 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
                 weld_epsilon: args.weld_epsilon,
                 normal_tolerance_deg: args.normal_tolerance,
             },
+            fur: fur
+                .as_ref()
+                .zip(args.config.as_ref())
+                .map(|(f, path)| FurRun {
+                    config: path.clone(),
+                    generate_ms: f.generate_ms,
+                    images: f.pngs.len(),
+                    texture_bytes: f.pngs.iter().map(Vec::len).sum(),
+                    strands: f.set.params.clone(),
+                    coverage: f.set.coverage.clone(),
+                }),
             inputs,
         };
         let mut text = serde_json::to_string_pretty(&report)?;
@@ -211,13 +250,19 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn bake_one(input: &Path, output: &Path, opts: &BakeOptions) -> InputReport {
+fn bake_one(
+    input: &Path,
+    output: &Path,
+    opts: &BakeOptions,
+    fur: Option<&FurAssets>,
+) -> InputReport {
     let mut r = InputReport {
         input: input.to_owned(),
         output: output.to_owned(),
         status: "failed",
         error: None,
         bake: None,
+        fur: None,
         read_ms: None,
         write_ms: None,
         output_bytes: None,
@@ -231,13 +276,34 @@ fn bake_one(input: &Path, output: &Path, opts: &BakeOptions) -> InputReport {
         }
     };
     r.read_ms = Some(ms(t0));
-    let bake = match bake_document(&mut doc, opts) {
+    let mut bake = match bake_document(&mut doc, opts) {
         Ok(b) => b,
         Err(e) => {
             r.error = Some(e.to_string());
             return r;
         }
     };
+    if let Some(fur) = fur {
+        let combed: Vec<PrimitiveRef> = bake
+            .primitives
+            .iter()
+            .filter(|p| p.status == "baked")
+            .map(|p| PrimitiveRef {
+                mesh: p.mesh,
+                primitive: p.primitive,
+            })
+            .collect();
+        match embed(&mut doc, fur, &combed) {
+            Ok(f) => {
+                bake.warnings.extend(f.warnings.iter().cloned());
+                r.fur = Some(f);
+            }
+            Err(e) => {
+                r.error = Some(e.to_string());
+                return r;
+            }
+        }
+    }
     let t1 = Instant::now();
     match pelt_io::glb::write_glb(&doc, output) {
         Ok(w) => {

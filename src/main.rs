@@ -5,6 +5,7 @@
 
 mod bake;
 mod inspect;
+mod textures;
 
 #[global_allocator]
 static GLOBAL: pelt_alloc::HugePageAlloc = pelt_alloc::HugePageAlloc;
@@ -20,7 +21,15 @@ Examples:
   pelt bake fixtures/creature.glb -o out/creature.glb --report -
   pelt bake scans/*.gltf -o out/ --report bake.json
   pelt bake blender_export.glb -o fur.glb --comb-color-space srgb --comb-axes x,z,-y
-  pelt bake painted.obj -o painted.glb --tangents regenerate --quantize u16";
+  pelt bake painted.obj -o painted.glb --tangents regenerate --quantize u16
+  pelt bake fixtures/creature.glb -o out/creature.glb --config fixtures/fur.json";
+
+const TEXTURES_EXAMPLES: &str = "\
+Examples:
+  pelt textures -o out/fur
+  pelt textures --seed 7 --size 2048 --strands 40000 --radius 0.0015 -o out/fur
+  pelt textures --tilt 3 --clumps 400 --clumping 0.6 --height-bits 8 -o out/fur
+  pelt textures --config fixtures/fur.json -o out/fur";
 
 const INSPECT_EXAMPLES: &str = "\
 Examples:
@@ -39,6 +48,10 @@ enum Command {
     /// Bake comb colors (COLOR_0) into tangent space as _FUR_COMB; write self-contained .glb.
     #[command(after_help = BAKE_EXAMPLES)]
     Bake(BakeArgs),
+    /// Generate fur textures (dots, heightfield, fin texture, coverage-preserving mips) and
+    /// their manifest fur.json from one seeded strand model.
+    #[command(after_help = TEXTURES_EXAMPLES)]
+    Textures(TexturesArgs),
     /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
     #[command(after_help = INSPECT_EXAMPLES)]
     Inspect(InspectArgs),
@@ -81,6 +94,73 @@ pub struct BakeArgs {
     /// in one normal group; larger differences are creases.
     #[arg(long, value_name = "DEG", default_value_t = pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG, value_parser = degrees)]
     pub normal_tolerance: f32,
+    /// Bake config (JSON). Its `fur` section makes the bake generate fur textures and embed
+    /// them, with the fur manifest, in each output (see docs/format.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `pelt textures`. Every strand option overrides the config's
+/// `fur.textures` value.
+#[derive(clap::Args)]
+pub struct TexturesArgs {
+    /// Output folder (created): heightfield.png, dots.png, fin.png, their mips, fur.json.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Bake config whose `fur` section gives the defaults.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Seed of the strand generator.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Texture side in texels (a power of two, 4 to 16384).
+    #[arg(long)]
+    pub size: Option<u32>,
+    /// Fin texture height in texels (a power of two up to --size; default size/4).
+    #[arg(long)]
+    pub fin_height: Option<u32>,
+    /// Strands per tile.
+    #[arg(long)]
+    pub strands: Option<u32>,
+    /// Mean strand radius in tile widths.
+    #[arg(long)]
+    pub radius: Option<f64>,
+    /// Radius jitter in [0, 1).
+    #[arg(long)]
+    pub radius_jitter: Option<f64>,
+    /// Shortest strand, as a fraction of the fur length.
+    #[arg(long)]
+    pub height_min: Option<f64>,
+    /// Longest strand, as a fraction of the fur length.
+    #[arg(long)]
+    pub height_max: Option<f64>,
+    /// Height distribution exponent: 1 uniform, above 1 more short strands.
+    #[arg(long)]
+    pub height_bias: Option<f64>,
+    /// Lean: tips displaced by up to this many radii per unit height.
+    #[arg(long)]
+    pub tilt: Option<f64>,
+    /// Number of clump centres.
+    #[arg(long)]
+    pub clumps: Option<u32>,
+    /// Fraction of strands in clumps (0 to 1).
+    #[arg(long)]
+    pub clumping: Option<f64>,
+    /// Clump spread (standard deviation, tile widths).
+    #[arg(long)]
+    pub clump_radius: Option<f64>,
+    /// Thickness of the slab the fin texture shows, in tile widths.
+    #[arg(long)]
+    pub fin_depth: Option<f64>,
+    /// Heightfield bits: 16 or 8.
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(["8", "16"]))]
+    pub height_bits: Option<String>,
+    /// Skip the mip chains.
+    #[arg(long)]
+    pub no_mips: bool,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
@@ -158,6 +238,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bake(args) => bake::run(&args),
         Command::Inspect(args) => inspect::run(&args),
+        Command::Textures(args) => textures::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -6,10 +6,14 @@
 //!   space) with defined results at the extremes, and the `_FUR_COMB` encodings.
 //! - [`primitive`]: one primitive: normals, tangents (kept or MikkTSpace), vertex splits, comb.
 //! - [`asset`]: a whole document, with the per-primitive report.
+//! - [`config`]: the bake config file (its `fur` section).
+//! - [`fur`]: embedding generated fur textures and the fur manifest in a baked asset.
 
 pub mod asset;
 pub mod comb;
+pub mod config;
 pub mod frame;
+pub mod fur;
 pub mod options;
 pub mod primitive;
 

@@ -13,6 +13,7 @@
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
 //! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
 //!   `extras.pelt`, the fin-record bufferView).
+//! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -23,6 +24,7 @@ pub mod glb;
 pub mod mesh;
 pub mod obj;
 pub mod prune;
+pub mod texture;
 pub mod topology;
 
 pub use document::{Buffer, Document, PrimitiveRef, ViewData};

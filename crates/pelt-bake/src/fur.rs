@@ -1,0 +1,154 @@
+//! Embedding fur textures in a baked asset: the PNGs of a [`TextureSet`] (every mip level) as
+//! images, level 0 of each as a texture (REPEAT, trilinear; the fin texture clamps
+//! vertically), and the fur manifest in each fur material's `extras.pelt.fur`. The textures are
+//! generated once and shared by every asset of a run.
+
+use std::time::Instant;
+
+use pelt_fur::{FurConfig, FurError, TextureSet};
+use pelt_io::texture::gl;
+use pelt_io::{Document, IoError, PrimitiveRef};
+use serde::Serialize;
+use serde_json::json;
+
+/// Name of the material pelt adds for comb primitives that have none.
+pub const FUR_MATERIAL_NAME: &str = "pelt fur";
+
+/// Generated fur textures, ready to embed.
+#[derive(Debug, Clone)]
+pub struct FurAssets {
+    /// The config they came from.
+    pub config: FurConfig,
+    /// The textures.
+    pub set: TextureSet,
+    /// Each image of `set.images()` as PNG.
+    pub pngs: Vec<Vec<u8>>,
+    /// Milliseconds spent generating and encoding.
+    pub generate_ms: f64,
+}
+
+impl FurAssets {
+    /// Generates and encodes the textures of `config`.
+    pub fn new(config: FurConfig) -> Result<FurAssets, FurError> {
+        let t0 = Instant::now();
+        let set = pelt_fur::generate(&config.textures)?;
+        let pngs = set.encode()?;
+        Ok(FurAssets {
+            config,
+            set,
+            pngs,
+            generate_ms: (t0.elapsed().as_secs_f64() * 1e5).round() / 100.0,
+        })
+    }
+}
+
+/// What embedding did.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FurReport {
+    /// Materials that carry the manifest.
+    pub materials: Vec<usize>,
+    /// Whether a `pelt fur` material was added for comb primitives without one.
+    pub material_added: bool,
+    /// Images added.
+    pub images: usize,
+    /// PNG bytes added.
+    pub texture_bytes: usize,
+    /// Warnings.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+}
+
+/// Embeds `assets` in `doc`. `combed` lists the primitives that got `_FUR_COMB`; they decide
+/// the fur materials unless the config names them.
+pub fn embed(
+    doc: &mut Document,
+    assets: &FurAssets,
+    combed: &[PrimitiveRef],
+) -> Result<FurReport, IoError> {
+    let mut report = FurReport::default();
+    let mut materials: Vec<usize> = Vec::new();
+    if let Some(names) = &assets.config.materials {
+        for name in names {
+            let found: Vec<usize> = (0..doc.array("materials").len())
+                .filter(|&m| doc.material_name(m) == Some(name.as_str()))
+                .collect();
+            if found.is_empty() {
+                return Err(doc.invalid(
+                    "materials",
+                    format!("the config's fur.materials names {name:?}, which is not a material of this file"),
+                ));
+            }
+            materials.extend(found);
+        }
+    } else {
+        let mut bare = Vec::new();
+        for &r in combed {
+            match doc.primitive_material(r)? {
+                Some(m) => materials.push(m),
+                None => bare.push(r),
+            }
+        }
+        if !bare.is_empty() {
+            let m = doc.push_material(FUR_MATERIAL_NAME);
+            for r in bare {
+                doc.set_primitive_material(r, m)?;
+            }
+            materials.push(m);
+            report.material_added = true;
+        }
+    }
+    materials.sort_unstable();
+    materials.dedup();
+    if materials.is_empty() {
+        report
+            .warnings
+            .push("no primitive has a comb: fur textures were not embedded".into());
+        return Ok(report);
+    }
+
+    let mut images = std::collections::BTreeMap::new();
+    for (img, png) in assets.set.images().zip(&assets.pngs) {
+        let index = doc.push_image(png.clone(), pelt_fur::Image::MIME, &img.name);
+        images.insert(img.name.clone(), index);
+        report.images += 1;
+        report.texture_bytes += png.len();
+    }
+    let tile = doc.push_sampler(gl::LINEAR, gl::LINEAR_MIPMAP_LINEAR, gl::REPEAT, gl::REPEAT);
+    let fin = doc.push_sampler(
+        gl::LINEAR,
+        gl::LINEAR_MIPMAP_LINEAR,
+        gl::REPEAT,
+        gl::CLAMP_TO_EDGE,
+    );
+    let mut textures = std::collections::BTreeMap::new();
+    for (stem, sampler) in [("heightfield", tile), ("dots", tile), ("fin", fin)] {
+        let image = images[&format!("{stem}.png")];
+        textures.insert(
+            stem,
+            doc.push_texture(image, sampler, &format!("pelt fur {stem}")),
+        );
+    }
+    let manifest = assets.set.manifest(
+        &assets.config,
+        &mut |stem, level| {
+            let name = if level == 0 {
+                format!("{stem}.png")
+            } else {
+                format!("{stem}.mip{level}.png")
+            };
+            (None, images.get(&name).copied())
+        },
+        &mut |stem| textures.get(stem).copied(),
+    );
+    let value = json!({ "fur": manifest });
+    for &m in &materials {
+        if doc.set_material_extra(m, "pelt", value.clone()) {
+            report.materials.push(m);
+        } else {
+            report.warnings.push(format!(
+                "material {m}: extras is not a JSON object: the fur manifest was not stored"
+            ));
+        }
+    }
+    Ok(report)
+}

@@ -1,0 +1,107 @@
+//! Adding images, samplers and textures to a document (the fur textures a bake embeds), and
+//! reading a material's `extras`.
+
+use serde_json::{Map, Value, json};
+
+use crate::document::Document;
+use crate::edit::push_to;
+use crate::error::Result;
+
+/// glTF sampler constants.
+pub mod gl {
+    /// `LINEAR`.
+    pub const LINEAR: u32 = 9729;
+    /// `LINEAR_MIPMAP_LINEAR`.
+    pub const LINEAR_MIPMAP_LINEAR: u32 = 9987;
+    /// `REPEAT`.
+    pub const REPEAT: u32 = 10497;
+    /// `CLAMP_TO_EDGE`.
+    pub const CLAMP_TO_EDGE: u32 = 33071;
+}
+
+impl Document {
+    /// Appends an image stored in a new bufferView; returns the image index.
+    pub fn push_image(&mut self, bytes: Vec<u8>, mime: &str, name: &str) -> usize {
+        let view = self.push_view(bytes, None);
+        self.uri_images.resize(self.array("images").len(), None);
+        let index = push_to(
+            &mut self.json,
+            "images",
+            json!({ "bufferView": view, "mimeType": mime, "name": name }),
+        );
+        self.uri_images.push(None);
+        index
+    }
+
+    /// Appends a sampler; returns its index.
+    pub fn push_sampler(&mut self, mag: u32, min: u32, wrap_s: u32, wrap_t: u32) -> usize {
+        push_to(
+            &mut self.json,
+            "samplers",
+            json!({ "magFilter": mag, "minFilter": min, "wrapS": wrap_s, "wrapT": wrap_t }),
+        )
+    }
+
+    /// Appends a texture; returns its index.
+    pub fn push_texture(&mut self, image: usize, sampler: usize, name: &str) -> usize {
+        push_to(
+            &mut self.json,
+            "textures",
+            json!({ "sampler": sampler, "source": image, "name": name }),
+        )
+    }
+
+    /// Appends a material (glTF defaults everywhere) named `name`; returns its index.
+    pub fn push_material(&mut self, name: &str) -> usize {
+        push_to(&mut self.json, "materials", json!({ "name": name }))
+    }
+
+    /// The material's name, if any.
+    pub fn material_name(&self, material: usize) -> Option<&str> {
+        self.array("materials").get(material)?.get("name")?.as_str()
+    }
+
+    /// Sets `materials[material].extras[key]`, keeping other extras. Returns false, and
+    /// changes nothing, when the material does not exist or its `extras` is not an object.
+    pub fn set_material_extra(&mut self, material: usize, key: &str, value: Value) -> bool {
+        let Some(m) = self
+            .json
+            .get_mut("materials")
+            .and_then(Value::as_array_mut)
+            .and_then(|a| a.get_mut(material))
+            .and_then(Value::as_object_mut)
+        else {
+            return false;
+        };
+        let extras = m
+            .entry("extras")
+            .or_insert_with(|| Value::Object(Map::new()));
+        match extras.as_object_mut() {
+            Some(e) => {
+                e.insert(key.to_owned(), value);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The primitive's material index, if any.
+    pub fn primitive_material(&self, r: crate::PrimitiveRef) -> Result<Option<usize>> {
+        Ok(self
+            .primitive(r)?
+            .get("material")
+            .and_then(Value::as_u64)
+            .map(|m| m as usize))
+    }
+
+    /// Sets the primitive's material.
+    pub fn set_primitive_material(
+        &mut self,
+        r: crate::PrimitiveRef,
+        material: usize,
+    ) -> Result<()> {
+        self.primitive_checked(r)?
+            .insert("material".into(), json!(material));
+        Ok(())
+    }
+}
