@@ -65,9 +65,11 @@ fn every_baked_fixture_passes_the_khronos_validator() {
             .map(|e| format!("edge/{}", e.file_name().to_string_lossy())),
     );
     for rel in &inputs {
+        let fur = fixture("fur.json");
         for extra in [
             &[][..],
             &["--tangents", "regenerate", "--quantize", "u8"][..],
+            &["--config", fur.to_str().unwrap_or_default()][..],
         ] {
             let sub = dir.join(format!("{}{}", rel.replace('/', "-"), extra.len()));
             std::fs::create_dir_all(&sub).expect("mkdir");
