@@ -32,3 +32,11 @@ lint:
 # Topology benchmark (normal groups, IDs, fin edges) at 10 k, 100 k and 1.3 M triangles.
 bench-topology:
     cargo bench --bench topology
+
+# Fur textures with the example config's strand model (out/fur: PNGs and fur.json).
+textures:
+    cargo run --release -- textures --config fixtures/fur.json -o out/fur
+
+# Fur texture benchmark (512², 1024², 2048² sets).
+bench-textures:
+    cargo bench -p pelt-fur --bench textures
