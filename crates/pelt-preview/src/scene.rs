@@ -1,0 +1,645 @@
+//! The scene file (JSON): objects (a baked asset, a transform, a material), point lights,
+//! ambient light, camera, output size, L-buffer scale and DSF switch — everything the inferred
+//! lighting renderer (Kircher & Lawrance) is run on. Every error names the file, the line and
+//! column, and the field's path (`objects[3].material.opacity`); unknown keys are errors.
+//! Asset paths are relative to the scene file's folder.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Quat, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// A material.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "MaterialSpec", into = "MaterialSpec")]
+pub enum Material {
+    /// Opaque, lit through the L-buffer.
+    Opaque,
+    /// Stippled alpha (up to three layers over opaque).
+    Alpha {
+        /// Opacity in (0, 1].
+        opacity: Unit,
+    },
+    /// Deferred fur (Revie), from the asset's baked comb and fur manifest.
+    Fur,
+    /// Mirror (layered distance maps, GPU Gems 3 ch. 17).
+    Mirror,
+    /// Glass with an index of refraction.
+    Glass {
+        /// Index of refraction (1 to 3).
+        ior: Ior,
+    },
+}
+
+/// Material kinds as written in a scene file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum MaterialKind {
+    /// [`Material::Opaque`].
+    Opaque,
+    /// [`Material::Alpha`].
+    Alpha,
+    /// [`Material::Fur`].
+    Fur,
+    /// [`Material::Mirror`].
+    Mirror,
+    /// [`Material::Glass`].
+    Glass,
+}
+
+/// A material as written: `{"kind": "alpha", "opacity": 0.5}`. (A plain struct rather than a
+/// tagged enum, so that errors inside it keep their field path.)
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// The kind.
+    pub kind: MaterialKind,
+    /// Opacity (alpha only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub opacity: Option<Unit>,
+    /// Index of refraction (glass only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ior: Option<Ior>,
+}
+
+impl TryFrom<MaterialSpec> for Material {
+    type Error = String;
+    fn try_from(m: MaterialSpec) -> Result<Self, String> {
+        let extra = |what: &str| {
+            Err(format!(
+                "{what} is not a property of {:?} materials",
+                m.kind
+            ))
+        };
+        match m.kind {
+            MaterialKind::Alpha => {
+                if m.ior.is_some() {
+                    return extra("ior");
+                }
+                m.opacity
+                    .map(|opacity| Material::Alpha { opacity })
+                    .ok_or_else(|| "an alpha material needs an opacity".to_owned())
+            }
+            MaterialKind::Glass => {
+                if m.opacity.is_some() {
+                    return extra("opacity");
+                }
+                Ok(Material::Glass {
+                    ior: m.ior.unwrap_or(Ior(1.5)),
+                })
+            }
+            kind => {
+                if m.opacity.is_some() {
+                    return extra("opacity");
+                }
+                if m.ior.is_some() {
+                    return extra("ior");
+                }
+                Ok(match kind {
+                    MaterialKind::Fur => Material::Fur,
+                    MaterialKind::Mirror => Material::Mirror,
+                    _ => Material::Opaque,
+                })
+            }
+        }
+    }
+}
+
+impl From<Material> for MaterialSpec {
+    fn from(m: Material) -> MaterialSpec {
+        let (kind, opacity, ior) = match m {
+            Material::Opaque => (MaterialKind::Opaque, None, None),
+            Material::Alpha { opacity } => (MaterialKind::Alpha, Some(opacity), None),
+            Material::Fur => (MaterialKind::Fur, None, None),
+            Material::Mirror => (MaterialKind::Mirror, None, None),
+            Material::Glass { ior } => (MaterialKind::Glass, None, Some(ior)),
+        };
+        MaterialSpec { kind, opacity, ior }
+    }
+}
+
+/// A number in (0, 1].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "f32", into = "f32")]
+pub struct Unit(pub f32);
+
+impl TryFrom<f32> for Unit {
+    type Error = String;
+    fn try_from(v: f32) -> Result<Self, String> {
+        if v > 0.0 && v <= 1.0 {
+            Ok(Unit(v))
+        } else {
+            Err(format!("must be above 0 and at most 1, got {v}"))
+        }
+    }
+}
+
+impl From<Unit> for f32 {
+    fn from(u: Unit) -> f32 {
+        u.0
+    }
+}
+
+/// An index of refraction in [1, 3].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "f32", into = "f32")]
+pub struct Ior(pub f32);
+
+impl TryFrom<f32> for Ior {
+    type Error = String;
+    fn try_from(v: f32) -> Result<Self, String> {
+        if (1.0..=3.0).contains(&v) {
+            Ok(Ior(v))
+        } else {
+            Err(format!("must be from 1 to 3, got {v}"))
+        }
+    }
+}
+
+impl From<Ior> for f32 {
+    fn from(u: Ior) -> f32 {
+        u.0
+    }
+}
+
+/// A finite number ≥ 0.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "f32", into = "f32")]
+pub struct NonNegative(pub f32);
+
+impl TryFrom<f32> for NonNegative {
+    type Error = String;
+    fn try_from(v: f32) -> Result<Self, String> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(NonNegative(v))
+        } else {
+            Err(format!("must be a finite number of at least 0, got {v}"))
+        }
+    }
+}
+
+impl From<NonNegative> for f32 {
+    fn from(u: NonNegative) -> f32 {
+        u.0
+    }
+}
+
+/// A finite number > 0.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "f32", into = "f32")]
+pub struct Positive(pub f32);
+
+impl TryFrom<f32> for Positive {
+    type Error = String;
+    fn try_from(v: f32) -> Result<Self, String> {
+        if v.is_finite() && v > 0.0 {
+            Ok(Positive(v))
+        } else {
+            Err(format!("must be a finite number above 0, got {v}"))
+        }
+    }
+}
+
+impl From<Positive> for f32 {
+    fn from(u: Positive) -> f32 {
+        u.0
+    }
+}
+
+/// A placement: translation, rotation (unit quaternion x, y, z, w), scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Transform {
+    /// Translation.
+    pub translation: [f32; 3],
+    /// Rotation quaternion (x, y, z, w), normalized on load.
+    pub rotation: [f32; 4],
+    /// Scale per axis (non-zero).
+    pub scale: [f32; 3],
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            translation: [0.0; 3],
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            scale: [1.0; 3],
+        }
+    }
+}
+
+impl Transform {
+    /// The model matrix.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(
+            Vec3::from(self.scale),
+            Quat::from_array(self.rotation).normalize(),
+            Vec3::from(self.translation),
+        )
+    }
+
+    fn check(&self) -> Result<(), (&'static str, String)> {
+        let all = self
+            .translation
+            .iter()
+            .chain(&self.rotation)
+            .chain(&self.scale);
+        if all.clone().any(|v| !v.is_finite()) {
+            return Err(("transform", "every number must be finite".into()));
+        }
+        if Vec3::from(self.scale).abs().min_element() < 1e-12 {
+            return Err((
+                "transform.scale",
+                format!("must be non-zero, got {:?}", self.scale),
+            ));
+        }
+        if glam::Vec4::from(self.rotation).length() < 1e-6 {
+            return Err(("transform.rotation", "must be a non-zero quaternion".into()));
+        }
+        Ok(())
+    }
+}
+
+/// One object.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    /// The asset (a baked `.glb`, or any glTF/OBJ pelt reads), relative to the scene file.
+    pub asset: PathBuf,
+    /// Placement.
+    #[serde(default)]
+    pub transform: Transform,
+    /// Material.
+    #[serde(default = "opaque")]
+    pub material: Material,
+}
+
+fn opaque() -> Material {
+    Material::Opaque
+}
+
+/// A point light.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointLight {
+    /// World position.
+    pub position: [f32; 3],
+    /// Linear RGB colour.
+    #[serde(default = "white")]
+    pub color: [f32; 3],
+    /// Intensity multiplier.
+    #[serde(default = "one")]
+    pub intensity: NonNegative,
+    /// Radius of influence (the light falls to zero there; its screen-space bounds come from
+    /// it).
+    pub radius: Positive,
+}
+
+fn white() -> [f32; 3] {
+    [1.0; 3]
+}
+
+fn one() -> NonNegative {
+    NonNegative(1.0)
+}
+
+/// A perspective camera.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct Camera {
+    /// Eye position.
+    pub position: [f32; 3],
+    /// Point looked at.
+    pub target: [f32; 3],
+    /// Up direction.
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees (0 to 180, exclusive).
+    pub fov_y_deg: f32,
+    /// Near plane distance.
+    pub near: f32,
+    /// Far plane distance.
+    pub far: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            position: [0.0, 1.0, 4.0],
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: 45.0,
+            near: 0.05,
+            far: 200.0,
+        }
+    }
+}
+
+/// Output image size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Size {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+/// A scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct Scene {
+    /// Output size.
+    pub output: Size,
+    /// Camera.
+    pub camera: Camera,
+    /// Ambient light (linear RGB).
+    pub ambient: [f32; 3],
+    /// L-buffer resolution as a fraction of the output (0.1 to 1; the paper's 800×450 for
+    /// 1280×720 is 0.625).
+    pub lbuffer_scale: f32,
+    /// Discontinuity-sensitive filtering in the material pass.
+    pub dsf: bool,
+    /// Objects.
+    pub objects: Vec<Object>,
+    /// Point lights.
+    pub lights: Vec<PointLight>,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene {
+            output: Size {
+                width: 640,
+                height: 360,
+            },
+            camera: Camera::default(),
+            ambient: [0.03; 3],
+            lbuffer_scale: 0.625,
+            dsf: true,
+            objects: Vec::new(),
+            lights: Vec::new(),
+        }
+    }
+}
+
+/// Largest output side.
+pub const MAX_SIDE: u32 = 8192;
+
+/// A scene that could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("{}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Bad JSON, an unknown key, or a value out of range where it is read.
+    #[error("{}:{line}:{column}: {field}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// Path of the field (`objects[2].material.opacity`, `.` for the root).
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A value inconsistent with others (checked after reading).
+    #[error("{}: {field}: {message}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Path of the field.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl Scene {
+    /// Reads and checks a scene file; asset paths become relative to the current directory.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        let mut scene = Scene::parse(path, &text)?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        for o in &mut scene.objects {
+            o.asset = dir.join(&o.asset);
+        }
+        Ok(scene)
+    }
+
+    /// Parses and checks scene text (`path` is used in errors).
+    pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let field = e.path().to_string();
+            let inner = e.into_inner();
+            let message = inner.to_string();
+            let message = message
+                .rsplit_once(" at line ")
+                .map_or(message.as_str(), |(m, _)| m)
+                .to_owned();
+            SceneError::Parse {
+                path: path.to_owned(),
+                line: inner.line(),
+                column: inner.column(),
+                field,
+                message,
+            }
+        })?;
+        scene
+            .check()
+            .map_err(|(field, message)| SceneError::Invalid {
+                path: path.to_owned(),
+                field,
+                message,
+            })?;
+        Ok(scene)
+    }
+
+    /// Cross-field checks.
+    fn check(&self) -> Result<(), (String, String)> {
+        let o = self.output;
+        if !(1..=MAX_SIDE).contains(&o.width) || !(1..=MAX_SIDE).contains(&o.height) {
+            return Err((
+                "output".into(),
+                format!(
+                    "width and height must be 1 to {MAX_SIDE}, got {}×{}",
+                    o.width, o.height
+                ),
+            ));
+        }
+        if !(self.lbuffer_scale >= 0.1 && self.lbuffer_scale <= 1.0) {
+            return Err((
+                "lbufferScale".into(),
+                format!("must be from 0.1 to 1, got {}", self.lbuffer_scale),
+            ));
+        }
+        if self.ambient.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return Err((
+                "ambient".into(),
+                "components must be finite and at least 0".into(),
+            ));
+        }
+        let c = &self.camera;
+        if !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0) {
+            return Err((
+                "camera.fovYDeg".into(),
+                format!("must be between 0 and 180, got {}", c.fov_y_deg),
+            ));
+        }
+        if !(c.near > 0.0 && c.far > c.near && c.far.is_finite()) {
+            return Err((
+                "camera".into(),
+                format!("need 0 < near < far, got near {} far {}", c.near, c.far),
+            ));
+        }
+        let (eye, target, up) = (
+            Vec3::from(c.position),
+            Vec3::from(c.target),
+            Vec3::from(c.up),
+        );
+        if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
+            return Err((
+                "camera".into(),
+                "position, target and up must be finite".into(),
+            ));
+        }
+        let dir = target - eye;
+        if dir.length() < 1e-6 || dir.normalize().cross(up).length() < 1e-4 {
+            return Err((
+                "camera".into(),
+                "target must differ from position and not lie along up".into(),
+            ));
+        }
+        for (i, obj) in self.objects.iter().enumerate() {
+            obj.transform
+                .check()
+                .map_err(|(f, m)| (format!("objects[{i}].{f}"), m))?;
+        }
+        for (i, l) in self.lights.iter().enumerate() {
+            if !l.position.iter().chain(&l.color).all(|v| v.is_finite())
+                || l.color.iter().any(|v| *v < 0.0)
+            {
+                return Err((
+                    format!("lights[{i}]"),
+                    "position and color must be finite, color at least 0".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// L-buffer size for this output (at least 1 × 1).
+    pub fn lbuffer_size(&self) -> (u32, u32) {
+        let s = |v: u32| ((v as f32 * self.lbuffer_scale).round() as u32).max(1);
+        (s(self.output.width), s(self.output.height))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Scene, SceneError> {
+        Scene::parse(Path::new("scene.json"), text)
+    }
+
+    #[test]
+    fn a_full_scene_reads_with_defaults_filled() {
+        let s = parse(
+            r#"{
+              "output": {"width": 1280, "height": 720},
+              "objects": [
+                {"asset": "creature.glb"},
+                {"asset": "sphere.glb", "transform": {"translation": [2, 0, 0]},
+                 "material": {"kind": "alpha", "opacity": 0.5}},
+                {"asset": "torus.glb", "material": {"kind": "glass", "ior": 1.5}}
+              ],
+              "lights": [{"position": [0, 3, 0], "radius": 5}]
+            }"#,
+        )
+        .expect("valid");
+        assert_eq!(s.lbuffer_size(), (800, 450));
+        assert_eq!(s.objects[0].material, Material::Opaque);
+        assert_eq!(
+            s.objects[1].material,
+            Material::Alpha { opacity: Unit(0.5) }
+        );
+        assert_eq!(s.lights[0].intensity, NonNegative(1.0));
+        assert_eq!(s.lights[0].color, [1.0; 3]);
+        assert!(s.dsf);
+        let m = s.objects[1].transform.matrix();
+        assert_eq!(m.transform_point3(Vec3::ZERO), Vec3::new(2.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn errors_name_file_line_and_field() {
+        let e = parse("{\n \"objects\": [\n  {\"asset\": \"a.glb\"},\n  {\"asset\": \"b.glb\", \"material\": {\"kind\": \"alpha\", \"opacity\": 1.5}}\n ]\n}")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("scene.json:4:"), "{e}");
+        assert!(e.contains("objects[1].material.opacity"), "{e}");
+        assert!(e.contains("must be above 0 and at most 1, got 1.5"), "{e}");
+
+        let e = parse("{\"lights\": [{\"position\": [0,0,0], \"radius\": 0}]}")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("lights[0].radius") && e.contains("above 0"),
+            "{e}"
+        );
+
+        let e = parse("{\"objects\": [{\"asset\": \"a.glb\", \"colour\": 1}]}")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("objects[0]") && e.contains("colour"), "{e}");
+
+        let e = parse("{\"lbufferScale\": 2}").unwrap_err().to_string();
+        assert_eq!(e, "scene.json: lbufferScale: must be from 0.1 to 1, got 2");
+
+        let e =
+            parse("{\"objects\": [{\"asset\": \"a.glb\", \"transform\": {\"scale\": [1, 0, 1]}}]}")
+                .unwrap_err()
+                .to_string();
+        assert!(e.contains("objects[0].transform.scale"), "{e}");
+
+        let e = parse("{\"camera\": {\"position\": [0, 5, 0], \"target\": [0, 0, 0]}}")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("camera") && e.contains("along up"), "{e}");
+
+        let e =
+            parse("{\"objects\": [{\"asset\": \"a.glb\", \"material\": {\"kind\": \"velvet\"}}]}")
+                .unwrap_err()
+                .to_string();
+        assert!(
+            e.contains("objects[0].material") && e.contains("velvet"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn assets_resolve_against_the_scene_folder() {
+        let dir = std::env::temp_dir().join(format!("pelt-scene-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("mkdir");
+        let file = dir.join("s.json");
+        std::fs::write(&file, r#"{"objects": [{"asset": "models/a.glb"}]}"#).expect("write");
+        let s = Scene::load(&file).expect("load");
+        assert_eq!(s.objects[0].asset, dir.join("models/a.glb"));
+        let _ = std::fs::remove_dir_all(&dir);
+        let e = Scene::load(&dir.join("missing.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("missing.json"), "{e}");
+    }
+}
