@@ -17,6 +17,28 @@ fn png_info(bytes: &[u8]) -> (u32, u32, png::ColorType, png::BitDepth) {
     (i.width, i.height, i.color_type, i.bit_depth)
 }
 
+/// Loads a baked file; returns it and the material of its first primitive.
+fn load_with_material(glb: &Path) -> (pelt_io::Document, usize) {
+    let doc = pelt_io::Document::load(glb).expect("load");
+    let prim = doc
+        .primitive(pelt_io::PrimitiveRef {
+            mesh: 0,
+            primitive: 0,
+        })
+        .expect("prim");
+    let m = prim["material"].as_u64().expect("material assigned") as usize;
+    (doc, m)
+}
+
+/// The documented file name of level `l` (spelled out here, not taken from pelt-fur).
+fn file_name(stem: &str, l: usize) -> String {
+    if l == 0 {
+        format!("{stem}.png")
+    } else {
+        format!("{stem}.mip{l}.png")
+    }
+}
+
 fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -40,11 +62,7 @@ fn textures_writes_every_level_and_a_manifest() {
     // 64² mips down to 1²: 7 levels; fin 64 × 16: 7 levels.
     for stem in ["heightfield", "dots", "fin"] {
         for l in 0..7 {
-            let name = if l == 0 {
-                format!("{stem}.png")
-            } else {
-                format!("{stem}.mip{l}.png")
-            };
+            let name = file_name(stem, l);
             assert!(out.join(&name).exists(), "{name}");
         }
         assert!(!out.join(format!("{stem}.mip7.png")).exists());
@@ -189,14 +207,7 @@ fn bake_embeds_the_textures_and_the_manifest() {
     std::fs::write(&config, CONFIG).expect("write config");
     let c = config.to_str().unwrap_or_default();
     let glb = bake(&fixture("creature.glb"), &dir, &["--config", c]);
-    let doc = pelt_io::Document::load(&glb).expect("load");
-    let prim = doc
-        .primitive(pelt_io::PrimitiveRef {
-            mesh: 0,
-            primitive: 0,
-        })
-        .expect("prim");
-    let material = prim["material"].as_u64().expect("material") as usize;
+    let (doc, material) = load_with_material(&glb);
     let fur = &doc.json["materials"][material]["extras"]["pelt"]["fur"];
     assert_eq!(fur["version"], 1);
     assert_eq!(fur["length"], 0.03);
@@ -233,11 +244,7 @@ fn bake_embeds_the_textures_and_the_manifest() {
             let start = v["byteOffset"].as_u64().unwrap_or(0) as usize;
             let len = v["byteLength"].as_u64().expect("len") as usize;
             let bytes = &doc.buffers[0][start..start + len];
-            let name = if l == 0 {
-                format!("{stem}.png")
-            } else {
-                format!("{stem}.mip{l}.png")
-            };
+            let name = file_name(stem, l);
             assert_eq!(images[i]["name"], name.as_str());
             assert!(
                 bytes == read(&tex_dir.join(&name)).as_slice(),
@@ -276,14 +283,7 @@ fn comb_primitives_without_a_material_get_one() {
         &dir,
         &["--config", config.to_str().unwrap_or_default()],
     );
-    let doc = pelt_io::Document::load(&glb).expect("load");
-    let prim = doc
-        .primitive(pelt_io::PrimitiveRef {
-            mesh: 0,
-            primitive: 0,
-        })
-        .expect("prim");
-    let m = prim["material"].as_u64().expect("material assigned") as usize;
+    let (doc, m) = load_with_material(&glb);
     assert_eq!(doc.json["materials"][m]["name"], "pelt fur");
     assert_eq!(
         doc.json["materials"][m]["extras"]["pelt"]["fur"]["shells"],

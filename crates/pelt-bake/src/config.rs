@@ -46,7 +46,7 @@ pub enum ConfigError {
         /// The file.
         path: PathBuf,
         /// The field (under `fur`).
-        field: &'static str,
+        field: String,
         /// What is wrong.
         why: String,
     },

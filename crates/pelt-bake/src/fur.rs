@@ -5,6 +5,7 @@
 
 use std::time::Instant;
 
+use pelt_fur::set::level_name;
 use pelt_fur::{FurConfig, FurError, TextureSet};
 use pelt_io::texture::gl;
 use pelt_io::{Document, IoError, PrimitiveRef};
@@ -122,7 +123,7 @@ pub fn embed(
     );
     let mut textures = std::collections::BTreeMap::new();
     for (stem, sampler) in [("heightfield", tile), ("dots", tile), ("fin", fin)] {
-        let image = images[&format!("{stem}.png")];
+        let image = images[&level_name(stem, 0)];
         textures.insert(
             stem,
             doc.push_texture(image, sampler, &format!("pelt fur {stem}")),
@@ -130,14 +131,7 @@ pub fn embed(
     }
     let manifest = assets.set.manifest(
         &assets.config,
-        &mut |stem, level| {
-            let name = if level == 0 {
-                format!("{stem}.png")
-            } else {
-                format!("{stem}.mip{level}.png")
-            };
-            (None, images.get(&name).copied())
-        },
+        &mut |stem, level| (None, images.get(&level_name(stem, level)).copied()),
         &mut |stem| textures.get(stem).copied(),
     );
     let value = json!({ "fur": manifest });

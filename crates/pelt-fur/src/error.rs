@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[error("fur texture parameter `{field}`: {why}")]
 pub struct ParamError {
     /// The parameter's name (as in the config file).
-    pub field: &'static str,
+    pub field: String,
     /// What is wrong with it.
     pub why: String,
 }

@@ -54,7 +54,12 @@ impl FurConfig {
     /// Checks every field; the error names the first bad one (texture fields as
     /// `textures.NAME`).
     pub fn validate(&self) -> Result<(), ParamError> {
-        let bad = |field: &'static str, why: String| Err(ParamError { field, why });
+        let bad = |field: &str, why: String| {
+            Err(ParamError {
+                field: field.to_owned(),
+                why,
+            })
+        };
         if !(self.length.is_finite() && self.length > 0.0) {
             return bad(
                 "length",
@@ -84,36 +89,10 @@ impl FurConfig {
             }
         }
         self.textures.validate().map_err(|e| ParamError {
-            field: textures_field(e.field),
+            field: format!("textures.{}", e.field),
             why: e.why,
         })
     }
-}
-
-fn textures_field(f: &str) -> &'static str {
-    const NAMES: &[&str] = &[
-        "textures.seed",
-        "textures.size",
-        "textures.finHeight",
-        "textures.strands",
-        "textures.radius",
-        "textures.radiusJitter",
-        "textures.heightMin",
-        "textures.heightMax",
-        "textures.heightBias",
-        "textures.tilt",
-        "textures.clumps",
-        "textures.clumping",
-        "textures.clumpRadius",
-        "textures.finDepth",
-        "textures.heightBits",
-        "textures.mips",
-    ];
-    NAMES
-        .iter()
-        .find(|n| n.strip_prefix("textures.") == Some(f))
-        .copied()
-        .unwrap_or("textures")
 }
 
 /// Where one mip level of a texture is.

@@ -120,6 +120,25 @@ fn box_keys(prev: &[u16], pw: usize, ph: usize, w: usize, h: usize) -> Vec<u32> 
     keys
 }
 
+/// Levels 1 to 1 × 1 of a `w` × `h` chain: `make(keys, lw, lh)` turns the box-filter
+/// keys of each level (from [`box_keys`] over the level above) into the level's values.
+fn chain(
+    level0: &[u16],
+    w: usize,
+    h: usize,
+    mut make: impl FnMut(Vec<u32>, usize, usize) -> Vec<u16>,
+) -> Vec<Vec<u16>> {
+    let mut levels: Vec<Vec<u16>> = Vec::new();
+    for level in 1..=level_count(w, h) {
+        let (pw, ph) = level_size(w, h, level - 1);
+        let (lw, lh) = level_size(w, h, level);
+        let prev: &[u16] = levels.last().map_or(level0, Vec::as_slice);
+        let keys = box_keys(prev, pw, ph, lw, lh);
+        levels.push(make(keys, lw, lh));
+    }
+    levels
+}
+
 /// The mip chain of `level0` (w × h, both powers of two), levels 1 to 1 × 1.
 pub fn coverage_chain(level0: &[u16], w: usize, h: usize, groups: Groups) -> Vec<Vec<u16>> {
     let mut scratch = vec![0u32; 1 << 16];
@@ -130,12 +149,7 @@ pub fn coverage_chain(level0: &[u16], w: usize, h: usize, groups: Groups) -> Vec
             .map(|row| distribution(row.iter().copied(), &mut scratch))
             .collect(),
     };
-    let mut levels: Vec<Vec<u16>> = Vec::new();
-    for level in 1..=level_count(w, h) {
-        let (pw, ph) = level_size(w, h, level - 1);
-        let (lw, lh) = level_size(w, h, level);
-        let prev: &[u16] = levels.last().map_or(level0, Vec::as_slice);
-        let keys = box_keys(prev, pw, ph, lw, lh);
+    chain(level0, w, h, |keys, lw, lh| {
         let group_rows = match groups {
             Groups::Whole => lh,
             Groups::Rows => 1,
@@ -152,11 +166,13 @@ pub fn coverage_chain(level0: &[u16], w: usize, h: usize, groups: Groups) -> Vec
         let mut out = vec![0u16; lw * lh];
         let per_group = lw * group_rows;
         for (g, ranked) in pairs.chunks(per_group).enumerate() {
-            let dist = match groups {
-                Groups::Whole => base[0].clone(),
+            let merged;
+            let dist: &Distribution = match groups {
+                Groups::Whole => &base[0],
                 Groups::Rows => {
                     let s = h / lh;
-                    merge(&base[g * s..(g + 1) * s])
+                    merged = merge(&base[g * s..(g + 1) * s]);
+                    &merged
                 }
             };
             let total: u64 = dist.iter().map(|e| e.1).sum();
@@ -179,22 +195,15 @@ pub fn coverage_chain(level0: &[u16], w: usize, h: usize, groups: Groups) -> Vec
                 out[(p & 0xFFFF_FFFF) as usize] = ((sum + run / 2) / run) as u16;
             }
         }
-        levels.push(out);
-    }
-    levels
+        out
+    })
 }
 
 /// Plain 2 × 2 box-filtered chain (what a GPU's mip generation does), for comparison.
 pub fn box_chain(level0: &[u16], w: usize, h: usize) -> Vec<Vec<u16>> {
-    let mut levels: Vec<Vec<u16>> = Vec::new();
-    for level in 1..=level_count(w, h) {
-        let (pw, ph) = level_size(w, h, level - 1);
-        let (lw, lh) = level_size(w, h, level);
-        let prev: &[u16] = levels.last().map_or(level0, Vec::as_slice);
-        let keys = box_keys(prev, pw, ph, lw, lh);
-        levels.push(keys.into_iter().map(|k| ((k + 2) / 4) as u16).collect());
-    }
-    levels
+    chain(level0, w, h, |keys, _, _| {
+        keys.into_iter().map(|k| ((k + 2) / 4) as u16).collect()
+    })
 }
 
 /// Alpha-weighted 2 × 2 average of RGB for each level of a chain whose alphas are `alphas`

@@ -121,7 +121,12 @@ impl StrandParams {
 
     /// Checks every parameter; the error names the first bad one.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let bad = |field: &'static str, why: String| Err(ParamError { field, why });
+        let bad = |field: &str, why: String| {
+            Err(ParamError {
+                field: field.to_owned(),
+                why,
+            })
+        };
         if !self.size.is_power_of_two() || !(4..=MAX_SIZE).contains(&self.size) {
             return bad(
                 "size",

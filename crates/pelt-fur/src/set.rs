@@ -46,11 +46,13 @@ pub struct TextureSet {
 }
 
 /// A popcount of 16 subsamples as a 16-bit coverage code.
-fn coverage_code(mask: u16) -> u16 {
+pub fn coverage_code(mask: u16) -> u16 {
     ((mask.count_ones() * 65535 + 8) / 16) as u16
 }
 
-fn level_name(stem: &str, level: usize) -> String {
+/// File (and glTF image) name of level `level` of texture `stem`: `heightfield.png`,
+/// `heightfield.mip1.png`, ...
+pub fn level_name(stem: &str, level: usize) -> String {
     if level == 0 {
         format!("{stem}.png")
     } else {

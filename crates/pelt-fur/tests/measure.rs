@@ -7,9 +7,14 @@ use pelt_fur::expect;
 use pelt_fur::fin::side_view;
 use pelt_fur::mips::{Groups, box_chain, coverage_chain, level_size};
 use pelt_fur::raster::top_view;
-use pelt_fur::set::{fraction_above, height_threshold};
+use pelt_fur::set::{coverage_code, fraction_above, height_threshold};
 use pelt_fur::strands::{Strand, generate as strands};
 use pelt_fur::{StrandParams, generate};
+
+/// Fraction of the subsamples of `masks` that are covered.
+fn mask_coverage(masks: &[u16]) -> f64 {
+    masks.iter().map(|m| f64::from(m.count_ones())).sum::<f64>() / (16.0 * masks.len() as f64)
+}
 
 fn configs() -> Vec<(&'static str, StrandParams)> {
     vec![
@@ -80,13 +85,7 @@ fn shell_and_dot_coverage_match_the_model_within_2_percent() {
         }
         // Dot texture: mean alpha, exactly from the subsample masks and from the 8-bit image.
         let want = expect::dot_coverage(&p);
-        let masks = set
-            .top
-            .mask
-            .iter()
-            .map(|m| f64::from(m.count_ones()))
-            .sum::<f64>()
-            / (16.0 * set.top.mask.len() as f64);
+        let masks = mask_coverage(&set.top.mask);
         let pelt_fur::Pixels::Gray8(dots) = &set.dots[0].pixels else {
             panic!("dots are 8-bit")
         };
@@ -244,12 +243,7 @@ fn every_mip_level_keeps_coverage_within_2_percent() {
     assert!(kept < 0.7, "box filter kept {kept}");
 
     // Dots: mean alpha (blended coverage) at every level, and alpha-test coverage at 0.5.
-    let dots0: Vec<u16> = set
-        .top
-        .mask
-        .iter()
-        .map(|m| ((m.count_ones() * 65535 + 8) / 16) as u16)
-        .collect();
+    let dots0: Vec<u16> = set.top.mask.iter().map(|&m| coverage_code(m)).collect();
     let dchain = coverage_chain(&dots0, n, n, Groups::Whole);
     for (l, level) in dchain.iter().enumerate() {
         let m = mean(level) / mean(&dots0);
@@ -269,12 +263,7 @@ fn every_mip_level_keeps_coverage_within_2_percent() {
 
     // Fin texture: each row band keeps its coverage (the height profile survives).
     let rows = p.fin_rows() as usize;
-    let a0: Vec<u16> = set
-        .side
-        .mask
-        .iter()
-        .map(|m| ((m.count_ones() * 65535 + 8) / 16) as u16)
-        .collect();
+    let a0: Vec<u16> = set.side.mask.iter().map(|&m| coverage_code(m)).collect();
     let fchain = coverage_chain(&a0, n, rows, Groups::Rows);
     for (l, level) in fchain.iter().enumerate() {
         let (lw, lh) = level_size(n, rows, l + 1);
@@ -337,11 +326,7 @@ fn the_fin_texture_shows_the_heightfields_strands() {
             .sum::<f64>()
             / 4.0;
         let row = rows - 1 - k;
-        let got = set.side.mask[row * n..(row + 1) * n]
-            .iter()
-            .map(|m| f64::from(m.count_ones()))
-            .sum::<f64>()
-            / (16.0 * n as f64);
+        let got = mask_coverage(&set.side.mask[row * n..(row + 1) * n]);
         if want > 0.05 {
             worst = worst.max((got / want - 1.0).abs());
             assert!((got / want - 1.0).abs() <= 0.02, "row {k}: {got} vs {want}");
@@ -400,11 +385,7 @@ fn the_fin_texture_shows_the_heightfields_strands() {
             std::f64::consts::PI * r2,
         );
         let row = rows - 1 - (z * rows as f64) as usize;
-        let cov = set.side.mask[row * n..(row + 1) * n]
-            .iter()
-            .map(|m| f64::from(m.count_ones()))
-            .sum::<f64>()
-            / (16.0 * n as f64);
+        let cov = mask_coverage(&set.side.mask[row * n..(row + 1) * n]);
         let fin = expect::implied_taller(cov, strands_n, p.fin_depth * 2.0 * p.radius);
         let model = expect::taller(&p, z);
         println!("taller than {z}: heightfield {hf:.3} fin {fin:.3} model {model:.3}");

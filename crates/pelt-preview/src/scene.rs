@@ -118,93 +118,58 @@ impl From<Material> for MaterialSpec {
     }
 }
 
-/// A number in (0, 1].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "f32", into = "f32")]
-pub struct Unit(pub f32);
+/// A checked `f32` newtype: deserializing one that fails `$ok` is an error at its place in
+/// the file, with `$what` as the message.
+macro_rules! checked_f32 {
+    ($(#[$doc:meta])* $name:ident, |$v:ident| $ok:expr, $what:literal) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+        #[serde(try_from = "f32", into = "f32")]
+        pub struct $name(pub f32);
 
-impl TryFrom<f32> for Unit {
-    type Error = String;
-    fn try_from(v: f32) -> Result<Self, String> {
-        if v > 0.0 && v <= 1.0 {
-            Ok(Unit(v))
-        } else {
-            Err(format!("must be above 0 and at most 1, got {v}"))
+        impl TryFrom<f32> for $name {
+            type Error = String;
+            fn try_from($v: f32) -> Result<Self, String> {
+                if $ok {
+                    Ok($name($v))
+                } else {
+                    Err(format!(concat!("must be ", $what, ", got {}"), $v))
+                }
+            }
         }
-    }
-}
 
-impl From<Unit> for f32 {
-    fn from(u: Unit) -> f32 {
-        u.0
-    }
-}
-
-/// An index of refraction in [1, 3].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "f32", into = "f32")]
-pub struct Ior(pub f32);
-
-impl TryFrom<f32> for Ior {
-    type Error = String;
-    fn try_from(v: f32) -> Result<Self, String> {
-        if (1.0..=3.0).contains(&v) {
-            Ok(Ior(v))
-        } else {
-            Err(format!("must be from 1 to 3, got {v}"))
+        impl From<$name> for f32 {
+            fn from(x: $name) -> f32 {
+                x.0
+            }
         }
-    }
+    };
 }
 
-impl From<Ior> for f32 {
-    fn from(u: Ior) -> f32 {
-        u.0
-    }
-}
-
-/// A finite number ≥ 0.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "f32", into = "f32")]
-pub struct NonNegative(pub f32);
-
-impl TryFrom<f32> for NonNegative {
-    type Error = String;
-    fn try_from(v: f32) -> Result<Self, String> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(NonNegative(v))
-        } else {
-            Err(format!("must be a finite number of at least 0, got {v}"))
-        }
-    }
-}
-
-impl From<NonNegative> for f32 {
-    fn from(u: NonNegative) -> f32 {
-        u.0
-    }
-}
-
-/// A finite number > 0.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "f32", into = "f32")]
-pub struct Positive(pub f32);
-
-impl TryFrom<f32> for Positive {
-    type Error = String;
-    fn try_from(v: f32) -> Result<Self, String> {
-        if v.is_finite() && v > 0.0 {
-            Ok(Positive(v))
-        } else {
-            Err(format!("must be a finite number above 0, got {v}"))
-        }
-    }
-}
-
-impl From<Positive> for f32 {
-    fn from(u: Positive) -> f32 {
-        u.0
-    }
-}
+checked_f32!(
+    /// A number in (0, 1].
+    Unit,
+    |v| v > 0.0 && v <= 1.0,
+    "above 0 and at most 1"
+);
+checked_f32!(
+    /// An index of refraction in [1, 3].
+    Ior,
+    |v| (1.0..=3.0).contains(&v),
+    "from 1 to 3"
+);
+checked_f32!(
+    /// A finite number ≥ 0.
+    NonNegative,
+    |v| v.is_finite() && v >= 0.0,
+    "a finite number of at least 0"
+);
+checked_f32!(
+    /// A finite number > 0.
+    Positive,
+    |v| v.is_finite() && v > 0.0,
+    "a finite number above 0"
+);
 
 /// A placement: translation, rotation (unit quaternion x, y, z, w), scale.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
