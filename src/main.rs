@@ -5,6 +5,7 @@
 
 mod bake;
 mod inspect;
+mod render;
 mod textures;
 
 #[global_allocator]
@@ -31,6 +32,14 @@ Examples:
   pelt textures --tilt 3 --clumps 400 --clumping 0.6 --height-bits 8 -o out/fur
   pelt textures --config fixtures/fur.json -o out/fur";
 
+const RENDER_EXAMPLES: &str = "\
+Examples:
+  pelt render fixtures/creature.glb -o creature.png
+  pelt render fixtures/scenes/alpha.json -o alpha.png --backend gl
+  pelt render fixtures/scenes/alpha.json --explain
+  pelt render fixtures/scenes/alpha.json -o alpha.png --mode forward --size 320x180
+  pelt render fixtures/scenes/alpha.json --bench 20";
+
 const INSPECT_EXAMPLES: &str = "\
 Examples:
   pelt inspect out/creature.glb
@@ -52,6 +61,13 @@ enum Command {
     /// their manifest fur.json from one seeded strand model.
     #[command(after_help = TEXTURES_EXAMPLES)]
     Textures(TexturesArgs),
+    /// Render a scene file (.json) or one asset (framed and lit by a default scene) to PNG
+    /// with inferred lighting, or the deferred and forward references.
+    #[command(after_help = RENDER_EXAMPLES)]
+    Render(RenderArgs),
+    /// Time the inferred-lighting paper's two experiments (101 objects × 81 lights against
+    /// forward; 800×450 L-buffer with DSF against 1280×720 without) on this adapter.
+    RenderBench(RenderBenchArgs),
     /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
     #[command(after_help = INSPECT_EXAMPLES)]
     Inspect(InspectArgs),
@@ -101,6 +117,101 @@ pub struct BakeArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Arguments of `pelt render`.
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// A scene file (.json) or an asset (.glb, .gltf, .obj).
+    pub input: PathBuf,
+    /// Output PNG. May be left out with --explain or --bench.
+    #[arg(short, long, required_unless_present_any = ["explain", "bench"])]
+    pub output: Option<PathBuf>,
+    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF)
+    /// or forward (per-object light loop, the reference).
+    #[arg(long, default_value = "inferred")]
+    pub mode: pelt_preview::Mode,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Output size WxH (overrides the scene's).
+    #[arg(long, value_parser = size)]
+    pub size: Option<(u32, u32)>,
+    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
+    #[arg(long, value_parser = lbuffer_scale)]
+    pub lbuffer_scale: Option<f32>,
+    /// Discontinuity sensitive filtering on or off (overrides the scene's).
+    #[arg(long, value_enum)]
+    pub dsf: Option<OnOff>,
+    /// Print the passes this scene needs (no GPU is opened unless -o or --bench is given).
+    #[arg(long)]
+    pub explain: bool,
+    /// Time this many frames after warm-up and print the medians (whole frame and per pass).
+    #[arg(long, value_name = "FRAMES", value_parser = clap::value_parser!(usize))]
+    pub bench: Option<usize>,
+    /// Untimed frames before --bench.
+    #[arg(long, default_value_t = 3)]
+    pub warmup: usize,
+    /// Print nothing but errors and requested output.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `pelt render-bench`.
+#[derive(clap::Args)]
+pub struct RenderBenchArgs {
+    /// Which experiment: objects (a), lbuffer (b) or all.
+    #[arg(long, value_enum, default_value_t = Experiment::All)]
+    pub experiment: Experiment,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Timed frames per configuration.
+    #[arg(long, default_value_t = 15)]
+    pub frames: usize,
+    /// Untimed frames first.
+    #[arg(long, default_value_t = 3)]
+    pub warmup: usize,
+    /// The object every grid cell holds.
+    #[arg(long, default_value = "builtin:sphere")]
+    pub asset: String,
+}
+
+/// The experiments of `pelt render-bench`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Experiment {
+    /// 101 objects, 81 lights: inferred against forward.
+    Objects,
+    /// 122 lights: 800×450 L-buffer with DSF against 1280×720 without.
+    Lbuffer,
+    /// Both.
+    All,
+}
+
+/// on / off.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+fn size(s: &str) -> Result<(u32, u32), String> {
+    let parsed = s
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => Ok((w, h)),
+        _ => Err(format!("{s:?} is not WIDTHxHEIGHT with sides 1 to 8192")),
+    }
+}
+
+fn lbuffer_scale(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.1..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("{s:?} is not a scale from 0.1 to 1")),
+    }
 }
 
 /// Arguments of `pelt textures`. Every strand option overrides the config's
@@ -239,6 +350,8 @@ fn main() -> ExitCode {
         Command::Bake(args) => bake::run(&args),
         Command::Inspect(args) => inspect::run(&args),
         Command::Textures(args) => textures::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::RenderBench(args) => render::bench(&args),
     };
     match result {
         Ok(code) => code,

@@ -123,7 +123,7 @@ pub fn check_finite<const N: usize>(
 
 /// Fails when an index is out of range or the count is not a multiple of three.
 pub fn check_indices(indices: &[u32], vertex_count: usize) -> Result<(), GeomError> {
-    if indices.len() % 3 != 0 {
+    if !indices.len().is_multiple_of(3) {
         return Err(GeomError::PartialTriangle {
             count: indices.len(),
         });

@@ -349,7 +349,7 @@ pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements
         .ok_or_else(|| doc.invalid(&place, "count is missing or zero"))?;
     let elem = components * component.size();
     let offset = uint(a, "byteOffset").unwrap_or(0);
-    if offset % component.size() as u64 != 0 {
+    if !offset.is_multiple_of(component.size() as u64) {
         return Err(doc.invalid(
             &place,
             format!("byteOffset {offset} is not a multiple of the component size"),

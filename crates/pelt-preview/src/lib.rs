@@ -1,14 +1,138 @@
-//! pelt-preview: the preview renderer for baked assets.
+//! pelt-preview: the preview renderer for baked assets, a headless wgpu implementation of
+//! inferred lighting (Kircher & Lawrance 2009) with deferred and forward references.
 //!
-//! This first step holds the CPU side that the wgpu passes (issue 5: G-buffer, L-buffer, DSF
-//! material pass, stippled alpha; Kircher & Lawrance) will run on:
-//!
-//! - [`scene`]: the scene file (objects, materials, point lights, camera, output size,
-//!   L-buffer scale, DSF), with errors naming file, line and field;
-//! - [`procedural`]: generated scenes for tests and benchmarks (grids of objects, seeded
-//!   random lights, the paper's two experiments).
+//! - [`scene`], [`procedural`], [`framing`]: what is rendered: scene files, generated scenes,
+//!   the default scene around one asset;
+//! - [`asset`]: glTF/OBJ (and built-in shapes) into vertex lists with normal-group IDs;
+//! - [`plan`], [`view`]: CPU decisions per frame: mode, passes, culling, scissor rectangles,
+//!   object IDs, stipple patterns, draw order (`--explain`);
+//! - [`gpu`], [`renderer`], [`draw`], [`passes`], [`frame`]: the device, long-lived pipelines,
+//!   per-scene buffers and targets, the passes, and running/timing frames;
+//! - [`shaders`], [`uniforms`]: WGSL sources (top-level `shaders/`) and the structs they share.
 
+pub mod asset;
+pub mod draw;
+pub mod frame;
+pub mod framing;
+pub mod gpu;
+pub mod passes;
+pub mod plan;
 pub mod procedural;
+pub mod renderer;
 pub mod scene;
+pub mod shaders;
+pub mod uniforms;
+pub mod view;
 
+use std::path::PathBuf;
+
+pub use frame::{FrameError, Image, PassClock, Timings};
+pub use gpu::{Backend, Gpu, GpuError};
+pub use plan::{Mode, Plan, PlanError};
 pub use scene::{Scene, SceneError};
+
+use asset::{AssetError, MeshData};
+use draw::DrawData;
+use renderer::Renderer;
+
+/// Anything that stops a render.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// An object's asset failed to load.
+    #[error("objects[{object}] ({}): {source}", path.display())]
+    Asset {
+        /// Object index in the scene.
+        object: usize,
+        /// Its asset path.
+        path: PathBuf,
+        /// Why.
+        source: AssetError,
+    },
+    /// The plan cannot run.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    /// No device.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// The device failed during the frame.
+    #[error(transparent)]
+    Frame(#[from] FrameError),
+}
+
+/// Loads each distinct asset of `scene` once; returns the meshes and each object's index
+/// into them. Objects are tinted by their scene colour in the shader, not here.
+pub fn load_meshes(scene: &Scene) -> Result<(Vec<MeshData>, Vec<usize>), RenderError> {
+    let mut paths: Vec<&std::path::Path> = Vec::new();
+    let mut meshes = Vec::new();
+    let mut of = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        match paths.iter().position(|p| *p == o.asset.as_path()) {
+            Some(k) => of.push(k),
+            None => {
+                let m = asset::load(&o.asset).map_err(|source| RenderError::Asset {
+                    object: i,
+                    path: o.asset.clone(),
+                    source,
+                })?;
+                paths.push(&o.asset);
+                of.push(meshes.len());
+                meshes.push(m);
+            }
+        }
+    }
+    Ok((meshes, of))
+}
+
+/// A renderer on one device, reusable across scenes.
+#[derive(Debug)]
+pub struct Preview {
+    /// Pipelines and device.
+    pub renderer: Renderer,
+}
+
+impl Preview {
+    /// Opens a device on `backend`.
+    pub fn new(backend: Backend) -> Result<Preview, RenderError> {
+        Ok(Preview {
+            renderer: Renderer::new(Gpu::new(backend)?),
+        })
+    }
+
+    /// The adapter in words.
+    pub fn adapter(&self) -> String {
+        self.renderer.gpu.describe()
+    }
+
+    /// Plans `scene` in `mode`, builds the pipelines the plan needs and uploads the scene.
+    pub fn prepare(&mut self, scene: &Scene, mode: Mode) -> Result<DrawData, RenderError> {
+        let (meshes, of) = load_meshes(scene)?;
+        self.prepare_loaded(scene, &meshes, &of, mode)
+    }
+
+    /// [`Preview::prepare`] with the meshes already loaded.
+    pub fn prepare_loaded(
+        &mut self,
+        scene: &Scene,
+        meshes: &[MeshData],
+        mesh_of: &[usize],
+        mode: Mode,
+    ) -> Result<DrawData, RenderError> {
+        let plan = Plan::new(scene, meshes, mesh_of, mode)?;
+        self.renderer.prepare(&plan);
+        let d = DrawData::new(&self.renderer, plan, meshes);
+        match self.renderer.gpu.take_error() {
+            Some(e) => Err(FrameError::Device(e).into()),
+            None => Ok(d),
+        }
+    }
+
+    /// Renders one frame.
+    pub fn render(&self, d: &DrawData) -> Result<Image, RenderError> {
+        Ok(frame::render(&self.renderer, d)?)
+    }
+
+    /// Times frames (see [`frame::time`]).
+    pub fn time(&self, d: &DrawData, warmup: usize, frames: usize) -> Result<Timings, RenderError> {
+        Ok(frame::time(&self.renderer, d, warmup, frames)?)
+    }
+}

@@ -29,6 +29,7 @@ pub fn grid(asset: &Path, count: usize, spacing: f32, material: Material) -> Vec
                 ..Transform::default()
             },
             material,
+            color: [1.0; 3],
         })
         .collect()
 }

@@ -237,10 +237,17 @@ pub struct Object {
     /// Material.
     #[serde(default = "opaque")]
     pub material: Material,
+    /// Linear colour multiplied into the asset's base colour (white when absent).
+    #[serde(default = "white", skip_serializing_if = "is_white")]
+    pub color: [f32; 3],
 }
 
 fn opaque() -> Material {
     Material::Opaque
+}
+
+fn is_white(c: &[f32; 3]) -> bool {
+    *c == [1.0; 3]
 }
 
 /// A point light.
@@ -397,7 +404,9 @@ impl Scene {
         let mut scene = Scene::parse(path, &text)?;
         let dir = path.parent().unwrap_or(Path::new(""));
         for o in &mut scene.objects {
-            o.asset = dir.join(&o.asset);
+            if !o.asset.to_string_lossy().starts_with(crate::asset::BUILTIN) {
+                o.asset = dir.join(&o.asset);
+            }
         }
         Ok(scene)
     }
@@ -490,6 +499,12 @@ impl Scene {
             obj.transform
                 .check()
                 .map_err(|(f, m)| (format!("objects[{i}].{f}"), m))?;
+            if !obj.color.iter().all(|c| (0.0..=1.0).contains(c)) {
+                return Err((
+                    format!("objects[{i}].color"),
+                    format!("components must be from 0 to 1, got {:?}", obj.color),
+                ));
+            }
         }
         for (i, l) in self.lights.iter().enumerate() {
             if !l.position.iter().chain(&l.color).all(|v| v.is_finite())

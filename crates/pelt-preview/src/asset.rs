@@ -1,0 +1,434 @@
+//! Assets for the preview: a baked (or any) glTF/OBJ file flattened into one vertex and index
+//! list in the asset's space (every node of the default scene, its transform applied), with
+//! each primitive's base colour factor and `_NORMAL_GROUP` ID (0 when absent) per vertex. Also
+//! built-in shapes (`builtin:cube`, `builtin:sphere`, `builtin:quad`) for test and benchmark
+//! scenes; the cube's six faces are six normal groups, as a bake would give.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use pelt_io::{Document, IoError, PrimitiveRef, accessor};
+use serde_json::Value;
+
+use crate::uniforms::Vertex;
+
+/// Why an asset could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum AssetError {
+    /// Reading or decoding the file failed.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// A `builtin:` name that does not exist.
+    #[error("{path}: unknown built-in shape (known: builtin:cube, builtin:sphere, builtin:quad)")]
+    UnknownBuiltin {
+        /// The name as written.
+        path: String,
+    },
+    /// The asset has no triangles to draw.
+    #[error("{}: no TRIANGLES primitive reachable from the scene's nodes", path.display())]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+}
+
+/// A drawable mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshData {
+    /// Vertices in the asset's space.
+    pub vertices: Vec<Vertex>,
+    /// Triangle list.
+    pub indices: Vec<u32>,
+}
+
+impl MeshData {
+    /// Axis-aligned bounds (min, max) of the vertices.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.vertices.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), v| (lo.min(v.position.into()), hi.max(v.position.into())),
+        )
+    }
+}
+
+/// The prefix of built-in shape names.
+pub const BUILTIN: &str = "builtin:";
+
+/// Loads `path`: a `builtin:` shape, an `.obj`, or a `.gltf`/`.glb`.
+pub fn load(path: &Path) -> Result<MeshData, AssetError> {
+    let name = path.to_string_lossy();
+    if let Some(shape) = name.strip_prefix(BUILTIN) {
+        return builtin(shape).ok_or_else(|| AssetError::UnknownBuiltin {
+            path: name.into_owned(),
+        });
+    }
+    let is_obj = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    let doc = if is_obj {
+        pelt_io::obj::load(path)?
+    } else {
+        Document::load(path)?
+    };
+    flatten(&doc)
+}
+
+/// A built-in shape by name (`cube`, `sphere`, `quad`), white.
+pub fn builtin(name: &str) -> Option<MeshData> {
+    match name {
+        "cube" => Some(cube()),
+        "sphere" => Some(sphere(24, 48)),
+        "quad" => Some(quad()),
+        _ => None,
+    }
+}
+
+fn vertex(p: Vec3, n: Vec3, group: u32) -> Vertex {
+    Vertex {
+        position: p.into(),
+        normal: n.into(),
+        albedo: [1.0; 4],
+        group,
+    }
+}
+
+/// A unit cube (−0.5..0.5), 24 vertices, one normal group per face (IDs 1..6).
+fn cube() -> MeshData {
+    let mut m = MeshData {
+        vertices: Vec::new(),
+        indices: Vec::new(),
+    };
+    for (face, n) in [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let u = if n.y.abs() > 0.5 { Vec3::X } else { Vec3::Y };
+        let v = n.cross(u);
+        let base = m.vertices.len() as u32;
+        for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            let p = 0.5 * (n + a * u + b * v);
+            m.vertices.push(vertex(p, n, face as u32 + 1));
+        }
+        // Counter-clockwise seen from outside: (u, v, n) is right-handed.
+        m.indices
+            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    m
+}
+
+/// A unit quad in the XY plane (−0.5..0.5) facing +Z, one normal group.
+fn quad() -> MeshData {
+    let vertices = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+        .into_iter()
+        .map(|(x, y)| vertex(Vec3::new(x, y, 0.0), Vec3::Z, 1))
+        .collect();
+    MeshData {
+        vertices,
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// A UV sphere of radius 0.5, one normal group.
+fn sphere(rings: u32, segs: u32) -> MeshData {
+    let mut vertices = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segs {
+            let phi = std::f32::consts::TAU * s as f32 / segs as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
+            vertices.push(vertex(0.5 * n, n, 1));
+        }
+    }
+    let mut indices = Vec::new();
+    let row = segs + 1;
+    for r in 0..rings {
+        for s in 0..segs {
+            let (a, b) = (r * row + s, (r + 1) * row + s);
+            indices.extend([a, b, a + 1, a + 1, b, b + 1]);
+        }
+    }
+    MeshData { vertices, indices }
+}
+
+/// The local matrix of a node (`matrix`, or TRS).
+fn node_matrix(node: &Value) -> Mat4 {
+    let floats = |key: &str, n: usize| -> Option<Vec<f32>> {
+        let a = node.get(key)?.as_array()?;
+        let v: Vec<f32> = a
+            .iter()
+            .filter_map(|x| x.as_f64().map(|f| f as f32))
+            .collect();
+        (v.len() == n && v.iter().all(|f| f.is_finite())).then_some(v)
+    };
+    if let Some(m) = floats("matrix", 16) {
+        return Mat4::from_cols_slice(&m);
+    }
+    let t = floats("translation", 3).map_or(Vec3::ZERO, |v| Vec3::from_slice(&v));
+    let r = floats("rotation", 4).map_or(Quat::IDENTITY, |v| Quat::from_slice(&v).normalize());
+    let s = floats("scale", 3).map_or(Vec3::ONE, |v| Vec3::from_slice(&v));
+    Mat4::from_scale_rotation_translation(s, r, t)
+}
+
+/// Every (mesh, world matrix) reachable from the default scene (or every root node when the
+/// file has no scene). Cycles and absurd depths are cut off.
+fn mesh_instances(doc: &Document) -> Vec<(usize, Mat4)> {
+    let nodes = doc.array("nodes");
+    let scene = doc.json.get("scene").and_then(Value::as_u64).unwrap_or(0) as usize;
+    let roots: Vec<usize> = match doc.array("scenes").get(scene) {
+        Some(s) => s
+            .get("nodes")
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|v| v.as_u64().map(|i| i as usize))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        None => {
+            // No scene: nodes that are nobody's child.
+            let mut is_child = vec![false; nodes.len()];
+            for n in nodes {
+                for c in n
+                    .get("children")
+                    .and_then(Value::as_array)
+                    .into_iter()
+                    .flatten()
+                {
+                    if let Some(c) = c.as_u64().and_then(|c| is_child.get_mut(c as usize)) {
+                        *c = true;
+                    }
+                }
+            }
+            (0..nodes.len()).filter(|&i| !is_child[i]).collect()
+        }
+    };
+    let mut out = Vec::new();
+    let mut visited = vec![false; nodes.len()];
+    let mut stack: Vec<(usize, Mat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|r| (r, Mat4::IDENTITY))
+        .collect();
+    while let Some((i, parent)) = stack.pop() {
+        let Some(node) = nodes.get(i) else { continue };
+        if std::mem::replace(&mut visited[i], true) {
+            continue;
+        }
+        let world = parent * node_matrix(node);
+        if let Some(m) = node.get("mesh").and_then(Value::as_u64) {
+            out.push((m as usize, world));
+        }
+        for c in node
+            .get("children")
+            .and_then(Value::as_array)
+            .into_iter()
+            .flatten()
+            .rev()
+        {
+            if let Some(c) = c.as_u64() {
+                stack.push((c as usize, world));
+            }
+        }
+    }
+    out
+}
+
+/// The linear base colour factor of the primitive's material (white without one).
+fn base_color(doc: &Document, r: PrimitiveRef) -> Result<[f32; 4], IoError> {
+    let Some(m) = doc.primitive(r)?.get("material").and_then(Value::as_u64) else {
+        return Ok([1.0; 4]);
+    };
+    let factor = doc
+        .array("materials")
+        .get(m as usize)
+        .and_then(|m| m.get("pbrMetallicRoughness"))
+        .and_then(|p| p.get("baseColorFactor"))
+        .and_then(Value::as_array);
+    let Some(f) = factor else { return Ok([1.0; 4]) };
+    let v: Vec<f32> = f
+        .iter()
+        .filter_map(|x| x.as_f64().map(|x| x as f32))
+        .collect();
+    match <[f32; 4]>::try_from(v) {
+        Ok(c) if c.iter().all(|x| (0.0..=1.0).contains(x)) => Ok(c),
+        _ => Err(doc.invalid(
+            format!("materials[{m}].pbrMetallicRoughness.baseColorFactor"),
+            "must be 4 numbers in 0..1",
+        )),
+    }
+}
+
+/// `_NORMAL_GROUP` of the primitive, checked against its vertex count (None when absent).
+fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec<u32>>, IoError> {
+    let Some(i) = doc.attribute(r, "_NORMAL_GROUP")? else {
+        return Ok(None);
+    };
+    let place = format!("{} attribute _NORMAL_GROUP", doc.place(r));
+    let e = accessor::read(doc, i, &place)?;
+    if e.components != 1 || e.count != n {
+        return Err(doc.invalid(
+            place,
+            format!(
+                "must be SCALAR with one value per vertex ({n}), found {} × {}",
+                e.ty, e.count
+            ),
+        ));
+    }
+    Ok(Some(
+        (0..n)
+            .map(|k| (e.component_f32(k) as u32).min(255))
+            .collect(),
+    ))
+}
+
+/// Flattens every TRIANGLES primitive of every mesh instance into one mesh.
+pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
+    let mut out = MeshData {
+        vertices: Vec::new(),
+        indices: Vec::new(),
+    };
+    for (mesh, world) in mesh_instances(doc) {
+        let normal_world = Mat3::from_mat4(world).inverse().transpose();
+        let flips = world.determinant() < 0.0;
+        for r in doc.primitives().into_iter().filter(|r| r.mesh == mesh) {
+            if doc.mode(r)? != 4 {
+                continue;
+            }
+            let p = pelt_io::mesh::read_primitive(doc, r)?;
+            let m = &p.mesh;
+            let albedo = base_color(doc, r)?;
+            let groups = normal_groups(doc, r, m.vertex_count())?;
+            let base = out.vertices.len() as u32;
+            match &m.normals {
+                Some(normals) => {
+                    for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
+                        out.vertices.push(Vertex {
+                            position: world.transform_point3(pos).into(),
+                            normal: (normal_world * n).normalize_or_zero().into(),
+                            albedo,
+                            group: groups.as_ref().map_or(0, |g| g[k]),
+                        });
+                    }
+                    for t in m.indices.chunks_exact(3) {
+                        let t = if flips {
+                            [t[0], t[2], t[1]]
+                        } else {
+                            [t[0], t[1], t[2]]
+                        };
+                        out.indices.extend(t.map(|i| base + i));
+                    }
+                }
+                None => {
+                    // glTF: no NORMAL means flat shading. One vertex per corner.
+                    for t in m.indices.chunks_exact(3) {
+                        let c = [t[0], t[1], t[2]]
+                            .map(|i| world.transform_point3(m.positions[i as usize]));
+                        let mut n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+                        if flips {
+                            n = -n;
+                        }
+                        let order = if flips { [0, 2, 1] } else { [0, 1, 2] };
+                        for k in order {
+                            out.indices.push(out.vertices.len() as u32);
+                            out.vertices.push(Vertex {
+                                position: c[k].into(),
+                                normal: n.into(),
+                                albedo,
+                                group: groups.as_ref().map_or(0, |g| g[t[k] as usize]),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if out.indices.is_empty() {
+        return Err(AssetError::Empty {
+            path: doc.path.clone(),
+        });
+    }
+    Ok(out)
+}
+
+/// Albedo of every vertex replaced (`builtin:` shapes are white; scenes tint them).
+pub fn tinted(mut m: MeshData, albedo: Vec4) -> MeshData {
+    for v in &mut m.vertices {
+        v.albedo = albedo.into();
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outward_winding(m: &MeshData) -> bool {
+        m.indices.chunks_exact(3).all(|t| {
+            let p = [t[0], t[1], t[2]].map(|i| Vec3::from(m.vertices[i as usize].position));
+            let n = Vec3::from(m.vertices[t[0] as usize].normal);
+            (p[1] - p[0]).cross(p[2] - p[0]).dot(n) > 0.0
+        })
+    }
+
+    #[test]
+    fn builtins_are_closed_outward_and_grouped() {
+        let c = builtin("cube").expect("cube");
+        assert_eq!((c.vertices.len(), c.indices.len()), (24, 36));
+        assert!(outward_winding(&c));
+        let mut groups: Vec<u32> = c.vertices.iter().map(|v| v.group).collect();
+        groups.dedup();
+        assert_eq!(groups, vec![1, 2, 3, 4, 5, 6]);
+        assert_eq!(c.bounds(), (Vec3::splat(-0.5), Vec3::splat(0.5)));
+        let s = builtin("sphere").expect("sphere");
+        assert!(outward_winding(&s.clone_without_poles()));
+        assert!(outward_winding(&builtin("quad").expect("quad")));
+        assert!(matches!(
+            load(Path::new("builtin:teapot")),
+            Err(AssetError::UnknownBuiltin { .. })
+        ));
+    }
+
+    impl MeshData {
+        /// The sphere without its degenerate pole triangles.
+        fn clone_without_poles(&self) -> MeshData {
+            let indices = self
+                .indices
+                .chunks_exact(3)
+                .filter(|t| {
+                    let p = [t[0], t[1], t[2]].map(|i| Vec3::from(self.vertices[i as usize].position));
+                    (p[1] - p[0]).cross(p[2] - p[0]).length() > 1e-7
+                })
+                .flatten()
+                .copied()
+                .collect();
+            MeshData {
+                vertices: self.vertices.clone(),
+                indices,
+            }
+        }
+    }
+
+    #[test]
+    fn baked_fixture_keeps_groups_and_colors() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let m = load(&root.join("torus.glb")).expect("torus");
+        assert!(!m.indices.is_empty() && m.indices.len().is_multiple_of(3));
+        assert!(m.indices.iter().all(|&i| (i as usize) < m.vertices.len()));
+        assert!(
+            m.vertices
+                .iter()
+                .all(|v| Vec3::from(v.normal).is_normalized())
+        );
+    }
+}

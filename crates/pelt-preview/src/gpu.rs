@@ -1,0 +1,183 @@
+//! The wgpu device: any adapter, or one back end by name (`--backend vulkan|gl|auto`). On
+//! machines without a GPU this is Mesa's CPU drivers: Vulkan on lavapipe, GL on llvmpipe.
+//! Decides the few format and feature questions once: the normal buffer's 16-bit format and
+//! whether GPU timestamps can be trusted (Vulkan yes; GL on llvmpipe reports them but its values
+//! are wrong, so wall time is used there).
+
+use std::fmt;
+use std::str::FromStr;
+use std::sync::{Arc, Mutex};
+
+/// Which wgpu back end to ask for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Backend {
+    /// Whatever adapter wgpu prefers among the compiled-in back ends.
+    #[default]
+    Auto,
+    /// Vulkan (lavapipe on a CPU-only machine).
+    Vulkan,
+    /// OpenGL / GLES through EGL (llvmpipe on a CPU-only machine).
+    Gl,
+}
+
+impl FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "auto" | "any" => Ok(Backend::Auto),
+            "vulkan" | "vk" => Ok(Backend::Vulkan),
+            "gl" | "gles" | "opengl" => Ok(Backend::Gl),
+            "metal" | "dx12" | "webgpu" => Err(format!(
+                "back end {s:?} is not built into pelt (built in: vulkan, gl; or auto)"
+            )),
+            _ => Err(format!(
+                "unknown back end {s:?} (expected vulkan, gl or auto)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Backend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Backend::Auto => "auto",
+            Backend::Vulkan => "vulkan",
+            Backend::Gl => "gl",
+        })
+    }
+}
+
+impl Backend {
+    fn backends(self) -> wgpu::Backends {
+        match self {
+            Backend::Auto => wgpu::Backends::VULKAN | wgpu::Backends::GL,
+            Backend::Vulkan => wgpu::Backends::VULKAN,
+            Backend::Gl => wgpu::Backends::GL,
+        }
+    }
+}
+
+/// Why no device could be had.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter of the requested back end.
+    #[error(
+        "no {backend} adapter found ({source}); on a machine without a GPU install Mesa's CPU drivers: \
+         GL on llvmpipe comes with libegl-mesa0, Vulkan on lavapipe with mesa-vulkan-drivers"
+    )]
+    NoAdapter {
+        /// What was asked for.
+        backend: Backend,
+        /// wgpu's reason.
+        source: wgpu::RequestAdapterError,
+    },
+    /// The adapter refused the device.
+    #[error("the adapter refused a device: {0}")]
+    Device(#[from] wgpu::RequestDeviceError),
+}
+
+/// A device and what the renderer decided about it.
+#[derive(Debug)]
+pub struct Gpu {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter it came from.
+    pub info: wgpu::AdapterInfo,
+    /// The normal buffer's format: 16-bit unsigned normalized X/Y where the adapter can render
+    /// to it, else 16-bit float.
+    pub normal_format: wgpu::TextureFormat,
+    /// GPU timestamp queries that track real time are available.
+    pub timestamps: bool,
+    /// Device errors wgpu reported outside an error scope (instead of its default panic).
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+impl Gpu {
+    /// Opens a device on `backend`.
+    pub fn new(backend: Backend) -> Result<Gpu, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = backend.backends();
+        let instance = wgpu::Instance::new(desc);
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|source| GpuError::NoAdapter { backend, source })?;
+        let info = adapter.get_info();
+        let available = adapter.features();
+        let mut features = wgpu::Features::empty();
+        // Normals are stored as e * 0.5 + 0.5, so unorm, snorm or float all hold them.
+        let renderable = |f: wgpu::TextureFormat| {
+            adapter
+                .get_texture_format_features(f)
+                .allowed_usages
+                .contains(
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                )
+        };
+        // Rendering to a 16-bit unorm format is an adapter-specific format feature.
+        let norm16 = wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
+            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+        let normal_format =
+            if available.contains(norm16) && renderable(wgpu::TextureFormat::Rg16Unorm) {
+                features |= norm16;
+                wgpu::TextureFormat::Rg16Unorm
+            } else {
+                wgpu::TextureFormat::Rg16Float
+            };
+        let timestamps = info.backend == wgpu::Backend::Vulkan
+            && available.contains(wgpu::Features::TIMESTAMP_QUERY);
+        if timestamps {
+            features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+                label: Some("pelt-preview"),
+                required_features: features,
+                required_limits: adapter.limits(),
+                ..Default::default()
+            }))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = Arc::clone(&errors);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        Ok(Gpu {
+            errors,
+            device,
+            queue,
+            info,
+            normal_format,
+            timestamps,
+        })
+    }
+
+    /// The first device error reported since the last call, if any.
+    pub fn take_error(&self) -> Option<String> {
+        let mut v = self.errors.lock().ok()?;
+        let first = v.first().cloned();
+        v.clear();
+        first
+    }
+
+    /// `llvmpipe (LLVM 15.0.6, 256 bits) (Gl, Cpu)`.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} ({:?}, {:?}{})",
+            self.info.name,
+            self.info.backend,
+            self.info.device_type,
+            if self.info.driver_info.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", self.info.driver_info)
+            }
+        )
+    }
+}

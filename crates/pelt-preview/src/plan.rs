@@ -1,0 +1,501 @@
+//! What a frame needs, decided on the CPU before any GPU work: the mode (inferred lighting,
+//! deferred with a full-resolution L-buffer, or the forward reference), which objects and
+//! lights can show, the order they are drawn in, object IDs and stipple patterns (Kircher &
+//! Lawrance §3.1, §4), and the passes that run. Only the passes a scene needs appear: no
+//! lights on screen means no geometry or light pass (the material pass takes the ambient term
+//! alone). `--explain` prints this plan.
+
+use std::fmt::{self, Write as _};
+
+use glam::{Mat4, Vec3};
+
+use crate::asset::MeshData;
+use crate::scene::{Material, Scene};
+use crate::uniforms::MAX_FORWARD_LIGHTS;
+use crate::view::{View, assign_stipple};
+
+/// How the frame is lit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Inferred lighting: G-buffer and L-buffer at the scene's L-buffer scale, DSF material
+    /// pass at output resolution.
+    #[default]
+    Inferred,
+    /// Deferred (light pre-pass): full-resolution L-buffer, no DSF.
+    Deferred,
+    /// Forward: every object loops over every light, O(objects × lights).
+    Forward,
+}
+
+impl std::str::FromStr for Mode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "inferred" => Ok(Mode::Inferred),
+            "deferred" => Ok(Mode::Deferred),
+            "forward" => Ok(Mode::Forward),
+            _ => Err(format!(
+                "unknown mode {s:?} (expected inferred, deferred or forward)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Mode::Inferred => "inferred",
+            Mode::Deferred => "deferred",
+            Mode::Forward => "forward",
+        })
+    }
+}
+
+/// A plan that cannot run.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// The forward reference takes a bounded light array.
+    #[error("forward mode takes at most {max} lights in one pass; the scene has {count} on screen")]
+    TooManyLights {
+        /// Lights on screen.
+        count: usize,
+        /// The limit.
+        max: usize,
+    },
+}
+
+/// An object that will be drawn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedObject {
+    /// Index in the scene's object list.
+    pub scene_index: usize,
+    /// Index of its mesh in the loaded assets.
+    pub mesh: usize,
+    /// Object to world.
+    pub model: Mat4,
+    /// DSF object ID, 1..=255 (scene index mod 255, plus 1: more than 255 objects share IDs,
+    /// as the paper accepts).
+    pub id: u32,
+    /// Stipple pattern: 0 opaque, 1..=3 alpha layer.
+    pub pattern: u32,
+    /// Opacity (1 for opaque).
+    pub opacity: f32,
+    /// Colour multiplied into the asset's albedo.
+    pub color: Vec3,
+    /// View depth of its bounds' centre.
+    pub depth: f32,
+}
+
+/// A light that reaches the screen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannedLight {
+    /// World position.
+    pub position: Vec3,
+    /// Radius.
+    pub radius: f32,
+    /// Linear colour × intensity.
+    pub color: Vec3,
+    /// Scissor rectangle on the L-buffer.
+    pub rect: [u32; 4],
+}
+
+/// A pass, for `--explain` and timing labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pass {
+    /// G-buffer at L-buffer resolution.
+    Geometry,
+    /// Scissored lights into the L-buffer.
+    Light,
+    /// Full materials at output resolution, lighting inferred from the L-buffer.
+    Material,
+    /// Forward shading with a light loop.
+    Forward,
+}
+
+impl Pass {
+    /// Short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::Geometry => "geometry",
+            Pass::Light => "light",
+            Pass::Material => "material",
+            Pass::Forward => "forward",
+        }
+    }
+}
+
+/// Everything decided before the GPU runs.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The mode.
+    pub mode: Mode,
+    /// The camera.
+    pub view: View,
+    /// Output size.
+    pub output: (u32, u32),
+    /// L-buffer size (also the G-buffer's), when there is one.
+    pub lbuffer: Option<(u32, u32)>,
+    /// Discontinuity sensitive filtering in the material pass.
+    pub dsf: bool,
+    /// Objects to draw.
+    pub objects: Vec<PlannedObject>,
+    /// Opaque objects, nearest first (early depth rejection).
+    pub opaque: Vec<usize>,
+    /// Alpha objects, farthest first (blending order).
+    pub alpha: Vec<usize>,
+    /// Lights that reach the screen.
+    pub lights: Vec<PlannedLight>,
+    /// Passes, in order.
+    pub passes: Vec<Pass>,
+    /// Linear ambient light.
+    pub ambient: Vec3,
+    /// Objects culled (off screen).
+    pub culled_objects: usize,
+    /// Lights culled (their sphere misses the screen).
+    pub culled_lights: usize,
+    /// Alpha objects that found all three stipple patterns taken by overlapping ones.
+    pub crowded_alpha: usize,
+    /// Materials drawn as something simpler, with the reason.
+    pub notes: Vec<String>,
+}
+
+impl Plan {
+    /// Plans `scene` in `mode`; `meshes[mesh_of[i]]` is object i's mesh.
+    pub fn new(
+        scene: &Scene,
+        meshes: &[MeshData],
+        mesh_of: &[usize],
+        mode: Mode,
+    ) -> Result<Plan, PlanError> {
+        let view = View::new(scene);
+        let output = (scene.output.width, scene.output.height);
+        let (lbuffer, dsf) = match mode {
+            Mode::Inferred => (Some(scene.lbuffer_size()), scene.dsf),
+            Mode::Deferred => (Some(output), false),
+            Mode::Forward => (None, false),
+        };
+        let bounds: Vec<(Vec3, Vec3)> = meshes.iter().map(MeshData::bounds).collect();
+        let mut objects = Vec::new();
+        let mut rects = Vec::new();
+        let mut notes = Vec::new();
+        let mut culled_objects = 0;
+        for (i, o) in scene.objects.iter().enumerate() {
+            let model = o.transform.matrix();
+            let (lo, hi) = bounds[mesh_of[i]];
+            let (vlo, vhi) = view.view_box(model, lo, hi);
+            let Some(rect) = view.screen_rect(vlo, vhi, output) else {
+                culled_objects += 1;
+                continue;
+            };
+            let (pattern, opacity) = match o.material {
+                Material::Alpha { opacity } => (1, opacity.0),
+                Material::Opaque => (0, 1.0),
+                other => {
+                    notes.push(format!(
+                        "objects[{i}]: {} is drawn opaque (its passes come in a later issue)",
+                        match other {
+                            Material::Fur => "fur",
+                            Material::Mirror => "mirror",
+                            _ => "glass",
+                        }
+                    ));
+                    (0, 1.0)
+                }
+            };
+            rects.push(rect);
+            objects.push(PlannedObject {
+                scene_index: i,
+                mesh: mesh_of[i],
+                model,
+                id: (i % 255) as u32 + 1,
+                pattern,
+                opacity,
+                color: Vec3::from(o.color),
+                depth: -(vlo.z + vhi.z) / 2.0,
+            });
+        }
+        // Stipple patterns for the alpha objects that show.
+        let alpha_idx: Vec<usize> = (0..objects.len())
+            .filter(|&k| objects[k].pattern != 0)
+            .collect();
+        let (patterns, crowded_alpha) = assign_stipple(
+            &alpha_idx
+                .iter()
+                .map(|&k| (Some(rects[k]), objects[k].depth))
+                .collect::<Vec<_>>(),
+        );
+        for (&k, p) in alpha_idx.iter().zip(patterns) {
+            objects[k].pattern = p;
+        }
+        let by_depth = |v: &mut Vec<usize>, far_first: bool| {
+            v.sort_by(|&a, &b| {
+                let o = objects[a].depth.total_cmp(&objects[b].depth);
+                if far_first { o.reverse() } else { o }.then(a.cmp(&b))
+            });
+        };
+        let mut opaque: Vec<usize> = (0..objects.len())
+            .filter(|&k| objects[k].pattern == 0)
+            .collect();
+        by_depth(&mut opaque, false);
+        let mut alpha = alpha_idx;
+        by_depth(&mut alpha, true);
+
+        let light_target = lbuffer.unwrap_or(output);
+        let lights: Vec<PlannedLight> = scene
+            .lights
+            .iter()
+            .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
+            .filter_map(|l| {
+                let rect = view.light_rect(l.position.into(), l.radius.0, light_target)?;
+                Some(PlannedLight {
+                    position: l.position.into(),
+                    radius: l.radius.0,
+                    color: Vec3::from(l.color) * l.intensity.0,
+                    rect,
+                })
+            })
+            .collect();
+        let culled_lights = scene.lights.len() - lights.len();
+        if mode == Mode::Forward && lights.len() > MAX_FORWARD_LIGHTS {
+            return Err(PlanError::TooManyLights {
+                count: lights.len(),
+                max: MAX_FORWARD_LIGHTS,
+            });
+        }
+        let (passes, lbuffer) = match mode {
+            Mode::Forward => (vec![Pass::Forward], None),
+            _ if lights.is_empty() || objects.is_empty() => (vec![Pass::Material], None),
+            _ => (vec![Pass::Geometry, Pass::Light, Pass::Material], lbuffer),
+        };
+        Ok(Plan {
+            mode,
+            view,
+            output,
+            dsf: dsf && lbuffer.is_some(),
+            lbuffer,
+            objects,
+            opaque,
+            alpha,
+            lights,
+            passes,
+            ambient: Vec3::from(scene.ambient),
+            culled_objects,
+            culled_lights,
+            crowded_alpha,
+            notes,
+        })
+    }
+
+    /// The plan in words (`--explain`).
+    pub fn explain(&self) -> String {
+        let mut s = String::new();
+        let (w, h) = self.output;
+        let _ = write!(s, "mode {}: output {w}×{h}", self.mode);
+        if let Some((lw, lh)) = self.lbuffer {
+            let _ = write!(
+                s,
+                ", L-buffer {lw}×{lh}, DSF {}",
+                if self.dsf { "on" } else { "off" }
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nobjects: {} drawn ({} opaque, {} alpha), {} off screen; lights: {} on screen, {} culled",
+            self.objects.len(),
+            self.opaque.len(),
+            self.alpha.len(),
+            self.culled_objects,
+            self.lights.len(),
+            self.culled_lights
+        );
+        let alpha_layers = |s: &mut String| {
+            if !self.alpha.is_empty() {
+                let mut used: Vec<u32> = self
+                    .alpha
+                    .iter()
+                    .map(|&k| self.objects[k].pattern)
+                    .collect();
+                used.sort_unstable();
+                used.dedup();
+                let _ = write!(s, "; stipple patterns used {used:?}");
+                if self.crowded_alpha > 0 {
+                    let _ = write!(
+                        s,
+                        " ({} alpha objects overlap 3 others and share a pattern)",
+                        self.crowded_alpha
+                    );
+                }
+            }
+        };
+        let _ = writeln!(s, "passes:");
+        for p in &self.passes {
+            let _ = write!(s, "  {:<9}", p.name());
+            match p {
+                Pass::Geometry => {
+                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
+                    let _ = write!(
+                        s,
+                        "{lw}×{lh}: view normals (eq. 1, X/Y 16-bit), DSF (16-bit linear depth, ID object<<8|group), depth; {} opaque, {} alpha stippled 2×2",
+                        self.opaque.len(),
+                        self.alpha.len()
+                    );
+                    alpha_layers(&mut s);
+                }
+                Pass::Light => {
+                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
+                    let area: f64 = self
+                        .lights
+                        .iter()
+                        .map(|l| {
+                            f64::from(l.rect[2] - l.rect[0]) * f64::from(l.rect[3] - l.rect[1])
+                        })
+                        .sum();
+                    let _ = write!(
+                        s,
+                        "{lw}×{lh}: {} lights, each a scissored full-screen triangle (mean {:.1}% of the L-buffer), added into RGB diffuse + A specular",
+                        self.lights.len(),
+                        100.0 * area
+                            / self.lights.len().max(1) as f64
+                            / (f64::from(lw) * f64::from(lh))
+                    );
+                }
+                Pass::Material => {
+                    let _ = write!(s, "{w}×{h}: ");
+                    if self.lbuffer.is_none() {
+                        let _ = write!(
+                            s,
+                            "no lights on screen, ambient only (no G-buffer or L-buffer); "
+                        );
+                    } else if self.dsf {
+                        let _ = write!(
+                            s,
+                            "DSF bilinear over 4 L-buffer taps (ID equal, depth within threshold); "
+                        );
+                    } else {
+                        let _ = write!(s, "plain bilinear L-buffer taps; ");
+                    }
+                    let _ = write!(
+                        s,
+                        "{} opaque front to back, {} alpha back to front",
+                        self.opaque.len(),
+                        self.alpha.len()
+                    );
+                }
+                Pass::Forward => {
+                    let _ = write!(
+                        s,
+                        "{w}×{h}: {} objects × {} lights in a per-pixel loop; {} alpha back to front",
+                        self.objects.len(),
+                        self.lights.len(),
+                        self.alpha.len()
+                    );
+                }
+            }
+            s.push('\n');
+        }
+        for n in &self.notes {
+            let _ = writeln!(s, "note: {n}");
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::asset::builtin;
+    use crate::procedural::grid_scene;
+    use crate::scene::{PointLight, Unit};
+    use std::path::Path;
+
+    fn plan(scene: &Scene, mode: Mode) -> Plan {
+        let meshes = vec![builtin("cube").expect("cube")];
+        Plan::new(scene, &meshes, &vec![0; scene.objects.len()], mode).expect("plan")
+    }
+
+    #[test]
+    fn passes_follow_the_mode_and_the_scene() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 9, 5, 1, 160, 90);
+        s.lbuffer_scale = 0.5;
+        let p = plan(&s, Mode::Inferred);
+        assert_eq!(p.passes, vec![Pass::Geometry, Pass::Light, Pass::Material]);
+        assert_eq!(p.lbuffer, Some((80, 45)));
+        assert!(p.dsf);
+        let d = plan(&s, Mode::Deferred);
+        assert_eq!((d.lbuffer, d.dsf), (Some((160, 90)), false));
+        let f = plan(&s, Mode::Forward);
+        assert_eq!((f.passes.clone(), f.lbuffer), (vec![Pass::Forward], None));
+        assert!(
+            f.explain().contains("9 objects × 5 lights"),
+            "{}",
+            f.explain()
+        );
+        // No lights: the material pass alone.
+        s.lights.clear();
+        let n = plan(&s, Mode::Inferred);
+        assert_eq!((n.passes.clone(), n.lbuffer), (vec![Pass::Material], None));
+        assert!(n.explain().contains("ambient only"), "{}", n.explain());
+    }
+
+    #[test]
+    fn alpha_is_sorted_back_to_front_and_opaque_front_to_back() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 4, 1, 1, 160, 90);
+        for o in &mut s.objects[..3] {
+            o.material = Material::Alpha { opacity: Unit(0.5) };
+        }
+        s.objects[0].transform.translation = [0.0, 0.5, 0.0];
+        s.objects[1].transform.translation = [0.0, 0.5, 1.0];
+        s.objects[2].transform.translation = [0.0, 0.5, -1.0];
+        let p = plan(&s, Mode::Inferred);
+        let order: Vec<usize> = p.alpha.iter().map(|&k| p.objects[k].scene_index).collect();
+        assert_eq!(order, vec![2, 0, 1], "farthest (−Z) first");
+        let pats: Vec<u32> = p.alpha.iter().map(|&k| p.objects[k].pattern).collect();
+        assert_eq!(pats, vec![3, 2, 1], "nearest takes pattern 1; all differ");
+        assert_eq!(p.opaque.len(), 1);
+        assert!(
+            p.explain().contains("stipple patterns used [1, 2, 3]"),
+            "{}",
+            p.explain()
+        );
+    }
+
+    #[test]
+    fn off_screen_lights_and_objects_are_culled() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 1, 0, 1, 160, 90);
+        s.lights.push(PointLight {
+            position: [0.0, 0.0, 100.0],
+            ..s_light()
+        });
+        s.lights.push(PointLight {
+            position: [0.0, 0.5, 0.0],
+            ..s_light()
+        });
+        let mut far = s.objects[0].clone();
+        far.transform.translation = [0.0, 0.0, 500.0];
+        s.objects.push(far);
+        let p = plan(&s, Mode::Inferred);
+        assert_eq!((p.lights.len(), p.culled_lights), (1, 1));
+        assert_eq!((p.objects.len(), p.culled_objects), (1, 1));
+    }
+
+    fn s_light() -> PointLight {
+        crate::procedural::random_lights(1, 0, Vec3::ZERO, Vec3::ZERO, (1.0, 1.0), 1.0)[0]
+    }
+
+    #[test]
+    fn forward_refuses_more_lights_than_its_array() {
+        let s = grid_scene(Path::new("builtin:cube"), 4, 300, 1, 160, 90);
+        let meshes = vec![builtin("cube").expect("cube")];
+        let visible = plan(&s, Mode::Inferred).lights.len();
+        let r = Plan::new(&s, &meshes, &[0; 4], Mode::Forward);
+        if visible > MAX_FORWARD_LIGHTS {
+            assert!(matches!(r, Err(PlanError::TooManyLights { .. })));
+        } else {
+            assert!(r.is_ok());
+        }
+        assert!(
+            visible > MAX_FORWARD_LIGHTS,
+            "the test scene should exceed the limit: {visible}"
+        );
+    }
+}

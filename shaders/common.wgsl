@@ -1,0 +1,155 @@
+// common.wgsl: structs and functions shared by every pass of pelt's preview renderer.
+// Prepended to each pass's file before compilation (see crates/pelt-preview/src/shaders.rs);
+// it declares no bindings, so each pass names its own.
+//
+// Keep in sync with crates/pelt-preview/src/uniforms.rs (FrameUniforms, ObjectUniforms,
+// LightUniforms, Vertex).
+
+struct Frame {
+    view: mat4x4<f32>,
+    proj: mat4x4<f32>,
+    // rgb: ambient light; w: specular power.
+    ambient: vec4<f32>,
+    // This pass's render target: width, height, 1/width, 1/height.
+    target_size: vec4<f32>,
+    // The L-buffer: width, height, 1/width, 1/height.
+    lbuffer_size: vec4<f32>,
+    // tan(fov_x / 2), tan(fov_y / 2), near, far.
+    proj_params: vec4<f32>,
+    // x: DSF on (1) or plain bilinear (0); y: light count (forward pass);
+    // z: DSF depth-threshold floor in quantisation steps; w: the frame has an L-buffer (1) or
+    // lights nothing on screen (0: ambient only).
+    flags: vec4<u32>,
+}
+
+struct Object {
+    model: mat4x4<f32>,
+    // Inverse transpose of `model` (its upper 3×3 transforms normals).
+    normal_model: mat4x4<f32>,
+    // rgb: linear colour multiplied into the vertex albedo; a: unused.
+    tint: vec4<f32>,
+    // x: opacity; y: specular strength; z, w: unused.
+    params: vec4<f32>,
+    // x: object ID (1..255); y: stipple pattern (0 = opaque, 1..3 = alpha layer); z, w: unused.
+    ids: vec4<u32>,
+}
+
+struct Light {
+    // View-space position, radius.
+    position_radius: vec4<f32>,
+    // rgb: colour × intensity; w: intensity × luminance(colour), the specular scale.
+    color: vec4<f32>,
+}
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec4<f32>,
+    @location(3) group: u32,
+}
+
+struct Surface {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) view_pos: vec3<f32>,
+    @location(1) view_normal: vec3<f32>,
+    @location(2) albedo: vec4<f32>,
+    @location(3) @interpolate(flat) group: u32,
+}
+
+// Linear depth 0 and 65535 are reserved: 65535 marks an empty DSF texel.
+const DEPTH_EMPTY: u32 = 65535u;
+const DEPTH_STEPS: f32 = 65534.0;
+
+fn to_surface(v: VertexIn, frame: Frame, object: Object) -> Surface {
+    var s: Surface;
+    let world = object.model * vec4<f32>(v.position, 1.0);
+    let view = frame.view * world;
+    s.clip = frame.proj * view;
+    s.view_pos = view.xyz;
+    let n_world = (object.normal_model * vec4<f32>(v.normal, 0.0)).xyz;
+    s.view_normal = (frame.view * vec4<f32>(n_world, 0.0)).xyz;
+    s.albedo = v.albedo * vec4<f32>(object.tint.rgb, 1.0);
+    s.group = v.group;
+    return s;
+}
+
+// The shading normal facing the viewer: back faces (double-sided or mis-wound geometry)
+// use the flipped normal, so every stored normal has z >= 0 up to interpolation.
+fn facing_normal(n: vec3<f32>, front: bool) -> vec3<f32> {
+    let u = normalize(n);
+    return select(-u, u, front);
+}
+
+// Kircher & Lawrance eq. 1: map the sphere onto the +Z hemisphere; X and Y are stored,
+// remapped from [-1, 1] to [0, 1] so a 16-bit unorm target holds them.
+fn encode_normal(n: vec3<f32>) -> vec2<f32> {
+    let m = n + vec3<f32>(0.0, 0.0, 1.0);
+    let len = length(m);
+    if len < 1e-6 {
+        return vec2<f32>(0.5, 0.5);
+    }
+    return m.xy / len * 0.5 + 0.5;
+}
+
+// Kircher & Lawrance eqs. 2 and 3, after undoing the [0, 1] remap.
+fn decode_normal(stored: vec2<f32>) -> vec3<f32> {
+    let e = stored * 2.0 - 1.0;
+    let z = sqrt(max(1.0 - dot(e, e), 0.0));
+    return vec3<f32>(2.0 * z * e.x, 2.0 * z * e.y, 2.0 * z * z - 1.0);
+}
+
+// Linear (view) depth to its 16-bit code: 0 at near, 65534 at far.
+fn depth_code(d: f32, frame: Frame) -> u32 {
+    let t = clamp((d - frame.proj_params.z) / (frame.proj_params.w - frame.proj_params.z), 0.0, 1.0);
+    return u32(round(t * DEPTH_STEPS));
+}
+
+fn depth_from_code(c: u32, frame: Frame) -> f32 {
+    return frame.proj_params.z + f32(c) / DEPTH_STEPS * (frame.proj_params.w - frame.proj_params.z);
+}
+
+// The DSF ID of Kircher & Lawrance §3.1: object ID in the high byte, normal group in the low.
+fn dsf_id(object: Object, group: u32) -> u32 {
+    return ((object.ids.x & 255u) << 8u) | (group & 255u);
+}
+
+// Whether pixel `p` belongs to stipple pattern `pattern` (1..3 of the 2×2 cell; 0 = opaque,
+// which owns every pixel).
+fn in_stipple(p: vec2<u32>, pattern: u32) -> bool {
+    return pattern == 0u || ((p.x & 1u) | ((p.y & 1u) << 1u)) == pattern;
+}
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+}
+
+// One point light at view-space point `p` with normal `n`: rgb = diffuse irradiance,
+// a = specular intensity (Blinn-Phong, scalar, as the L-buffer stores it). The falloff is
+// inverse-square windowed to reach exactly zero at the light's radius.
+fn point_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
+    let to_light = light.position_radius.xyz - p;
+    let dist = length(to_light);
+    let radius = light.position_radius.w;
+    if dist >= radius {
+        return vec4<f32>(0.0);
+    }
+    let l = to_light / max(dist, 1e-6);
+    let ndl = max(dot(n, l), 0.0);
+    let x = dist / radius;
+    let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+    let atten = window * window / (1.0 + dist * dist);
+    let v = normalize(-p);
+    let h = normalize(l + v);
+    let spec = pow(max(dot(n, h), 0.0), spec_power) * ndl * atten;
+    return vec4<f32>(light.color.rgb * (ndl * atten), spec * light.color.w);
+}
+
+// Kircher & Lawrance §2.2: the specular colour is rebuilt by scaling the stored intensity by
+// the colour of the diffuse lighting (normalised to unit luminance).
+fn specular_color(l: vec4<f32>) -> vec3<f32> {
+    let lum = luminance(l.rgb);
+    if lum <= 1e-5 {
+        return vec3<f32>(0.0);
+    }
+    return l.a * l.rgb / lum;
+}

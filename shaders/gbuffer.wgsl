@@ -1,0 +1,28 @@
+// gbuffer.wgsl: the geometry pass of inferred lighting (Kircher & Lawrance §2.1), at L-buffer
+// resolution. Writes view-space normals as X/Y after the hemisphere mapping of eq. 1, and the
+// DSF buffer: 16-bit linear depth and the 16-bit ID (object << 8 | normal group, §3.1).
+// Alpha objects write only the pixels of their 2×2 stipple pattern (§4).
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var<uniform> object: Object;
+
+@vertex
+fn vs_main(v: VertexIn) -> Surface {
+    return to_surface(v, frame, object);
+}
+
+struct GBufferOut {
+    @location(0) normal: vec2<f32>,
+    @location(1) dsf: vec2<u32>,
+}
+
+@fragment
+fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> GBufferOut {
+    if !in_stipple(vec2<u32>(s.clip.xy), object.ids.y) {
+        discard;
+    }
+    var out: GBufferOut;
+    out.normal = encode_normal(facing_normal(s.view_normal, front));
+    out.dsf = vec2<u32>(depth_code(-s.view_pos.z, frame), dsf_id(object, s.group));
+    return out;
+}

@@ -1,0 +1,30 @@
+// light.wgsl: the light pass of inferred lighting (Kircher & Lawrance §2.2). One full-screen
+// triangle per point light, clipped by the scissor rectangle of the light's screen-space bounds
+// (set by the CPU) and added into the L-buffer: rgb = diffuse, a = specular intensity. The
+// view-space position comes from the DSF buffer's linear depth; the normal from eqs. 2 and 3.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var normals: texture_2d<f32>;
+@group(1) @binding(1) var dsf: texture_2d<u32>;
+@group(2) @binding(0) var<uniform> light: Light;
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(frag.xy);
+    let d = textureLoad(dsf, px, 0);
+    if d.x == DEPTH_EMPTY {
+        discard;
+    }
+    let depth = depth_from_code(d.x, frame);
+    // Pixel centre to a view ray through the z = -1 plane, scaled to the stored depth.
+    let ndc = vec2<f32>(frag.x * frame.target_size.z * 2.0 - 1.0, 1.0 - frag.y * frame.target_size.w * 2.0);
+    let p = vec3<f32>(ndc * frame.proj_params.xy, -1.0) * depth;
+    let n = decode_normal(textureLoad(normals, px, 0).xy);
+    return point_light(p, n, light, frame.ambient.w);
+}

@@ -1,0 +1,74 @@
+// material.wgsl: the material pass of inferred lighting (Kircher & Lawrance §2.3, §3, §4), at
+// output resolution. Each surface infers its lighting from the four L-buffer texels that
+// bilinear filtering would read, keeping only those whose DSF ID matches exactly and whose
+// linear depth matches within a threshold (discontinuity sensitive filtering); plain bilinear
+// when none match, or when DSF is off; the ambient term alone when the frame has no L-buffer. Alpha objects read the four nearest texels of their own
+// 2×2 stipple pattern. Specular colour is rebuilt from the diffuse colour (§2.2).
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var<uniform> object: Object;
+@group(2) @binding(0) var lbuffer: texture_2d<f32>;
+@group(2) @binding(1) var dsf: texture_2d<u32>;
+
+@vertex
+fn vs_main(v: VertexIn) -> Surface {
+    return to_surface(v, frame, object);
+}
+
+// Keeps a tap inside the L-buffer without leaving its stipple lattice (step 1 or 2).
+fn clamp_tap(t: vec2<i32>, size: vec2<i32>, step: i32) -> vec2<i32> {
+    var r = t;
+    r = select(r, r + vec2<i32>(step), r < vec2<i32>(0));
+    r = select(r, r - vec2<i32>(step), r >= size);
+    return clamp(r, vec2<i32>(0), size - vec2<i32>(1));
+}
+
+@fragment
+fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let depth = -s.view_pos.z;
+    let pattern = object.ids.y;
+    let lattice = select(2.0, 1.0, pattern == 0u);
+    // How far apart (in linear depth) two L-buffer taps of this surface can be: the surface's
+    // depth slope across one tap spacing, twice over, plus a few quantisation steps.
+    let ratio = frame.lbuffer_size.xy * frame.target_size.zw;
+    let slope = fwidth(depth) * lattice / min(ratio.x, ratio.y);
+    let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;
+    let threshold = 2.0 * slope + f32(frame.flags.z) * step + 0.002 * depth;
+
+    let size = vec2<i32>(frame.lbuffer_size.xy);
+    let offset = vec2<f32>(f32(pattern & 1u), f32(pattern >> 1u));
+    // The fragment in L-buffer texel space (texel centres at integers), then on its lattice.
+    let q = s.clip.xy * ratio - vec2<f32>(0.5);
+    let c = (q - select(vec2<f32>(0.0), offset, pattern != 0u)) / lattice;
+    let base = floor(c);
+    let f = c - base;
+    let id = dsf_id(object, s.group);
+    let step_i = i32(lattice);
+    let origin = vec2<i32>(base) * step_i + select(vec2<i32>(0), vec2<i32>(offset), pattern != 0u);
+
+    var bilinear = vec4<f32>(0.0);
+    var filtered = vec4<f32>(0.0);
+    var kept = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        let corner = vec2<i32>(i32(k & 1u), i32(k >> 1u));
+        let tap = clamp_tap(origin + corner * step_i, size, step_i);
+        let w = select(1.0 - f.x, f.x, corner.x == 1) * select(1.0 - f.y, f.y, corner.y == 1);
+        let l = textureLoad(lbuffer, tap, 0);
+        bilinear += w * l;
+        let d = textureLoad(dsf, tap, 0);
+        let same = d.y == id && d.x != DEPTH_EMPTY && abs(depth_from_code(d.x, frame) - depth) <= threshold;
+        // A tiny floor keeps a matching tap usable when its bilinear weight is exactly zero.
+        let wk = select(0.0, max(w, 1e-4), same);
+        filtered += wk * l;
+        kept += wk;
+    }
+    var light = bilinear;
+    if frame.flags.w == 0u {
+        // No L-buffer (no light on screen): the ambient term alone.
+        light = vec4<f32>(frame.ambient.rgb, 0.0);
+    } else if frame.flags.x == 1u && kept > 0.0 {
+        light = filtered / kept;
+    }
+    let color = s.albedo.rgb * light.rgb + object.params.y * specular_color(light);
+    return vec4<f32>(color, object.params.x * s.albedo.a);
+}

@@ -1,0 +1,184 @@
+//! `pelt render`: a scene file or one asset (framed by a default scene) to a PNG, with the
+//! plan explained, and frame timing; `pelt render-bench`: the inferred-lighting paper's two
+//! experiments (Kircher & Lawrance §6) timed side by side on this machine's adapter.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use pelt_preview::procedural::{paper_lbuffer_scale, paper_objects_and_lights};
+use pelt_preview::{Mode, Plan, Preview, RenderError, Scene, load_meshes};
+
+use crate::{RenderArgs, RenderBenchArgs};
+
+/// Exit code for an input that could not be rendered.
+const FAILED: u8 = 1;
+
+fn scene_for(args: &RenderArgs) -> anyhow::Result<Scene> {
+    let is_scene = args
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let mut scene = if is_scene {
+        Scene::load(&args.input)?
+    } else {
+        let mesh = pelt_preview::asset::load(&args.input)?;
+        let (w, h) = args.size.unwrap_or((640, 360));
+        pelt_preview::framing::asset_scene(&args.input, &mesh, w, h)
+    };
+    if let Some((w, h)) = args.size {
+        scene.output.width = w;
+        scene.output.height = h;
+    }
+    if let Some(s) = args.lbuffer_scale {
+        scene.lbuffer_scale = s;
+    }
+    if let Some(d) = args.dsf {
+        scene.dsf = d == crate::OnOff::On;
+    }
+    Ok(scene)
+}
+
+fn fail(e: impl std::fmt::Display) -> ExitCode {
+    eprintln!("pelt: {e}");
+    ExitCode::from(FAILED)
+}
+
+/// Runs `pelt render`.
+pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
+    let scene = match scene_for(args) {
+        Ok(s) => s,
+        // A scene file's own errors are usage errors (2); an asset that cannot load fails (1).
+        Err(e) if e.downcast_ref::<pelt_preview::SceneError>().is_some() => return Err(e),
+        Err(e) => return Ok(fail(format!("{e:#}"))),
+    };
+    let (meshes, of) = match load_meshes(&scene) {
+        Ok(m) => m,
+        Err(e) => return Ok(fail(e)),
+    };
+    if args.explain {
+        match Plan::new(&scene, &meshes, &of, args.mode) {
+            Ok(p) => print!("{}", p.explain()),
+            Err(e) => return Ok(fail(e)),
+        }
+        if args.output.is_none() && args.bench.is_none() {
+            return Ok(ExitCode::SUCCESS);
+        }
+    }
+    let mut preview = match Preview::new(args.backend) {
+        Ok(p) => p,
+        Err(e) => return Ok(fail(e)),
+    };
+    if !args.quiet {
+        eprintln!("adapter: {}", preview.adapter());
+    }
+    let result = (|| -> Result<(), RenderError> {
+        let d = preview.prepare_loaded(&scene, &meshes, &of, args.mode)?;
+        for n in &d.plan.notes {
+            eprintln!("pelt: note: {n}");
+        }
+        if let Some(out) = &args.output {
+            let image = preview.render(&d)?;
+            image.save(out).map_err(RenderError::Frame)?;
+            if !args.quiet {
+                eprintln!(
+                    "wrote {} ({}×{}, {} mode)",
+                    out.display(),
+                    image.width,
+                    image.height,
+                    args.mode
+                );
+            }
+        }
+        if let Some(frames) = args.bench {
+            let t = preview.time(&d, args.warmup, frames)?;
+            println!("{}", timings_line(&t));
+        }
+        Ok(())
+    })();
+    Ok(match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(e),
+    })
+}
+
+fn timings_line(t: &pelt_preview::Timings) -> String {
+    let passes: Vec<String> = t
+        .passes
+        .iter()
+        .map(|(p, ms)| format!("{} {ms:.2} ms", p.name()))
+        .collect();
+    format!(
+        "frame {:.2} ms (median of {}); passes ({}): {}",
+        t.frame_ms,
+        t.frames,
+        match t.clock {
+            pelt_preview::PassClock::Gpu => "GPU timestamps",
+            pelt_preview::PassClock::Wall => "wall time, each pass submitted alone",
+        },
+        passes.join(", ")
+    )
+}
+
+/// Runs `pelt render-bench`.
+pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
+    let mut preview = Preview::new(args.backend).context("opening the GPU device")?;
+    println!("adapter: {}", preview.adapter());
+    let asset = Path::new(&args.asset);
+    let runs: Vec<(&str, Scene, Mode, &str)> = {
+        let a = paper_objects_and_lights(asset);
+        let b = paper_lbuffer_scale(asset);
+        let b_full = Scene {
+            lbuffer_scale: 1.0,
+            dsf: false,
+            ..b.clone()
+        };
+        let mut v = Vec::new();
+        if args.experiment != crate::Experiment::Lbuffer {
+            v.push((
+                "(a) 101 objects, 81 lights, 1280×720",
+                a.clone(),
+                Mode::Inferred,
+                "inferred, L-buffer 800×450, DSF",
+            ));
+            v.push((
+                "(a) 101 objects, 81 lights, 1280×720",
+                a,
+                Mode::Forward,
+                "forward",
+            ));
+        }
+        if args.experiment != crate::Experiment::Objects {
+            v.push((
+                "(b) 122 lights, 1280×720",
+                b,
+                Mode::Inferred,
+                "L-buffer 800×450 with DSF",
+            ));
+            v.push((
+                "(b) 122 lights, 1280×720",
+                b_full,
+                Mode::Inferred,
+                "L-buffer 1280×720 without DSF",
+            ));
+        }
+        v
+    };
+    println!("| experiment | configuration | frame ms (median) | passes |");
+    println!("|---|---|---|---|");
+    for (name, scene, mode, what) in runs {
+        let d = preview.prepare(&scene, mode)?;
+        let t = preview.time(&d, args.warmup, args.frames)?;
+        let passes: Vec<String> = t
+            .passes
+            .iter()
+            .map(|(p, ms)| format!("{} {ms:.1}", p.name()))
+            .collect();
+        println!(
+            "| {name} | {what} | {:.1} | {} |",
+            t.frame_ms,
+            passes.join(", ")
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
