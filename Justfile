@@ -40,3 +40,12 @@ textures:
 # Fur texture benchmark (512², 1024², 2048² sets).
 bench-textures:
     cargo bench -p pelt-fur --bench textures
+
+# Render the example scene (out/showcase.png) and explain its passes.
+render:
+    cargo run --release -- render fixtures/scenes/showcase.json --explain -o out/showcase.png
+
+# The inferred-lighting paper's two experiments and the L-buffer scale curve, on a back end.
+bench-render backend="vulkan":
+    cargo run --release -- render-bench --backend {{backend}}
+    PELT_BACKEND={{backend}} cargo bench -p pelt-preview --bench lbuffer_scale

@@ -406,7 +406,8 @@ mod tests {
                 .indices
                 .chunks_exact(3)
                 .filter(|t| {
-                    let p = [t[0], t[1], t[2]].map(|i| Vec3::from(self.vertices[i as usize].position));
+                    let p =
+                        [t[0], t[1], t[2]].map(|i| Vec3::from(self.vertices[i as usize].position));
                     (p[1] - p[0]).cross(p[2] - p[0]).length() > 1e-7
                 })
                 .flatten()

@@ -21,6 +21,12 @@ fn preview() -> Preview {
     let p = Preview::new(backend)
         .expect("a wgpu adapter (install Mesa: libegl-mesa0, mesa-vulkan-drivers)");
     eprintln!("adapter: {}", p.adapter());
+    let got = p.renderer.gpu.info.backend;
+    match backend {
+        Backend::Vulkan => assert_eq!(got, wgpu::Backend::Vulkan),
+        Backend::Gl => assert_eq!(got, wgpu::Backend::Gl),
+        Backend::Auto => {}
+    }
     p
 }
 

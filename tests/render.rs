@@ -1,0 +1,238 @@
+//! `pelt render` end to end: an asset with the default scene, a scene file, modes, sizes,
+//! `--explain` without a GPU, deterministic PNGs, a baked asset with normal groups, and the
+//! errors (bad scene: exit 2 naming file, line and field; missing asset: exit 1 naming the
+//! object; nothing written either way). The back end follows `PELT_BACKEND` (CI runs both).
+
+mod common;
+
+use std::path::Path;
+
+use common::*;
+
+fn backend() -> String {
+    std::env::var("PELT_BACKEND").unwrap_or_else(|_| "auto".into())
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).expect("png written");
+    let d = png::Decoder::new(std::io::Cursor::new(bytes));
+    let r = d.read_info().expect("valid png");
+    (r.info().width, r.info().height)
+}
+
+fn render(args: &[&str]) -> std::process::Output {
+    let b = backend();
+    let mut all: Vec<&str> = vec!["render", "--backend", &b];
+    all.extend_from_slice(args);
+    pelt(&all, &[])
+}
+
+fn render_ok(args: &[&str]) -> std::process::Output {
+    let out = render(args);
+    assert!(
+        out.status.success(),
+        "pelt render {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+#[test]
+fn an_asset_renders_with_the_default_scene_and_names_the_adapter() {
+    let dir = scratch("render-asset");
+    let out = dir.join("torus.png");
+    let o = render_ok(&[
+        fixture("torus.glb").to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert_eq!(png_size(&out), (640, 360));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("adapter: "), "{err}");
+    // The asset is in the picture: pixels differ from the background in the middle.
+    let bytes = std::fs::read(&out).expect("read");
+    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .expect("png");
+    let mut buf = vec![0; r.output_buffer_size().expect("size")];
+    r.next_frame(&mut buf).expect("frame");
+    let centre = ((180 * 640 + 320) * 4) as usize;
+    let corner = 0usize;
+    assert_ne!(
+        buf[centre..centre + 3],
+        buf[corner..corner + 3],
+        "the torus covers the centre"
+    );
+}
+
+#[test]
+fn a_scene_renders_in_every_mode_deterministically() {
+    let dir = scratch("render-scene");
+    let scene = fixture("scenes/showcase.json");
+    let s = scene.to_str().expect("utf8");
+    let mut last = Vec::new();
+    for mode in ["inferred", "deferred", "forward"] {
+        let out = dir.join(format!("{mode}.png"));
+        render_ok(&[
+            s,
+            "--mode",
+            mode,
+            "--size",
+            "160x90",
+            "-q",
+            "-o",
+            out.to_str().expect("utf8"),
+        ]);
+        assert_eq!(png_size(&out), (160, 90), "{mode}");
+        let again = dir.join(format!("{mode}-again.png"));
+        render_ok(&[
+            s,
+            "--mode",
+            mode,
+            "--size",
+            "160x90",
+            "-q",
+            "-o",
+            again.to_str().expect("utf8"),
+        ]);
+        let a = std::fs::read(&out).expect("read");
+        assert_eq!(
+            a,
+            std::fs::read(&again).expect("read"),
+            "{mode}: byte-identical"
+        );
+        assert_ne!(a, last, "{mode} differs from the previous mode");
+        last = a;
+    }
+}
+
+#[test]
+fn explain_lists_the_passes_without_opening_a_device() {
+    let scene = fixture("scenes/showcase.json");
+    let o = pelt(&["render", scene.to_str().expect("utf8"), "--explain"], &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Opening a device prints the adapter; explaining alone does not open one.
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("adapter:"));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for want in [
+        "mode inferred",
+        "L-buffer 400×225",
+        "geometry",
+        "light",
+        "material",
+        "3 alpha",
+    ] {
+        assert!(text.contains(want), "{want:?} in {text}");
+    }
+    let fwd = pelt(
+        &[
+            "render",
+            scene.to_str().expect("utf8"),
+            "--explain",
+            "--mode",
+            "forward",
+        ],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&fwd.stdout);
+    assert!(
+        text.contains("forward") && !text.contains("geometry"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_baked_asset_with_normal_groups_renders() {
+    let dir = scratch("render-baked");
+    let baked = bake(&fixture("creature.glb"), &dir, &[]);
+    let out = dir.join("creature.png");
+    render_ok(&[
+        baked.to_str().expect("utf8"),
+        "--size",
+        "128x96",
+        "-q",
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert_eq!(png_size(&out), (128, 96));
+}
+
+#[test]
+fn bad_scenes_and_missing_assets_fail_cleanly_without_output() {
+    let dir = scratch("render-errors");
+    let out = dir.join("never.png");
+    let o = out.to_str().expect("utf8");
+    // A scene error: exit 2, file:line:column and the field path.
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\n  \"objects\": [{\"asset\": \"builtin:cube\", \"colr\": [1, 0, 0]}]\n}\n",
+    )
+    .expect("write");
+    let r = render(&[bad.to_str().expect("utf8"), "-o", o]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("bad.json:2:") && err.contains("objects[0]") && err.contains("colr"),
+        "{err}"
+    );
+    // A missing asset: exit 1, naming the object and the path.
+    let missing = dir.join("missing.json");
+    std::fs::write(
+        &missing,
+        r#"{"objects": [{"asset": "builtin:cube"}, {"asset": "nowhere.glb"}]}"#,
+    )
+    .expect("write");
+    let r = render(&[missing.to_str().expect("utf8"), "-o", o]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("objects[1]") && err.contains("nowhere.glb"),
+        "{err}"
+    );
+    // An asset that is not glTF.
+    let junk = dir.join("junk.glb");
+    std::fs::write(&junk, b"not a gltf file").expect("write");
+    let r = render(&[junk.to_str().expect("utf8"), "-o", o]);
+    assert_eq!(
+        r.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    assert!(String::from_utf8_lossy(&r.stderr).contains("junk.glb"));
+    // Flags out of range and unknown back ends are usage errors.
+    for args in [
+        ["--size", "0x10"],
+        ["--lbuffer-scale", "2"],
+        ["--backend", "metal"],
+        ["--mode", "raytraced"],
+    ] {
+        let mut a = vec![
+            fixture("torus.glb").to_str().expect("utf8").to_owned(),
+            "-o".into(),
+            o.to_owned(),
+        ];
+        a.extend(args.iter().map(|s| s.to_string()));
+        let r = pelt(
+            &[
+                &["render"],
+                &a.iter().map(String::as_str).collect::<Vec<_>>()[..],
+            ]
+            .concat(),
+            &[],
+        );
+        assert_eq!(
+            r.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+    }
+    assert!(!out.exists(), "nothing written");
+    assert_eq!(
+        std::fs::read_dir(&dir).expect("dir").count(),
+        3,
+        "only the test's own inputs"
+    );
+}
