@@ -9,7 +9,6 @@ use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::{FurAssets, FurReport, embed};
 use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
-use pelt_io::Document;
 use pelt_io::PrimitiveRef;
 use serde::Serialize;
 
@@ -63,18 +62,6 @@ struct InputReport {
     write_ms: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     output_bytes: Option<u64>,
-}
-
-/// Loads any supported input by extension.
-pub fn load(path: &Path) -> Result<Document, pelt_io::IoError> {
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
-    {
-        pelt_io::obj::load(path)
-    } else {
-        Document::load(path)
-    }
 }
 
 fn options(args: &BakeArgs) -> BakeOptions {
@@ -268,7 +255,7 @@ fn bake_one(
         output_bytes: None,
     };
     let t0 = Instant::now();
-    let mut doc = match load(input) {
+    let mut doc = match pelt_io::load(input) {
         Ok(d) => d,
         Err(e) => {
             r.error = Some(e.to_string());

@@ -15,7 +15,7 @@ use crate::InspectArgs;
 
 /// Runs `pelt inspect`.
 pub fn run(args: &InspectArgs) -> anyhow::Result<ExitCode> {
-    let doc = match crate::bake::load(&args.file) {
+    let doc = match pelt_io::load(&args.file) {
         Ok(d) => d,
         Err(e) => {
             eprintln!("pelt: {e}");

@@ -6,6 +6,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
+use pelt_preview::asset::MeshData;
 use pelt_preview::procedural::{paper_lbuffer_scale, paper_objects_and_lights};
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene, load_meshes};
 
@@ -14,17 +15,19 @@ use crate::{RenderArgs, RenderBenchArgs};
 /// Exit code for an input that could not be rendered.
 const FAILED: u8 = 1;
 
-fn scene_for(args: &RenderArgs) -> anyhow::Result<Scene> {
+/// The scene to render, with the asset's mesh when the input is one asset (so it is read once).
+fn scene_for(args: &RenderArgs) -> anyhow::Result<(Scene, Option<MeshData>)> {
     let is_scene = args
         .input
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let mut scene = if is_scene {
-        Scene::load(&args.input)?
+    let (mut scene, mesh) = if is_scene {
+        (Scene::load(&args.input)?, None)
     } else {
         let mesh = pelt_preview::asset::load(&args.input)?;
         let (w, h) = args.size.unwrap_or((640, 360));
-        pelt_preview::framing::asset_scene(&args.input, &mesh, w, h)
+        let scene = pelt_preview::framing::asset_scene(&args.input, &mesh, w, h);
+        (scene, Some(mesh))
     };
     if let Some((w, h)) = args.size {
         scene.output.width = w;
@@ -36,7 +39,7 @@ fn scene_for(args: &RenderArgs) -> anyhow::Result<Scene> {
     if let Some(d) = args.dsf {
         scene.dsf = d == crate::OnOff::On;
     }
-    Ok(scene)
+    Ok((scene, mesh))
 }
 
 fn fail(e: impl std::fmt::Display) -> ExitCode {
@@ -46,15 +49,19 @@ fn fail(e: impl std::fmt::Display) -> ExitCode {
 
 /// Runs `pelt render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
-    let scene = match scene_for(args) {
+    let (scene, mesh) = match scene_for(args) {
         Ok(s) => s,
         // A scene file's own errors are usage errors (2); an asset that cannot load fails (1).
         Err(e) if e.downcast_ref::<pelt_preview::SceneError>().is_some() => return Err(e),
         Err(e) => return Ok(fail(format!("{e:#}"))),
     };
-    let (meshes, of) = match load_meshes(&scene) {
-        Ok(m) => m,
-        Err(e) => return Ok(fail(e)),
+    let (meshes, of) = match mesh {
+        // The default scene holds the one asset as its only object.
+        Some(m) => (vec![m], vec![0]),
+        None => match load_meshes(&scene) {
+            Ok(m) => m,
+            Err(e) => return Ok(fail(e)),
+        },
     };
     if args.explain {
         match Plan::new(&scene, &meshes, &of, args.mode) {

@@ -72,29 +72,15 @@ fn a_scene_renders_in_every_mode_deterministically() {
     let s = scene.to_str().expect("utf8");
     let mut last = Vec::new();
     for mode in ["inferred", "deferred", "forward"] {
+        let to = |out: &Path| {
+            let o = out.to_str().expect("utf8");
+            render_ok(&[s, "--mode", mode, "--size", "160x90", "-q", "-o", o]);
+        };
         let out = dir.join(format!("{mode}.png"));
-        render_ok(&[
-            s,
-            "--mode",
-            mode,
-            "--size",
-            "160x90",
-            "-q",
-            "-o",
-            out.to_str().expect("utf8"),
-        ]);
+        to(&out);
         assert_eq!(png_size(&out), (160, 90), "{mode}");
         let again = dir.join(format!("{mode}-again.png"));
-        render_ok(&[
-            s,
-            "--mode",
-            mode,
-            "--size",
-            "160x90",
-            "-q",
-            "-o",
-            again.to_str().expect("utf8"),
-        ]);
+        to(&again);
         let a = std::fs::read(&out).expect("read");
         assert_eq!(
             a,

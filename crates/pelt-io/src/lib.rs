@@ -29,3 +29,16 @@ pub mod topology;
 
 pub use document::{Buffer, Document, PrimitiveRef, ViewData};
 pub use error::IoError;
+
+/// Loads any supported input: `.obj` by its extension, otherwise `.gltf`/`.glb` (told apart
+/// by their magic bytes).
+pub fn load(path: &std::path::Path) -> Result<Document, IoError> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+    {
+        obj::load(path)
+    } else {
+        Document::load(path)
+    }
+}

@@ -62,15 +62,7 @@ pub fn load(path: &Path) -> Result<MeshData, AssetError> {
             path: name.into_owned(),
         });
     }
-    let is_obj = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    let doc = if is_obj {
-        pelt_io::obj::load(path)?
-    } else {
-        Document::load(path)?
-    };
-    flatten(&doc)
+    flatten(&pelt_io::load(path)?)
 }
 
 /// A built-in shape by name (`cube`, `sphere`, `quad`), white.

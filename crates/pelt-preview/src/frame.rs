@@ -146,6 +146,18 @@ pub fn render(r: &Renderer, d: &DrawData) -> Result<Image, FrameError> {
     Ok(image)
 }
 
+/// Maps a `MAP_READ` buffer whose copy was submitted, waiting for the device.
+fn map_read(r: &Renderer, buffer: &wgpu::Buffer) -> Result<wgpu::BufferView, FrameError> {
+    let fail = |e: &dyn std::fmt::Display| FrameError::Readback(e.to_string());
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.slice(..).map_async(wgpu::MapMode::Read, move |res| {
+        let _ = tx.send(res);
+    });
+    wait(r)?;
+    rx.recv().map_err(|e| fail(&e))?.map_err(|e| fail(&e))?;
+    buffer.slice(..).get_mapped_range().map_err(|e| fail(&e))
+}
+
 /// Copies an RGBA8 texture to the CPU, removing the 256-byte row padding.
 fn read_back(
     r: &Renderer,
@@ -180,18 +192,7 @@ fn read_back(
         },
     );
     r.gpu.queue.submit([enc.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.slice(..).map_async(wgpu::MapMode::Read, move |res| {
-        let _ = tx.send(res);
-    });
-    wait(r)?;
-    rx.recv()
-        .map_err(|e| FrameError::Readback(e.to_string()))?
-        .map_err(|e| FrameError::Readback(e.to_string()))?;
-    let mapped = buffer
-        .slice(..)
-        .get_mapped_range()
-        .map_err(|e| FrameError::Readback(e.to_string()))?;
+    let mapped = map_read(r, &buffer)?;
     let mut rgba = Vec::with_capacity((row * h) as usize);
     for y in 0..h as usize {
         let start = y * padded as usize;
@@ -289,19 +290,8 @@ pub fn time(
             enc.resolve_query_set(&set, 0..n, &resolve, 0);
             enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, bytes);
             r.gpu.queue.submit([enc.finish()]);
-            let (tx, rx) = std::sync::mpsc::channel();
-            read.slice(..).map_async(wgpu::MapMode::Read, move |res| {
-                let _ = tx.send(res);
-            });
-            wait(r)?;
-            rx.recv()
-                .map_err(|e| FrameError::Readback(e.to_string()))?
-                .map_err(|e| FrameError::Readback(e.to_string()))?;
             {
-                let m = read
-                    .slice(..)
-                    .get_mapped_range()
-                    .map_err(|e| FrameError::Readback(e.to_string()))?;
+                let m = map_read(r, &read)?;
                 let t: &[u64] = bytemuck::cast_slice(&m);
                 for (i, v) in per.iter_mut().enumerate() {
                     v.push(t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period / 1e6);

@@ -53,12 +53,7 @@ impl View {
             [0.0, 0.0, w, h]
         } else {
             let (mut nx0, mut ny0, mut nx1, mut ny1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
-            for k in 0..8 {
-                let p = Vec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                );
+            for p in box_corners(lo, hi) {
                 let nx = p.x / (-p.z * self.tan_half[0]);
                 let ny = p.y / (-p.z * self.tan_half[1]);
                 (nx0, ny0, nx1, ny1) = (nx0.min(nx), ny0.min(ny), nx1.max(nx), ny1.max(ny));
@@ -89,16 +84,22 @@ impl View {
     /// View-space axis-aligned box of a world-space box under `model`.
     pub fn view_box(&self, model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
         let m = self.view * model;
-        (0..8).fold((Vec3::MAX, Vec3::MIN), |(a, b), k| {
-            let p = Vec3::new(
-                if k & 1 == 0 { lo.x } else { hi.x },
-                if k & 2 == 0 { lo.y } else { hi.y },
-                if k & 4 == 0 { lo.z } else { hi.z },
-            );
-            let q = m.transform_point3(p);
-            (a.min(q), b.max(q))
-        })
+        box_corners(lo, hi)
+            .into_iter()
+            .map(|p| m.transform_point3(p))
+            .fold((Vec3::MAX, Vec3::MIN), |(a, b), q| (a.min(q), b.max(q)))
     }
+}
+
+/// The eight corners of the box [lo, hi].
+fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
 }
 
 /// Stipple patterns (1..=3) for alpha objects given as (screen rectangle, view depth), in the
