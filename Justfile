@@ -8,8 +8,13 @@ build:
 test:
     cargo test --workspace
 
-# The main job on bundled data: bake the creature fixture and print its report.
+# The main job on bundled data: bake the fixture creature with fur and render it
+# (out/demo: creature.glb, demo.png, turntable.png).
 demo:
+    cargo run --release -- demo
+
+# Bake the creature fixture and print its report.
+bake:
     cargo run --release -- bake fixtures/creature.glb -o out/creature.glb --report -
 
 # Bake every fixture and check the outputs with the Khronos glTF-Validator.
@@ -45,7 +50,11 @@ bench-textures:
 render:
     cargo run --release -- render fixtures/scenes/showcase.json --explain -o out/showcase.png
 
-# The inferred-lighting paper's two experiments and the L-buffer scale curve, on a back end.
+# The inferred-lighting paper's two experiments and the fur experiment, on a back end.
 bench-render backend="vulkan":
     cargo run --release -- render-bench --backend {{backend}}
+
+# Frame time against shell count, fins, stipple against WBOIT, forward (demo scene).
+bench-fur backend="vulkan":
+    cargo run --release -- render-bench --experiment fur --backend {{backend}}
     PELT_BACKEND={{backend}} cargo bench -p pelt-preview --bench lbuffer_scale

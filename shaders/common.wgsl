@@ -30,7 +30,15 @@ struct Object {
     tint: vec4<f32>,
     // x: opacity; y: specular strength; z, w: unused.
     params: vec4<f32>,
-    // x: object ID (1..255); y: stipple pattern (0 = opaque, 1..3 = alpha layer); z, w: unused.
+    // Fur only. rgb: root colour (linear, times the object's colour); w: fur length.
+    fur_base: vec4<f32>,
+    // rgb: tip colour; w: heightfield UV scale.
+    fur_tip: vec4<f32>,
+    // x: rim strength; y: rim falloff (Revie Listing 2.3); z: strand fade width in shell
+    // depth; w: WBOIT weight scale.
+    fur_params: vec4<f32>,
+    // x: object ID (1..255); y: stipple pattern (0 = opaque, 1..3 = alpha layer); z: the
+    // fur's outer-shell ID; w: shell count.
     ids: vec4<u32>,
 }
 

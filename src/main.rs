@@ -4,6 +4,7 @@
 //! Exit codes: 0 ok, 1 some input failed, 2 usage error.
 
 mod bake;
+mod demo;
 mod inspect;
 mod render;
 mod textures;
@@ -40,6 +41,11 @@ Examples:
   pelt render fixtures/scenes/alpha.json -o alpha.png --mode forward --size 320x180
   pelt render fixtures/scenes/alpha.json --bench 20";
 
+const DEMO_EXAMPLES: &str = "\
+Examples:
+  pelt demo
+  pelt demo -o out/demo --backend gl --size 960x540 --shells 32";
+
 const INSPECT_EXAMPLES: &str = "\
 Examples:
   pelt inspect out/creature.glb
@@ -68,6 +74,10 @@ enum Command {
     /// Time the inferred-lighting paper's two experiments (101 objects × 81 lights against
     /// forward; 800×450 L-buffer with DSF against 1280×720 without) on this adapter.
     RenderBench(RenderBenchArgs),
+    /// Bake the bundled fixture creature with fur and render demo.png and a turntable
+    /// contact sheet on the default adapter.
+    #[command(after_help = DEMO_EXAMPLES)]
+    Demo(DemoArgs),
     /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
     #[command(after_help = INSPECT_EXAMPLES)]
     Inspect(InspectArgs),
@@ -143,6 +153,16 @@ pub struct RenderArgs {
     /// Discontinuity sensitive filtering on or off (overrides the scene's).
     #[arg(long, value_enum)]
     pub dsf: Option<OnOff>,
+    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub shells: Option<u32>,
+    /// Silhouette fins on or off (overrides the scene's).
+    #[arg(long, value_enum)]
+    pub fins: Option<OnOff>,
+    /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
+    /// outer) or wboit (weighted blended order-independent transparency).
+    #[arg(long)]
+    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
     /// Print the passes this scene needs (no GPU is opened unless -o or --bench is given).
     #[arg(long)]
     pub explain: bool,
@@ -157,10 +177,36 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
+/// Arguments of `pelt demo`.
+#[derive(clap::Args)]
+pub struct DemoArgs {
+    /// Output folder (created): creature.glb, demo.png, turntable.png.
+    #[arg(short, long, default_value = "out/demo")]
+    pub output: PathBuf,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Size of demo.png, WxH (the turntable's frames are a quarter of it).
+    #[arg(long, value_parser = size, default_value = "1280x720")]
+    pub size: (u32, u32),
+    /// Shells (default: the bake's 16).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub shells: Option<u32>,
+    /// How fur is composited: stipple or wboit.
+    #[arg(long, default_value = "stipple")]
+    pub fur_blend: pelt_preview::scene::FurBlend,
+    /// Turntable frames (4 per row).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub frames: u32,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
 /// Arguments of `pelt render-bench`.
 #[derive(clap::Args)]
 pub struct RenderBenchArgs {
-    /// Which experiment: objects (a), lbuffer (b) or all.
+    /// Which experiment: objects (a), lbuffer (b), fur (shells, fins, blend) or all.
     #[arg(long, value_enum, default_value_t = Experiment::All)]
     pub experiment: Experiment,
     /// wgpu back end: auto, vulkan or gl.
@@ -184,7 +230,9 @@ pub enum Experiment {
     Objects,
     /// 122 lights: 800×450 L-buffer with DSF against 1280×720 without.
     Lbuffer,
-    /// Both.
+    /// The fur demo: shells 4 to 64, fins on and off, stipple against WBOIT, forward.
+    Fur,
+    /// All of them.
     All,
 }
 
@@ -352,6 +400,7 @@ fn main() -> ExitCode {
         Command::Textures(args) => textures::run(&args),
         Command::Render(args) => render::run(&args),
         Command::RenderBench(args) => render::bench(&args),
+        Command::Demo(args) => demo::run(&args),
     };
     match result {
         Ok(code) => code,

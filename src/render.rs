@@ -39,7 +39,29 @@ fn scene_for(args: &RenderArgs) -> anyhow::Result<(Scene, Option<MeshData>)> {
     if let Some(d) = args.dsf {
         scene.dsf = d == crate::OnOff::On;
     }
+    if let Some(b) = args.fur_blend {
+        scene.fur_blend = b;
+    }
+    override_fur(
+        &mut scene,
+        args.shells,
+        args.fins.map(|f| f == crate::OnOff::On),
+    );
     Ok((scene, mesh))
+}
+
+/// Sets every fur material's shell count and fins switch where given.
+pub fn override_fur(scene: &mut Scene, shells: Option<u32>, fins: Option<bool>) {
+    for o in &mut scene.objects {
+        if let pelt_preview::scene::Material::Fur(f) = &mut o.material {
+            if shells.is_some() {
+                f.shells = shells;
+            }
+            if let Some(on) = fins {
+                f.fins = on;
+            }
+        }
+    }
 }
 
 fn fail(e: impl std::fmt::Display) -> ExitCode {
@@ -141,7 +163,10 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
             ..b.clone()
         };
         let mut v = Vec::new();
-        if args.experiment != crate::Experiment::Lbuffer {
+        if matches!(
+            args.experiment,
+            crate::Experiment::Objects | crate::Experiment::All
+        ) {
             v.push((
                 "(a) 101 objects, 81 lights, 1280×720",
                 a.clone(),
@@ -155,7 +180,10 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
                 "forward",
             ));
         }
-        if args.experiment != crate::Experiment::Objects {
+        if matches!(
+            args.experiment,
+            crate::Experiment::Lbuffer | crate::Experiment::All
+        ) {
             v.push((
                 "(b) 122 lights, 1280×720",
                 b,
@@ -171,6 +199,15 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
         }
         v
     };
+    if matches!(
+        args.experiment,
+        crate::Experiment::Fur | crate::Experiment::All
+    ) {
+        v_fur(&mut preview, args)?;
+        if args.experiment == crate::Experiment::Fur {
+            return Ok(ExitCode::SUCCESS);
+        }
+    }
     println!("| experiment | configuration | frame ms (median) | passes |");
     println!("|---|---|---|---|");
     for (name, scene, mode, what) in runs {
@@ -188,4 +225,65 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The fur experiment: the demo scene (baked fixture creature, 1280×720) against shell
+/// count, fins on and off, stipple against WBOIT, and the forward Kajiya-Kay reference.
+fn v_fur(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> {
+    use pelt_preview::scene::FurBlend;
+    let dir = std::env::temp_dir().join(format!("pelt-render-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let asset = dir.join("creature.glb");
+    crate::demo::bake_creature(&asset)?;
+    let mesh = pelt_preview::asset::load(&asset)?;
+    let _ = std::fs::remove_dir_all(&dir);
+    let (lo, hi) = mesh.bounds();
+    let meshes = vec![mesh, pelt_preview::asset::builtin("quad").context("quad")?];
+    let mut runs: Vec<(String, Scene, Mode)> = Vec::new();
+    let at = |shells: u32, fins: bool, blend: FurBlend| {
+        let mut s = pelt_preview::procedural::fur_scene(&asset, lo, hi, 1280, 720, 0.0);
+        s.fur_blend = blend;
+        override_fur(&mut s, Some(shells), Some(fins));
+        s
+    };
+    for n in [4, 8, 16, 32, 64] {
+        runs.push((
+            format!("{n} shells, fins, stipple"),
+            at(n, true, FurBlend::Stipple),
+            Mode::Inferred,
+        ));
+    }
+    runs.push((
+        "16 shells, no fins, stipple".into(),
+        at(16, false, FurBlend::Stipple),
+        Mode::Inferred,
+    ));
+    runs.push((
+        "16 shells, fins, WBOIT".into(),
+        at(16, true, FurBlend::Wboit),
+        Mode::Inferred,
+    ));
+    runs.push((
+        "64 shells, fins, WBOIT".into(),
+        at(64, true, FurBlend::Wboit),
+        Mode::Inferred,
+    ));
+    runs.push((
+        "16 shells, fins, forward Kajiya-Kay".into(),
+        at(16, true, FurBlend::Stipple),
+        Mode::Forward,
+    ));
+    println!("| fur demo, 1280×720 | frame ms (median) | passes |");
+    println!("|---|---|---|");
+    for (what, scene, mode) in runs {
+        let d = preview.prepare_loaded(&scene, &meshes, &[0, 1], mode)?;
+        let t = preview.time(&d, args.warmup, args.frames)?;
+        let passes: Vec<String> = t
+            .passes
+            .iter()
+            .map(|(p, ms)| format!("{} {ms:.1}", p.name()))
+            .collect();
+        println!("| {what} | {:.1} | {} |", t.frame_ms, passes.join(", "));
+    }
+    Ok(())
 }

@@ -222,3 +222,52 @@ fn bad_scenes_and_missing_assets_fail_cleanly_without_output() {
         "only the test's own inputs"
     );
 }
+
+#[test]
+fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
+    let dir = scratch("demo");
+    let b = backend();
+    let out = pelt(
+        &[
+            "demo",
+            "-o",
+            dir.to_str().expect("utf8"),
+            "--backend",
+            &b,
+            "--size",
+            "320x180",
+            "--frames",
+            "6",
+            "--shells",
+            "8",
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "pelt demo: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(png_size(&dir.join("demo.png")), (320, 180));
+    // Six 80×45 views, four to a row.
+    assert_eq!(png_size(&dir.join("turntable.png")), (320, 90));
+    // The baked creature carries the fur the renderer read.
+    let glb = dir.join("creature.glb");
+    let m = pelt_preview::asset::load(&glb).expect("baked creature loads");
+    let fur = m.fur.expect("fur");
+    assert_eq!(fur.source, pelt_preview::fur::TextureSource::Baked);
+    assert!(!fur.fins.is_empty());
+    // A plain render of the baked asset draws it as fur (the default scene notices).
+    let png = dir.join("asset.png");
+    let o = render_ok(&[
+        glb.to_str().expect("utf8"),
+        "-o",
+        png.to_str().expect("utf8"),
+        "--size",
+        "160x90",
+        "--explain",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("fur: base + 16 shells + fins"), "{text}");
+    assert!(text.contains("obliterate"), "{text}");
+}

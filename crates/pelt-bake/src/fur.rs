@@ -146,3 +146,24 @@ pub fn embed(
     }
     Ok(report)
 }
+
+/// Bakes `doc` (comb, tangents, groups, fins as `opts` says) and embeds `assets` in the
+/// materials of the primitives that got a comb: what `pelt bake --config` does to one input.
+pub fn bake_with_fur(
+    doc: &mut Document,
+    opts: &crate::BakeOptions,
+    assets: &FurAssets,
+) -> Result<(crate::AssetReport, FurReport), IoError> {
+    let bake = crate::bake_document(doc, opts)?;
+    let combed: Vec<PrimitiveRef> = bake
+        .primitives
+        .iter()
+        .filter(|p| p.status == "baked")
+        .map(|p| PrimitiveRef {
+            mesh: p.mesh,
+            primitive: p.primitive,
+        })
+        .collect();
+    let fur = embed(doc, assets, &combed)?;
+    Ok((bake, fur))
+}

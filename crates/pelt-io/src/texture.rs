@@ -85,6 +85,26 @@ impl Document {
         }
     }
 
+    /// The bytes of `images[image]`: from its bufferView, or as loaded from its URI. The
+    /// error names the image.
+    pub fn image_bytes(&self, image: usize) -> Result<&[u8]> {
+        let place = format!("images[{image}]");
+        let img = self.array("images").get(image).ok_or_else(|| {
+            self.invalid(
+                &place,
+                format!("does not exist ({} defined)", self.array("images").len()),
+            )
+        })?;
+        if let Some(Some(u)) = self.uri_images.get(image) {
+            return Ok(&u.bytes);
+        }
+        let view = img
+            .get("bufferView")
+            .and_then(Value::as_u64)
+            .ok_or_else(|| self.invalid(&place, "has neither a loaded URI nor a bufferView"))?;
+        Ok(crate::accessor::view_bytes(self, view as usize, &place)?.0)
+    }
+
     /// The primitive's material index, if any.
     pub fn primitive_material(&self, r: crate::PrimitiveRef) -> Result<Option<usize>> {
         Ok(self

@@ -10,7 +10,8 @@ use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 use serde_json::Value;
 
-use crate::uniforms::Vertex;
+use crate::fur::{self, FurData};
+use crate::uniforms::{FurVertex, Vertex};
 
 /// Why an asset could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -39,6 +40,8 @@ pub struct MeshData {
     pub vertices: Vec<Vertex>,
     /// Triangle list.
     pub indices: Vec<u32>,
+    /// The fur, when a primitive has a baked `_FUR_COMB`.
+    pub fur: Option<FurData>,
 }
 
 impl MeshData {
@@ -89,6 +92,7 @@ fn cube() -> MeshData {
     let mut m = MeshData {
         vertices: Vec::new(),
         indices: Vec::new(),
+        fur: None,
     };
     for (face, n) in [
         Vec3::X,
@@ -124,6 +128,7 @@ fn quad() -> MeshData {
     MeshData {
         vertices,
         indices: vec![0, 1, 2, 0, 2, 3],
+        fur: None,
     }
 }
 
@@ -150,7 +155,11 @@ fn sphere(rings: u32, segs: u32) -> MeshData {
             indices.extend([a, b, a + 1, a + 1, b, b + 1]);
         }
     }
-    MeshData { vertices, indices }
+    MeshData {
+        vertices,
+        indices,
+        fur: None,
+    }
 }
 
 /// The local matrix of a node (`matrix`, or TRS).
@@ -284,12 +293,18 @@ fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec
     ))
 }
 
-/// Flattens every TRIANGLES primitive of every mesh instance into one mesh.
+/// Flattens every TRIANGLES primitive of every mesh instance into one mesh, with the fur
+/// of primitives that have a baked comb.
 pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
     let mut out = MeshData {
         vertices: Vec::new(),
         indices: Vec::new(),
+        fur: None,
     };
+    let mut fur_vertices: Vec<FurVertex> = Vec::new();
+    let mut fins = Vec::new();
+    let mut manifest = None;
+    let mut any_comb = false;
     for (mesh, world) in mesh_instances(doc) {
         let normal_world = Mat3::from_mat4(world).inverse().transpose();
         let flips = world.determinant() < 0.0;
@@ -320,9 +335,33 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                         };
                         out.indices.extend(t.map(|i| base + i));
                     }
+                    let comb = fur::read_comb(doc, r, m.vertex_count())?;
+                    if comb.is_some() {
+                        any_comb = true;
+                        if manifest.is_none() {
+                            manifest = fur::manifest(doc, r)?;
+                        }
+                    }
+                    fur_vertices.extend(fur::fur_vertices(
+                        world,
+                        normals,
+                        m.tangents.as_deref(),
+                        m.uvs.as_deref(),
+                        comb.as_deref(),
+                    ));
+                    if comb.is_some() {
+                        fins.extend(fur::fin_instances(
+                            doc,
+                            r,
+                            &out.vertices,
+                            &fur_vertices,
+                            base as usize,
+                            world,
+                        )?);
+                    }
                 }
                 None => {
-                    // glTF: no NORMAL means flat shading. One vertex per corner.
+                    // glTF: no NORMAL means flat shading. One vertex per corner; no fur.
                     for t in m.indices.chunks_exact(3) {
                         let c = [t[0], t[1], t[2]]
                             .map(|i| world.transform_point3(m.positions[i as usize]));
@@ -341,6 +380,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                             });
                         }
                     }
+                    fur_vertices.resize(out.vertices.len(), FurVertex::NONE);
                 }
             }
         }
@@ -348,6 +388,17 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
     if out.indices.is_empty() {
         return Err(AssetError::Empty {
             path: doc.path.clone(),
+        });
+    }
+    if any_comb {
+        let (look, (heightfield, fin), source) = fur::look_and_textures(doc, manifest.as_ref())?;
+        out.fur = Some(FurData {
+            vertices: fur_vertices,
+            fins,
+            look,
+            heightfield,
+            fin,
+            source,
         });
     }
     Ok(out)
@@ -408,6 +459,7 @@ mod tests {
             MeshData {
                 vertices: self.vertices.clone(),
                 indices,
+                fur: None,
             }
         }
     }

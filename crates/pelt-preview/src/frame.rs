@@ -7,7 +7,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::draw::DrawData;
-use crate::passes::{Timestamps, forward_pass, geometry_pass, light_pass, material_pass};
+use crate::passes::{
+    Timestamps, composite_pass, forward_pass, fur_accum_pass, geometry_pass, light_pass,
+    material_pass, obliterate_pass,
+};
 use crate::plan::Pass;
 use crate::renderer::Renderer;
 
@@ -103,6 +106,21 @@ fn encode_pass(
         }
         Pass::Material => material_pass(enc, r, d, &d.output, ts),
         Pass::Forward => forward_pass(enc, r, d, &d.output, ts),
+        Pass::Obliterate => {
+            if let Some(c) = &d.composition {
+                obliterate_pass(enc, r, d, c, ts);
+            }
+        }
+        Pass::FurAccum => {
+            if let Some(o) = &d.oit {
+                fur_accum_pass(enc, r, d, o, ts);
+            }
+        }
+        Pass::Composite => {
+            if let Some(o) = &d.oit {
+                composite_pass(enc, r, d, o, &d.output, ts);
+            }
+        }
     }
 }
 
@@ -114,12 +132,21 @@ fn encoder(r: &Renderer) -> wgpu::CommandEncoder {
         })
 }
 
+/// How long a frame may take before the device counts as hung.
+const FRAME_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// Waits for the submitted work. wgpu's GL back end gives up on a fence after a few seconds
+/// even when asked to wait indefinitely, which a heavy frame on llvmpipe can take; such
+/// timeouts are waited out again, up to [`FRAME_LIMIT`].
 fn wait(r: &Renderer) -> Result<(), FrameError> {
-    r.gpu
-        .device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map(|_| ())
-        .map_err(|e| FrameError::Device(e.to_string()))
+    let start = Instant::now();
+    loop {
+        match r.gpu.device.poll(wgpu::PollType::wait_indefinitely()) {
+            Ok(_) => return Ok(()),
+            Err(wgpu::PollError::Timeout) if start.elapsed() < FRAME_LIMIT => {}
+            Err(e) => return Err(FrameError::Device(e.to_string())),
+        }
+    }
 }
 
 /// Encodes and submits one whole frame.
@@ -158,8 +185,9 @@ fn map_read(r: &Renderer, buffer: &wgpu::Buffer) -> Result<wgpu::BufferView, Fra
     buffer.slice(..).get_mapped_range().map_err(|e| fail(&e))
 }
 
-/// Copies an RGBA8 texture to the CPU, removing the 256-byte row padding.
-fn read_back(
+/// Copies a 4-byte-per-texel texture (RGBA8, Rg16Uint, …) to the CPU, rows top to bottom,
+/// removing the 256-byte row padding.
+pub fn read_back(
     r: &Renderer,
     texture: &wgpu::Texture,
     (w, h): (u32, u32),

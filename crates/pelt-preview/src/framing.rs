@@ -1,6 +1,7 @@
 //! The default scene for `pelt render ASSET.glb`: the camera framing the asset's bounding
 //! sphere from the front, slightly above and to the side, with a key, a fill and a rim light
-//! sized to the asset, and a little ambient.
+//! sized to the asset, and a little ambient. An asset with baked fur is drawn as fur (its
+//! manifest's look) under the procedural sky.
 
 use std::path::Path;
 
@@ -8,14 +9,16 @@ use glam::Vec3;
 
 use crate::asset::MeshData;
 use crate::scene::{
-    Camera, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Transform,
+    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Sky,
+    Transform,
 };
 
 /// A scene showing `asset` (whose mesh is `mesh`) at `width` × `height`.
 pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Scene {
     let (lo, hi) = mesh.bounds();
     let center = (lo + hi) / 2.0;
-    let radius = ((hi - lo).length() / 2.0).max(1e-3);
+    let fur_length = mesh.fur.as_ref().map_or(0.0, |f| f.look.length);
+    let radius = ((hi - lo).length() / 2.0 + fur_length).max(1e-3);
     let fov_y_deg = 40.0_f32;
     let aspect = width as f32 / height as f32;
     // Distance at which the bounding sphere fits the narrower field of view, with a margin.
@@ -44,9 +47,22 @@ pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Sc
         objects: vec![Object {
             asset: asset.to_owned(),
             transform: Transform::default(),
-            material: Material::Opaque,
-            color: [0.8; 3],
+            material: if mesh.fur.is_some() {
+                Material::Fur(FurSettings::default())
+            } else {
+                Material::Opaque
+            },
+            color: if mesh.fur.is_some() {
+                [1.0; 3]
+            } else {
+                [0.8; 3]
+            },
         }],
+        sky: if mesh.fur.is_some() {
+            Sky::Procedural
+        } else {
+            Sky::None
+        },
         lights: vec![
             light(Vec3::new(1.5, 2.0, 2.5), [1.0, 0.95, 0.85], 6.0),
             light(Vec3::new(-2.5, 0.5, 1.5), [0.55, 0.65, 1.0], 2.5),

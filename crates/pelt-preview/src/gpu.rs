@@ -90,6 +90,10 @@ pub struct Gpu {
     pub normal_format: wgpu::TextureFormat,
     /// GPU timestamp queries that track real time are available.
     pub timestamps: bool,
+    /// Weighted blended OIT accumulation: 32-bit float where the adapter blends it
+    /// (`FLOAT32_BLENDABLE`), else 16-bit float with weights scaled so the sum cannot pass
+    /// 65504 (see `draw::wboit_scale`).
+    pub accum_format: wgpu::TextureFormat,
     /// Device errors wgpu reported outside an error scope (instead of its default panic).
     errors: Arc<Mutex<Vec<String>>>,
 }
@@ -129,6 +133,12 @@ impl Gpu {
             } else {
                 wgpu::TextureFormat::Rg16Float
             };
+        let accum_format = if available.contains(wgpu::Features::FLOAT32_BLENDABLE) {
+            features |= wgpu::Features::FLOAT32_BLENDABLE;
+            wgpu::TextureFormat::Rgba32Float
+        } else {
+            wgpu::TextureFormat::Rgba16Float
+        };
         let timestamps = info.backend == wgpu::Backend::Vulkan
             && available.contains(wgpu::Features::TIMESTAMP_QUERY);
         if timestamps {
@@ -155,6 +165,7 @@ impl Gpu {
             info,
             normal_format,
             timestamps,
+            accum_format,
         })
     }
 

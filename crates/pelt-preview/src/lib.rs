@@ -8,12 +8,15 @@
 //!   object IDs, stipple patterns, draw order (`--explain`);
 //! - [`gpu`], [`renderer`], [`draw`], [`passes`], [`frame`]: the device, long-lived pipelines,
 //!   per-scene buffers and targets, the passes, and running/timing frames;
-//! - [`shaders`], [`uniforms`]: WGSL sources (top-level `shaders/`) and the structs they share.
+//! - [`shaders`], [`uniforms`]: WGSL sources (top-level `shaders/`) and the structs they share;
+//! - [`fur`]: an asset's baked fur (comb, fins, textures, manifest) for Revie's deferred fur;
+//!   [`sky`]: the cube-map sky's images.
 
 pub mod asset;
 pub mod draw;
 pub mod frame;
 pub mod framing;
+pub mod fur;
 pub mod gpu;
 pub mod passes;
 pub mod plan;
@@ -21,6 +24,7 @@ pub mod procedural;
 pub mod renderer;
 pub mod scene;
 pub mod shaders;
+pub mod sky;
 pub mod uniforms;
 pub mod view;
 
@@ -51,6 +55,9 @@ pub enum RenderError {
     /// The plan cannot run.
     #[error(transparent)]
     Plan(#[from] PlanError),
+    /// The cube-map sky could not be read.
+    #[error(transparent)]
+    Sky(#[from] sky::SkyError),
     /// No device.
     #[error(transparent)]
     Gpu(#[from] GpuError),
@@ -118,8 +125,12 @@ impl Preview {
         mode: Mode,
     ) -> Result<DrawData, RenderError> {
         let plan = Plan::new(scene, meshes, mesh_of, mode)?;
+        let cube = match &scene.sky {
+            scene::Sky::Cubemap(faces) => Some(sky::load_cube(faces)?),
+            _ => None,
+        };
         self.renderer.prepare(&plan);
-        let d = DrawData::new(&self.renderer, plan, meshes);
+        let d = DrawData::new(&self.renderer, plan, meshes, cube.as_ref());
         match self.renderer.gpu.take_error() {
             Some(e) => Err(FrameError::Device(e).into()),
             None => Ok(d),

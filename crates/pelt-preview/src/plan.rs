@@ -10,7 +10,7 @@ use std::fmt::{self, Write as _};
 use glam::{Mat4, Vec3};
 
 use crate::asset::MeshData;
-use crate::scene::{Material, Scene};
+use crate::scene::{FurBlend, Material, Scene, Sky};
 use crate::uniforms::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
 
@@ -84,6 +84,27 @@ pub struct PlannedObject {
     pub color: Vec3,
     /// View depth of its bounds' centre.
     pub depth: f32,
+    /// Its fur, when it is drawn as fur.
+    pub fur: Option<PlannedFur>,
+}
+
+/// How one object's fur is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannedFur {
+    /// Concentric shells above the base mesh.
+    pub shells: u32,
+    /// Fin quads drawn (fins on and the asset has fin edges).
+    pub fins: bool,
+    /// DSF object ID of its outer shell's stippled texels.
+    pub shell_id: u32,
+    /// Fur length in the asset's units.
+    pub length: f32,
+    /// Linear root colour (times the object's colour).
+    pub base_color: Vec3,
+    /// Linear tip colour (times the object's colour).
+    pub tip_color: Vec3,
+    /// Heightfield UV scale.
+    pub uv_scale: f32,
 }
 
 /// A light that reaches the screen.
@@ -110,6 +131,12 @@ pub enum Pass {
     Material,
     /// Forward shading with a light loop.
     Forward,
+    /// Fur: stipple obliteration into the composition copy of the L-buffer and DSF buffer.
+    Obliterate,
+    /// Fur shells and fins into the weighted blended OIT accumulation.
+    FurAccum,
+    /// Weighted blended OIT resolve over the image, then alpha objects.
+    Composite,
 }
 
 impl Pass {
@@ -120,6 +147,9 @@ impl Pass {
             Pass::Light => "light",
             Pass::Material => "material",
             Pass::Forward => "forward",
+            Pass::Obliterate => "obliterate",
+            Pass::FurAccum => "fur-oit",
+            Pass::Composite => "composite",
         }
     }
 }
@@ -143,6 +173,12 @@ pub struct Plan {
     pub opaque: Vec<usize>,
     /// Alpha objects, farthest first (blending order).
     pub alpha: Vec<usize>,
+    /// Fur objects, farthest first.
+    pub fur: Vec<usize>,
+    /// How fur shells and fins are composited.
+    pub fur_blend: FurBlend,
+    /// The background.
+    pub sky: Sky,
     /// Lights that reach the screen.
     pub lights: Vec<PlannedLight>,
     /// Passes, in order.
@@ -179,6 +215,7 @@ impl Plan {
         let mut rects = Vec::new();
         let mut notes = Vec::new();
         let mut culled_objects = 0;
+        let mut fur_count = 0;
         for (i, o) in scene.objects.iter().enumerate() {
             let model = o.transform.matrix();
             let (lo, hi) = bounds[mesh_of[i]];
@@ -187,14 +224,38 @@ impl Plan {
                 culled_objects += 1;
                 continue;
             };
+            let mut fur = None;
             let (pattern, opacity) = match o.material {
                 Material::Alpha { opacity } => (1, opacity.0),
                 Material::Opaque => (0, 1.0),
+                Material::Fur(f) => {
+                    match &meshes[mesh_of[i]].fur {
+                        Some(data) => {
+                            let color = Vec3::from(o.color);
+                            fur = Some(PlannedFur {
+                                shells: f
+                                    .shells
+                                    .unwrap_or(data.look.shells)
+                                    .clamp(1, crate::scene::MAX_SHELLS),
+                                fins: f.fins && !data.fins.is_empty(),
+                                shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
+                                length: f.length.unwrap_or(data.look.length),
+                                base_color: data.look.base_color * color,
+                                tip_color: data.look.tip_color * color,
+                                uv_scale: data.look.uv_scale,
+                            });
+                            fur_count += 1;
+                        }
+                        None => notes.push(format!(
+                            "objects[{i}]: fur needs a baked _FUR_COMB (run pelt bake on the asset); drawn opaque"
+                        )),
+                    }
+                    (0, 1.0)
+                }
                 other => {
                     notes.push(format!(
                         "objects[{i}]: {} is drawn opaque (its passes come in a later issue)",
                         match other {
-                            Material::Fur => "fur",
                             Material::Mirror => "mirror",
                             _ => "glass",
                         }
@@ -212,6 +273,7 @@ impl Plan {
                 opacity,
                 color: Vec3::from(o.color),
                 depth: -(vlo.z + vhi.z) / 2.0,
+                fur,
             });
         }
         // Stipple patterns for the alpha objects that show.
@@ -234,9 +296,13 @@ impl Plan {
             });
         };
         let mut opaque: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].pattern == 0)
+            .filter(|&k| objects[k].pattern == 0 && objects[k].fur.is_none())
             .collect();
         by_depth(&mut opaque, false);
+        let mut fur: Vec<usize> = (0..objects.len())
+            .filter(|&k| objects[k].fur.is_some())
+            .collect();
+        by_depth(&mut fur, true);
         let mut alpha = alpha_idx;
         by_depth(&mut alpha, true);
 
@@ -262,11 +328,23 @@ impl Plan {
                 max: MAX_FORWARD_LIGHTS,
             });
         }
-        let (passes, lbuffer) = match mode {
+        let (mut passes, lbuffer) = match mode {
             Mode::Forward => (vec![Pass::Forward], None),
             _ if lights.is_empty() || objects.is_empty() => (vec![Pass::Material], None),
+            _ if !fur.is_empty() => (
+                vec![
+                    Pass::Geometry,
+                    Pass::Light,
+                    Pass::Obliterate,
+                    Pass::Material,
+                ],
+                lbuffer,
+            ),
             _ => (vec![Pass::Geometry, Pass::Light, Pass::Material], lbuffer),
         };
+        if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit {
+            passes.extend([Pass::FurAccum, Pass::Composite]);
+        }
         Ok(Plan {
             mode,
             view,
@@ -276,6 +354,9 @@ impl Plan {
             objects,
             opaque,
             alpha,
+            fur,
+            fur_blend: scene.fur_blend,
+            sky: scene.sky.clone(),
             lights,
             passes,
             ambient: Vec3::from(scene.ambient),
@@ -329,7 +410,7 @@ impl Plan {
         };
         let _ = writeln!(s, "passes:");
         for p in &self.passes {
-            let _ = write!(s, "  {:<9}", p.name());
+            let _ = write!(s, "  {:<11}", p.name());
             match p {
                 Pass::Geometry => {
                     let (lw, lh) = self.lbuffer.unwrap_or(self.output);
@@ -340,6 +421,34 @@ impl Plan {
                         self.alpha.len()
                     );
                     alpha_layers(&mut s);
+                    if !self.fur.is_empty() {
+                        let _ = write!(
+                            s,
+                            "; {} fur: base mesh with grain normals (Revie 2.5), outer shell stippled 1 in 4 with rim normals (2.1, 2.3)",
+                            self.fur.len()
+                        );
+                    }
+                }
+                Pass::Obliterate => {
+                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
+                    let _ = write!(
+                        s,
+                        "{lw}×{lh}: composition copy of the L-buffer and DSF buffer with the outer-shell stipple texels replaced by base-mesh neighbours"
+                    );
+                }
+                Pass::FurAccum => {
+                    let _ = write!(
+                        s,
+                        "{w}×{h}: shells and fins of {} fur objects into weighted blended OIT (depth-weighted accumulation, revealage)",
+                        self.fur.len()
+                    );
+                }
+                Pass::Composite => {
+                    let _ = write!(
+                        s,
+                        "{w}×{h}: OIT resolve over the image; {} alpha back to front",
+                        self.alpha.len()
+                    );
                 }
                 Pass::Light => {
                     let (lw, lh) = self.lbuffer.unwrap_or(self.output);
@@ -380,6 +489,7 @@ impl Plan {
                         self.opaque.len(),
                         self.alpha.len()
                     );
+                    self.explain_fur(&mut s);
                 }
                 Pass::Forward => {
                     let _ = write!(
@@ -389,6 +499,7 @@ impl Plan {
                         self.lights.len(),
                         self.alpha.len()
                     );
+                    self.explain_fur(&mut s);
                 }
             }
             s.push('\n');
@@ -397,6 +508,32 @@ impl Plan {
             let _ = writeln!(s, "note: {n}");
         }
         s
+    }
+
+    /// The fur and sky part of the material (or forward) pass in words.
+    fn explain_fur(&self, s: &mut String) {
+        for &k in &self.fur {
+            let o = &self.objects[k];
+            if let Some(f) = o.fur {
+                let _ = write!(
+                    s,
+                    "; objects[{}] fur: base + {} shells{}, {}",
+                    o.scene_index,
+                    f.shells,
+                    if f.fins { " + fins" } else { "" },
+                    match (self.fur_blend, self.mode) {
+                        (FurBlend::Wboit, _) => "into the OIT pass",
+                        (_, Mode::Forward) => "Kajiya-Kay per light, blended over inner to outer",
+                        _ => "lit from the L-buffer at root and tip, blended over inner to outer",
+                    }
+                );
+            }
+        }
+        match &self.sky {
+            Sky::None => {}
+            Sky::Procedural => s.push_str("; procedural sky"),
+            Sky::Cubemap(_) => s.push_str("; cube-map sky"),
+        }
     }
 }
 

@@ -9,7 +9,8 @@ use glam::Vec3;
 use pelt_fur::rng::SplitMix64;
 
 use crate::scene::{
-    Camera, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Transform,
+    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Sky,
+    Transform,
 };
 
 /// `count` copies of `asset` on a square grid in the XZ plane (row-major from −X −Z),
@@ -105,6 +106,64 @@ pub fn paper_lbuffer_scale(asset: &Path) -> Scene {
         lbuffer_scale: 0.625,
         dsf: true,
         ..grid_scene(asset, 64, 122, 0x7065_6c75, 1280, 720)
+    }
+}
+
+/// The fur showcase (`pelt demo`, the fur tests and `render-bench --experiment fur`): `asset`
+/// (a baked, furred asset whose bounds are `lo`..`hi`) as fur, standing on a ground quad
+/// under a procedural sky, lit by a warm key, a cool fill and a rim light from behind; the
+/// camera orbits the asset by `yaw_deg` (0 = from the front, +Z, slightly to the side).
+pub fn fur_scene(asset: &Path, lo: Vec3, hi: Vec3, width: u32, height: u32, yaw_deg: f32) -> Scene {
+    let center = (lo + hi) / 2.0;
+    let radius = ((hi - lo).length() / 2.0).max(1e-3);
+    let yaw = yaw_deg.to_radians();
+    let (s, c) = yaw.sin_cos();
+    let base = Vec3::new(0.45, 0.35, 1.0).normalize();
+    let dir = Vec3::new(base.x * c + base.z * s, base.y, -base.x * s + base.z * c);
+    let eye = center + dir * radius * 2.3;
+    let ground = lo.y - 0.02 * radius;
+    let light = |p: Vec3, color: [f32; 3], intensity: f32| PointLight {
+        position: (center + p * radius).to_array(),
+        color,
+        intensity: NonNegative(intensity * radius * radius),
+        radius: Positive(radius * 9.0),
+    };
+    Scene {
+        output: Size { width, height },
+        camera: Camera {
+            position: eye.to_array(),
+            target: center.to_array(),
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: 40.0,
+            near: radius * 0.2,
+            far: radius * 12.0,
+        },
+        ambient: [0.05, 0.055, 0.065],
+        sky: Sky::Procedural,
+        objects: vec![
+            Object {
+                asset: asset.to_owned(),
+                transform: Transform::default(),
+                material: Material::Fur(FurSettings::default()),
+                color: [1.0; 3],
+            },
+            Object {
+                asset: "builtin:quad".into(),
+                transform: Transform {
+                    translation: [center.x, ground, center.z],
+                    rotation: glam::Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2).to_array(),
+                    scale: [radius * 5.0, radius * 5.0, 1.0],
+                },
+                material: Material::Opaque,
+                color: [0.42, 0.40, 0.36],
+            },
+        ],
+        lights: vec![
+            light(Vec3::new(1.6, 1.8, 1.8), [1.0, 0.93, 0.82], 7.0),
+            light(Vec3::new(-2.2, 0.6, 1.2), [0.55, 0.65, 1.0], 2.5),
+            light(Vec3::new(-0.5, 1.4, -2.4), [1.0, 0.95, 0.9], 6.0),
+        ],
+        ..Scene::default()
     }
 }
 

@@ -21,7 +21,7 @@ pub enum Material {
         opacity: Unit,
     },
     /// Deferred fur (Revie), from the asset's baked comb and fur manifest.
-    Fur,
+    Fur(FurSettings),
     /// Mirror (layered distance maps, GPU Gems 3 ch. 17).
     Mirror,
     /// Glass with an index of refraction.
@@ -29,6 +29,122 @@ pub enum Material {
         /// Index of refraction (1 to 3).
         ior: Ior,
     },
+}
+
+/// A fur material's overrides of the asset's manifest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FurSettings {
+    /// Shell count (the manifest's when absent; 1 to 256).
+    pub shells: Option<u32>,
+    /// Silhouette fins (default on).
+    pub fins: bool,
+    /// Fur length in mesh units (the manifest's when absent).
+    pub length: Option<f32>,
+}
+
+impl Default for FurSettings {
+    fn default() -> Self {
+        FurSettings {
+            shells: None,
+            fins: true,
+            length: None,
+        }
+    }
+}
+
+/// The most shells a fur material draws.
+pub const MAX_SHELLS: u32 = 256;
+
+/// How the fur's shells and fins are composited.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum FurBlend {
+    /// Revie: alpha blended "over", inner shells first (the order one instanced draw gives).
+    #[default]
+    Stipple,
+    /// Weighted blended order-independent transparency (McGuire & Bavoil; Frantzen).
+    Wboit,
+}
+
+impl std::str::FromStr for FurBlend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "stipple" => Ok(FurBlend::Stipple),
+            "wboit" => Ok(FurBlend::Wboit),
+            _ => Err(format!(
+                "unknown fur blend {s:?} (expected stipple or wboit)"
+            )),
+        }
+    }
+}
+
+/// The background.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Sky {
+    /// A flat colour.
+    #[default]
+    None,
+    /// A gradient sky with a sun glow.
+    Procedural,
+    /// A cube map from six images: +X, −X, +Y, −Y, +Z, −Z.
+    Cubemap([PathBuf; 6]),
+}
+
+/// Sky kinds as written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum SkyKind {
+    /// [`Sky::None`].
+    None,
+    /// [`Sky::Procedural`].
+    Procedural,
+    /// [`Sky::Cubemap`].
+    Cubemap,
+}
+
+/// The sky as written: `{"kind": "procedural"}` or `{"kind": "cubemap", "faces": [six PNG
+/// paths: +X, −X, +Y, −Y, +Z, −Z]}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SkySpec {
+    /// The kind.
+    pub kind: SkyKind,
+    /// Cube faces (cubemap only), relative to the scene file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub faces: Option<[PathBuf; 6]>,
+}
+
+impl TryFrom<SkySpec> for Sky {
+    type Error = String;
+    fn try_from(s: SkySpec) -> Result<Self, String> {
+        match (s.kind, s.faces) {
+            (SkyKind::Cubemap, Some(f)) => Ok(Sky::Cubemap(f)),
+            (SkyKind::Cubemap, None) => Err("a cubemap sky needs six faces".into()),
+            (_, Some(_)) => Err("faces is only for a cubemap sky".into()),
+            (SkyKind::None, None) => Ok(Sky::None),
+            (SkyKind::Procedural, None) => Ok(Sky::Procedural),
+        }
+    }
+}
+
+impl From<Sky> for SkySpec {
+    fn from(s: Sky) -> SkySpec {
+        match s {
+            Sky::None => SkySpec {
+                kind: SkyKind::None,
+                faces: None,
+            },
+            Sky::Procedural => SkySpec {
+                kind: SkyKind::Procedural,
+                faces: None,
+            },
+            Sky::Cubemap(f) => SkySpec {
+                kind: SkyKind::Cubemap,
+                faces: Some(f),
+            },
+        }
+    }
 }
 
 /// Material kinds as written in a scene file.
@@ -60,6 +176,15 @@ pub struct MaterialSpec {
     /// Index of refraction (glass only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ior: Option<Ior>,
+    /// Shell count (fur only; 1 to 256).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shells: Option<u32>,
+    /// Silhouette fins (fur only; default true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fins: Option<bool>,
+    /// Fur length in mesh units (fur only; default: the asset's manifest).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f32>,
 }
 
 impl TryFrom<MaterialSpec> for Material {
@@ -71,7 +196,41 @@ impl TryFrom<MaterialSpec> for Material {
                 m.kind
             ))
         };
+        if m.kind != MaterialKind::Fur {
+            if m.shells.is_some() {
+                return extra("shells");
+            }
+            if m.fins.is_some() {
+                return extra("fins");
+            }
+            if m.length.is_some() {
+                return extra("length");
+            }
+        }
         match m.kind {
+            MaterialKind::Fur => {
+                if m.opacity.is_some() {
+                    return extra("opacity");
+                }
+                if m.ior.is_some() {
+                    return extra("ior");
+                }
+                if let Some(n) = m.shells
+                    && !(1..=MAX_SHELLS).contains(&n)
+                {
+                    return Err(format!("shells must be 1 to {MAX_SHELLS}, got {n}"));
+                }
+                if let Some(l) = m.length
+                    && !(l.is_finite() && l >= 0.0)
+                {
+                    return Err(format!("length must be finite and at least 0, got {l}"));
+                }
+                Ok(Material::Fur(FurSettings {
+                    shells: m.shells,
+                    fins: m.fins.unwrap_or(true),
+                    length: m.length,
+                }))
+            }
             MaterialKind::Alpha => {
                 if m.ior.is_some() {
                     return extra("ior");
@@ -96,7 +255,6 @@ impl TryFrom<MaterialSpec> for Material {
                     return extra("ior");
                 }
                 Ok(match kind {
-                    MaterialKind::Fur => Material::Fur,
                     MaterialKind::Mirror => Material::Mirror,
                     _ => Material::Opaque,
                 })
@@ -107,14 +265,33 @@ impl TryFrom<MaterialSpec> for Material {
 
 impl From<Material> for MaterialSpec {
     fn from(m: Material) -> MaterialSpec {
-        let (kind, opacity, ior) = match m {
-            Material::Opaque => (MaterialKind::Opaque, None, None),
-            Material::Alpha { opacity } => (MaterialKind::Alpha, Some(opacity), None),
-            Material::Fur => (MaterialKind::Fur, None, None),
-            Material::Mirror => (MaterialKind::Mirror, None, None),
-            Material::Glass { ior } => (MaterialKind::Glass, None, Some(ior)),
+        let mut spec = MaterialSpec {
+            kind: MaterialKind::Opaque,
+            opacity: None,
+            ior: None,
+            shells: None,
+            fins: None,
+            length: None,
         };
-        MaterialSpec { kind, opacity, ior }
+        match m {
+            Material::Opaque => {}
+            Material::Alpha { opacity } => {
+                spec.kind = MaterialKind::Alpha;
+                spec.opacity = Some(opacity);
+            }
+            Material::Fur(f) => {
+                spec.kind = MaterialKind::Fur;
+                spec.shells = f.shells;
+                spec.fins = (!f.fins).then_some(false);
+                spec.length = f.length;
+            }
+            Material::Mirror => spec.kind = MaterialKind::Mirror,
+            Material::Glass { ior } => {
+                spec.kind = MaterialKind::Glass;
+                spec.ior = Some(ior);
+            }
+        }
+        spec
     }
 }
 
@@ -335,6 +512,24 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Point lights.
     pub lights: Vec<PointLight>,
+    /// Background: none (a flat colour), procedural, or a cube map.
+    #[serde(with = "sky_serde")]
+    pub sky: Sky,
+    /// How fur shells and fins are composited.
+    pub fur_blend: FurBlend,
+}
+
+mod sky_serde {
+    use super::{Sky, SkySpec};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(s: &Sky, ser: S) -> Result<S::Ok, S::Error> {
+        SkySpec::from(s.clone()).serialize(ser)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(de: D) -> Result<Sky, D::Error> {
+        Sky::try_from(SkySpec::deserialize(de)?).map_err(serde::de::Error::custom)
+    }
 }
 
 impl Default for Scene {
@@ -350,6 +545,8 @@ impl Default for Scene {
             dsf: true,
             objects: Vec::new(),
             lights: Vec::new(),
+            sky: Sky::None,
+            fur_blend: FurBlend::Stipple,
         }
     }
 }
@@ -406,6 +603,11 @@ impl Scene {
         for o in &mut scene.objects {
             if !o.asset.to_string_lossy().starts_with(crate::asset::BUILTIN) {
                 o.asset = dir.join(&o.asset);
+            }
+        }
+        if let Sky::Cubemap(faces) = &mut scene.sky {
+            for f in faces {
+                *f = dir.join(&*f);
             }
         }
         Ok(scene)

@@ -1,11 +1,74 @@
 //! The WGSL sources of the preview renderer. Every file lives in the repository's top-level
-//! `shaders/` folder and is compiled into the binary; each pass's module is `common.wgsl`
-//! (shared structs and functions, no bindings) followed by the pass's own file.
+//! `shaders/` folder and is compiled into the binary. A module is `common.wgsl` (shared
+//! structs and functions, no bindings), then for the fur passes `fur_common.wgsl` and one of
+//! the two fur lighting chunks (from the L-buffer, or forward Kajiya-Kay), then the pass's own
+//! file.
 
 /// The shared prelude.
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
-/// A pass's shader file.
+/// Every file in `shaders/`, by name.
+pub const FILES: [(&str, &str); 14] = [
+    ("common.wgsl", COMMON),
+    (
+        "gbuffer.wgsl",
+        include_str!("../../../shaders/gbuffer.wgsl"),
+    ),
+    ("light.wgsl", include_str!("../../../shaders/light.wgsl")),
+    (
+        "material.wgsl",
+        include_str!("../../../shaders/material.wgsl"),
+    ),
+    (
+        "forward.wgsl",
+        include_str!("../../../shaders/forward.wgsl"),
+    ),
+    (
+        "fur_common.wgsl",
+        include_str!("../../../shaders/fur_common.wgsl"),
+    ),
+    (
+        "fur_light_inferred.wgsl",
+        include_str!("../../../shaders/fur_light_inferred.wgsl"),
+    ),
+    (
+        "fur_light_forward.wgsl",
+        include_str!("../../../shaders/fur_light_forward.wgsl"),
+    ),
+    (
+        "fur_gbuffer.wgsl",
+        include_str!("../../../shaders/fur_gbuffer.wgsl"),
+    ),
+    ("shells.wgsl", include_str!("../../../shaders/shells.wgsl")),
+    ("fins.wgsl", include_str!("../../../shaders/fins.wgsl")),
+    (
+        "obliterate.wgsl",
+        include_str!("../../../shaders/obliterate.wgsl"),
+    ),
+    (
+        "composite.wgsl",
+        include_str!("../../../shaders/composite.wgsl"),
+    ),
+    ("sky.wgsl", include_str!("../../../shaders/sky.wgsl")),
+];
+
+fn file(name: &str) -> &'static str {
+    FILES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map_or("", |(_, s)| s)
+}
+
+/// How fur is lit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Lighting {
+    /// From the L-buffer at the strand's root and tip (Revie §2.4.4).
+    Inferred,
+    /// Every light at the strand with Kajiya-Kay (Listing 2.4): the reference.
+    Forward,
+}
+
+/// A shader module (and, for files with several, which entry points a pipeline uses).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Shader {
     /// Geometry pass: normals and DSF buffer (Kircher & Lawrance §2.1).
@@ -16,38 +79,100 @@ pub enum Shader {
     Material,
     /// Forward reference: per-object light loop.
     Forward,
+    /// Fur geometry pass 1: the base mesh with grain normals (Revie §2.4.2).
+    FurBase,
+    /// Fur geometry pass 2: the stippled outer shell with rim normals.
+    FurOuter,
+    /// Stipple obliteration into the composition copy (§2.4.4).
+    Obliterate,
+    /// Concentric shells (instance 0: the base mesh).
+    Shells(Lighting),
+    /// Silhouette fins.
+    Fins(Lighting),
+    /// Weighted blended OIT resolve.
+    Composite,
+    /// Procedural sky.
+    SkyProcedural,
+    /// Cube-map sky.
+    SkyCube,
 }
 
 impl Shader {
-    /// Every pass shader.
-    pub const ALL: [Shader; 4] = [
+    /// Every pipeline shader.
+    pub const ALL: [Shader; 14] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
         Shader::Forward,
+        Shader::FurBase,
+        Shader::FurOuter,
+        Shader::Obliterate,
+        Shader::Shells(Lighting::Inferred),
+        Shader::Shells(Lighting::Forward),
+        Shader::Fins(Lighting::Inferred),
+        Shader::Fins(Lighting::Forward),
+        Shader::Composite,
+        Shader::SkyProcedural,
+        Shader::SkyCube,
     ];
 
-    /// The file name under `shaders/`.
+    /// The pass's own file under `shaders/`.
     pub fn file(self) -> &'static str {
         match self {
             Shader::GBuffer => "gbuffer.wgsl",
             Shader::Light => "light.wgsl",
             Shader::Material => "material.wgsl",
             Shader::Forward => "forward.wgsl",
+            Shader::FurBase | Shader::FurOuter => "fur_gbuffer.wgsl",
+            Shader::Obliterate => "obliterate.wgsl",
+            Shader::Shells(_) => "shells.wgsl",
+            Shader::Fins(_) => "fins.wgsl",
+            Shader::Composite => "composite.wgsl",
+            Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
         }
     }
 
-    fn body(self) -> &'static str {
+    /// The files the module is made of, in order.
+    pub fn parts(self) -> Vec<&'static str> {
+        let mut p = vec!["common.wgsl"];
         match self {
-            Shader::GBuffer => include_str!("../../../shaders/gbuffer.wgsl"),
-            Shader::Light => include_str!("../../../shaders/light.wgsl"),
-            Shader::Material => include_str!("../../../shaders/material.wgsl"),
-            Shader::Forward => include_str!("../../../shaders/forward.wgsl"),
+            Shader::FurBase | Shader::FurOuter => p.push("fur_common.wgsl"),
+            Shader::Shells(l) | Shader::Fins(l) => {
+                p.push("fur_common.wgsl");
+                p.push(match l {
+                    Lighting::Inferred => "fur_light_inferred.wgsl",
+                    Lighting::Forward => "fur_light_forward.wgsl",
+                });
+            }
+            _ => {}
         }
+        p.push(self.file());
+        p
     }
 
-    /// The complete module: the prelude, then the pass's file.
+    /// A name for the module (files joined), for labels and errors.
+    pub fn module_name(self) -> String {
+        self.parts()[1..].join("+")
+    }
+
+    /// The complete module source.
     pub fn source(self) -> String {
-        format!("{COMMON}\n{}", self.body())
+        self.parts()
+            .into_iter()
+            .map(file)
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// The vertex and fragment entry points (`wboit`: the weighted-blended output).
+    pub fn entry_points(self, wboit: bool) -> (&'static str, &'static str) {
+        match self {
+            Shader::FurBase => ("vs_base", "fs_base"),
+            Shader::FurOuter => ("vs_outer", "fs_outer"),
+            Shader::SkyProcedural => ("vs_main", "fs_procedural"),
+            Shader::SkyCube => ("vs_main", "fs_cube"),
+            Shader::Shells(_) | Shader::Fins(_) if wboit => ("vs_main", "fs_wboit"),
+            _ => ("vs_main", "fs_main"),
+        }
     }
 }

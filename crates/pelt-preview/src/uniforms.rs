@@ -36,7 +36,15 @@ pub struct ObjectUniforms {
     pub tint: [f32; 4],
     /// x opacity; y specular strength.
     pub params: [f32; 4],
-    /// x object ID (1..255); y stipple pattern (0 opaque, 1..3).
+    /// Fur: rgb root colour (linear, times the object's colour), w fur length.
+    pub fur_base: [f32; 4],
+    /// Fur: rgb tip colour, w heightfield UV scale.
+    pub fur_tip: [f32; 4],
+    /// Fur: x rim strength, y rim falloff (Listing 2.3), z strand fade width (in shell depth),
+    /// w WBOIT weight scale.
+    pub fur_params: [f32; 4],
+    /// x object ID (1..255); y stipple pattern (0 opaque, 1..3); z the fur's outer-shell ID;
+    /// w shell count.
     pub ids: [u32; 4],
 }
 
@@ -64,6 +72,55 @@ pub struct Vertex {
     pub group: u32,
 }
 
+/// The per-vertex fur attributes (vertex buffer 1 of the fur pipelines). Keep in sync with
+/// `FurIn` in shaders/fur_common.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FurVertex {
+    /// TANGENT in the asset's space (w = handedness).
+    pub tangent: [f32; 4],
+    /// TEXCOORD_0.
+    pub uv: [f32; 2],
+    /// `_FUR_COMB`: tangent-space comb direction, w = length (0 = no fur).
+    pub comb: [f32; 4],
+}
+
+impl FurVertex {
+    /// A vertex without fur.
+    pub const NONE: FurVertex = FurVertex {
+        tangent: [1.0, 0.0, 0.0, 1.0],
+        uv: [0.0; 2],
+        comb: [1.0, 0.0, 0.0, 0.0],
+    };
+}
+
+/// One fin edge, expanded for the fin quads (an instanced vertex buffer). Keep in sync with
+/// `FinIn` in shaders/fins.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FinInstance {
+    /// Position of the edge's first vertex.
+    pub p0: [f32; 3],
+    /// Position of the second.
+    pub p1: [f32; 3],
+    /// Vertex normal at the first.
+    pub n0: [f32; 3],
+    /// Vertex normal at the second.
+    pub n1: [f32; 3],
+    /// Object-space comb direction and length at the first.
+    pub c0: [f32; 4],
+    /// At the second.
+    pub c1: [f32; 4],
+    /// Geometric normal of the first face beside the edge.
+    pub f0: [f32; 3],
+    /// Of the second (the first again on a boundary edge).
+    pub f1: [f32; 3],
+    /// x: the fin texture's horizontal offset; y: the edge's length in UV units.
+    pub u: [f32; 2],
+    /// Normal group of the first vertex.
+    pub group: u32,
+}
+
 /// The most lights the forward reference takes in one pass (`MAX_FORWARD_LIGHTS` in
 /// shaders/forward.wgsl).
 pub const MAX_FORWARD_LIGHTS: usize = 256;
@@ -77,9 +134,11 @@ mod tests {
 
     #[test]
     fn sizes_match_the_wgsl_layouts() {
-        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 3 vec4 = 176; Light = 32.
+        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 6 vec4 = 224; Light = 32.
         assert_eq!(size_of::<FrameUniforms>(), 208);
-        assert_eq!(size_of::<ObjectUniforms>(), 176);
+        assert_eq!(size_of::<ObjectUniforms>(), 224);
+        assert_eq!(size_of::<FurVertex>(), 40);
+        assert_eq!(size_of::<FinInstance>(), 116);
         assert_eq!(size_of::<LightUniforms>(), 32);
         assert_eq!(size_of::<Vertex>(), 44);
         assert!(size_of::<ObjectUniforms>() as u64 <= UNIFORM_STRIDE);

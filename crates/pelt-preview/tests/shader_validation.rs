@@ -4,8 +4,10 @@
 
 use std::path::Path;
 
-use pelt_preview::shaders::{COMMON, Shader};
-use pelt_preview::uniforms::{FrameUniforms, LightUniforms, ObjectUniforms, Vertex};
+use pelt_preview::shaders::{COMMON, FILES, Shader};
+use pelt_preview::uniforms::{
+    FinInstance, FrameUniforms, FurVertex, LightUniforms, ObjectUniforms, Vertex,
+};
 
 fn validate(name: &str, source: &str) -> naga::Module {
     let module = naga::front::wgsl::parse_str(source)
@@ -29,26 +31,35 @@ fn every_shader_file_validates_and_is_compiled_by_the_renderer() {
         .filter(|n| n.ends_with(".wgsl"))
         .collect();
     files.sort();
-    let mut known: Vec<String> = Shader::ALL.iter().map(|s| s.file().to_owned()).collect();
-    known.push("common.wgsl".to_owned());
+    // Every file on disk is compiled in, byte for byte, and used by some module.
+    let mut known: Vec<String> = FILES.iter().map(|(n, _)| (*n).to_owned()).collect();
     known.sort();
     assert_eq!(
         files, known,
-        "every file in shaders/ is a pass shader or the prelude"
+        "every file in shaders/ is compiled into the renderer"
     );
-    // The prelude alone, then each pass as compiled.
+    for (name, text) in FILES {
+        let on_disk = std::fs::read_to_string(dir.join(name)).expect("read");
+        assert_eq!(on_disk, text, "{name}: compiled text is the file");
+        assert!(
+            Shader::ALL.iter().any(|s| s.parts().contains(&name)),
+            "{name} is part of some module"
+        );
+    }
+    // The prelude alone, then each module as compiled, with the entry points its pipelines use.
     validate("common.wgsl", COMMON);
     for s in Shader::ALL {
         let source = s.source();
-        let on_disk = std::fs::read_to_string(dir.join(s.file())).expect("read");
-        assert!(
-            source.ends_with(&on_disk),
-            "{}: compiled source is the file",
-            s.file()
-        );
-        let m = validate(s.file(), &source);
+        let m = validate(&s.module_name(), &source);
         let entries: Vec<&str> = m.entry_points.iter().map(|e| e.name.as_str()).collect();
-        assert_eq!(entries, vec!["vs_main", "fs_main"], "{}", s.file());
+        for wboit in [false, true] {
+            let (vs, fs) = s.entry_points(wboit);
+            assert!(
+                entries.contains(&vs) && entries.contains(&fs),
+                "{}: {vs}/{fs} in {entries:?}",
+                s.module_name()
+            );
+        }
     }
 }
 
@@ -71,8 +82,10 @@ fn uniform_structs_match_the_rust_side() {
         size_of::<ObjectUniforms>()
     );
     assert_eq!(size_of_struct("Light") as usize, size_of::<LightUniforms>());
-    // VertexIn: the Rust vertex packs the same four attributes without padding.
+    // VertexIn, FurIn, FinIn: the Rust vertices pack the same attributes without padding.
     assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4);
+    assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
+    assert_eq!(size_of::<FinInstance>(), 4 * 12 + 2 * 16 + 2 * 12 + 8 + 4);
 }
 
 /// A broken shader is caught (the checker itself can fail).

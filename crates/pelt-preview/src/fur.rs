@@ -1,0 +1,401 @@
+//! The fur half of an asset (Revie §2.4.1): per vertex the baked `_FUR_COMB` (tangent-space
+//! comb, w = length), TANGENT and TEXCOORD_0, which the vertex shaders turn back into view
+//! space with the current TBN; the baked fin edges (docs/format.md) expanded into one instance
+//! record per edge for the fin quads; and the fur look and textures from the material's
+//! manifest (`extras.pelt.fur`): length, shell count, UV scale, root and tip colours, the
+//! heightfield and fin texture with all their mip levels. Assets with a comb but no manifest
+//! (baked without `--config`) get the default strand model's textures, generated here.
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
+use pelt_io::{Document, IoError, PrimitiveRef, accessor};
+
+use crate::uniforms::{FinInstance, FurVertex};
+
+/// One mip level of a texture, rows top to bottom.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level<T> {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Texels.
+    pub texels: Vec<T>,
+}
+
+/// The fur's look: what the manifest says (or the defaults).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FurLook {
+    /// Fur length in mesh units (each vertex's comb length scales it).
+    pub length: f32,
+    /// Default shell count.
+    pub shells: u32,
+    /// Heightfield UV scale.
+    pub uv_scale: f32,
+    /// Linear root colour.
+    pub base_color: Vec3,
+    /// Linear tip colour.
+    pub tip_color: Vec3,
+}
+
+/// Where the textures came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureSource {
+    /// The manifest and images the bake embedded.
+    Baked,
+    /// No manifest in the asset: the default strand model, generated at load.
+    Generated,
+}
+
+/// The fur of one asset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FurData {
+    /// Parallel to the mesh's vertices.
+    pub vertices: Vec<FurVertex>,
+    /// One per baked fin edge.
+    pub fins: Vec<FinInstance>,
+    /// Length, shells, colours.
+    pub look: FurLook,
+    /// Heightfield levels (16-bit heights; 0 = bare).
+    pub heightfield: Vec<Level<u16>>,
+    /// Fin texture levels (RGBA8: R height along the strand, G tint, A coverage).
+    pub fin: Vec<Level<[u8; 4]>>,
+    /// Where the textures came from.
+    pub source: TextureSource,
+}
+
+/// Heightfield and fin texture levels.
+pub type Textures = (Vec<Level<u16>>, Vec<Level<[u8; 4]>>);
+
+/// Size of the textures generated for assets without a manifest.
+pub const GENERATED_SIZE: u32 = 512;
+
+fn look_of(m: &FurManifest) -> FurLook {
+    let v = |c: [f64; 3]| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+    FurLook {
+        length: m.length as f32,
+        shells: m.shells,
+        uv_scale: m.uv_scale as f32,
+        base_color: v(m.base_color),
+        tip_color: v(m.tip_color),
+    }
+}
+
+/// The defaults' look and textures (generated: no manifest in the asset).
+pub fn generated() -> Result<(FurLook, Textures), IoError> {
+    let config = FurConfig {
+        textures: StrandParams {
+            size: GENERATED_SIZE,
+            ..StrandParams::default()
+        },
+        ..FurConfig::default()
+    };
+    let set = pelt_fur::generate(&config.textures).map_err(|e| IoError::Invalid {
+        path: "builtin fur textures".into(),
+        place: "strand model".into(),
+        message: e.to_string(),
+    })?;
+    let heights = set
+        .heightfield
+        .iter()
+        .map(|i| Level {
+            width: i.width,
+            height: i.height,
+            texels: match &i.pixels {
+                Pixels::Gray16(v) => v.clone(),
+                Pixels::Gray8(v) => v.iter().map(|&x| u16::from(x) * 257).collect(),
+                Pixels::Rgba8(v) => v.iter().map(|x| u16::from(x[0]) * 257).collect(),
+            },
+        })
+        .collect();
+    let fin = set
+        .fin
+        .iter()
+        .map(|i| Level {
+            width: i.width,
+            height: i.height,
+            texels: match &i.pixels {
+                Pixels::Rgba8(v) => v.clone(),
+                Pixels::Gray8(v) => v.iter().map(|&x| [x, x, x, x]).collect(),
+                Pixels::Gray16(v) => v.iter().map(|&x| [(x >> 8) as u8; 4]).collect(),
+            },
+        })
+        .collect();
+    let v = |c: [f64; 3]| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+    let look = FurLook {
+        length: config.length as f32,
+        shells: config.shells,
+        uv_scale: config.uv_scale as f32,
+        base_color: v(config.base_color),
+        tip_color: v(config.tip_color),
+    };
+    Ok((look, (heights, fin)))
+}
+
+/// Decodes one PNG of the manifest, checking its size against what the manifest claims
+/// before anything is allocated from it.
+fn decode_png(
+    doc: &Document,
+    image: usize,
+    want: (u32, u32),
+    place: &str,
+) -> Result<(png::ColorType, png::BitDepth, Vec<u8>), IoError> {
+    let bytes = doc.image_bytes(image)?;
+    let bad = |m: String| doc.invalid(format!("{place} images[{image}]"), m);
+    let mut dec = png::Decoder::new(std::io::Cursor::new(bytes));
+    dec.set_transformations(png::Transformations::IDENTITY);
+    let mut reader = dec.read_info().map_err(|e| bad(e.to_string()))?;
+    let info = reader.info();
+    if (info.width, info.height) != want {
+        return Err(bad(format!(
+            "is {}×{}, the manifest says {}×{}",
+            info.width, info.height, want.0, want.1
+        )));
+    }
+    let (color, depth) = (info.color_type, info.bit_depth);
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| bad("image too large".into()))?;
+    let mut buf = vec![0; size];
+    let frame = reader
+        .next_frame(&mut buf)
+        .map_err(|e| bad(e.to_string()))?;
+    buf.truncate(frame.buffer_size());
+    Ok((color, depth, buf))
+}
+
+/// Reads the heightfield and fin levels the manifest lists.
+fn baked_textures(doc: &Document, m: &FurManifest, place: &str) -> Result<Textures, IoError> {
+    let image_of = |l: &pelt_fur::manifest::LevelRef, what: &str| {
+        l.image
+            .ok_or_else(|| doc.invalid(format!("{place}.textures.{what}"), "a level has no image"))
+    };
+    let mut heights = Vec::new();
+    for l in &m.textures.heightfield.levels {
+        let (color, depth, buf) =
+            decode_png(doc, image_of(l, "heightfield")?, (l.width, l.height), place)?;
+        let texels = match (color, depth) {
+            (png::ColorType::Grayscale, png::BitDepth::Sixteen) => buf
+                .chunks_exact(2)
+                .map(|b| u16::from_be_bytes([b[0], b[1]]))
+                .collect(),
+            (png::ColorType::Grayscale, png::BitDepth::Eight) => {
+                buf.iter().map(|&x| u16::from(x) * 257).collect()
+            }
+            other => {
+                return Err(doc.invalid(
+                    format!("{place}.textures.heightfield"),
+                    format!("must be 8- or 16-bit gray, found {other:?}"),
+                ));
+            }
+        };
+        heights.push(Level {
+            width: l.width,
+            height: l.height,
+            texels,
+        });
+    }
+    let mut fin = Vec::new();
+    for l in &m.textures.fin.levels {
+        let (color, depth, buf) = decode_png(doc, image_of(l, "fin")?, (l.width, l.height), place)?;
+        if (color, depth) != (png::ColorType::Rgba, png::BitDepth::Eight) {
+            return Err(doc.invalid(
+                format!("{place}.textures.fin"),
+                format!("must be 8-bit RGBA, found {color:?} {depth:?}"),
+            ));
+        }
+        fin.push(Level {
+            width: l.width,
+            height: l.height,
+            texels: buf
+                .chunks_exact(4)
+                .map(|b| [b[0], b[1], b[2], b[3]])
+                .collect(),
+        });
+    }
+    if heights.is_empty() || fin.is_empty() {
+        return Err(doc.invalid(
+            format!("{place}.textures"),
+            "the heightfield and the fin texture need at least one level",
+        ));
+    }
+    Ok((heights, fin))
+}
+
+/// The fur manifest of the primitive's material, if it has one.
+pub fn manifest(doc: &Document, r: PrimitiveRef) -> Result<Option<(FurManifest, String)>, IoError> {
+    let Some(m) = doc.primitive_material(r)? else {
+        return Ok(None);
+    };
+    let place = format!("materials[{m}].extras.pelt.fur");
+    let Some(v) = doc
+        .array("materials")
+        .get(m)
+        .and_then(|x| x.get("extras"))
+        .and_then(|x| x.get("pelt"))
+        .and_then(|x| x.get("fur"))
+    else {
+        return Ok(None);
+    };
+    let parsed: FurManifest =
+        serde_json::from_value(v.clone()).map_err(|e| doc.invalid(&place, e.to_string()))?;
+    let ok = parsed.length.is_finite()
+        && parsed.length >= 0.0
+        && parsed.uv_scale.is_finite()
+        && parsed.uv_scale > 0.0
+        && (1..=1024).contains(&parsed.shells);
+    if !ok {
+        return Err(doc.invalid(
+            &place,
+            "length must be ≥ 0, uvScale above 0 and shells 1 to 1024",
+        ));
+    }
+    Ok(Some((parsed, place)))
+}
+
+/// Look and textures for an asset whose first fur manifest is `found` (None: generated).
+pub fn look_and_textures(
+    doc: &Document,
+    found: Option<&(FurManifest, String)>,
+) -> Result<(FurLook, Textures, TextureSource), IoError> {
+    match found {
+        Some((m, place)) => Ok((
+            look_of(m),
+            baked_textures(doc, m, place)?,
+            TextureSource::Baked,
+        )),
+        None => {
+            let (look, t) = generated()?;
+            Ok((look, t, TextureSource::Generated))
+        }
+    }
+}
+
+/// `_FUR_COMB` of a primitive decoded to tangent-space xyz and length (None when absent).
+pub fn read_comb(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec<Vec4>>, IoError> {
+    let Some(i) = doc.attribute(r, "_FUR_COMB")? else {
+        return Ok(None);
+    };
+    let place = format!("{} attribute _FUR_COMB", doc.place(r));
+    let e = accessor::read(doc, i, &place)?;
+    if e.components != 4 || e.count != n {
+        return Err(doc.invalid(
+            place,
+            format!(
+                "must be VEC4 with one value per vertex ({n}), found {} × {}",
+                e.ty, e.count
+            ),
+        ));
+    }
+    let signed = e.normalized;
+    Ok(Some(
+        e.to_f32::<4>()
+            .into_iter()
+            .map(|c| {
+                let v = Vec4::from(c);
+                if signed {
+                    (v.truncate() * 2.0 - Vec3::ONE).extend(v.w)
+                } else {
+                    v
+                }
+            })
+            .collect(),
+    ))
+}
+
+/// The comb of a vertex in object space: c.x·T + c.y·B + c.z·N (docs: "Decoding
+/// `_FUR_COMB`"), with T Gram-Schmidt'd against N and B = cross(N, T)·w.
+pub fn comb_object(n: Vec3, t: Vec4, c: Vec4) -> Vec3 {
+    let n = n.normalize_or(Vec3::Z);
+    let tt = (t.truncate() - n * n.dot(t.truncate())).normalize_or(n.any_orthonormal_vector());
+    let b = n.cross(tt) * if t.w < 0.0 { -1.0 } else { 1.0 };
+    (c.x * tt + c.y * b + c.z * n).normalize_or_zero()
+}
+
+/// One primitive's fur vertices, in the asset's space (`world` applied to the tangent).
+pub fn fur_vertices(
+    world: Mat4,
+    normals: &[Vec3],
+    tangents: Option<&[Vec4]>,
+    uvs: Option<&[Vec2]>,
+    comb: Option<&[Vec4]>,
+) -> Vec<FurVertex> {
+    let m3 = Mat3::from_mat4(world);
+    let flip = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
+    (0..normals.len())
+        .map(|k| {
+            let t =
+                tangents.map_or_else(|| normals[k].any_orthonormal_vector().extend(1.0), |t| t[k]);
+            FurVertex {
+                tangent: (m3 * t.truncate())
+                    .normalize_or_zero()
+                    .extend(t.w * flip)
+                    .into(),
+                uv: uvs.map_or([0.0; 2], |u| u[k].into()),
+                comb: comb.map_or([1.0, 0.0, 0.0, 0.0], |c| c[k].into()),
+            }
+        })
+        .collect()
+}
+
+/// A small hash of an edge, for the fin texture's horizontal offset (so neighbouring fins do
+/// not repeat the same strands).
+fn edge_offset(a: u32, b: u32) -> f32 {
+    let z = pelt_fur::rng::mix64((u64::from(a.min(b)) << 32) | u64::from(a.max(b)));
+    (z >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// The primitive's fin edges as instances, in the asset's space. `base` is the index of the
+/// primitive's first vertex in `verts` (already in the asset's space).
+pub fn fin_instances(
+    doc: &Document,
+    r: PrimitiveRef,
+    verts: &[crate::uniforms::Vertex],
+    fur: &[FurVertex],
+    base: usize,
+    world: Mat4,
+) -> Result<Vec<FinInstance>, IoError> {
+    let Some(edges) = doc.read_fins(r)? else {
+        return Ok(Vec::new());
+    };
+    let n = verts.len() - base;
+    let normal_world = Mat3::from_mat4(world).inverse().transpose();
+    let mut out = Vec::with_capacity(edges.len());
+    for (k, e) in edges.iter().enumerate() {
+        let [a, b] = e.vertices;
+        if a as usize >= n || b as usize >= n {
+            return Err(doc.invalid(
+                format!("{} extras.pelt.fins record {k}", doc.place(r)),
+                format!("vertex {} is out of range ({n} vertices)", a.max(b)),
+            ));
+        }
+        let (va, vb) = (&verts[base + a as usize], &verts[base + b as usize]);
+        let (fa, fb) = (&fur[base + a as usize], &fur[base + b as usize]);
+        let face =
+            |bits: u32| (normal_world * pelt_geom::octahedral::decode(bits)).normalize_or_zero();
+        let f0 = face(e.normals[0]);
+        let f1 = if e.faces[1] == pelt_geom::topology::NO_FACE {
+            f0
+        } else {
+            face(e.normals[1])
+        };
+        let comb = |v: &crate::uniforms::Vertex, f: &FurVertex| {
+            let c = Vec4::from(f.comb);
+            comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c).extend(c.w)
+        };
+        let uv_len = (Vec2::from(fa.uv) - Vec2::from(fb.uv)).length();
+        out.push(FinInstance {
+            p0: va.position,
+            p1: vb.position,
+            n0: va.normal,
+            n1: vb.normal,
+            c0: comb(va, fa).into(),
+            c1: comb(vb, fb).into(),
+            f0: f0.into(),
+            f1: f1.into(),
+            u: [edge_offset(a, b), uv_len],
+            group: va.group,
+        });
+    }
+    Ok(out)
+}

@@ -1,0 +1,75 @@
+//! The cube-map sky's six images (Frantzen's skybox: six images, one `samplerCube`): read
+//! and checked before any GPU work. Faces are PNGs in the order +X, −X, +Y, −Y, +Z, −Z, square,
+//! all the same size, 8-bit gray, RGB or RGBA, taken as sRGB.
+
+use std::path::{Path, PathBuf};
+
+use crate::draw::CubeImages;
+
+/// Largest face side.
+pub const MAX_FACE: u32 = 4096;
+
+/// Why the sky could not be loaded.
+#[derive(Debug, thiserror::Error)]
+#[error("sky.faces[{face}] ({}): {message}", path.display())]
+pub struct SkyError {
+    /// Index of the face (0 = +X … 5 = −Z).
+    pub face: usize,
+    /// Its file.
+    pub path: PathBuf,
+    /// What is wrong.
+    pub message: String,
+}
+
+fn face(path: &Path) -> Result<(u32, Vec<u8>), String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut dec = png::Decoder::new(std::io::BufReader::new(file));
+    dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = dec.read_info().map_err(|e| e.to_string())?;
+    let (w, h) = (reader.info().width, reader.info().height);
+    if w != h || w == 0 || w > MAX_FACE {
+        return Err(format!(
+            "faces must be square and at most {MAX_FACE} texels, this is {w}×{h}"
+        ));
+    }
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| "image too large".to_owned())?;
+    let mut buf = vec![0; size];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    buf.truncate(info.buffer_size());
+    let rgba: Vec<u8> = match info.color_type {
+        png::ColorType::Rgba => buf,
+        png::ColorType::Rgb => buf
+            .chunks_exact(3)
+            .flat_map(|c| [c[0], c[1], c[2], 255])
+            .collect(),
+        png::ColorType::Grayscale => buf.iter().flat_map(|&g| [g, g, g, 255]).collect(),
+        png::ColorType::GrayscaleAlpha => buf
+            .chunks_exact(2)
+            .flat_map(|c| [c[0], c[0], c[0], c[1]])
+            .collect(),
+        png::ColorType::Indexed => return Err("indexed colour was not expanded".into()),
+    };
+    Ok((w, rgba))
+}
+
+/// Reads the six faces.
+pub fn load_cube(faces: &[PathBuf; 6]) -> Result<CubeImages, SkyError> {
+    let mut size = 0;
+    let mut out = Vec::with_capacity(6);
+    for (i, p) in faces.iter().enumerate() {
+        let err = |message: String| SkyError {
+            face: i,
+            path: p.clone(),
+            message,
+        };
+        let (s, rgba) = face(p).map_err(err)?;
+        if i > 0 && s != size {
+            return Err(err(format!("is {s}×{s}, the first face is {size}×{size}")));
+        }
+        size = s;
+        out.push(rgba);
+    }
+    Ok(CubeImages { size, faces: out })
+}

@@ -1,0 +1,133 @@
+// fur_common.wgsl: what every fur shader shares (Revie, "Implementing Fur Using Deferred
+// Shading", §2.3–2.4): the per-vertex fur attributes, the comb decoded with the current TBN,
+// the shell offset of Listing 2.1, the grain normal of Listing 2.5 and the rim bend of
+// Listing 2.3. Prepended after common.wgsl to the fur passes (see
+// crates/pelt-preview/src/shaders.rs). Keep `FurIn` in sync with `FurVertex` in
+// crates/pelt-preview/src/uniforms.rs.
+
+struct FurIn {
+    @location(4) tangent: vec4<f32>,
+    @location(5) uv: vec2<f32>,
+    // Tangent-space comb direction; w = comb length (0 = no fur).
+    @location(6) comb: vec4<f32>,
+}
+
+// The baked comb in object space: c.x·T + c.y·B + c.z·N, with T Gram-Schmidt'd against N
+// and B = cross(N, T)·w (docs: "Decoding _FUR_COMB").
+fn comb_object(n: vec3<f32>, t: vec4<f32>, c: vec3<f32>) -> vec3<f32> {
+    let nn = normalize(n);
+    var tt = t.xyz - nn * dot(nn, t.xyz);
+    if dot(tt, tt) < 1e-12 {
+        tt = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(nn.x) > 0.9);
+        tt = tt - nn * dot(nn, tt);
+    }
+    tt = normalize(tt);
+    let b = cross(nn, tt) * select(1.0, -1.0, t.w < 0.0);
+    let d = c.x * tt + c.y * b + c.z * nn;
+    let len = length(d);
+    return select(tt, d / len, len > 1e-6);
+}
+
+// Listing 2.1: the offset of a vertex on the shell at normalized depth `sd`: along the normal
+// bent toward the comb by `sd`, scaled by the fur length and the vertex's comb length.
+fn shell_offset(n: vec3<f32>, comb: vec3<f32>, sd: f32, fur_length: f32, comb_length: f32) -> vec3<f32> {
+    let dir = normalize(normalize(n) + comb * sd);
+    return dir * sd * fur_length * comb_length;
+}
+
+// The direction a strand runs at shell depth `sd`: the derivative of the Listing 2.1 path
+// (close enough to the offset direction, which is what Kajiya-Kay needs as its tangent).
+fn strand_dir(n: vec3<f32>, comb: vec3<f32>, sd: f32) -> vec3<f32> {
+    return normalize(normalize(n) + comb * max(sd, 0.5));
+}
+
+// An object-space direction (a tangent vector) in view space.
+fn view_dir_of(d: vec3<f32>, frame: Frame, object: Object) -> vec3<f32> {
+    let w = (object.model * vec4<f32>(d, 0.0)).xyz;
+    let v = (frame.view * vec4<f32>(w, 0.0)).xyz;
+    let len = length(v);
+    return select(vec3<f32>(1.0, 0.0, 0.0), v / len, len > 1e-12);
+}
+
+// An object-space normal in view space.
+fn view_normal_of(n: vec3<f32>, frame: Frame, object: Object) -> vec3<f32> {
+    let w = (object.normal_model * vec4<f32>(n, 0.0)).xyz;
+    return normalize((frame.view * vec4<f32>(w, 0.0)).xyz);
+}
+
+// Listing 2.5: the normal coplanar with the eye vector and the grain direction. `dir` is the
+// comb in view space, `eye` the direction from the eye to the point. The comb is first made
+// tangential to `n`; where it runs along the eye vector, the surface normal is kept.
+fn grain_normal(n: vec3<f32>, dir: vec3<f32>, eye: vec3<f32>) -> vec3<f32> {
+    var d = dir - dot(dir, n) * n;
+    if dot(d, d) < 1e-10 {
+        return n;
+    }
+    d = normalize(d);
+    let binorm = cross(eye, d);
+    let g = cross(binorm, d);
+    let len = length(g);
+    if len < 1e-5 {
+        return n;
+    }
+    // cross(cross(e, d), d) = d·(e·d) − e: it faces the viewer.
+    return g / len;
+}
+
+// Listing 2.3: near the silhouette, bend the normal away from the viewer so the point takes
+// light arriving from behind (the halo of scattering through the fur layer).
+fn rim_normal(n: vec3<f32>, eye: vec3<f32>, strength: f32, falloff: f32) -> vec3<f32> {
+    let ndv = clamp(dot(n, -eye), 0.0, 1.0);
+    let w = strength * pow(1.0 - ndv, falloff);
+    return normalize(n + eye * w);
+}
+
+// Screen position (output pixels) of a clip-space point.
+fn clip_to_pixel(c: vec4<f32>, frame: Frame) -> vec2<f32> {
+    let ndc = c.xy / max(c.w, 1e-6);
+    return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * frame.target_size.xy;
+}
+
+// McGuire & Bavoil (2013), eq. 7: the weight of a layer at view depth `z` (positive, in scene
+// units) with coverage `a`. Nearer layers weigh more; the clamp keeps the ratio of any two
+// weights under 3e5. `scale` (Object.fur_params.w) keeps the sum of every layer's weight
+// below the accumulation format's largest value (see crates/pelt-preview/src/draw.rs).
+fn wboit_weight(z: f32, a: f32, scale: f32) -> f32 {
+    let zz = z / 5.0;
+    let z6 = pow(z / 200.0, 6.0);
+    return a * clamp(10.0 / (1e-5 + zz * zz + z6), 1e-2, 3e3) * scale;
+}
+
+// Everything a fur fragment needs to be lit, by the L-buffer or by the lights directly.
+struct FurQuery {
+    // View-space point and the strand direction there (forward, Kajiya-Kay).
+    view_pos: vec3<f32>,
+    strand: vec3<f32>,
+    // Output-pixel positions and linear depths of the strand's root on the base mesh and of
+    // its tip on the outer shell (inferred: the two L-buffer samples of §2.4.4).
+    base_pixel: vec2<f32>,
+    base_depth: f32,
+    top_pixel: vec2<f32>,
+    top_depth: f32,
+    // Normal group of the base mesh there.
+    group: u32,
+}
+
+struct FurLight {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+struct WboitOut {
+    @location(0) accum: vec4<f32>,
+    @location(1) reveal: vec4<f32>,
+}
+
+// A layer's contribution to the weighted blended accumulation (straight colour, alpha).
+fn wboit_out(color: vec3<f32>, a: f32, depth: f32, scale: f32) -> WboitOut {
+    var o: WboitOut;
+    let w = wboit_weight(depth, a, scale);
+    o.accum = vec4<f32>(color * a, a) * w;
+    o.reveal = vec4<f32>(a);
+    return o;
+}

@@ -1,0 +1,38 @@
+// fur_light_forward.wgsl: the forward-shaded fur Revie provides for asset tools (§2.4), here
+// the reference the deferred approximation is measured against: every light evaluated at the
+// strand itself with the Kajiya-Kay model of Listing 2.4 (after Heidrich & Seidel), whose
+// terms depend on the strand direction T rather than a normal:
+//   diffuse  = sqrt(1 − (L·T)²)
+//   specular = (sqrt(1 − (L·T)²) · sqrt(1 − (V·T)²) − (L·T)(V·T))^p
+// with the same windowed inverse-square falloff as every other light in the preview.
+
+@group(2) @binding(0) var<uniform> lights: array<Light, 256>;
+
+fn fur_lighting(q: FurQuery) -> FurLight {
+    var out: FurLight;
+    out.diffuse = frame.ambient.rgb;
+    let t = q.strand;
+    let v = normalize(-q.view_pos);
+    let vt = dot(v, t);
+    let sin_v = sqrt(max(1.0 - vt * vt, 0.0));
+    let count = min(frame.flags.y, 256u);
+    for (var i = 0u; i < count; i++) {
+        let light = lights[i];
+        let to_light = light.position_radius.xyz - q.view_pos;
+        let dist = length(to_light);
+        let radius = light.position_radius.w;
+        if dist >= radius {
+            continue;
+        }
+        let l = to_light / max(dist, 1e-6);
+        let x = dist / radius;
+        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+        let atten = window * window / (1.0 + dist * dist);
+        let lt = dot(l, t);
+        let sin_l = sqrt(max(1.0 - lt * lt, 0.0));
+        out.diffuse += light.color.rgb * sin_l * atten;
+        let spec = pow(max(sin_l * sin_v - lt * vt, 0.0), frame.ambient.w) * atten;
+        out.specular += light.color.rgb * spec;
+    }
+    return out;
+}

@@ -1,0 +1,75 @@
+// fur_light_inferred.wgsl: how the fur is lit in the deferred pipeline (Revie §2.4.4): from
+// the L-buffer, at two points per strand: the root on the base mesh (the base pass's texels)
+// and the tip on the outer shell (the stippled texels, top-left of each 2×2 cell). A tap is
+// kept only when its ID is that surface's and its stored linear depth matches the point's, so
+// an occluder in front of either point is never sampled into the strand. The maximum of the
+// valid samples is taken (the halo of back-lit fur without darkening edges); with none valid,
+// the ambient term. The L-buffer holds light without albedo (inferred lighting), so Revie's
+// division by the albedo is the identity here.
+
+@group(2) @binding(0) var lbuffer: texture_2d<f32>;
+@group(2) @binding(1) var dsf: texture_2d<u32>;
+
+struct Taps {
+    light: vec4<f32>,
+    weight: f32,
+}
+
+// The taps bilinear filtering would read around output pixel `pixel`, on every L-buffer texel
+// (`stipple` false) or on the stipple lattice (top-left texels, `stipple` true), keeping those
+// whose ID is `id` and whose depth is within `threshold` of `depth`.
+fn fur_taps(pixel: vec2<f32>, id: u32, depth: f32, threshold: f32, stipple: bool) -> Taps {
+    let ratio = frame.lbuffer_size.xy * frame.target_size.zw;
+    let size = vec2<i32>(frame.lbuffer_size.xy);
+    let lattice = select(1.0, 2.0, stipple);
+    let c = (pixel * ratio - vec2<f32>(0.5)) / lattice;
+    let base = floor(c);
+    let f = c - base;
+    let step = i32(lattice);
+    let origin = vec2<i32>(base) * step;
+    var t: Taps;
+    for (var k = 0u; k < 4u; k++) {
+        let corner = vec2<i32>(i32(k & 1u), i32(k >> 1u));
+        var tap = origin + corner * step;
+        tap = select(tap, tap + vec2<i32>(step), tap < vec2<i32>(0));
+        tap = select(tap, tap - vec2<i32>(step), tap >= size);
+        tap = clamp(tap, vec2<i32>(0), size - vec2<i32>(1));
+        let w = select(1.0 - f.x, f.x, corner.x == 1) * select(1.0 - f.y, f.y, corner.y == 1);
+        let d = textureLoad(dsf, tap, 0);
+        let ok = d.y == id && d.x != DEPTH_EMPTY && abs(depth_from_code(d.x, frame) - depth) <= threshold;
+        let wk = select(0.0, max(w, 1e-4), ok);
+        t.light += wk * textureLoad(lbuffer, tap, 0);
+        t.weight += wk;
+    }
+    return t;
+}
+
+fn fur_lighting(q: FurQuery) -> FurLight {
+    var out: FurLight;
+    if frame.flags.w == 0u {
+        out.diffuse = frame.ambient.rgb;
+        return out;
+    }
+    let ratio = frame.lbuffer_size.xy * frame.target_size.zw;
+    let spacing = 1.0 / min(ratio.x, ratio.y);
+    let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;
+    let floor_t = f32(frame.flags.z) * step;
+    // Depth can change across the taps by the point's depth slope over their spacing.
+    let tb = 2.0 * fwidth(q.base_depth) * spacing + floor_t + 0.004 * q.base_depth;
+    let tt = 4.0 * fwidth(q.top_depth) * spacing + floor_t + 0.004 * q.top_depth;
+    let base_id = ((object.ids.x & 255u) << 8u) | (q.group & 255u);
+    let top_id = ((object.ids.z & 255u) << 8u) | (q.group & 255u);
+    let b = fur_taps(q.base_pixel, base_id, q.base_depth, tb, false);
+    let t = fur_taps(q.top_pixel, top_id, q.top_depth, tt, true);
+    var l = vec4<f32>(frame.ambient.rgb, 0.0);
+    if b.weight > 0.0 && t.weight > 0.0 {
+        l = max(b.light / b.weight, t.light / t.weight);
+    } else if b.weight > 0.0 {
+        l = b.light / b.weight;
+    } else if t.weight > 0.0 {
+        l = t.light / t.weight;
+    }
+    out.diffuse = l.rgb;
+    out.specular = specular_color(l);
+    return out;
+}

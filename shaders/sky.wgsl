@@ -1,0 +1,56 @@
+// sky.wgsl: the skybox at infinity (Frantzen's "skybox at infinity"): one full-screen
+// triangle at the far plane (depth 1, drawn where nothing else is), looking up the world
+// direction through each pixel either in a cube map made from six images (fs_cube) or in a
+// procedural sky (fs_procedural): a zenith-to-horizon gradient, a darker ground, and a soft
+// sun glow.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var sky_cube: texture_cube<f32>;
+@group(1) @binding(1) var sky_sampler: sampler;
+
+struct SkyOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vi: u32) -> SkyOut {
+    let p = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
+    var o: SkyOut;
+    o.clip = vec4<f32>(p, 1.0, 1.0);
+    o.ndc = p;
+    return o;
+}
+
+// The world direction through a pixel (the view matrix is a rotation and a translation, so
+// its inverse rotation is the transpose).
+fn world_dir(ndc: vec2<f32>) -> vec3<f32> {
+    let v = normalize(vec3<f32>(ndc.x * frame.proj_params.x, ndc.y * frame.proj_params.y, -1.0));
+    let r = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
+    return normalize(transpose(r) * v);
+}
+
+const SUN: vec3<f32> = vec3<f32>(0.48, 0.62, 0.62);
+
+fn procedural(d: vec3<f32>) -> vec3<f32> {
+    let zenith = vec3<f32>(0.10, 0.22, 0.55);
+    let horizon = vec3<f32>(0.55, 0.63, 0.75);
+    let ground = vec3<f32>(0.09, 0.08, 0.07);
+    let up = d.y;
+    let sky = mix(horizon, zenith, pow(clamp(up, 0.0, 1.0), 0.6));
+    let below = mix(horizon * 0.6, ground, clamp(-up * 6.0, 0.0, 1.0));
+    var c = select(below, sky, up >= 0.0);
+    let s = max(dot(d, normalize(SUN)), 0.0);
+    c += vec3<f32>(1.0, 0.85, 0.6) * (0.6 * pow(s, 64.0) + 0.15 * pow(s, 6.0));
+    return c;
+}
+
+@fragment
+fn fs_procedural(s: SkyOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(procedural(world_dir(s.ndc)), 1.0);
+}
+
+@fragment
+fn fs_cube(s: SkyOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(textureSample(sky_cube, sky_sampler, world_dir(s.ndc)).rgb, 1.0);
+}
