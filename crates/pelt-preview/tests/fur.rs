@@ -424,3 +424,71 @@ fn fur_renders_are_deterministic_and_the_sky_fills_the_background() {
     assert!(top[2] > 120 && top[2] > top[0], "sky at the top {top:?}");
     assert!(bottom[2] < top[2], "below the horizon {bottom:?}");
 }
+
+/// Writes a `size`² PNG of one colour.
+fn face_png(path: &std::path::Path, size: (u32, u32), rgb: [u8; 3]) {
+    let mut bytes = Vec::new();
+    {
+        let mut e = png::Encoder::new(&mut bytes, size.0, size.1);
+        e.set_color(png::ColorType::Rgb);
+        e.set_depth(png::BitDepth::Eight);
+        let data: Vec<u8> = (0..size.0 * size.1).flat_map(|_| rgb).collect();
+        e.write_header()
+            .expect("header")
+            .write_image_data(&data)
+            .expect("data");
+    }
+    std::fs::write(path, bytes).expect("write face");
+}
+
+#[test]
+fn a_cube_map_sky_shows_its_faces_and_a_bad_face_is_named() {
+    let dir = out_dir().join("cube-sky");
+    std::fs::create_dir_all(&dir).expect("dir");
+    // +X red, −X green, +Y blue, −Y yellow, +Z magenta, −Z cyan.
+    let colours = [
+        [255, 0, 0],
+        [0, 255, 0],
+        [0, 0, 255],
+        [255, 255, 0],
+        [255, 0, 255],
+        [0, 255, 255],
+    ];
+    let faces: [PathBuf; 6] = std::array::from_fn(|i| dir.join(format!("face{i}.png")));
+    for (f, c) in faces.iter().zip(colours) {
+        face_png(f, (8, 8), c);
+    }
+    let mut f = Fixture::new();
+    // Looking down −Z with nothing in view: the −Z face (cyan) fills the image.
+    let mut s = scene(4, false, FurBlend::Stipple);
+    s.objects.clear();
+    s.camera.position = [0.0, 0.0, 0.0];
+    s.camera.target = [0.0, 0.0, -1.0];
+    s.sky = Sky::Cubemap(faces.clone());
+    let img = f.render_with(&s, &[], Mode::Inferred);
+    let c = img.pixel(img.width / 2, img.height / 2);
+    assert!(
+        c[0] < 10 && c[1] > 245 && c[2] > 245,
+        "−Z face is cyan: {c:?}"
+    );
+    // Looking up: the +Y face (blue).
+    s.camera.target = [0.0, 1.0, -0.001];
+    s.camera.up = [0.0, 0.0, -1.0];
+    let img = f.render_with(&s, &[], Mode::Inferred);
+    let c = img.pixel(img.width / 2, img.height / 2);
+    assert!(
+        c[0] < 10 && c[1] < 10 && c[2] > 245,
+        "+Y face is blue: {c:?}"
+    );
+    // A face of another size is refused, naming it; nothing is drawn.
+    face_png(&faces[2], (8, 4), [0, 0, 255]);
+    let err = f
+        .preview
+        .prepare_loaded(&s, &f.meshes, &[], Mode::Inferred)
+        .expect_err("a non-square face");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("sky.faces[2]") && msg.contains("square"),
+        "{msg}"
+    );
+}
