@@ -96,15 +96,9 @@ fn vs_main(fin: FinIn, @builtin(vertex_index) vi: u32) -> FinOut {
 
 fn shade(s: FinOut) -> vec4<f32> {
     let tex = textureSample(fin_texture, fin_sampler, s.uv);
-    var q: FurQuery;
-    q.view_pos = s.view_pos;
-    q.strand = normalize(s.strand);
-    q.base_pixel = clip_to_pixel(s.base_clip, frame);
-    q.base_depth = s.depths.x;
-    q.top_pixel = clip_to_pixel(s.top_clip, frame);
-    q.top_depth = s.depths.y;
-    q.group = s.group;
-    let l = fur_lighting(q);
+    let l = fur_lighting(fur_query(
+        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
+    ));
     let albedo = object.tint.rgb * mix(object.fur_base.rgb, object.fur_tip.rgb, tex.r);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, tex.a * s.depths.w);
 }

@@ -113,6 +113,30 @@ struct FurQuery {
     group: u32,
 }
 
+// The query of a fragment at view-space `view_pos` on a strand running along `strand`, whose
+// root and tip project to `base_clip` and `top_clip` at linear depths `base_depth` and
+// `top_depth`.
+fn fur_query(
+    view_pos: vec3<f32>,
+    strand: vec3<f32>,
+    base_clip: vec4<f32>,
+    top_clip: vec4<f32>,
+    base_depth: f32,
+    top_depth: f32,
+    group: u32,
+    frame: Frame,
+) -> FurQuery {
+    var q: FurQuery;
+    q.view_pos = view_pos;
+    q.strand = normalize(strand);
+    q.base_pixel = clip_to_pixel(base_clip, frame);
+    q.base_depth = base_depth;
+    q.top_pixel = clip_to_pixel(top_clip, frame);
+    q.top_depth = top_depth;
+    q.group = group;
+    return q;
+}
+
 struct FurLight {
     diffuse: vec3<f32>,
     specular: vec3<f32>,

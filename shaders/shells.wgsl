@@ -61,15 +61,9 @@ fn shade(s: ShellOut) -> vec4<f32> {
     // 5 % of the length fades away rather than lying flat on the skin. The base is opaque.
     let strand = (1.0 - smoothstep(h - object.fur_params.z, h, sd)) * clamp(s.depths.w * 20.0, 0.0, 1.0);
     let a = select(strand, 1.0, s.shell == 0u);
-    var q: FurQuery;
-    q.view_pos = s.view_pos;
-    q.strand = normalize(s.strand);
-    q.base_pixel = clip_to_pixel(s.base_clip, frame);
-    q.base_depth = s.depths.x;
-    q.top_pixel = clip_to_pixel(s.top_clip, frame);
-    q.top_depth = s.depths.y;
-    q.group = s.group;
-    let l = fur_lighting(q);
+    let l = fur_lighting(fur_query(
+        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
+    ));
     let albedo = s.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, sd);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, a);
 }

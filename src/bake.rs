@@ -6,10 +6,9 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use pelt_bake::config::BakeConfig;
-use pelt_bake::fur::{FurAssets, FurReport, embed};
+use pelt_bake::fur::{FurAssets, FurReport, combed, embed};
 use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
-use pelt_io::PrimitiveRef;
 use serde::Serialize;
 
 use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
@@ -271,16 +270,7 @@ fn bake_one(
         }
     };
     if let Some(fur) = fur {
-        let combed: Vec<PrimitiveRef> = bake
-            .primitives
-            .iter()
-            .filter(|p| p.status == "baked")
-            .map(|p| PrimitiveRef {
-                mesh: p.mesh,
-                primitive: p.primitive,
-            })
-            .collect();
-        match embed(&mut doc, fur, &combed) {
+        match embed(&mut doc, fur, &combed(&bake)) {
             Ok(f) => {
                 bake.warnings.extend(f.warnings.iter().cloned());
                 r.fur = Some(f);

@@ -155,15 +155,18 @@ pub fn bake_with_fur(
     assets: &FurAssets,
 ) -> Result<(crate::AssetReport, FurReport), IoError> {
     let bake = crate::bake_document(doc, opts)?;
-    let combed: Vec<PrimitiveRef> = bake
-        .primitives
+    let fur = embed(doc, assets, &combed(&bake))?;
+    Ok((bake, fur))
+}
+
+/// The primitives a bake gave a comb: the ones [`embed`] puts fur on by default.
+pub fn combed(bake: &crate::AssetReport) -> Vec<PrimitiveRef> {
+    bake.primitives
         .iter()
         .filter(|p| p.status == "baked")
         .map(|p| PrimitiveRef {
             mesh: p.mesh,
             primitive: p.primitive,
         })
-        .collect();
-    let fur = embed(doc, assets, &combed)?;
-    Ok((bake, fur))
+        .collect()
 }

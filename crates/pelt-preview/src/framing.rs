@@ -27,12 +27,8 @@ pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Sc
     let distance = radius / fit.atan().sin() * 1.1;
     let dir = Vec3::new(0.35, 0.3, 1.0).normalize();
     let eye = center + dir * distance;
-    let light = |offset: Vec3, color: [f32; 3], intensity: f32| PointLight {
-        position: (center + offset * radius).to_array(),
-        color,
-        intensity: NonNegative(intensity * radius * radius),
-        radius: Positive(radius * 8.0),
-    };
+    let light =
+        |offset, color, intensity| light_around(center, radius, 8.0, offset, color, intensity);
     Scene {
         output: Size { width, height },
         camera: Camera {
@@ -69,6 +65,24 @@ pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Sc
             light(Vec3::new(0.0, 1.5, -3.0), [1.0, 1.0, 1.0], 4.0),
         ],
         ..Scene::default()
+    }
+}
+
+/// A point light at `center + offset · radius` that reaches `reach` radii, with its
+/// intensity scaled by radius² so the asset is lit the same at any size.
+pub fn light_around(
+    center: Vec3,
+    radius: f32,
+    reach: f32,
+    offset: Vec3,
+    color: [f32; 3],
+    intensity: f32,
+) -> PointLight {
+    PointLight {
+        position: (center + offset * radius).to_array(),
+        color,
+        intensity: NonNegative(intensity * radius * radius),
+        radius: Positive(radius * reach),
     }
 }
 

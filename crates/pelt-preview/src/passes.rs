@@ -34,12 +34,19 @@ fn color_attachment(
     view: &wgpu::TextureView,
     clear: wgpu::Color,
 ) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    color_load(view, wgpu::LoadOp::Clear(clear))
+}
+
+fn color_load(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
     Some(wgpu::RenderPassColorAttachment {
         view,
         depth_slice: None,
         resolve_target: None,
         ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(clear),
+            load,
             store: wgpu::StoreOp::Store,
         },
     })
@@ -48,10 +55,17 @@ fn color_attachment(
 fn depth_attachment(
     view: &wgpu::TextureView,
 ) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+    depth_load(view, wgpu::LoadOp::Clear(1.0))
+}
+
+fn depth_load(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
     Some(wgpu::RenderPassDepthStencilAttachment {
         view,
         depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(1.0),
+            load,
             store: wgpu::StoreOp::Store,
         }),
         stencil_ops: None,
@@ -233,6 +247,15 @@ pub fn forward_pass(
     shade(enc, r, d, out, ts, Shader::Forward);
 }
 
+/// The shader ordinary objects are drawn with in this plan's mode.
+fn object_shader(d: &DrawData) -> Shader {
+    if d.plan.mode == Mode::Forward {
+        Shader::Forward
+    } else {
+        Shader::Material
+    }
+}
+
 /// What the object shader (Material or Forward) implies for the fur.
 fn fur_lighting(shader: Shader) -> Lighting {
     if shader == Shader::Forward {
@@ -412,23 +435,12 @@ pub fn fur_accum_pass(
             color_attachment(&oit.accum.view, wgpu::Color::TRANSPARENT),
             color_attachment(&oit.reveal.view, wgpu::Color::WHITE),
         ],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &d.output.depth.view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
+        depth_stencil_attachment: depth_load(&d.output.depth.view, wgpu::LoadOp::Load),
         timestamp_writes: ts,
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    let shader = if d.plan.mode == Mode::Forward {
-        Shader::Forward
-    } else {
-        Shader::Material
-    };
+    let shader = object_shader(d);
     pass.set_bind_group(0, &d.frame, &[FRAME_OUTPUT]);
     pass.set_bind_group(2, light_groups(d, shader).1, &[]);
     draw_fur_layers(&mut pass, r, d, fur_lighting(shader), Blend::Wboit);
@@ -445,23 +457,8 @@ pub fn composite_pass(
 ) {
     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("composite"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &out.color.view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &out.depth.view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
+        color_attachments: &[color_load(&out.color.view, wgpu::LoadOp::Load)],
+        depth_stencil_attachment: depth_load(&out.depth.view, wgpu::LoadOp::Load),
         timestamp_writes: ts,
         occlusion_query_set: None,
         multiview_mask: None,
@@ -472,10 +469,6 @@ pub fn composite_pass(
     }));
     pass.set_bind_group(0, &oit.read, &[]);
     pass.draw(0..3, 0..1);
-    let shader = if d.plan.mode == Mode::Forward {
-        Shader::Forward
-    } else {
-        Shader::Material
-    };
+    let shader = object_shader(d);
     draw_alpha(&mut pass, r, d, shader);
 }

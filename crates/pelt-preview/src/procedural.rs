@@ -122,11 +122,8 @@ pub fn fur_scene(asset: &Path, lo: Vec3, hi: Vec3, width: u32, height: u32, yaw_
     let dir = Vec3::new(base.x * c + base.z * s, base.y, -base.x * s + base.z * c);
     let eye = center + dir * radius * 2.3;
     let ground = lo.y - 0.02 * radius;
-    let light = |p: Vec3, color: [f32; 3], intensity: f32| PointLight {
-        position: (center + p * radius).to_array(),
-        color,
-        intensity: NonNegative(intensity * radius * radius),
-        radius: Positive(radius * 9.0),
+    let light = |p, color, intensity| {
+        crate::framing::light_around(center, radius, 9.0, p, color, intensity)
     };
     Scene {
         output: Size { width, height },
