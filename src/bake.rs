@@ -1,14 +1,19 @@
-//! `pelt bake`: load each input, bake, write a self-contained .glb, report.
+//! `pelt bake`: lay out the jobs (files, folders, globs), bake them in parallel on `--jobs`
+//! threads (files and the work inside large meshes share the pool), show progress, write the
+//! report and the depfile, summarize. One failing input never stops the others.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use anyhow::{Context, bail};
+use anyhow::Context;
 use pelt_bake::config::BakeConfig;
-use pelt_bake::fur::{FurAssets, FurReport, combed, embed};
+use pelt_bake::fur::{FurAssets, FurReport};
 use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
-use pelt_bake::{AssetReport, BakeOptions, bake_document};
+use pelt_bake::{AssetReport, BakeOptions};
+use pelt_batch::{Job, Outcome, Settings, Status};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
@@ -17,6 +22,7 @@ use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
 struct Report {
     pelt: &'static str,
     options: OptionsReport,
+    summary: Summary,
     #[serde(skip_serializing_if = "Option::is_none")]
     fur: Option<FurRun>,
     inputs: Vec<InputReport>,
@@ -33,7 +39,18 @@ struct FurRun {
     coverage: pelt_fur::manifest::Coverage,
 }
 
-#[derive(Serialize)]
+/// Counts over the whole batch.
+#[derive(Serialize, Clone, Copy, Default)]
+struct Summary {
+    inputs: usize,
+    baked: usize,
+    up_to_date: usize,
+    failed: usize,
+    jobs: usize,
+    wall_ms: f64,
+}
+
+#[derive(Serialize, Clone)]
 struct OptionsReport {
     tangents: &'static str,
     comb_color_space: &'static str,
@@ -48,7 +65,10 @@ struct OptionsReport {
 struct InputReport {
     input: PathBuf,
     output: PathBuf,
+    /// `ok`, `up to date` or `failed`.
     status: &'static str,
+    /// Every file read for this input (the input first).
+    reads: Vec<PathBuf>,
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<String>,
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
@@ -91,121 +111,100 @@ fn options(args: &BakeArgs) -> BakeOptions {
     }
 }
 
-/// Output path for each input; usage errors (exit 2) when they cannot be laid out.
-fn outputs(args: &BakeArgs) -> anyhow::Result<Vec<PathBuf>> {
-    if args.inputs.len() == 1 && !args.output.is_dir() {
-        let out = &args.output;
-        if !out
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
-        {
-            bail!(
-                "output {} must end in .glb (pelt writes self-contained binary glTF)",
-                out.display()
-            );
-        }
-        return Ok(vec![out.clone()]);
-    }
-    if args.output.exists() && !args.output.is_dir() {
-        bail!(
-            "output {} must be a folder when baking several inputs",
-            args.output.display()
-        );
-    }
-    let mut seen = std::collections::BTreeMap::new();
-    let mut outs = Vec::new();
-    for input in &args.inputs {
-        let stem = input
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let out = args.output.join(format!("{stem}.glb"));
-        if let Some(prev) = seen.insert(out.clone(), input.clone()) {
-            bail!(
-                "{} and {} would both be written to {}",
-                prev.display(),
-                input.display(),
-                out.display()
-            );
-        }
-        outs.push(out);
-    }
-    Ok(outs)
-}
-
 /// Runs `pelt bake`.
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
+    let started = Instant::now();
     let opts = options(args);
-    let outs = outputs(args)?;
-    let fur = match &args.config {
-        Some(path) => match BakeConfig::load(path)?.fur {
-            Some(config) => Some(
-                FurAssets::new(config)
-                    .with_context(|| format!("fur textures of {}", path.display()))?,
-            ),
-            None => None,
-        },
+    let jobs = pelt_batch::plan(&args.inputs, &args.output)?;
+    let config_bytes = match &args.config {
+        Some(path) => Some(
+            std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?,
+        ),
         None => None,
     };
-    if args.inputs.len() > 1 || args.output.is_dir() {
-        std::fs::create_dir_all(&args.output)
-            .with_context(|| format!("cannot create {}", args.output.display()))?;
-    }
-    let mut failed = 0;
-    let mut inputs = Vec::new();
-    for (input, output) in args.inputs.iter().zip(&outs) {
-        let r = bake_one(input, output, &opts, fur.as_ref());
-        match &r.error {
-            Some(e) => {
-                failed += 1;
-                eprintln!("pelt: {e}");
+    let fur = match (&args.config, &config_bytes) {
+        (Some(path), Some(bytes)) => {
+            let text = String::from_utf8_lossy(bytes);
+            match BakeConfig::parse(path, &text)?.fur {
+                Some(config) => Some(
+                    FurAssets::new(config)
+                        .with_context(|| format!("fur textures of {}", path.display()))?,
+                ),
+                None => None,
             }
-            None if !args.quiet => {
-                if let Some(b) = &r.bake {
-                    eprintln!(
-                        "baked {} -> {}: {} primitives, {} vertices, {} triangles, {} warnings",
-                        input.display(),
-                        output.display(),
-                        b.primitives_baked,
-                        b.vertices,
-                        b.triangles,
-                        b.warnings.len()
-                    );
-                    for w in &b.warnings {
-                        eprintln!("  warning: {w}");
-                    }
-                }
-            }
-            None => {}
         }
-        inputs.push(r);
+        _ => None,
+    };
+    let options_report = options_report(args, &opts);
+    let settings = Settings {
+        options: opts,
+        fur: fur.as_ref(),
+        salt: salt(&options_report, config_bytes.as_deref()),
+        incremental: args.incremental,
+    };
+    let threads = args.jobs.map_or_else(
+        || std::thread::available_parallelism().map_or(1, usize::from),
+        usize::from,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    let dirs: std::collections::BTreeSet<PathBuf> = jobs
+        .iter()
+        .filter_map(|j| j.output.parent().map(PathBuf::from))
+        .collect();
+    for d in &dirs {
+        pelt_batch::temp::sweep(d);
+    }
+
+    let progress = Progress::new(jobs.len(), args.quiet);
+    let outcomes: Vec<Outcome> = pool.install(|| {
+        jobs.par_iter()
+            .map(|job| {
+                let o = pelt_batch::bake_file(job, &settings);
+                progress.done(job, &o);
+                o
+            })
+            .collect()
+    });
+    progress.finish();
+
+    let mut summary = Summary {
+        inputs: jobs.len(),
+        jobs: threads,
+        ..Summary::default()
+    };
+    let mut failures = Vec::new();
+    for o in &outcomes {
+        match &o.status {
+            Status::Baked(_) => summary.baked += 1,
+            Status::UpToDate => summary.up_to_date += 1,
+            Status::Failed(e) => {
+                summary.failed += 1;
+                failures.push(e.clone());
+            }
+        }
+    }
+    summary.wall_ms = ms(started);
+
+    if let Some(path) = &args.depfile {
+        let rules: Vec<(PathBuf, Vec<PathBuf>)> = jobs
+            .iter()
+            .zip(&outcomes)
+            .map(|(j, o)| {
+                let mut deps = o.reads.clone();
+                deps.extend(args.config.iter().cloned());
+                (j.output.clone(), deps)
+            })
+            .collect();
+        pelt_io::glb::write_atomic(path, pelt_batch::depfile::render(&rules).as_bytes())?;
     }
     if let Some(path) = &args.report {
         let report = Report {
             pelt: env!("CARGO_PKG_VERSION"),
-            options: OptionsReport {
-                tangents: match opts.tangents {
-                    TangentMode::Keep => "keep",
-                    TangentMode::Regenerate => "regenerate",
-                },
-                comb_color_space: match opts.color_space {
-                    ColorSpace::Linear => "linear",
-                    ColorSpace::Srgb => "srgb",
-                },
-                comb_axes: opts.axes.to_string(),
-                quantize: match opts.quantize {
-                    Quantize::Float => "float",
-                    Quantize::U16 => "u16",
-                    Quantize::U8 => "u8",
-                },
-                topology: match opts.topology_mode {
-                    TopologyMode::Full => "full",
-                    TopologyMode::Groups => "groups",
-                    TopologyMode::Off => "off",
-                },
-                weld_epsilon: args.weld_epsilon,
-                normal_tolerance_deg: args.normal_tolerance,
-            },
+            options: options_report,
+            summary,
             fur: fur
                 .as_ref()
                 .zip(args.config.as_ref())
@@ -217,7 +216,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
                     strands: f.set.params.clone(),
                     coverage: f.set.coverage.clone(),
                 }),
-            inputs,
+            inputs: jobs.iter().zip(outcomes).map(input_report).collect(),
         };
         let mut text = serde_json::to_string_pretty(&report)?;
         text.push('\n');
@@ -227,25 +226,77 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
             pelt_io::glb::write_atomic(path, text.as_bytes())?;
         }
     }
-    if failed > 0 {
-        if args.inputs.len() > 1 {
-            eprintln!("pelt: {failed} of {} inputs failed", args.inputs.len());
+    if jobs.len() > 1 && !args.quiet {
+        eprintln!(
+            "pelt: {} inputs: {} baked, {} up to date, {} failed in {:.2} s ({} jobs)",
+            summary.inputs,
+            summary.baked,
+            summary.up_to_date,
+            summary.failed,
+            summary.wall_ms / 1000.0,
+            threads
+        );
+    }
+    if summary.failed > 0 {
+        if jobs.len() > 1 {
+            eprintln!("pelt: {} of {} inputs failed:", summary.failed, summary.inputs);
+            for f in &failures {
+                eprintln!("  {f}");
+            }
+        } else if args.quiet {
+            eprintln!("pelt: {}", failures.join("\n"));
         }
         return Ok(ExitCode::from(1));
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn bake_one(
-    input: &Path,
-    output: &Path,
-    opts: &BakeOptions,
-    fur: Option<&FurAssets>,
-) -> InputReport {
+/// Everything besides the files read that shapes an output: pelt's version, the options
+/// (as the report states them) and the config's bytes.
+fn salt(options: &OptionsReport, config: Option<&[u8]>) -> Vec<u8> {
+    let mut s = format!("pelt {}\n", env!("CARGO_PKG_VERSION")).into_bytes();
+    s.extend(serde_json::to_vec(options).unwrap_or_default());
+    s.push(b'\n');
+    if let Some(c) = config {
+        s.extend((c.len() as u64).to_le_bytes());
+        s.extend(c);
+    }
+    s
+}
+
+fn options_report(args: &BakeArgs, opts: &BakeOptions) -> OptionsReport {
+    OptionsReport {
+        tangents: match opts.tangents {
+            TangentMode::Keep => "keep",
+            TangentMode::Regenerate => "regenerate",
+        },
+        comb_color_space: match opts.color_space {
+            ColorSpace::Linear => "linear",
+            ColorSpace::Srgb => "srgb",
+        },
+        comb_axes: opts.axes.to_string(),
+        quantize: match opts.quantize {
+            Quantize::Float => "float",
+            Quantize::U16 => "u16",
+            Quantize::U8 => "u8",
+        },
+        topology: match opts.topology_mode {
+            TopologyMode::Full => "full",
+            TopologyMode::Groups => "groups",
+            TopologyMode::Off => "off",
+        },
+        weld_epsilon: args.weld_epsilon,
+        normal_tolerance_deg: args.normal_tolerance,
+    }
+}
+
+fn input_report(pair: (&Job, Outcome)) -> InputReport {
+    let (job, o) = pair;
     let mut r = InputReport {
-        input: input.to_owned(),
-        output: output.to_owned(),
+        input: job.input.clone(),
+        output: job.output.clone(),
         status: "failed",
+        reads: o.reads,
         error: None,
         bake: None,
         fur: None,
@@ -253,45 +304,109 @@ fn bake_one(
         write_ms: None,
         output_bytes: None,
     };
-    let t0 = Instant::now();
-    let mut doc = match pelt_io::load(input) {
-        Ok(d) => d,
-        Err(e) => {
-            r.error = Some(e.to_string());
-            return r;
-        }
-    };
-    r.read_ms = Some(ms(t0));
-    let mut bake = match bake_document(&mut doc, opts) {
-        Ok(b) => b,
-        Err(e) => {
-            r.error = Some(e.to_string());
-            return r;
-        }
-    };
-    if let Some(fur) = fur {
-        match embed(&mut doc, fur, &combed(&bake)) {
-            Ok(f) => {
-                bake.warnings.extend(f.warnings.iter().cloned());
-                r.fur = Some(f);
-            }
-            Err(e) => {
-                r.error = Some(e.to_string());
-                return r;
-            }
-        }
-    }
-    let t1 = Instant::now();
-    match pelt_io::glb::write_glb(&doc, output) {
-        Ok(w) => {
-            r.output_bytes = Some(w.file_bytes);
-            r.write_ms = Some(ms(t1));
+    match o.status {
+        Status::Baked(b) => {
+            let b = *b;
             r.status = "ok";
-            r.bake = Some(bake);
+            r.bake = Some(b.bake);
+            r.fur = b.fur;
+            r.read_ms = Some(b.read_ms);
+            r.write_ms = Some(b.write_ms);
+            r.output_bytes = Some(b.output_bytes);
         }
-        Err(e) => r.error = Some(e.to_string()),
+        Status::UpToDate => r.status = "up to date",
+        Status::Failed(e) => r.error = Some(e),
     }
     r
+}
+
+/// Per-input progress: a bar on a terminal, plain lines otherwise, nothing but errors with
+/// `--quiet` (those are listed at the end).
+struct Progress {
+    total: usize,
+    done: AtomicUsize,
+    quiet: bool,
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl Progress {
+    fn new(total: usize, quiet: bool) -> Progress {
+        use std::io::IsTerminal as _;
+        let bar = (!quiet && total > 1 && std::io::stderr().is_terminal()).then(|| {
+            let b = indicatif::ProgressBar::new(total as u64);
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {wide_msg}",
+            ) {
+                b.set_style(style);
+            }
+            b
+        });
+        Progress {
+            total,
+            done: AtomicUsize::new(0),
+            quiet,
+            bar,
+        }
+    }
+
+    fn done(&self, job: &Job, o: &Outcome) {
+        let n = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let lines = self.lines(job, o);
+        match &self.bar {
+            Some(bar) => {
+                // On a terminal the bar shows progress; only failures and warnings scroll.
+                if !matches!(o.status, Status::UpToDate) {
+                    for l in lines.iter().filter(|l| !l.starts_with("baked")) {
+                        bar.println(l);
+                    }
+                }
+                bar.set_message(job.input.display().to_string());
+                bar.inc(1);
+            }
+            None if !self.quiet => {
+                let prefix = if self.total > 1 {
+                    format!("[{n}/{}] ", self.total)
+                } else {
+                    String::new()
+                };
+                let mut text = String::new();
+                for (i, l) in lines.iter().enumerate() {
+                    text.push_str(if i == 0 { &prefix } else { "  " });
+                    text.push_str(l);
+                    text.push('\n');
+                }
+                eprint!("{text}");
+            }
+            None => {}
+        }
+    }
+
+    fn lines(&self, job: &Job, o: &Outcome) -> Vec<String> {
+        match &o.status {
+            Status::Baked(b) => {
+                let r = &b.bake;
+                let mut v = vec![format!(
+                    "baked {} -> {}: {} primitives, {} vertices, {} triangles, {} warnings",
+                    job.input.display(),
+                    job.output.display(),
+                    r.primitives_baked,
+                    r.vertices,
+                    r.triangles,
+                    r.warnings.len()
+                )];
+                v.extend(r.warnings.iter().map(|w| format!("warning: {w}")));
+                v
+            }
+            Status::UpToDate => vec![format!("up to date: {}", job.output.display())],
+            Status::Failed(e) => vec![format!("FAILED {e}")],
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
 }
 
 fn ms(t: Instant) -> f64 {

@@ -22,6 +22,8 @@ Examples:
   pelt bake fixtures/creature.glb -o out/creature.glb
   pelt bake fixtures/creature.glb -o out/creature.glb --report -
   pelt bake scans/*.gltf -o out/ --report bake.json
+  pelt bake assets/ -o baked/ --jobs 8 --incremental --depfile baked.d
+  pelt bake 'assets/**/*.gltf' -o baked/ --quiet
   pelt bake blender_export.glb -o fur.glb --comb-color-space srgb --comb-axes x,z,-y
   pelt bake painted.obj -o painted.glb --tangents regenerate --quantize u16
   pelt bake fixtures/creature.glb -o out/creature.glb --config fixtures/fur.json";
@@ -86,12 +88,26 @@ enum Command {
 /// Arguments of `pelt bake`.
 #[derive(clap::Args)]
 pub struct BakeArgs {
-    /// Input files: .gltf, .glb or .obj.
+    /// Inputs: .gltf, .glb or .obj files, folders (searched recursively) or quoted glob
+    /// patterns ('scans/**/*.gltf').
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
-    /// Output: a .glb file for one input, a folder for several.
+    /// Output: a .glb file for one input file, else a folder (files found under a folder or
+    /// a pattern keep their relative paths in it).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Worker threads, shared by the files and the work inside large meshes (default: one
+    /// per core). Outputs are byte-identical for every value.
+    #[arg(short, long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub jobs: Option<u16>,
+    /// Skip inputs whose existing output records the same content key (the bytes of every
+    /// file read, the flags, the config and pelt's version).
+    #[arg(long)]
+    pub incremental: bool,
+    /// Write a Make-syntax depfile: one rule per output listing every file read (glTF, .bin,
+    /// images, config).
+    #[arg(long, value_name = "FILE")]
+    pub depfile: Option<PathBuf>,
     /// Write a JSON report to FILE ("-" for standard output).
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
@@ -124,7 +140,7 @@ pub struct BakeArgs {
     /// them, with the fur manifest, in each output (see docs/format.md).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// Print nothing but errors.
+    /// Print nothing but errors (listed at the end).
     #[arg(short, long)]
     pub quiet: bool,
 }

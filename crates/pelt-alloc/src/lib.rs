@@ -7,6 +7,9 @@
 //! `madvise` (the Debian default), `madvise(MADV_HUGEPAGE)` on the 2 MiB-aligned middle of each
 //! block of at least [`THRESHOLD`] bytes lets the kernel back it with 2 MiB pages: 512 times
 //! fewer faults. It is only a hint: where THP is off or the call fails, nothing changes.
+//!
+//! [`Counting`] wraps it with byte counters (held now, peak) for the tests and the fuzz
+//! harness that bound memory by the input's real size.
 
 #![expect(
     unsafe_code,
@@ -14,7 +17,7 @@
 )]
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Blocks at least this large are advised.
 pub const THRESHOLD: usize = 4 << 20;
@@ -85,6 +88,81 @@ unsafe impl GlobalAlloc for HugePageAlloc {
         // SAFETY: forwarded with the caller's guarantees.
         let p = unsafe { System.realloc(ptr, layout, new_size) };
         advise(p, new_size);
+        p
+    }
+}
+
+/// [`HugePageAlloc`] that also counts the bytes it holds and the peak since the last
+/// [`reset_peak`]: for tests and the fuzz harness, which check that no input makes pelt
+/// allocate more than a small multiple of the input's real size.
+pub struct Counting;
+
+static CURRENT: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+/// Bytes held now through [`Counting`].
+pub fn current() -> usize {
+    CURRENT.load(Ordering::Relaxed)
+}
+
+/// The most bytes held at once through [`Counting`] since the last [`reset_peak`].
+pub fn peak() -> usize {
+    PEAK.load(Ordering::Relaxed)
+}
+
+/// Starts a new peak measurement from what is held now; returns that.
+pub fn reset_peak() -> usize {
+    let now = current();
+    PEAK.store(now, Ordering::Relaxed);
+    now
+}
+
+fn grew(by: usize) {
+    let now = CURRENT.fetch_add(by, Ordering::Relaxed) + by;
+    PEAK.fetch_max(now, Ordering::Relaxed);
+}
+
+fn shrank(by: usize) {
+    CURRENT.fetch_sub(by, Ordering::Relaxed);
+}
+
+// SAFETY: every call is forwarded to `HugePageAlloc` with the caller's arguments; the counters
+// are only bookkeeping.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: forwarded with the caller's guarantees.
+        let p = unsafe { HugePageAlloc.alloc(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: forwarded with the caller's guarantees.
+        let p = unsafe { HugePageAlloc.alloc_zeroed(layout) };
+        if !p.is_null() {
+            grew(layout.size());
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded with the caller's guarantees.
+        unsafe { HugePageAlloc.dealloc(ptr, layout) };
+        shrank(layout.size());
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: forwarded with the caller's guarantees.
+        let p = unsafe { HugePageAlloc.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            if new_size >= layout.size() {
+                grew(new_size - layout.size());
+            } else {
+                shrank(layout.size() - new_size);
+            }
+        }
         p
     }
 }

@@ -80,7 +80,8 @@ pub struct AssetReport {
     pub timings: Timings,
 }
 
-/// Bakes every eligible primitive of `doc` in place.
+/// Bakes every eligible primitive of `doc` in place. A document without a single TRIANGLES
+/// primitive is an error ("nothing to bake"): the output would be the input.
 pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetReport, IoError> {
     let mut report = AssetReport::default();
     for r in doc.primitives() {
@@ -210,6 +211,20 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         entry.status = "baked".to_owned();
         entry.stats = Some(baked.stats);
         report.primitives.push(entry);
+    }
+    if report
+        .primitives
+        .iter()
+        .all(|p| p.status.starts_with("skipped: mode"))
+    {
+        let why = match report.primitives.len() {
+            0 => "the file has no mesh primitives".to_owned(),
+            n => format!(
+                "none of its {n} primitives has mode 4 (TRIANGLES); convert strips, fans, \
+                 lines and points to triangle lists first"
+            ),
+        };
+        return Err(doc.invalid("meshes", format!("nothing to bake: {why}")));
     }
     let t3 = Instant::now();
     let pruned = doc.prune_detached();

@@ -8,9 +8,14 @@
 //! - [`edge`]: the small hand-specified edge cases (mirrored UVs, degenerate triangles, comb
 //!   along the normal, missing normals, VEC3 u8 colors, sparse colors, non-triangle modes, OBJ).
 //! - [`build`]: turning shapes into glTF documents.
+//! - [`bad`]: the bad-input corpus (`fixtures/bad/`): a valid quad broken one way per file.
+//! - [`mutate`]: seeded mutations (bit flips, truncations, splices, JSON number edits) for the
+//!   fuzz harness.
 
+pub mod bad;
 pub mod build;
 pub mod edge;
+pub mod mutate;
 pub mod shapes;
 
 use glam::Vec3;

@@ -14,6 +14,11 @@
 //!
 //! For comparison it also counts the neighbouring pairs that the paper's random assignment
 //! (one seeded draw) would have given the same ID.
+//!
+//! Where more than 255 groups meet at one position (a mesh collapsed to a point, a fan of
+//! hundreds of creased faces) no assignment separates them all, and listing every pair would
+//! take memory growing with the square of the count: there each group is paired with its
+//! [`CROWDED_WINDOW`] successors only.
 
 use rayon::prelude::*;
 
@@ -21,6 +26,10 @@ use crate::topology::Topology;
 
 /// IDs available to groups (1..=255; 0 means "no group").
 pub const IDS: usize = 255;
+
+/// Where more than [`IDS`] groups meet at one position, each is paired with this many of its
+/// successors (by group number, wrapping) instead of with all of them.
+pub const CROWDED_WINDOW: usize = 8;
 
 /// Seed of the random assignment the report compares against.
 pub const RANDOM_SEED: u64 = 0x7065_6c74; // "pelt"
@@ -75,8 +84,22 @@ pub fn neighbour_pairs(t: &Topology) -> (Vec<(u32, u32)>, usize) {
                 here.sort_unstable();
                 here.dedup();
                 most = most.max(here.len());
-                for (i, &a) in here.iter().enumerate() {
-                    pairs.extend(here[i + 1..].iter().map(|&b| (a, b)));
+                if here.len() <= IDS {
+                    for (i, &a) in here.iter().enumerate() {
+                        pairs.extend(here[i + 1..].iter().map(|&b| (a, b)));
+                    }
+                } else {
+                    // More groups than IDs meet here: no assignment separates them all, and
+                    // all pairs would grow with the square of the count (a mesh collapsed to
+                    // a point has every group at one position). Each group is paired with
+                    // its CROWDED_WINDOW successors, which keeps the pairs linear.
+                    let k = here.len();
+                    for (i, &a) in here.iter().enumerate() {
+                        pairs.extend((1..=CROWDED_WINDOW).map(|d| {
+                            let b = here[(i + d) % k];
+                            (a.min(b), a.max(b))
+                        }));
+                    }
                 }
             }
             (pairs, most)

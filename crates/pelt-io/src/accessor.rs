@@ -238,7 +238,7 @@ pub(crate) fn view_bytes<'d>(
         .buffers
         .get(buffer)
         .ok_or_else(|| doc.invalid(&vplace, format!("buffer {buffer} does not exist")))?;
-    let offset = uint(v, "byteOffset").unwrap_or(0);
+    let offset = opt_uint(doc, v, "byteOffset", &vplace)?.unwrap_or(0);
     let length =
         uint(v, "byteLength").ok_or_else(|| doc.invalid(&vplace, "byteLength is missing"))?;
     let end = offset
@@ -267,6 +267,17 @@ pub(crate) fn view_bytes<'d>(
 
 fn uint(v: &Value, key: &str) -> Option<u64> {
     v.get(key).and_then(Value::as_u64)
+}
+
+/// An optional non-negative integer property: absent is None, present but not such an
+/// integer (`-1`, `1.5`, `"3"`, `null`) is an error, never a silent default.
+fn opt_uint(doc: &Document, v: &Value, key: &str, place: &str) -> Result<Option<u64>> {
+    match v.get(key) {
+        None => Ok(None),
+        Some(x) => x.as_u64().map(Some).ok_or_else(|| {
+            doc.invalid(place, format!("{key} {x} is not a non-negative integer"))
+        }),
+    }
 }
 
 /// `count` elements of `elem` bytes, `stride` apart from `offset` in `bytes`: borrowed when
@@ -348,7 +359,7 @@ pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements
         .filter(|&c| c >= 1)
         .ok_or_else(|| doc.invalid(&place, "count is missing or zero"))?;
     let elem = components * component.size();
-    let offset = uint(a, "byteOffset").unwrap_or(0);
+    let offset = opt_uint(doc, a, "byteOffset", &place)?.unwrap_or(0);
     if !offset.is_multiple_of(component.size() as u64) {
         return Err(doc.invalid(
             &place,
@@ -356,7 +367,7 @@ pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements
         ));
     }
 
-    let mut bytes = match uint(a, "bufferView") {
+    let mut bytes = match opt_uint(doc, a, "bufferView", &place)? {
         Some(v) => {
             let (data, stride) = view_bytes(doc, v as usize, &place)?;
             let stride = stride.unwrap_or(elem);
@@ -439,7 +450,7 @@ fn apply_sparse(
         doc,
         &format!("{sp} indices"),
         ib,
-        uint(idx, "byteOffset").unwrap_or(0),
+        opt_uint(doc, idx, "byteOffset", &sp)?.unwrap_or(0),
         ict.size(),
         n,
         ict.size(),
@@ -449,7 +460,7 @@ fn apply_sparse(
         doc,
         &format!("{sp} values"),
         vb,
-        uint(val, "byteOffset").unwrap_or(0),
+        opt_uint(doc, val, "byteOffset", &sp)?.unwrap_or(0),
         elem,
         n,
         elem,

@@ -552,11 +552,15 @@ fn parse_json(path: &Path, bytes: &[u8]) -> Result<Map<String, Value>> {
     match serde_json::from_slice::<Value>(bytes) {
         Ok(Value::Object(m)) => Ok(m),
         Ok(_) => Err(IoError::invalid(path, "JSON", "the root is not an object")),
-        Err(e) => Err(IoError::invalid(
-            path,
-            format!("JSON line {} column {}", e.line(), e.column()),
-            e.to_string(),
-        )),
+        Err(e) => {
+            let at = format!(" at line {} column {}", e.line(), e.column());
+            let message = e.to_string();
+            Err(IoError::invalid(
+                path,
+                format!("JSON line {} column {}", e.line(), e.column()),
+                message.strip_suffix(&at).unwrap_or(&message),
+            ))
+        }
     }
 }
 

@@ -166,6 +166,47 @@ pub fn write_atomic(out: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Writes the document as a self-contained `.glb` at `out`, atomically.
 pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
+    let plan = plan(doc)?;
+    let tmp = temp_path(out);
+    let result = (|| -> std::io::Result<()> {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
+        plan.write(&mut w)?;
+        let file = w
+            .into_inner()
+            .map_err(std::io::IntoInnerError::into_error)?;
+        drop(file);
+        std::fs::rename(&tmp, out)
+    })();
+    if let Err(source) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(IoError::Fs {
+            path: out.to_owned(),
+            action: "write",
+            source,
+        });
+    }
+    Ok(plan.stats())
+}
+
+/// The document as self-contained `.glb` bytes in memory.
+pub fn to_vec(doc: &Document) -> Result<Vec<u8>> {
+    let plan = plan(doc)?;
+    let mut out = Vec::with_capacity(plan.total as usize);
+    plan.write(&mut out)
+        .map_err(|e| doc.invalid("output", e.to_string()))?;
+    Ok(out)
+}
+
+/// A laid-out GLB, ready to stream.
+struct Plan<'a> {
+    json: Vec<u8>,
+    pieces: Vec<(u64, Piece<'a>)>,
+    bin_len: u64,
+    total: u64,
+}
+
+fn plan(doc: &Document) -> Result<Plan<'_>> {
     let (json, pieces, bin_len) = layout(doc)?;
     let json_padded = json.len().next_multiple_of(4) as u64;
     let bin_padded = bin_len.next_multiple_of(4);
@@ -176,31 +217,37 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
             format!("{total} bytes exceed the 4 GiB GLB limit"),
         ));
     }
+    Ok(Plan {
+        json,
+        pieces,
+        bin_len,
+        total,
+    })
+}
 
-    let tmp = temp_path(out);
-    let fs_err = |action: &'static str| {
-        let path = out.to_owned();
-        move |source| IoError::Fs {
-            path: path.clone(),
-            action,
-            source,
+impl Plan<'_> {
+    fn stats(&self) -> WriteStats {
+        WriteStats {
+            file_bytes: self.total,
+            bin_bytes: self.bin_len.next_multiple_of(4),
         }
-    };
-    let result = (|| -> std::io::Result<()> {
-        let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
+    }
+
+    fn write(&self, w: &mut impl Write) -> std::io::Result<()> {
+        let json_padded = self.json.len().next_multiple_of(4);
+        let bin_padded = self.bin_len.next_multiple_of(4);
         w.write_all(b"glTF")?;
         w.write_all(&2u32.to_le_bytes())?;
-        w.write_all(&(total as u32).to_le_bytes())?;
+        w.write_all(&(self.total as u32).to_le_bytes())?;
         w.write_all(&(json_padded as u32).to_le_bytes())?;
         w.write_all(&0x4E4F_534Au32.to_le_bytes())?;
-        w.write_all(&json)?;
-        w.write_all(&b"   "[..(json_padded as usize - json.len())])?;
-        if bin_len > 0 {
+        w.write_all(&self.json)?;
+        w.write_all(&b"   "[..(json_padded - self.json.len())])?;
+        if self.bin_len > 0 {
             w.write_all(&(bin_padded as u32).to_le_bytes())?;
             w.write_all(&0x004E_4942u32.to_le_bytes())?;
             let mut at = 0u64;
-            for (off, p) in &pieces {
+            for (off, p) in &self.pieces {
                 let pad = (off - at) as usize;
                 w.write_all(&[0u8; 4][..pad])?;
                 w.write_all(p.bytes())?;
@@ -208,20 +255,8 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
             }
             w.write_all(&[0u8; 4][..(bin_padded - at) as usize])?;
         }
-        let file = w
-            .into_inner()
-            .map_err(std::io::IntoInnerError::into_error)?;
-        drop(file);
-        std::fs::rename(&tmp, out)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(fs_err("write")(e));
+        Ok(())
     }
-    Ok(WriteStats {
-        file_bytes: total,
-        bin_bytes: bin_padded,
-    })
 }
 
 /// `dir/.name.pelt-tmp-PID`: in the target folder so the final rename stays on one filesystem.

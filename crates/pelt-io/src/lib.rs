@@ -33,12 +33,24 @@ pub use error::IoError;
 /// Loads any supported input: `.obj` by its extension, otherwise `.gltf`/`.glb` (told apart
 /// by their magic bytes).
 pub fn load(path: &std::path::Path) -> Result<Document, IoError> {
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
-    {
+    if is_obj(path) {
         obj::load(path)
     } else {
         Document::load(path)
     }
+}
+
+/// [`load`] for bytes already in memory; `path` names them in errors and anchors the relative
+/// URIs of a `.gltf` (which are read from disk).
+pub fn load_bytes(path: &std::path::Path, bytes: Vec<u8>) -> Result<Document, IoError> {
+    if is_obj(path) {
+        obj::from_bytes(path, &bytes)
+    } else {
+        Document::from_bytes(path, bytes)
+    }
+}
+
+fn is_obj(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
 }

@@ -1,6 +1,10 @@
 //! Wavefront OBJ import through `tobj`: triangulated, one glTF mesh (one primitive) and node per
 //! OBJ object. Per-vertex colors written as `v x y z r g b` become COLOR_0 (VEC3 float, so comb
 //! length 1). OBJ's V axis points up, glTF's down: TEXCOORD_0 = (u, 1 - v).
+//!
+//! Every face, line and point index is checked first, with its line number, against the
+//! vertices the file really holds (negative indices count back from the last vertex read so
+//! far). `mtllib` is not followed: pelt uses no OBJ materials, so the only file read is the OBJ.
 
 use std::path::Path;
 
@@ -12,14 +16,27 @@ use crate::error::{IoError, Result};
 
 /// Loads an OBJ file into a [`Document`].
 pub fn load(path: &Path) -> Result<Document> {
+    let bytes = std::fs::read(path).map_err(|source| IoError::Fs {
+        path: path.to_owned(),
+        action: "read",
+        source,
+    })?;
+    from_bytes(path, &bytes)
+}
+
+/// Parses an OBJ held in memory; `path` names it in errors.
+pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
+    check_indices(path, bytes)?;
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &opts)
-        .map_err(|e| IoError::invalid(path, "OBJ", format!("cannot load: {e}")))?;
+    let mut reader = std::io::Cursor::new(bytes);
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::OpenFileFailed))
+            .map_err(|e| IoError::invalid(path, "OBJ", format!("cannot load: {e}")))?;
     let mut doc = Document::empty(path);
     for (i, m) in models.iter().enumerate() {
         let mesh = &m.mesh;
@@ -84,6 +101,94 @@ pub fn load(path: &Path) -> Result<Document> {
         return Err(IoError::invalid(path, "OBJ", "no faces"));
     }
     Ok(doc)
+}
+
+/// Checks every `f`, `l` and `p` index of the file against the vertex data it really holds:
+/// an integer other than 0, positive up to the file's count, negative back to the first
+/// element read so far. Errors name the line.
+fn check_indices(path: &Path, bytes: &[u8]) -> Result<()> {
+    // Totals first: positive indices may refer to elements defined later in the file.
+    let mut total = [0u64; 3];
+    for line in bytes.split(|&b| b == b'\n') {
+        if let Some(k) = element_kind(line) {
+            total[k] += 1;
+        }
+    }
+    let mut seen = [0u64; 3];
+    for (n, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        if let Some(k) = element_kind(line) {
+            seen[k] += 1;
+            continue;
+        }
+        let text = std::str::from_utf8(line).map_err(|e| {
+            IoError::invalid(
+                path,
+                format!("OBJ line {}", n + 1),
+                format!(
+                    "not UTF-8 text (byte 0x{:02X} at column {})",
+                    line[e.valid_up_to()],
+                    e.valid_up_to() + 1
+                ),
+            )
+        })?;
+        let mut words = text.split_whitespace();
+        let element = match words.next() {
+            Some("f") => "face",
+            Some("l") => "line",
+            Some("p") => "point",
+            _ => continue,
+        };
+        for (v, word) in words.enumerate() {
+            for (k, part) in word.split('/').enumerate().take(3) {
+                if part.is_empty() && k > 0 {
+                    continue;
+                }
+                let what = ["position", "texture coordinate", "normal"][k];
+                let bad = |msg: String| {
+                    IoError::invalid(
+                        path,
+                        format!("OBJ line {}", n + 1),
+                        format!("{element} vertex {}: {msg}", v + 1),
+                    )
+                };
+                let i: i64 = part
+                    .parse()
+                    .map_err(|_| bad(format!("{what} index {part:?} is not an integer")))?;
+                let ok = match i {
+                    0 => false,
+                    i if i > 0 => i.unsigned_abs() <= total[k],
+                    i => i.unsigned_abs() <= seen[k],
+                };
+                if !ok {
+                    let msg = if i < 0 {
+                        format!(
+                            "{what} index {i} reaches before the first of the {} read so far",
+                            seen[k]
+                        )
+                    } else {
+                        format!(
+                            "{what} index {i} is outside 1..={} (the file holds {} {what}s)",
+                            total[k], total[k]
+                        )
+                    };
+                    return Err(bad(msg));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// 0 for `v`, 1 for `vt`, 2 for `vn` lines.
+fn element_kind(line: &[u8]) -> Option<usize> {
+    let line = line.trim_ascii_start();
+    let word_end = line.iter().position(u8::is_ascii_whitespace)?;
+    match &line[..word_end] {
+        b"v" => Some(0),
+        b"vt" => Some(1),
+        b"vn" => Some(2),
+        _ => None,
+    }
 }
 
 impl Document {

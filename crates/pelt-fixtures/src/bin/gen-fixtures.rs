@@ -1,7 +1,7 @@
 //! Writes pelt's fixtures: `gen-fixtures OUT_DIR [--big]`.
 //!
-//! OUT_DIR gets sphere.glb, torus.glb, creature.glb and edge/*.gltf (the files committed under
-//! `fixtures/`); `--big` adds creature-1m3.glb, the ~1.3 M-triangle benchmark mesh with
+//! OUT_DIR gets sphere.glb, torus.glb, creature.glb, edge/*.gltf and the bad-input corpus
+//! bad/* with its expected.json (the files committed under `fixtures/`); `--big` adds creature-1m3.glb, the ~1.3 M-triangle benchmark mesh with
 //! tangents (about 58 MB, not committed).
 
 use std::path::PathBuf;
@@ -29,6 +29,12 @@ fn main() -> ExitCode {
 
 fn run(out: &std::path::Path, big: bool) -> Result<(), pelt_io::IoError> {
     pelt_fixtures::write_all(out)?;
+    let bad = out.join("bad");
+    pelt_fixtures::bad::write(&bad).map_err(|source| pelt_io::IoError::Fs {
+        path: bad,
+        action: "write",
+        source,
+    })?;
     if big {
         pelt_fixtures::write_big(&out.join("creature-1m3.glb"))?;
     }
