@@ -117,9 +117,9 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let opts = options(args);
     let jobs = pelt_batch::plan(&args.inputs, &args.output)?;
     let config_bytes = match &args.config {
-        Some(path) => Some(
-            std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?,
-        ),
+        Some(path) => {
+            Some(std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?)
+        }
         None => None,
     };
     let fur = match (&args.config, &config_bytes) {
@@ -239,7 +239,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     }
     if summary.failed > 0 {
         if jobs.len() > 1 {
-            eprintln!("pelt: {} of {} inputs failed:", summary.failed, summary.inputs);
+            eprintln!(
+                "pelt: {} of {} inputs failed:",
+                summary.failed, summary.inputs
+            );
             for f in &failures {
                 eprintln!("  {f}");
             }
@@ -398,6 +401,7 @@ impl Progress {
                 v
             }
             Status::UpToDate => vec![format!("up to date: {}", job.output.display())],
+            Status::Failed(e) if self.total == 1 => vec![format!("pelt: {e}")],
             Status::Failed(e) => vec![format!("FAILED {e}")],
         }
     }

@@ -342,8 +342,10 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
                 o.to_str().unwrap_or_default(),
                 "--tangents",
                 "regenerate",
+                "--jobs",
+                threads,
             ],
-            &[("RAYON_NUM_THREADS", threads)],
+            &[],
         );
         assert!(r.status.success());
         outs.push(std::fs::read(&o).unwrap_or_default());

@@ -96,9 +96,10 @@ pub fn plan(args: &[PathBuf], output: &Path) -> Result<Vec<Job>, PlanError> {
             let before = found.len();
             for m in matches.flatten() {
                 if m.is_file() && has_extension(&m) && !hidden_under(&m, &base) {
-                    if skip_dir.as_ref().is_some_and(|d| {
-                        m.canonicalize().is_ok_and(|c| c.starts_with(d))
-                    }) {
+                    if skip_dir
+                        .as_ref()
+                        .is_some_and(|d| m.canonicalize().is_ok_and(|c| c.starts_with(d)))
+                    {
                         continue;
                     }
                     let rel = m.strip_prefix(&base).unwrap_or(&m).to_owned();
@@ -240,7 +241,15 @@ mod tests {
     fn folders_are_searched_recursively_in_order_keeping_relative_paths() {
         let d = tree(
             "walk",
-            &["b.glb", "a/x.gltf", "a/x.bin", "c/.hidden.glb", ".git/y.glb", "a/z.OBJ", "n.txt"],
+            &[
+                "b.glb",
+                "a/x.gltf",
+                "a/x.bin",
+                "c/.hidden.glb",
+                ".git/y.glb",
+                "a/z.OBJ",
+                "n.txt",
+            ],
         );
         let out = d.join("out");
         let jobs = plan(std::slice::from_ref(&d), &out).expect("plan");
@@ -276,7 +285,10 @@ mod tests {
         let e = plan(&[d.join("one/a.gltf"), d.join("two/a.gltf")], &out).expect_err("collision");
         assert!(e.to_string().contains("would both be written to"), "{e}");
         let e = plan(&[d.join("in")], &d.join("in")).expect_err("overwrite");
-        assert!(e.to_string().contains("overwritten by its own output"), "{e}");
+        assert!(
+            e.to_string().contains("overwritten by its own output"),
+            "{e}"
+        );
         let e = plan(&[d.join("in/c.glb")], &d.join("c.gltf")).expect_err("not glb");
         assert!(e.to_string().contains("must end in .glb"), "{e}");
         let _ = std::fs::remove_dir_all(&d);

@@ -98,7 +98,7 @@ pub fn quad_json() -> Value {
 /// GLB bytes from JSON and BIN (both padded; lengths consistent).
 pub fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
     let mut j = serde_json::to_vec(json).unwrap_or_default();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut chunks = Vec::new();
@@ -782,7 +782,7 @@ pub fn all() -> Vec<BadCase> {
             Some(&bin_with(INDEX + 4, &9u16.to_le_bytes())),
         ),
         "meshes[0] \"quad\" primitives[0]",
-        "index 9",
+        "index 2 is 9, but the primitive has only 4 vertices",
     );
     add(
         "index-u16-max.glb",
@@ -791,7 +791,7 @@ pub fn all() -> Vec<BadCase> {
             Some(&bin_with(INDEX + 10, &u16::MAX.to_le_bytes())),
         ),
         "meshes[0] \"quad\" primitives[0]",
-        "index 65535",
+        "index 5 is 65535",
     );
     add(
         "index-float-type.glb",
@@ -813,7 +813,7 @@ pub fn all() -> Vec<BadCase> {
         "index-count-not-triangles.glb",
         glb_of(edited(|j| set(j, &["accessors", "4", "count"], json!(5)))),
         "meshes[0] \"quad\" primitives[0]",
-        "multiple of 3",
+        "not a whole number of triangles",
     );
     add(
         "index-accessor-string.glb",
@@ -983,7 +983,7 @@ pub fn all() -> Vec<BadCase> {
     add(
         "obj-binary-noise.obj",
         (0..=255u8).cycle().take(1024).collect(),
-        "OBJ line 1",
+        "OBJ line 2",
         "not UTF-8 text",
     );
     cases

@@ -275,12 +275,16 @@ fn rebuild_glb(b: &[u8], old: std::ops::Range<usize>, json: &[u8]) -> Vec<u8> {
 /// Case `case` of `seed` over `seeds` (name, bytes): the seed file chosen, the kind of the
 /// last mutation, and the mutated bytes (one mutation, or two or three stacked in a quarter
 /// of the cases).
-pub fn case<'a>(seeds: &'a [(String, Vec<u8>)], seed: u64, case: u64) -> (&'a str, Kind, Vec<u8>) {
+pub fn case(seeds: &[(String, Vec<u8>)], seed: u64, case: u64) -> (&str, Kind, Vec<u8>) {
     let mut rng = Rng::new(seed ^ case.wrapping_mul(0xD6E8_FEB8_6659_FD93));
     let (name, bytes) = &seeds[rng.below(seeds.len())];
     let other = &seeds[rng.below(seeds.len())].1;
     let (mut kind, mut out) = mutate(&mut rng, bytes, other);
-    let extra = if rng.below(4) == 0 { 1 + rng.below(2) } else { 0 };
+    let extra = if rng.below(4) == 0 {
+        1 + rng.below(2)
+    } else {
+        0
+    };
     for _ in 0..extra {
         (kind, out) = mutate(&mut rng, &out, other);
     }

@@ -31,7 +31,9 @@ pub fn corpus(root: &Path) -> std::io::Result<Vec<(PathBuf, Vec<u8>)>> {
         };
         for e in entries {
             let p = e?.path();
-            let ext = p.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+            let ext = p
+                .extension()
+                .map(|e| e.to_string_lossy().to_ascii_lowercase());
             if matches!(ext.as_deref(), Some("gltf" | "glb" | "obj")) {
                 files.push(p);
             }
@@ -65,7 +67,12 @@ pub enum Verdict {
 
 /// Runs one input through the whole bake. `path` names it in errors and anchors the relative
 /// URIs of a `.gltf`; `fur` is embedded when given.
-pub fn exercise(path: &Path, bytes: Vec<u8>, quantize: Quantize, fur: Option<&FurAssets>) -> Verdict {
+pub fn exercise(
+    path: &Path,
+    bytes: Vec<u8>,
+    quantize: Quantize,
+    fur: Option<&FurAssets>,
+) -> Verdict {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -168,7 +175,9 @@ pub fn run(
         })
         .collect();
     let fur = small_fur();
-    let fur_bytes: usize = fur.as_ref().map_or(0, |f| f.pngs.iter().map(Vec::len).sum());
+    let fur_bytes: usize = fur
+        .as_ref()
+        .map_or(0, |f| f.pngs.iter().map(Vec::len).sum());
     let previous_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
     let start = Instant::now();
@@ -217,7 +226,9 @@ pub fn run(
             ));
         }
         if let Some(what) = what {
-            let ext = from.extension().map_or("bin".into(), |e| e.to_string_lossy());
+            let ext = from
+                .extension()
+                .map_or("bin".into(), |e| e.to_string_lossy());
             let saved = crash_dir.join(format!("case-{seed}-{case}.{ext}"));
             let saved = std::fs::create_dir_all(crash_dir)
                 .and_then(|()| std::fs::write(&saved, &kept))

@@ -36,8 +36,16 @@ fn mutated_corpus_never_panics_names_the_file_and_stays_within_memory() {
     );
     assert_eq!(s.cases, cases);
     // A harness whose mutations never get past the parsers would test nothing.
-    assert!(s.baked * 20 >= cases, "only {} of {cases} cases baked", s.baked);
-    assert!(s.refused * 4 >= cases, "only {} of {cases} cases were refused", s.refused);
+    assert!(
+        s.baked * 20 >= cases,
+        "only {} of {cases} cases baked",
+        s.baked
+    );
+    assert!(
+        s.refused * 4 >= cases,
+        "only {} of {cases} cases were refused",
+        s.refused
+    );
     let report: Vec<String> = s
         .findings
         .iter()

@@ -66,17 +66,19 @@ pub fn random_id(g: u32) -> u8 {
     (splitmix(u64::from(g) ^ RANDOM_SEED) & 0xFF) as u8
 }
 
-/// Neighbouring group pairs (lower group first), sorted and unique, and the most groups met at
-/// one position.
-pub fn neighbour_pairs(t: &Topology) -> (Vec<(u32, u32)>, usize) {
+/// Neighbouring group pairs (lower group first), sorted and unique (at crowded positions only
+/// the [`CROWDED_WINDOW`] pairs of each group), the most groups met at one position, and the
+/// groups of each crowded position (more than [`IDS`] groups), sorted.
+pub fn neighbour_pairs(t: &Topology) -> (Vec<(u32, u32)>, usize, Vec<Vec<u32>>) {
     if t.groups < 2 {
-        return (Vec::new(), usize::from(t.groups > 0));
+        return (Vec::new(), usize::from(t.groups > 0), Vec::new());
     }
-    let parts: Vec<(Vec<(u32, u32)>, usize)> = (0..t.positions.div_ceil(4096))
+    let parts: Vec<Part> = (0..t.positions.div_ceil(4096))
         .into_par_iter()
         .map(|task| {
             let mut pairs = Vec::new();
             let mut most = 0;
+            let mut crowded = Vec::new();
             let mut here: Vec<u32> = Vec::new();
             for p in task * 4096..((task + 1) * 4096).min(t.positions) {
                 here.clear();
@@ -93,28 +95,42 @@ pub fn neighbour_pairs(t: &Topology) -> (Vec<(u32, u32)>, usize) {
                     // all pairs would grow with the square of the count (a mesh collapsed to
                     // a point has every group at one position). Each group is paired with
                     // its CROWDED_WINDOW successors, which keeps the pairs linear.
-                    let k = here.len();
-                    for (i, &a) in here.iter().enumerate() {
-                        pairs.extend((1..=CROWDED_WINDOW).map(|d| {
-                            let b = here[(i + d) % k];
-                            (a.min(b), a.max(b))
-                        }));
-                    }
+                    pairs.extend(window_pairs(&here));
+                    crowded.push(here.clone());
                 }
             }
-            (pairs, most)
+            (pairs, most, crowded)
         })
         .collect();
     let most = parts.iter().map(|p| p.1).max().unwrap_or(0);
-    let mut pairs: Vec<(u32, u32)> = parts.into_iter().flat_map(|p| p.0).collect();
+    let mut pairs = Vec::new();
+    let mut crowded = Vec::new();
+    for (p, _, c) in parts {
+        pairs.extend(p);
+        crowded.extend(c);
+    }
     pairs.par_sort_unstable();
     pairs.dedup();
-    (pairs, most)
+    (pairs, most, crowded)
+}
+
+/// One task's share of [`neighbour_pairs`]: pairs, most groups at a position, crowded sets.
+type Part = (Vec<(u32, u32)>, usize, Vec<Vec<u32>>);
+
+/// Each group of a crowded position paired with its [`CROWDED_WINDOW`] successors (wrapping).
+fn window_pairs(groups: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
+    let k = groups.len();
+    groups.iter().enumerate().flat_map(move |(i, &a)| {
+        (1..=CROWDED_WINDOW.min(k.saturating_sub(1) / 2)).map(move |d| {
+            let b = groups[(i + d) % k];
+            (a.min(b), a.max(b))
+        })
+    })
 }
 
 /// Assigns the IDs of `t`'s groups.
 pub fn assign(t: &Topology) -> GroupIds {
-    let (pairs, most) = neighbour_pairs(t);
+    let (pairs, most, crowded) = neighbour_pairs(t);
     let n = t.groups;
     let id: Vec<u8> = if n <= IDS {
         (0..n).map(|g| (g + 1) as u8).collect()
@@ -122,8 +138,9 @@ pub fn assign(t: &Topology) -> GroupIds {
         color(n, &pairs)
     };
     let same = |f: &dyn Fn(u32) -> u8| pairs.iter().filter(|&&(a, b)| f(a) == f(b)).count();
-    let shared_id_pairs = same(&|g| id[g as usize]);
-    let random_collisions = same(&|g| random_id(g));
+    let mut shared_id_pairs = same(&|g| id[g as usize]);
+    let mut random_collisions = same(&|g| random_id(g));
+    let mut neighbour_total = pairs.len();
     let mut seen = [false; 256];
     for &i in &id {
         seen[i as usize] = true;
@@ -135,9 +152,38 @@ pub fn assign(t: &Topology) -> GroupIds {
             uncolorable[a.max(b) as usize] = true;
         }
     }
+    // Crowded positions: every pair there is a neighbouring pair, but only the window pairs
+    // are listed. Count the rest from how many groups hold each ID (linear in the groups).
+    for set in &crowded {
+        let k = set.len();
+        let window: Vec<(u32, u32)> = window_pairs(set).collect();
+        neighbour_total += k * (k - 1) / 2 - window.len();
+        for (f, total) in [
+            (
+                &(|g: u32| id[g as usize]) as &dyn Fn(u32) -> u8,
+                &mut shared_id_pairs,
+            ),
+            (&|g: u32| random_id(g), &mut random_collisions),
+        ] {
+            let mut holders = [0usize; 256];
+            for &g in set {
+                holders[f(g) as usize] += 1;
+            }
+            let all: usize = holders.iter().map(|&h| h * h.saturating_sub(1) / 2).sum();
+            let listed = window.iter().filter(|&&(a, b)| f(a) == f(b)).count();
+            *total += all - listed;
+        }
+        let mut first = [true; 256];
+        for &g in set {
+            let i = id[g as usize] as usize;
+            if !std::mem::take(&mut first[i]) {
+                uncolorable[g as usize] = true;
+            }
+        }
+    }
     GroupIds {
         ids_used: seen.iter().filter(|&&s| s).count(),
-        neighbour_pairs: pairs.len(),
+        neighbour_pairs: neighbour_total,
         shared_id_pairs,
         uncolorable_groups: uncolorable.iter().filter(|&&u| u).count(),
         most_groups_at_a_vertex: most,
@@ -244,5 +290,30 @@ mod tests {
         assert!(ids.uncolorable_groups >= 300 - 255);
         // Fewest holders: 45 IDs are held twice, so 45 pairs share one.
         assert_eq!(ids.shared_id_pairs, 45);
+    }
+
+    #[test]
+    fn crowded_positions_list_linear_pairs_but_count_all() {
+        let t = fan(3000);
+        let (pairs, most, crowded) = neighbour_pairs(&t);
+        assert_eq!(most, 3000);
+        assert_eq!(crowded.len(), 1);
+        // All pairs would be 4.5 million; the window lists at most 8 per group (plus the
+        // ring's edge pairs, which the center already covers).
+        assert!(
+            pairs.len() <= 8 * 3000 + 3000,
+            "{} pairs listed",
+            pairs.len()
+        );
+        let ids = assign(&t);
+        assert_eq!(ids.neighbour_pairs, 3000 * 2999 / 2);
+        // 3000 groups over 255 IDs: 195 IDs held 12 times, 60 held 11 times.
+        let expect = 195 * (12 * 11 / 2) + 60 * (11 * 10 / 2);
+        assert!(
+            ids.shared_id_pairs >= expect,
+            "{} < {expect}",
+            ids.shared_id_pairs
+        );
+        assert_eq!(ids.uncolorable_groups, 3000 - 255);
     }
 }

@@ -148,7 +148,7 @@ proptest! {
         prop_assert!(ids.neighbour_pairs > 0);
         prop_assert_eq!(ids.shared_id_pairs, 0);
         prop_assert_eq!(ids.ids_used, 255);
-        let (pairs, _) = group_ids::neighbour_pairs(&t);
+        let (pairs, _, _) = group_ids::neighbour_pairs(&t);
         for (a, b) in pairs {
             prop_assert_ne!(ids.id[a as usize], ids.id[b as usize]);
         }

@@ -274,9 +274,10 @@ fn uint(v: &Value, key: &str) -> Option<u64> {
 fn opt_uint(doc: &Document, v: &Value, key: &str, place: &str) -> Result<Option<u64>> {
     match v.get(key) {
         None => Ok(None),
-        Some(x) => x.as_u64().map(Some).ok_or_else(|| {
-            doc.invalid(place, format!("{key} {x} is not a non-negative integer"))
-        }),
+        Some(x) => x
+            .as_u64()
+            .map(Some)
+            .ok_or_else(|| doc.invalid(place, format!("{key} {x} is not a non-negative integer"))),
     }
 }
 
