@@ -21,13 +21,21 @@ bake:
 validate:
     bash tools/validate-fixtures.sh
 
-# Regenerate the committed fixtures.
+# Regenerate the committed fixtures (and the bad-input corpus, fixtures/bad).
 fixtures:
     cargo run --release -p pelt-fixtures --bin gen-fixtures -- fixtures
 
 # Benchmark the 1.3 M-triangle bake against gltfpack and glTF-Transform (5 runs each).
 bench runs="5":
     bash bench/compare.sh {{runs}}
+
+# Batch bake: 64 files at --jobs 1 and 2, --incremental, one process per file.
+bench-batch runs="5":
+    bash bench/batch.sh {{runs}}
+
+# Fuzz the loaders and the bake for SECONDS (release build; failing inputs in target/fuzz-crashes).
+fuzz seconds="600" seed="1":
+    cargo run --release -p pelt-fuzz -- --seconds {{seconds}} --seed {{seed}}
 
 # Lints and formatting.
 lint:
