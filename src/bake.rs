@@ -397,7 +397,11 @@ impl Progress {
                     r.triangles,
                     r.warnings.len()
                 )];
-                v.extend(r.warnings.iter().map(|w| format!("warning: {w}")));
+                v.extend(
+                    r.warnings
+                        .iter()
+                        .map(|w| format!("warning: {}: {w}", job.input.display())),
+                );
                 v
             }
             Status::UpToDate => vec![format!("up to date: {}", job.output.display())],

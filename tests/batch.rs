@@ -103,6 +103,44 @@ fn folders_and_globs_bake_recursively_keeping_relative_paths() {
 }
 
 #[test]
+fn a_terminal_gets_a_progress_bar_instead_of_lines() {
+    // `script` (util-linux, in every Debian) gives pelt a pseudo-terminal as stderr.
+    let dir = scratch("tty");
+    let cmd = format!(
+        "{} bake fixtures/edge fixtures/bad/nan-position.glb -o {}",
+        env!("CARGO_BIN_EXE_pelt"),
+        dir.join("out").display()
+    );
+    let r = std::process::Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .current_dir(root())
+        .output()
+        .expect("run script(1)");
+    let text = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        !text.contains("[1/13] "),
+        "plain lines on a terminal: {text}"
+    );
+    assert!(
+        text.contains("13/13") || text.contains("12/13"),
+        "no bar: {text}"
+    );
+    // Failures and warnings scroll above the bar, naming their file; the summary follows.
+    assert!(
+        text.contains("FAILED fixtures/bad/nan-position.glb"),
+        "{text}"
+    );
+    assert!(
+        text.contains("warning: fixtures/edge/modes.gltf: meshes[0]"),
+        "{text}"
+    );
+    assert!(
+        text.contains("pelt: 13 inputs: 12 baked, 0 up to date, 1 failed"),
+        "{text}"
+    );
+}
+
+#[test]
 fn one_failing_file_never_stops_the_others_and_every_file_is_reported() {
     let dir = input_tree("fail");
     for bad in ["glb-truncated-bin.glb", "nan-position.glb"] {

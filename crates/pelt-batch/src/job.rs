@@ -91,9 +91,14 @@ fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, Stri
     reads.clone_from(&doc.files_read);
     let read_ms = ms(t0);
     let rel = key::relative_reads(&job.input, &doc.files_read);
-    let key = key::compute(&job.input, &rel, &s.salt)
-        .map_err(|e| format!("{}: hashing for the content key: {e}", job.input.display()))?;
-    let mut bake = bake_document(&mut doc, &s.options).map_err(|e| e.to_string())?;
+    // Hashing the files for the content key (re-read from the page cache) overlaps the bake.
+    let (key, bake) = rayon::join(
+        || key::compute(&job.input, &rel, &s.salt),
+        || bake_document(&mut doc, &s.options),
+    );
+    let mut bake = bake.map_err(|e| e.to_string())?;
+    let key =
+        key.map_err(|e| format!("{}: hashing for the content key: {e}", job.input.display()))?;
     let mut fur_report = None;
     if let Some(fur) = s.fur {
         let f = embed(&mut doc, fur, &combed(&bake)).map_err(|e| e.to_string())?;

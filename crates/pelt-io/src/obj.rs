@@ -238,3 +238,45 @@ impl Document {
         mi
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+    #[test]
+    fn mtllib_is_not_followed() {
+        let dir = std::env::temp_dir().join(format!("pelt-obj-mtl-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("mkdir");
+        let path = dir.join("a.obj");
+        let text = format!("mtllib missing.mtl\nmtllib ../../../etc/passwd\nusemtl x\n{TRI}");
+        std::fs::write(&path, &text).expect("write");
+        let doc = load(&path).expect("an OBJ whose materials are missing still loads");
+        assert_eq!(doc.files_read, vec![path.clone()]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_missing_obj_names_the_file() {
+        let e = load(Path::new("no/such/file.obj")).expect_err("missing");
+        let text = e.to_string();
+        assert!(text.starts_with("no/such/file.obj: read:"), "{text}");
+    }
+
+    #[test]
+    fn negative_indices_count_back_from_the_vertices_read_so_far() {
+        let ok = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n";
+        assert!(from_bytes(Path::new("n.obj"), ok.as_bytes()).is_ok());
+        let e = from_bytes(
+            Path::new("n.obj"),
+            b"v 0 0 0\nf -1 -2 -3\nv 1 0 0\nv 0 1 0\n",
+        )
+        .expect_err("-2 before two vertices");
+        assert!(
+            e.to_string()
+                .contains("OBJ line 2: face vertex 2: position index -2"),
+            "{e}"
+        );
+    }
+}
