@@ -2,9 +2,10 @@
 //!
 //! The key is BLAKE3 over pelt's version, the flags and config that shape the output (the
 //! caller's salt), and the name, length and bytes of every file the input's bake read: the
-//! asset, its external buffers and images. The output's root `extras.pelt.source` keeps the
-//! key and the files read (relative to the input's folder, so no absolute path enters the
-//! output), which is enough to recompute the key without parsing the input: an unchanged
+//! asset, its external buffers and images. An `--incremental` bake writes the key into the
+//! output's root `extras.pelt.source` with the files read (relative to the input's folder, so
+//! no absolute path enters the output); a plain bake writes no record and spends no time
+//! hashing. That is enough to recompute the key without parsing the input: an unchanged
 //! input is skipped after hashing its files, a changed one (or a changed flag, config or pelt
 //! version) is baked again.
 
