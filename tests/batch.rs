@@ -359,7 +359,10 @@ fn incremental_skips_only_what_is_up_to_date() {
     let plain = pelt(&["bake", s(&in_dir), "-o", s(&out), "-q"], &[]);
     assert!(plain.status.success());
     let doc = pelt_io::Document::load(&out.join("sphere.glb")).expect("load");
-    assert!(doc.json.get("extras").is_none(), "a plain bake wrote a record");
+    assert!(
+        doc.json.get("extras").is_none(),
+        "a plain bake wrote a record"
+    );
     let first = run(&[]);
     assert!(first.contains("2 baked, 0 up to date"), "{first}");
     let cube = out.join("cube.glb");
