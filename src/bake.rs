@@ -124,8 +124,9 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     };
     let fur = match (&args.config, &config_bytes) {
         (Some(path), Some(bytes)) => {
-            let text = String::from_utf8_lossy(bytes);
-            match BakeConfig::parse(path, &text)?.fur {
+            let text = std::str::from_utf8(bytes)
+                .with_context(|| format!("{} is not UTF-8 text", path.display()))?;
+            match BakeConfig::parse(path, text)?.fur {
                 Some(config) => Some(
                     FurAssets::new(config)
                         .with_context(|| format!("fur textures of {}", path.display()))?,
@@ -354,6 +355,9 @@ impl Progress {
 
     fn done(&self, job: &Job, o: &Outcome) {
         let n = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        if self.quiet {
+            return; // failures are listed at the end
+        }
         let lines = self.lines(job, o);
         match &self.bar {
             Some(bar) => {
@@ -366,7 +370,7 @@ impl Progress {
                 bar.set_message(job.input.display().to_string());
                 bar.inc(1);
             }
-            None if !self.quiet => {
+            None => {
                 let prefix = if self.total > 1 {
                     format!("[{n}/{}] ", self.total)
                 } else {
@@ -380,7 +384,6 @@ impl Progress {
                 }
                 eprint!("{text}");
             }
-            None => {}
         }
     }
 

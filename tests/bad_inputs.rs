@@ -76,20 +76,13 @@ fn generator_reproduces_the_committed_corpus() {
     }
 }
 
-/// Loads and bakes in this process; returns the error (or None) and the peak bytes held.
-fn bake_in_process(path: &Path) -> (Option<String>, usize) {
+/// Runs the file through the fuzz harness's whole bake in this process; returns how it ended
+/// and the peak bytes held.
+fn bake_in_process(path: &Path) -> (pelt_fuzz::Verdict, usize) {
     let bytes = std::fs::read(path).expect("read");
     let base = pelt_alloc::reset_peak();
-    let r = pelt_io::load_bytes(path, bytes).and_then(|mut doc| {
-        pelt_bake::bake_document(&mut doc, &pelt_bake::BakeOptions::default())
-            .map(|_| pelt_io::glb::to_vec(&doc).map(|v| v.len()))
-    });
-    let peak = pelt_alloc::peak().saturating_sub(base);
-    let err = match r {
-        Ok(Ok(_)) => None,
-        Ok(Err(e)) | Err(e) => Some(e.to_string()),
-    };
-    (err, peak)
+    let verdict = pelt_fuzz::exercise(path, bytes, pelt_bake::options::Quantize::Float, None);
+    (verdict, pelt_alloc::peak().saturating_sub(base))
 }
 
 #[test]
@@ -107,7 +100,15 @@ fn every_bad_file_fails_naming_file_and_place_within_bounded_memory() {
                 .into_owned();
             // The real size: the file plus the external buffer some cases name.
             let real = std::fs::metadata(&path).map_or(0, |m| m.len() as usize) + 208;
-            let (err, peak) = bake_in_process(&path);
+            let (verdict, peak) = bake_in_process(&path);
+            let err = match verdict {
+                pelt_fuzz::Verdict::Baked => None,
+                pelt_fuzz::Verdict::Refused(e) => Some(e),
+                pelt_fuzz::Verdict::Defect(d) => {
+                    wrong.push(format!("{name}: {d}"));
+                    Some(d)
+                }
+            };
             // A refused file: 4 × the input plus 256 KiB for what every load sets up, so a
             // 4 GiB claim, a 2^40 count or a huge index cannot get past. A file that bakes:
             // the fuzz harness's bound for a whole bake.
@@ -181,7 +182,7 @@ fn the_cli_refuses_every_bad_file_with_no_output() {
         stderr.contains(&format!("{n} of {n} inputs failed", n = files.len())),
         "{stderr}"
     );
-    let written: Vec<_> = walk(&baked);
+    let written = files_under(&baked);
     assert!(
         written.is_empty(),
         "files written for bad inputs: {written:?}"
@@ -228,20 +229,4 @@ fn the_cli_refuses_every_bad_file_with_no_output() {
             });
         }
     });
-}
-
-/// Every file under `dir` (none when it does not exist).
-fn walk(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    if let Ok(entries) = std::fs::read_dir(dir) {
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                out.extend(walk(&p));
-            } else {
-                out.push(p);
-            }
-        }
-    }
-    out
 }

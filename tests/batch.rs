@@ -14,26 +14,6 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap_or_default()
 }
 
-/// Every file under `dir`, relative, sorted.
-fn files_under(dir: &Path) -> Vec<PathBuf> {
-    fn go(base: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
-        if let Ok(entries) = std::fs::read_dir(dir) {
-            for e in entries.flatten() {
-                let p = e.path();
-                if p.is_dir() {
-                    go(base, &p, out);
-                } else {
-                    out.push(p.strip_prefix(base).unwrap_or(&p).to_owned());
-                }
-            }
-        }
-    }
-    let mut v = Vec::new();
-    go(dir, dir, &mut v);
-    v.sort();
-    v
-}
-
 /// A tree of inputs: two folders with a file of the same name, a nested OBJ, a stray .bin.
 fn input_tree(name: &str) -> PathBuf {
     let dir = scratch(name);

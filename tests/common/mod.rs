@@ -35,6 +35,26 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Every file under `dir`, relative to it, sorted (none when it does not exist).
+pub fn files_under(dir: &Path) -> Vec<PathBuf> {
+    fn go(base: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
+        if let Ok(entries) = std::fs::read_dir(dir) {
+            for e in entries.flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    go(base, &p, out);
+                } else {
+                    out.push(p.strip_prefix(base).unwrap_or(&p).to_owned());
+                }
+            }
+        }
+    }
+    let mut v = Vec::new();
+    go(dir, dir, &mut v);
+    v.sort();
+    v
+}
+
 /// Runs `pelt ARGS` with optional environment.
 pub fn pelt(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_pelt"));

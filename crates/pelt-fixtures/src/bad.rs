@@ -97,26 +97,15 @@ pub fn quad_json() -> Value {
 
 /// GLB bytes from JSON and BIN (both padded; lengths consistent).
 pub fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
-    let mut j = serde_json::to_vec(json).unwrap_or_default();
-    while !j.len().is_multiple_of(4) {
-        j.push(b' ');
-    }
-    let mut chunks = Vec::new();
-    chunks.extend((j.len() as u32).to_le_bytes());
-    chunks.extend(0x4E4F_534Au32.to_le_bytes());
-    chunks.extend(&j);
+    let mut chunk = Vec::new();
     if let Some(bin) = bin {
-        let mut bin = bin.to_vec();
-        bin.resize(bin.len().next_multiple_of(4), 0);
-        chunks.extend((bin.len() as u32).to_le_bytes());
-        chunks.extend(0x004E_4942u32.to_le_bytes());
-        chunks.extend(&bin);
+        let padded = bin.len().next_multiple_of(4);
+        chunk.extend((padded as u32).to_le_bytes());
+        chunk.extend(0x004E_4942u32.to_le_bytes());
+        chunk.extend(bin);
+        chunk.resize(8 + padded, 0);
     }
-    let mut out = b"glTF".to_vec();
-    out.extend(2u32.to_le_bytes());
-    out.extend(((12 + chunks.len()) as u32).to_le_bytes());
-    out.extend(chunks);
-    out
+    crate::mutate::assemble_glb(&serde_json::to_vec(json).unwrap_or_default(), &chunk)
 }
 
 /// The quad as a `.gltf` whose buffer is a base64 data URI.

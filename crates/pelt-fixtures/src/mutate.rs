@@ -254,11 +254,16 @@ pub fn glb_chunks(b: &[u8]) -> Option<(std::ops::Range<usize>, Option<std::ops::
     Some((json, bin))
 }
 
-/// The GLB `b` with its JSON chunk data replaced by `json` (space-padded to 4 bytes), every
-/// length fixed up, and the rest of the file kept.
+/// The GLB `b` with its JSON chunk data replaced by `json`, every length fixed up, and the
+/// rest of the file kept.
 fn rebuild_glb(b: &[u8], old: std::ops::Range<usize>, json: &[u8]) -> Vec<u8> {
+    assemble_glb(json, &b[old.end..])
+}
+
+/// A GLB of a JSON chunk holding `json` (space-padded to 4 bytes) followed by `rest` (further
+/// chunks, headers included, taken as they are), with the header's total length consistent.
+pub fn assemble_glb(json: &[u8], rest: &[u8]) -> Vec<u8> {
     let padded = json.len().next_multiple_of(4);
-    let rest = &b[old.end..];
     let total = 20 + padded + rest.len();
     let mut out = Vec::with_capacity(total);
     out.extend_from_slice(b"glTF");

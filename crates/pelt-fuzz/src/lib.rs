@@ -153,6 +153,40 @@ pub struct Summary {
     pub seconds: f64,
 }
 
+impl std::fmt::Display for Finding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "case {} (from {}): {}",
+            self.case,
+            self.from.display(),
+            self.what
+        )?;
+        if let Some(p) = &self.saved {
+            write!(f, " [saved as {}]", p.display())?;
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} cases in {:.1} s ({:.0}/s): {} baked, {} refused, {} defects; worst memory \
+             {:.1}× the input; slowest case {:.0} ms",
+            self.cases,
+            self.seconds,
+            self.cases as f64 / self.seconds.max(1e-9),
+            self.baked,
+            self.refused,
+            self.findings.len(),
+            self.worst_ratio,
+            self.slowest_ms
+        )
+    }
+}
+
 /// Runs cases `0..cases` of `seed` (stopping early after `budget` seconds, if given), writing
 /// failing inputs into `crash_dir`. `trace` prints each case before it runs (to find one that
 /// aborts the process).

@@ -23,17 +23,7 @@ fn mutated_corpus_never_panics_names_the_file_and_stays_within_memory() {
     let seed = env_u64("PELT_FUZZ_SEED", 0x5EED_F00D);
     let crash_dir = root.join("target/fuzz-crashes");
     let s = pelt_fuzz::run(&seeds, seed, cases, None, &crash_dir, false);
-    eprintln!(
-        "fuzz: seed {seed}: {} cases in {:.1} s: {} baked, {} refused, {} defects; \
-         worst memory {:.1}× the input, slowest case {:.0} ms",
-        s.cases,
-        s.seconds,
-        s.baked,
-        s.refused,
-        s.findings.len(),
-        s.worst_ratio,
-        s.slowest_ms
-    );
+    eprintln!("fuzz: seed {seed}: {s}");
     assert_eq!(s.cases, cases);
     // A harness whose mutations never get past the parsers would test nothing.
     assert!(
@@ -50,18 +40,7 @@ fn mutated_corpus_never_panics_names_the_file_and_stays_within_memory() {
         .findings
         .iter()
         .take(20)
-        .map(|f| {
-            format!(
-                "case {} (from {}): {}{}",
-                f.case,
-                f.from.display(),
-                f.what,
-                f.saved
-                    .as_ref()
-                    .map(|p| format!(" [saved as {}]", p.display()))
-                    .unwrap_or_default()
-            )
-        })
+        .map(ToString::to_string)
         .collect();
     assert!(
         s.findings.is_empty(),

@@ -158,21 +158,8 @@ pub fn assign(t: &Topology) -> GroupIds {
         let k = set.len();
         let window: Vec<(u32, u32)> = window_pairs(set).collect();
         neighbour_total += k * (k - 1) / 2 - window.len();
-        for (f, total) in [
-            (
-                &(|g: u32| id[g as usize]) as &dyn Fn(u32) -> u8,
-                &mut shared_id_pairs,
-            ),
-            (&|g: u32| random_id(g), &mut random_collisions),
-        ] {
-            let mut holders = [0usize; 256];
-            for &g in set {
-                holders[f(g) as usize] += 1;
-            }
-            let all: usize = holders.iter().map(|&h| h * h.saturating_sub(1) / 2).sum();
-            let listed = window.iter().filter(|&&(a, b)| f(a) == f(b)).count();
-            *total += all - listed;
-        }
+        shared_id_pairs += unlisted_same(set, &window, |g| id[g as usize]);
+        random_collisions += unlisted_same(set, &window, random_id);
         let mut first = [true; 256];
         for &g in set {
             let i = id[g as usize] as usize;
@@ -190,6 +177,17 @@ pub fn assign(t: &Topology) -> GroupIds {
         random_collisions,
         id,
     }
+}
+
+/// Pairs of a crowded position's groups that `f` gives the same ID and that its window pairs
+/// do not list: all such pairs, from how many groups hold each ID, less the listed ones.
+fn unlisted_same(set: &[u32], window: &[(u32, u32)], f: impl Fn(u32) -> u8) -> usize {
+    let mut holders = [0usize; 256];
+    for &g in set {
+        holders[f(g) as usize] += 1;
+    }
+    let all: usize = holders.iter().map(|&h| h * h.saturating_sub(1) / 2).sum();
+    all - window.iter().filter(|&&(a, b)| f(a) == f(b)).count()
 }
 
 /// Greedy coloring with IDs 1..=255 (see the module documentation).

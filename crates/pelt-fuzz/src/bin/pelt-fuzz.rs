@@ -38,28 +38,9 @@ fn main() -> ExitCode {
         &root.join("target/fuzz-crashes"),
         args.iter().any(|a| a == "--trace"),
     );
-    println!(
-        "seed {seed}: {} cases in {:.1} s ({:.0}/s): {} baked, {} refused, {} defects; worst memory {:.1}× the input; slowest case {:.0} ms",
-        s.cases,
-        s.seconds,
-        s.cases as f64 / s.seconds.max(1e-9),
-        s.baked,
-        s.refused,
-        s.findings.len(),
-        s.worst_ratio,
-        s.slowest_ms
-    );
+    println!("seed {seed}: {s}");
     for f in &s.findings {
-        println!(
-            "case {} (from {}): {}{}",
-            f.case,
-            f.from.display(),
-            f.what,
-            f.saved
-                .as_ref()
-                .map(|p| format!(" [saved as {}]", p.display()))
-                .unwrap_or_default()
-        );
+        println!("{f}");
     }
     if s.findings.is_empty() {
         ExitCode::SUCCESS
