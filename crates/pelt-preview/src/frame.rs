@@ -1,18 +1,16 @@
-//! Running a plan: encode the passes in order, submit, read the image back; and timing whole
-//! frames (wall clock, after warm-up) and single passes (GPU timestamps where the back end's
+//! Running a frame: the passes in order as recipes, their pipelines compiled, encoded,
+//! submitted, the image read back; and timing whole frames (wall clock, after warm-up) and single passes (GPU timestamps where the back end's
 //! are real time, Vulkan; wall time per separately submitted pass elsewhere, as on GL
 //! llvmpipe whose timestamps are wrong).
 
 use std::path::Path;
 use std::time::Instant;
 
-use crate::draw::DrawData;
-use crate::passes::{
-    Timestamps, composite_pass, forward_pass, fur_accum_pass, geometry_pass, light_pass,
-    material_pass, obliterate_pass,
-};
+use crate::features::{self, Frame, MissingInput};
 use crate::plan::Pass;
-use crate::renderer::Renderer;
+use crate::recipe::Recipe;
+use crate::renderer::{PipelineError, Renderer};
+use crate::targets::Target;
 
 /// Errors from the device while rendering.
 #[derive(Debug, thiserror::Error)]
@@ -23,6 +21,12 @@ pub enum FrameError {
     /// Reading the image back failed.
     #[error("reading the image back failed: {0}")]
     Readback(String),
+    /// A planned pass lacks a target or resource.
+    #[error(transparent)]
+    Missing(#[from] MissingInput),
+    /// A pipeline could not be made.
+    #[error(transparent)]
+    Pipeline(#[from] PipelineError),
     /// Writing the PNG failed.
     #[error("{path}: {message}")]
     Write {
@@ -86,42 +90,29 @@ impl Image {
     }
 }
 
-fn encode_pass(
-    r: &Renderer,
-    d: &DrawData,
-    pass: Pass,
-    enc: &mut wgpu::CommandEncoder,
-    ts: Timestamps<'_>,
-) {
-    match pass {
-        Pass::Geometry => {
-            if let Some(g) = &d.gbuffer {
-                geometry_pass(enc, r, d, g, ts);
-            }
-        }
-        Pass::Light => {
-            if let (Some(g), Some(l)) = (&d.gbuffer, &d.lbuffer) {
-                light_pass(enc, r, d, g, l, ts);
-            }
-        }
-        Pass::Material => material_pass(enc, r, d, &d.output, ts),
-        Pass::Forward => forward_pass(enc, r, d, &d.output, ts),
-        Pass::Obliterate => {
-            if let Some(c) = &d.composition {
-                obliterate_pass(enc, r, d, c, ts);
-            }
-        }
-        Pass::FurAccum => {
-            if let Some(o) = &d.oit {
-                fur_accum_pass(enc, r, d, o, ts);
-            }
-        }
-        Pass::Composite => {
-            if let Some(o) = &d.oit {
-                composite_pass(enc, r, d, o, &d.output, ts);
-            }
-        }
-    }
+/// The frame's passes in the plan's order, as recipes (this is the frame's ordering: a new
+/// pass gets its place here).
+pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    f.plan
+        .passes
+        .iter()
+        .map(|&p| match p {
+            Pass::Geometry => features::geometry::pass(f),
+            Pass::Light => features::lights::pass(f),
+            Pass::Obliterate => features::fur::obliterate_pass(f),
+            Pass::Material => features::material::pass(f),
+            Pass::Forward => features::forward::pass(f),
+            Pass::FurAccum => features::wboit::accum_pass(f),
+            Pass::Composite => features::wboit::composite_pass(f),
+        })
+        .collect()
+}
+
+/// Builds the frame's recipes and compiles the pipelines they use that are not cached yet.
+fn prepared<'a>(r: &Renderer, f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, FrameError> {
+    let recipes = recipes(f)?;
+    r.prepare(recipes.iter().flat_map(Recipe::keys))?;
+    Ok(recipes)
 }
 
 fn encoder(r: &Renderer) -> wgpu::CommandEncoder {
@@ -150,27 +141,34 @@ fn wait(r: &Renderer) -> Result<(), FrameError> {
 }
 
 /// Encodes and submits one whole frame.
-fn submit_frame(r: &Renderer, d: &DrawData) {
+fn submit_frame(r: &Renderer, recipes: &[Recipe<'_>]) -> Result<(), FrameError> {
     let mut enc = encoder(r);
-    for &p in &d.plan.passes {
-        encode_pass(r, d, p, &mut enc, None);
+    for p in recipes {
+        p.encode(r, &mut enc, None)?;
     }
     r.gpu.queue.submit([enc.finish()]);
+    Ok(())
 }
 
-/// Renders one frame and reads it back.
-pub fn render(r: &Renderer, d: &DrawData) -> Result<Image, FrameError> {
-    let device = &r.gpu.device;
-    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    submit_frame(r, d);
-    let image = read_back(r, &d.output.color.texture, d.output.size)?;
+/// Renders one frame of `f` and submits it (into a window's surface, or the view's own
+/// target), with device errors checked.
+pub fn draw(r: &Renderer, f: &Frame<'_>) -> Result<(), FrameError> {
+    let scope = r.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let recipes = prepared(r, f)?;
+    submit_frame(r, &recipes)?;
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
     if let Some(e) = r.gpu.take_error() {
         return Err(FrameError::Device(e));
     }
-    Ok(image)
+    Ok(())
+}
+
+/// Renders one frame into `target` (the view's own colour target) and reads it back.
+pub fn render(r: &Renderer, f: &Frame<'_>, target: &Target) -> Result<Image, FrameError> {
+    draw(r, f)?;
+    read_back(r, &target.texture, f.plan.output)
 }
 
 /// Maps a `MAP_READ` buffer whose copy was submitted, waiting for the device.
@@ -265,93 +263,118 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Times `frames` frames after `warmup` untimed ones.
 pub fn time(
     r: &Renderer,
-    d: &DrawData,
+    f: &Frame<'_>,
     warmup: usize,
     frames: usize,
 ) -> Result<Timings, FrameError> {
     let device = &r.gpu.device;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let recipes = prepared(r, f)?;
     for _ in 0..warmup {
-        submit_frame(r, d);
+        submit_frame(r, &recipes)?;
         wait(r)?;
     }
     let mut whole = Vec::with_capacity(frames);
     for _ in 0..frames {
         let t = Instant::now();
-        submit_frame(r, d);
+        submit_frame(r, &recipes)?;
         wait(r)?;
         whole.push(t.elapsed().as_secs_f64() * 1e3);
     }
-    let passes = &d.plan.passes;
-    let mut per: Vec<Vec<f64>> = vec![Vec::with_capacity(frames); passes.len()];
-    let clock = if r.gpu.timestamps {
-        let n = passes.len() as u32 * 2;
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pass times"),
-            ty: wgpu::QueryType::Timestamp,
-            count: n,
-        });
-        let bytes = u64::from(n) * 8;
-        let resolve = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
-            size: bytes,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let read = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps read"),
-            size: bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let period = f64::from(r.gpu.queue.get_timestamp_period());
-        for _ in 0..frames {
-            let mut enc = encoder(r);
-            for (i, &p) in passes.iter().enumerate() {
-                let ts = Some(wgpu::RenderPassTimestampWrites {
-                    query_set: &set,
-                    beginning_of_pass_write_index: Some(2 * i as u32),
-                    end_of_pass_write_index: Some(2 * i as u32 + 1),
-                });
-                encode_pass(r, d, p, &mut enc, ts);
-            }
-            enc.resolve_query_set(&set, 0..n, &resolve, 0);
-            enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, bytes);
-            r.gpu.queue.submit([enc.finish()]);
-            {
-                let m = map_read(r, &read)?;
-                let t: &[u64] = bytemuck::cast_slice(&m);
-                for (i, v) in per.iter_mut().enumerate() {
-                    v.push(t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period / 1e6);
-                }
-            }
-            read.unmap();
-        }
-        PassClock::Gpu
+    let (per, clock) = if r.gpu.timestamps {
+        (gpu_pass_times(r, &recipes, frames)?, PassClock::Gpu)
     } else {
-        for _ in 0..frames {
-            for (i, &p) in passes.iter().enumerate() {
-                let t = Instant::now();
-                let mut enc = encoder(r);
-                encode_pass(r, d, p, &mut enc, None);
-                r.gpu.queue.submit([enc.finish()]);
-                wait(r)?;
-                per[i].push(t.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-        PassClock::Wall
+        (wall_pass_times(r, &recipes, frames)?, PassClock::Wall)
     };
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
     Ok(Timings {
         frame_ms: median(whole),
-        passes: passes
+        passes: recipes
             .iter()
-            .copied()
+            .map(|p| p.pass)
             .zip(per.into_iter().map(median))
             .collect(),
         clock,
         frames,
     })
+}
+
+/// Each pass's time in each of `frames` frames from GPU timestamps (Vulkan).
+fn gpu_pass_times(
+    r: &Renderer,
+    recipes: &[Recipe<'_>],
+    frames: usize,
+) -> Result<Vec<Vec<f64>>, FrameError> {
+    let device = &r.gpu.device;
+    let n = recipes.len() as u32 * 2;
+    let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("pass times"),
+        ty: wgpu::QueryType::Timestamp,
+        count: n,
+    });
+    let bytes = u64::from(n) * 8;
+    let buffer = |label, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let resolve = buffer(
+        "timestamps",
+        wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+    );
+    let read = buffer(
+        "timestamps read",
+        wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+    );
+    let period = f64::from(r.gpu.queue.get_timestamp_period());
+    let mut per: Vec<Vec<f64>> = vec![Vec::with_capacity(frames); recipes.len()];
+    for _ in 0..frames {
+        let mut enc = encoder(r);
+        for (i, p) in recipes.iter().enumerate() {
+            let ts = Some(wgpu::RenderPassTimestampWrites {
+                query_set: &set,
+                beginning_of_pass_write_index: Some(2 * i as u32),
+                end_of_pass_write_index: Some(2 * i as u32 + 1),
+            });
+            p.encode(r, &mut enc, ts)?;
+        }
+        enc.resolve_query_set(&set, 0..n, &resolve, 0);
+        enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, bytes);
+        r.gpu.queue.submit([enc.finish()]);
+        {
+            let m = map_read(r, &read)?;
+            let t: &[u64] = bytemuck::cast_slice(&m);
+            for (i, v) in per.iter_mut().enumerate() {
+                v.push(t[2 * i + 1].saturating_sub(t[2 * i]) as f64 * period / 1e6);
+            }
+        }
+        read.unmap();
+    }
+    Ok(per)
+}
+
+/// Each pass's time in each of `frames` frames as wall time, each pass submitted and
+/// waited for alone (GL, whose timestamps are wrong on llvmpipe).
+fn wall_pass_times(
+    r: &Renderer,
+    recipes: &[Recipe<'_>],
+    frames: usize,
+) -> Result<Vec<Vec<f64>>, FrameError> {
+    let mut per: Vec<Vec<f64>> = vec![Vec::with_capacity(frames); recipes.len()];
+    for _ in 0..frames {
+        for (i, p) in recipes.iter().enumerate() {
+            let t = Instant::now();
+            let mut enc = encoder(r);
+            p.encode(r, &mut enc, None)?;
+            r.gpu.queue.submit([enc.finish()]);
+            wait(r)?;
+            per[i].push(t.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    Ok(per)
 }

@@ -6,7 +6,10 @@
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
+
+use wgpu::util::DeviceExt as _;
 
 /// Which wgpu back end to ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -47,6 +50,20 @@ impl fmt::Display for Backend {
     }
 }
 
+/// A wgpu instance for `backend`, with the window system's display when there is a window
+/// (wgpu's GL back end binds EGL to the display at instance creation).
+fn instance(
+    backend: Backend,
+    display: Option<Box<dyn wgpu::wgt::WgpuHasDisplayHandle>>,
+) -> wgpu::Instance {
+    let mut desc = match display {
+        Some(d) => wgpu::InstanceDescriptor::new_with_display_handle_from_env(d),
+        None => wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
+    };
+    desc.backends = backend.backends();
+    wgpu::Instance::new(desc)
+}
+
 impl Backend {
     fn backends(self) -> wgpu::Backends {
         match self {
@@ -71,6 +88,9 @@ pub enum GpuError {
         /// wgpu's reason.
         source: wgpu::RequestAdapterError,
     },
+    /// The window's surface could not be made.
+    #[error("the window's surface could not be created: {0}")]
+    Surface(#[source] wgpu::CreateSurfaceError),
     /// The adapter refused the device.
     #[error("the adapter refused a device: {0}")]
     Device(#[from] wgpu::RequestDeviceError),
@@ -96,18 +116,55 @@ pub struct Gpu {
     pub accum_format: wgpu::TextureFormat,
     /// Device errors wgpu reported outside an error scope (instead of its default panic).
     errors: Arc<Mutex<Vec<String>>>,
+    /// Bytes written to GPU buffers and textures since the last [`Gpu::take_uploaded`].
+    uploaded: AtomicU64,
+}
+
+/// A window the device must be able to present to (`pelt view`).
+pub trait Window:
+    wgpu::rwh::HasWindowHandle + wgpu::rwh::HasDisplayHandle + fmt::Debug + Send + Sync + 'static
+{
+}
+impl<T> Window for T where
+    T: wgpu::rwh::HasWindowHandle
+        + wgpu::rwh::HasDisplayHandle
+        + fmt::Debug
+        + Send
+        + Sync
+        + 'static
+{
 }
 
 impl Gpu {
-    /// Opens a device on `backend`.
+    /// Opens a device on `backend` (headless).
     pub fn new(backend: Backend) -> Result<Gpu, GpuError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = backend.backends();
-        let instance = wgpu::Instance::new(desc);
+        let instance = instance(backend, None);
+        Gpu::open(backend, &instance, None)
+    }
+
+    /// Opens a device on `backend` that can present to `window`, and the window's surface.
+    pub fn for_window<W: Window>(
+        backend: Backend,
+        window: Arc<W>,
+    ) -> Result<(Gpu, wgpu::Surface<'static>), GpuError> {
+        let display: Box<dyn wgpu::wgt::WgpuHasDisplayHandle> = Box::new(Arc::clone(&window));
+        let instance = instance(backend, Some(display));
+        let surface = instance
+            .create_surface(wgpu::SurfaceTarget::from(window))
+            .map_err(GpuError::Surface)?;
+        let gpu = Gpu::open(backend, &instance, Some(&surface))?;
+        Ok((gpu, surface))
+    }
+
+    fn open(
+        backend: Backend,
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Gpu, GpuError> {
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
-            compatible_surface: None,
+            compatible_surface: surface,
             apply_limit_buckets: false,
         }))
         .map_err(|source| GpuError::NoAdapter { backend, source })?;
@@ -166,7 +223,53 @@ impl Gpu {
             normal_format,
             timestamps,
             accum_format,
+            uploaded: AtomicU64::new(0),
         })
+    }
+
+    /// Bytes written to GPU buffers and textures since the last call (every upload of the
+    /// renderer goes through [`Gpu::write_buffer`], [`Gpu::buffer_init`] or
+    /// [`Gpu::write_texture`]).
+    pub fn take_uploaded(&self) -> u64 {
+        self.uploaded.swap(0, Ordering::Relaxed)
+    }
+
+    fn count(&self, bytes: usize) {
+        self.uploaded.fetch_add(bytes as u64, Ordering::Relaxed);
+    }
+
+    /// `queue.write_buffer`, counted.
+    pub fn write_buffer(&self, buffer: &wgpu::Buffer, offset: u64, data: &[u8]) {
+        self.count(data.len());
+        self.queue.write_buffer(buffer, offset, data);
+    }
+
+    /// A buffer created holding `contents`, counted.
+    pub fn buffer_init(
+        &self,
+        label: &str,
+        contents: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        self.count(contents.len());
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+    }
+
+    /// `queue.write_texture`, counted.
+    pub fn write_texture(
+        &self,
+        texture: wgpu::TexelCopyTextureInfo<'_>,
+        data: &[u8],
+        layout: wgpu::TexelCopyBufferLayout,
+        size: wgpu::Extent3d,
+    ) {
+        self.count(data.len());
+        self.queue.write_texture(texture, data, layout, size);
     }
 
     /// The first device error reported since the last call, if any.

@@ -1,57 +1,54 @@
-//! pelt-preview: the preview renderer for baked assets, a headless wgpu implementation of
-//! inferred lighting (Kircher & Lawrance 2009) with deferred and forward references.
+//! pelt-preview: the preview renderer for baked assets, a wgpu implementation of inferred
+//! lighting (Kircher & Lawrance 2009) with Revie's deferred fur, and deferred and forward
+//! references. The CPU half (scene files, assets, plans, framing) is `pelt-scene`, re-exported
+//! here under its module names.
 //!
-//! - [`scene`], [`procedural`], [`framing`]: what is rendered: scene files, generated scenes,
-//!   the default scene around one asset;
-//! - [`asset`]: glTF/OBJ (and built-in shapes) into vertex lists with normal-group IDs;
-//! - [`plan`], [`view`]: CPU decisions per frame: mode, passes, culling, scissor rectangles,
-//!   object IDs, stipple patterns, draw order (`--explain`);
-//! - [`gpu`], [`renderer`], [`draw`], [`passes`], [`frame`]: the device, long-lived pipelines,
-//!   per-scene buffers and targets, the passes, and running/timing frames;
-//! - [`shaders`], [`uniforms`]: WGSL sources (top-level `shaders/`) and the structs they share;
-//! - [`fur`]: an asset's baked fur (comb, fins, textures, manifest) for Revie's deferred fur;
-//!   [`sky`]: the cube-map sky's images.
+//! Three lifetimes, kept apart as in rerun's re_renderer:
+//! - long-lived: [`Renderer`] (device, layouts, pipelines keyed by shader, blend and target
+//!   formats) and [`assets::AssetCache`] (meshes, fur textures, skies: uploaded once, keyed
+//!   by content);
+//! - per view: [`targets::ViewTargets`], sized to the view and made for its output format;
+//! - per frame: [`frame_data::FrameData`], the uniforms a camera and its knobs decide, written
+//!   with `queue.write_buffer`.
+//!
+//! [`scene_view::SceneView`] holds one scene's share of each. Passes are built by the feature
+//! modules ([`features`]) as [`recipe::Recipe`]s, run in the order of [`frame::recipes`].
 
-pub mod asset;
-pub mod draw;
+pub mod assets;
+pub mod features;
 pub mod frame;
-pub mod framing;
-pub mod fur;
+pub mod frame_data;
 pub mod gpu;
-pub mod passes;
-pub mod plan;
-pub mod procedural;
+pub mod recipe;
 pub mod renderer;
-pub mod scene;
+pub mod scene_view;
 pub mod shaders;
-pub mod sky;
+pub mod targets;
 pub mod uniforms;
-pub mod view;
 
-use std::path::PathBuf;
+pub use pelt_scene::{asset, framing, fur, orbit, plan, procedural, scene, sky, view};
+
+use std::sync::Arc;
 
 pub use frame::{FrameError, Image, PassClock, Timings};
 pub use gpu::{Backend, Gpu, GpuError};
-pub use plan::{Mode, Plan, PlanError};
-pub use scene::{Scene, SceneError};
+pub use pelt_scene::{Mode, Plan, PlanError, Scene, SceneError};
+pub use renderer::Renderer;
+pub use scene_view::SceneView;
 
-use asset::{AssetError, MeshData};
-use draw::DrawData;
-use renderer::Renderer;
+use asset::MeshData;
+use assets::AssetCache;
+use features::Output;
+use frame_data::FrameData;
+use plan::{MeshInfo, ScenePlan};
+use targets::{TargetSpec, ViewTargets};
 
 /// Anything that stops a render.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// An object's asset failed to load.
-    #[error("objects[{object}] ({}): {source}", path.display())]
-    Asset {
-        /// Object index in the scene.
-        object: usize,
-        /// Its asset path.
-        path: PathBuf,
-        /// Why.
-        source: AssetError,
-    },
+    #[error(transparent)]
+    Asset(#[from] asset::ObjectAssetError),
     /// The plan cannot run.
     #[error(transparent)]
     Plan(#[from] PlanError),
@@ -66,43 +63,57 @@ pub enum RenderError {
     Frame(#[from] FrameError),
 }
 
-/// Loads each distinct asset of `scene` once; returns the meshes and each object's index
-/// into them. Objects are tinted by their scene colour in the shader, not here.
-pub fn load_meshes(scene: &Scene) -> Result<(Vec<MeshData>, Vec<usize>), RenderError> {
-    let mut paths: Vec<&std::path::Path> = Vec::new();
-    let mut meshes = Vec::new();
-    let mut of = Vec::with_capacity(scene.objects.len());
-    for (i, o) in scene.objects.iter().enumerate() {
-        match paths.iter().position(|p| *p == o.asset.as_path()) {
-            Some(k) => of.push(k),
-            None => {
-                let m = asset::load(&o.asset).map_err(|source| RenderError::Asset {
-                    object: i,
-                    path: o.asset.clone(),
-                    source,
-                })?;
-                paths.push(&o.asset);
-                of.push(meshes.len());
-                meshes.push(m);
-            }
-        }
+impl From<features::MissingInput> for RenderError {
+    fn from(e: features::MissingInput) -> Self {
+        RenderError::Frame(FrameError::Missing(e))
     }
-    Ok((meshes, of))
 }
 
-/// A renderer on one device, reusable across scenes.
+/// Loads each distinct asset of `scene` once; returns the meshes and each object's index
+/// into them.
+pub fn load_meshes(scene: &Scene) -> Result<(Vec<MeshData>, Vec<usize>), RenderError> {
+    Ok(asset::load_scene(scene)?)
+}
+
+/// Where a view's image goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ViewOutput {
+    /// The colour format.
+    pub format: wgpu::TextureFormat,
+    /// The view renders into a texture of its own, read back as an [`Image`] (else into one
+    /// the caller gives each frame: a window's surface).
+    pub own_color: bool,
+}
+
+impl ViewOutput {
+    /// A PNG: RGBA8 sRGB, read back.
+    pub const IMAGE: ViewOutput = ViewOutput {
+        format: renderer::OUTPUT_FORMAT,
+        own_color: true,
+    };
+}
+
+/// A renderer on one device with its asset cache, reusable across scenes and views.
 #[derive(Debug)]
 pub struct Preview {
     /// Pipelines and device.
     pub renderer: Renderer,
+    /// GPU assets.
+    pub assets: AssetCache,
 }
 
 impl Preview {
     /// Opens a device on `backend`.
     pub fn new(backend: Backend) -> Result<Preview, RenderError> {
-        Ok(Preview {
-            renderer: Renderer::new(Gpu::new(backend)?),
-        })
+        Ok(Preview::on(Gpu::new(backend)?))
+    }
+
+    /// A preview on an opened device (a window's).
+    pub fn on(gpu: Gpu) -> Preview {
+        Preview {
+            renderer: Renderer::new(gpu),
+            assets: AssetCache::default(),
+        }
     }
 
     /// The adapter in words.
@@ -110,8 +121,8 @@ impl Preview {
         self.renderer.gpu.describe()
     }
 
-    /// Plans `scene` in `mode`, builds the pipelines the plan needs and uploads the scene.
-    pub fn prepare(&mut self, scene: &Scene, mode: Mode) -> Result<DrawData, RenderError> {
+    /// Loads `scene`'s assets and prepares it in `mode` for PNG output.
+    pub fn prepare(&mut self, scene: &Scene, mode: Mode) -> Result<SceneView, RenderError> {
         let (meshes, of) = load_meshes(scene)?;
         self.prepare_loaded(scene, &meshes, &of, mode)
     }
@@ -123,27 +134,131 @@ impl Preview {
         meshes: &[MeshData],
         mesh_of: &[usize],
         mode: Mode,
-    ) -> Result<DrawData, RenderError> {
-        let plan = Plan::new(scene, meshes, mesh_of, mode)?;
-        let cube = match &scene.sky {
-            scene::Sky::Cubemap(faces) => Some(sky::load_cube(faces)?),
+    ) -> Result<SceneView, RenderError> {
+        self.prepare_view(scene, meshes, mesh_of, mode, ViewOutput::IMAGE)
+    }
+
+    /// Plans `scene` in `mode`, uploads what it draws (unless the cache has it), makes the
+    /// view's targets for `output` and writes the first frame's uniforms.
+    pub fn prepare_view(
+        &mut self,
+        scene: &Scene,
+        meshes: &[MeshData],
+        mesh_of: &[usize],
+        mode: Mode,
+        output: ViewOutput,
+    ) -> Result<SceneView, RenderError> {
+        let infos: Vec<MeshInfo> = meshes.iter().map(MeshInfo::of).collect();
+        let scene_plan = ScenePlan::new(scene, &infos, mesh_of, mode);
+        let plan = Plan::with_camera(&scene_plan, &view::View::new(scene))?;
+        // Every object's mesh, seen or not: a camera move must not upload.
+        let mut gpu_meshes: Vec<Option<Arc<assets::GpuMesh>>> = vec![None; meshes.len()];
+        for k in 0..meshes.len() {
+            let used = scene_plan.objects.iter().filter(|(o, _)| o.mesh == k);
+            let (mut any, mut fur) = (false, false);
+            for (o, _) in used {
+                any = true;
+                fur |= o.fur.is_some();
+            }
+            if any {
+                gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, &meshes[k], fur));
+            }
+        }
+        let sky = match &scene.sky {
+            scene::Sky::Cubemap(faces) => {
+                let cube = sky::load_cube(faces)?;
+                Some(self.assets.sky(&self.renderer, &cube))
+            }
             _ => None,
         };
-        self.renderer.prepare(&plan);
-        let d = DrawData::new(&self.renderer, plan, meshes, cube.as_ref());
+        let spec = TargetSpec::of(&plan, output.format, output.own_color);
+        let mut data = FrameData::new(&self.renderer);
+        data.write(&self.renderer, &plan);
+        let sv = SceneView {
+            infos,
+            mesh_of: mesh_of.to_vec(),
+            scene_plan,
+            plan,
+            meshes: gpu_meshes,
+            sky,
+            targets: ViewTargets::new(&self.renderer, spec),
+            data,
+        };
+        self.assets.sweep();
         match self.renderer.gpu.take_error() {
             Some(e) => Err(FrameError::Device(e).into()),
-            None => Ok(d),
+            None => Ok(sv),
         }
     }
 
-    /// Renders one frame.
-    pub fn render(&self, d: &DrawData) -> Result<Image, RenderError> {
-        Ok(frame::render(&self.renderer, d)?)
+    /// Knobs or size changed: a new scene plan and plan for `scene` (its camera included),
+    /// new targets if they no longer fit, the uniforms written. Uploads no asset.
+    pub fn update(
+        &mut self,
+        sv: &mut SceneView,
+        scene: &Scene,
+        mode: Mode,
+    ) -> Result<(), RenderError> {
+        sv.replan(scene, mode)?;
+        self.refresh(sv);
+        Ok(())
     }
 
-    /// Times frames (see [`frame::time`]).
-    pub fn time(&self, d: &DrawData, warmup: usize, frames: usize) -> Result<Timings, RenderError> {
-        Ok(frame::time(&self.renderer, d, warmup, frames)?)
+    /// The camera moved: only the camera-dependent plan and the uniforms change.
+    pub fn look(&mut self, sv: &mut SceneView, camera: &scene::Camera) -> Result<(), RenderError> {
+        sv.look(camera)?;
+        self.refresh(sv);
+        Ok(())
+    }
+
+    fn refresh(&self, sv: &mut SceneView) {
+        let spec = sv.spec();
+        if spec != sv.targets.spec {
+            sv.targets = ViewTargets::new(&self.renderer, spec);
+        }
+        sv.data.write(&self.renderer, &sv.plan);
+    }
+
+    /// Renders one frame into the view's own target and reads it back.
+    pub fn render(&self, sv: &SceneView) -> Result<Image, RenderError> {
+        let f = sv.own_frame()?;
+        let target = sv
+            .targets
+            .color
+            .as_ref()
+            .ok_or_else(|| features::MissingInput {
+                pass: "output",
+                what: "a colour target".into(),
+            })?;
+        Ok(frame::render(&self.renderer, &f, target)?)
+    }
+
+    /// Renders one frame into `view` (a window's surface texture, in the view's format).
+    pub fn draw_into(&self, sv: &SceneView, view: &wgpu::TextureView) -> Result<(), RenderError> {
+        let f = sv.frame(Output {
+            view,
+            format: sv.targets.spec.color_format,
+        });
+        Ok(frame::draw(&self.renderer, &f)?)
+    }
+
+    /// Times frames into the view's own target (see [`frame::time`]).
+    pub fn time(
+        &self,
+        sv: &SceneView,
+        warmup: usize,
+        frames: usize,
+    ) -> Result<Timings, RenderError> {
+        Ok(frame::time(
+            &self.renderer,
+            &sv.own_frame()?,
+            warmup,
+            frames,
+        )?)
+    }
+
+    /// Bytes written to GPU buffers and textures since the last call.
+    pub fn take_uploaded(&self) -> u64 {
+        self.renderer.gpu.take_uploaded()
     }
 }

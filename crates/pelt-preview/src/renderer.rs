@@ -1,19 +1,17 @@
-//! The long-lived half of the preview (re_renderer's `Renderer` against its `DrawData`): the
-//! device, bind group layouts, shader modules and a cache of render pipelines keyed by a
-//! hashable descriptor. Pipelines are built on demand by [`Renderer::prepare`], so only the
-//! passes a plan uses are ever compiled.
+//! The long-lived half of the renderer (re_renderer's `Renderer`): the device, the bind-group
+//! layouts, shader modules and a cache of render pipelines. A pipeline's key is what the
+//! drawing code asked for: the shader, the blend, and the formats of the targets of the pass
+//! that draws it, read off the pass's own attachments (see [`crate::recipe`]), so the cache
+//! cannot drift from the passes. Each feature module says how its shaders' pipelines are
+//! laid out ([`crate::features::spec`]). Pipelines are compiled before a frame is encoded,
+//! only those the frame uses; a frame never compiles one while encoding.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
 use crate::gpu::Gpu;
-use crate::plan::{Mode, Pass, Plan};
-use crate::scene::{FurBlend, Sky};
-use crate::shaders::{Lighting, Shader};
-use crate::uniforms::{
-    FinInstance, FrameUniforms, FurVertex, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms,
-    Vertex,
-};
+use crate::shaders::Shader;
+use crate::uniforms::{FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms};
 
 /// Linear light accumulation (RGB diffuse, A specular): 16-bit float, blendable everywhere.
 pub const LBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -21,9 +19,9 @@ pub const LBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float
 pub const DSF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Uint;
 /// Hardware depth for the geometry, material and forward passes.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// The output image (lighting is linear; the target encodes sRGB).
+/// The PNG output (lighting is linear; the target encodes sRGB). A window renders to its
+/// surface's format instead: pipeline keys carry the format.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-
 /// Revealage of weighted blended OIT: 16-bit float (8 bits band after a few layers).
 pub const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// The cube-map sky's faces.
@@ -44,6 +42,9 @@ pub enum Blend {
     Wboit,
 }
 
+/// Most colour targets a pass writes.
+pub const MAX_COLOR_TARGETS: usize = 2;
+
 /// What makes one pipeline differ from another.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
@@ -51,29 +52,33 @@ pub struct PipelineKey {
     pub shader: Shader,
     /// How it blends.
     pub blend: Blend,
+    /// The formats of the pass's colour targets, in attachment order.
+    pub colors: [Option<wgpu::TextureFormat>; MAX_COLOR_TARGETS],
+    /// The pass's depth format.
+    pub depth: Option<wgpu::TextureFormat>,
 }
 
-/// Bind group layouts shared by the passes.
+/// Bind group layouts shared by the passes. Which slot each takes in a pass is named in the
+/// feature modules (`slot` constants), never by a bare number.
 #[derive(Debug)]
 pub struct Layouts {
-    /// group 0: the frame uniforms (dynamic offset: one slot per resolution).
+    /// The frame uniforms (dynamic offset: one slot per view and resolution).
     pub frame: wgpu::BindGroupLayout,
-    /// group 1 of the object passes: one object's uniforms (dynamic offset).
+    /// One object's uniforms (dynamic offset).
     pub object: wgpu::BindGroupLayout,
-    /// A float texture and the DSF texture (light pass group 1, material and fur group 2,
-    /// obliteration group 0).
+    /// A float texture and the DSF texture (G-buffer or L-buffer reads).
     pub textures: wgpu::BindGroupLayout,
-    /// light pass group 2: one light (dynamic offset).
+    /// One light (dynamic offset).
     pub light: wgpu::BindGroupLayout,
-    /// forward group 2: every light.
+    /// Every light (forward).
     pub light_array: wgpu::BindGroupLayout,
-    /// fur group 3: heightfield, fin texture, their samplers.
+    /// Heightfield, fin texture, their samplers.
     pub fur: wgpu::BindGroupLayout,
-    /// obliteration group 1: which IDs are outer shells.
+    /// Which IDs are outer shells (obliteration).
     pub shell_table: wgpu::BindGroupLayout,
-    /// composite group 0: accumulation and revealage.
+    /// Accumulation and revealage (OIT composite).
     pub oit: wgpu::BindGroupLayout,
-    /// cube sky group 1: the cube map and its sampler.
+    /// The cube map and its sampler.
     pub sky: wgpu::BindGroupLayout,
 }
 
@@ -90,11 +95,7 @@ fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    texture_dim_entry(binding, sample_type, wgpu::TextureViewDimension::D2)
-}
-
-fn texture_dim_entry(
+fn texture_entry(
     binding: u32,
     sample_type: wgpu::TextureSampleType,
     view_dimension: wgpu::TextureViewDimension,
@@ -131,40 +132,42 @@ impl Layouts {
                 entries,
             })
         };
+        let d2 = wgpu::TextureViewDimension::D2;
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let size = |n: usize| n as u64;
         Layouts {
             frame: layout(
                 "frame",
-                &[uniform_entry(size_of::<FrameUniforms>() as u64, true)],
+                &[uniform_entry(size(size_of::<FrameUniforms>()), true)],
             ),
             object: layout(
                 "object",
-                &[uniform_entry(size_of::<ObjectUniforms>() as u64, true)],
+                &[uniform_entry(size(size_of::<ObjectUniforms>()), true)],
             ),
             textures: layout(
                 "textures",
                 &[
-                    texture_entry(0, unfilterable),
-                    texture_entry(1, wgpu::TextureSampleType::Uint),
+                    texture_entry(0, unfilterable, d2),
+                    texture_entry(1, wgpu::TextureSampleType::Uint, d2),
                 ],
             ),
             light: layout(
                 "light",
-                &[uniform_entry(size_of::<LightUniforms>() as u64, true)],
+                &[uniform_entry(size(size_of::<LightUniforms>()), true)],
             ),
             light_array: layout(
                 "light array",
                 &[uniform_entry(
-                    (MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()) as u64,
+                    size(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()),
                     false,
                 )],
             ),
             fur: layout(
                 "fur textures",
                 &[
-                    texture_entry(0, filterable),
-                    texture_entry(1, filterable),
+                    texture_entry(0, filterable, d2),
+                    texture_entry(1, filterable, d2),
                     sampler_entry(2),
                     sampler_entry(3),
                 ],
@@ -173,19 +176,51 @@ impl Layouts {
             oit: layout(
                 "oit",
                 &[
-                    texture_entry(0, unfilterable),
-                    texture_entry(1, unfilterable),
+                    texture_entry(0, unfilterable, d2),
+                    texture_entry(1, unfilterable, d2),
                 ],
             ),
             sky: layout(
                 "sky",
                 &[
-                    texture_dim_entry(0, filterable, wgpu::TextureViewDimension::Cube),
+                    texture_entry(0, filterable, wgpu::TextureViewDimension::Cube),
                     sampler_entry(1),
                 ],
             ),
         }
     }
+}
+
+/// How a feature lays out one of its pipelines; the formats come from the key.
+#[derive(Debug)]
+pub struct PipelineSpec<'a> {
+    /// Bind group layouts by slot, slot 0 first (every slot up to the last present).
+    pub groups: Vec<&'a wgpu::BindGroupLayout>,
+    /// Vertex buffers by slot.
+    pub vertex_buffers: Vec<wgpu::VertexBufferLayout<'static>>,
+    /// Blend of each colour target, in attachment order.
+    pub blends: Vec<Option<wgpu::BlendState>>,
+    /// Depth writes and test, when the pass has a depth target (none: test always, no
+    /// writes).
+    pub depth: Option<(bool, wgpu::CompareFunction)>,
+    /// Faces culled.
+    pub cull: Option<wgpu::Face>,
+}
+
+/// Why a pipeline could not be made or found.
+#[derive(Debug, thiserror::Error)]
+pub enum PipelineError {
+    /// The frame asked for a pipeline that was not compiled before encoding.
+    #[error("pipeline {0:?} was not prepared before the frame was encoded")]
+    NotPrepared(PipelineKey),
+    /// The pass's attachments do not fit the pipeline's layout.
+    #[error("pipeline {key:?}: {message}")]
+    Mismatch {
+        /// The key.
+        key: PipelineKey,
+        /// What does not fit.
+        message: String,
+    },
 }
 
 /// Device, layouts, modules and pipelines.
@@ -197,18 +232,8 @@ pub struct Renderer {
     pub layouts: Layouts,
     modules: RefCell<HashMap<Shader, wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
+    built: Cell<usize>,
 }
-
-const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32
-];
-const FUR_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![
-    4 => Float32x4, 5 => Float32x2, 6 => Float32x4
-];
-const FIN_ATTRIBUTES: [wgpu::VertexAttribute; 10] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x4,
-    5 => Float32x4, 6 => Float32x3, 7 => Float32x3, 8 => Float32x2, 9 => Uint32
-];
 
 impl Renderer {
     /// A renderer on `gpu`; nothing is compiled yet.
@@ -219,108 +244,45 @@ impl Renderer {
             layouts,
             modules: RefCell::new(HashMap::new()),
             pipelines: RefCell::new(HashMap::new()),
+            built: Cell::new(0),
         }
     }
 
-    /// The pipelines `plan` draws with.
-    pub fn keys(plan: &Plan) -> Vec<PipelineKey> {
-        let mut keys = Vec::new();
-        let mut add = |shader, blend| {
-            let k = PipelineKey { shader, blend };
-            if !keys.contains(&k) {
-                keys.push(k);
-            }
-        };
-        let has_fins = plan
-            .fur
-            .iter()
-            .any(|&k| plan.objects[k].fur.is_some_and(|f| f.fins));
-        let wboit = plan.fur_blend == FurBlend::Wboit;
-        let lighting = if plan.mode == Mode::Forward {
-            Lighting::Forward
-        } else {
-            Lighting::Inferred
-        };
-        for p in &plan.passes {
-            match p {
-                Pass::Geometry => {
-                    if !plan.opaque.is_empty() || !plan.alpha.is_empty() {
-                        add(Shader::GBuffer, Blend::None);
-                    }
-                    if !plan.fur.is_empty() {
-                        add(Shader::FurBase, Blend::None);
-                        add(Shader::FurOuter, Blend::None);
-                    }
-                }
-                Pass::Light => add(Shader::Light, Blend::None),
-                Pass::Obliterate => add(Shader::Obliterate, Blend::None),
-                Pass::Material | Pass::Forward => {
-                    let shader = if *p == Pass::Forward {
-                        Shader::Forward
-                    } else {
-                        Shader::Material
-                    };
-                    if !plan.opaque.is_empty() {
-                        add(shader, Blend::None);
-                    }
-                    if !plan.alpha.is_empty() {
-                        add(shader, Blend::Over);
-                    }
-                    if !plan.fur.is_empty() {
-                        add(Shader::Shells(lighting), Blend::None);
-                        if !wboit {
-                            add(Shader::Shells(lighting), Blend::Over);
-                            if has_fins {
-                                add(Shader::Fins(lighting), Blend::Over);
-                            }
-                        }
-                    }
-                    match plan.sky {
-                        Sky::None => {}
-                        Sky::Procedural => add(Shader::SkyProcedural, Blend::None),
-                        Sky::Cubemap(_) => add(Shader::SkyCube, Blend::None),
-                    }
-                }
-                Pass::FurAccum => {
-                    add(Shader::Shells(lighting), Blend::Wboit);
-                    if has_fins {
-                        add(Shader::Fins(lighting), Blend::Wboit);
-                    }
-                }
-                Pass::Composite => add(Shader::Composite, Blend::Over),
+    /// Compiles every pipeline of `keys` that is not cached yet; returns how many it built.
+    pub fn prepare<'k>(
+        &self,
+        keys: impl IntoIterator<Item = &'k PipelineKey>,
+    ) -> Result<usize, PipelineError> {
+        let mut n = 0;
+        for key in keys {
+            if !self.pipelines.borrow().contains_key(key) {
+                let p = self.build(key)?;
+                self.pipelines.borrow_mut().insert(*key, p);
+                self.built.set(self.built.get() + 1);
+                n += 1;
             }
         }
-        keys
+        Ok(n)
     }
 
-    /// Compiles whatever `plan` needs that is not cached yet; returns how many pipelines were
-    /// built.
-    pub fn prepare(&self, plan: &Plan) -> usize {
-        let mut built = 0;
-        for key in Self::keys(plan) {
-            if !self.pipelines.borrow().contains_key(&key) {
-                let p = self.build(key);
-                self.pipelines.borrow_mut().insert(key, p);
-                built += 1;
-            }
-        }
-        built
+    /// A prepared pipeline.
+    pub fn pipeline(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+        self.pipelines
+            .borrow()
+            .get(key)
+            .cloned()
+            .ok_or(PipelineError::NotPrepared(*key))
     }
 
-    /// A pipeline: from the cache, or built now (a pass needing one `prepare` did not
-    /// foresee still works; it just compiles during the frame).
-    pub fn pipeline(&self, key: PipelineKey) -> wgpu::RenderPipeline {
-        if let Some(p) = self.pipelines.borrow().get(&key) {
-            return p.clone();
-        }
-        let p = self.build(key);
-        self.pipelines.borrow_mut().insert(key, p.clone());
-        p
+    /// Pipelines compiled since the renderer was made.
+    pub fn pipelines_built(&self) -> usize {
+        self.built.get()
     }
 
-    /// Pipelines built so far.
-    pub fn cached(&self) -> usize {
-        self.pipelines.borrow().len()
+    /// Drops every cached module and pipeline (shader reload).
+    pub fn clear_pipelines(&self) {
+        self.modules.borrow_mut().clear();
+        self.pipelines.borrow_mut().clear();
     }
 
     fn module(&self, shader: Shader) -> wgpu::ShaderModule {
@@ -337,150 +299,80 @@ impl Renderer {
             .clone()
     }
 
-    fn build(&self, key: PipelineKey) -> wgpu::RenderPipeline {
-        let module = self.module(key.shader);
-        let l = &self.layouts;
-        let light_source = |lighting| match lighting {
-            Lighting::Inferred => &l.textures,
-            Lighting::Forward => &l.light_array,
-        };
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> = match key.shader {
-            Shader::GBuffer | Shader::FurBase | Shader::FurOuter => {
-                vec![Some(&l.frame), Some(&l.object)]
+    fn build(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+        let spec = crate::features::spec(key, &self.layouts);
+        let mismatch = |message: String| PipelineError::Mismatch { key: *key, message };
+        let formats: Vec<wgpu::TextureFormat> = key.colors.iter().flatten().copied().collect();
+        if formats.len() != spec.blends.len() {
+            return Err(mismatch(format!(
+                "the pass has {} colour targets, the shader writes {}",
+                formats.len(),
+                spec.blends.len()
+            )));
+        }
+        let depth_stencil = match (key.depth, spec.depth) {
+            (None, None) => None,
+            (None, Some(_)) => return Err(mismatch("the shader needs a depth target".into())),
+            (Some(format), d) => {
+                let (write, compare) = d.unwrap_or((false, wgpu::CompareFunction::Always));
+                Some(wgpu::DepthStencilState {
+                    format,
+                    depth_write_enabled: Some(write),
+                    depth_compare: Some(compare),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                })
             }
-            Shader::Light => vec![Some(&l.frame), Some(&l.textures), Some(&l.light)],
-            Shader::Material => vec![Some(&l.frame), Some(&l.object), Some(&l.textures)],
-            Shader::Forward => vec![Some(&l.frame), Some(&l.object), Some(&l.light_array)],
-            Shader::Shells(lt) | Shader::Fins(lt) => vec![
-                Some(&l.frame),
-                Some(&l.object),
-                Some(light_source(lt)),
-                Some(&l.fur),
-            ],
-            Shader::Obliterate => vec![Some(&l.textures), Some(&l.shell_table)],
-            Shader::Composite => vec![Some(&l.oit)],
-            Shader::SkyProcedural => vec![Some(&l.frame)],
-            Shader::SkyCube => vec![Some(&l.frame), Some(&l.sky)],
         };
+        let targets: Vec<Option<wgpu::ColorTargetState>> = formats
+            .iter()
+            .zip(&spec.blends)
+            .map(|(&format, &blend)| {
+                Some(wgpu::ColorTargetState {
+                    format,
+                    blend,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            })
+            .collect();
+        let module = self.module(key.shader);
         let device = &self.gpu.device;
         let name = key.shader.module_name();
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> =
+            spec.groups.iter().map(|&g| Some(g)).collect();
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(&name),
             bind_group_layouts: &groups,
             immediate_size: 0,
         });
-        let per_vertex = |stride: usize, attributes| {
-            Some(wgpu::VertexBufferLayout {
-                array_stride: stride as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes,
-            })
-        };
-        let vertex_buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = match key.shader {
-            Shader::GBuffer | Shader::Material | Shader::Forward => {
-                vec![per_vertex(size_of::<Vertex>(), &VERTEX_ATTRIBUTES[..])]
-            }
-            Shader::FurBase | Shader::FurOuter | Shader::Shells(_) => vec![
-                per_vertex(size_of::<Vertex>(), &VERTEX_ATTRIBUTES[..]),
-                per_vertex(size_of::<FurVertex>(), &FUR_ATTRIBUTES[..]),
-            ],
-            Shader::Fins(_) => vec![Some(wgpu::VertexBufferLayout {
-                array_stride: size_of::<FinInstance>() as u64,
-                step_mode: wgpu::VertexStepMode::Instance,
-                attributes: &FIN_ATTRIBUTES,
-            })],
-            _ => Vec::new(),
-        };
-        let color = |format, blend| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let additive = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let add_all = Some(wgpu::BlendState {
-            color: additive,
-            alpha: additive,
-        });
-        // Revealage: dst × (1 − src).
-        let reveal = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::Zero,
-            dst_factor: wgpu::BlendFactor::OneMinusSrc,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let targets: Vec<Option<wgpu::ColorTargetState>> = match (key.shader, key.blend) {
-            (Shader::GBuffer | Shader::FurBase | Shader::FurOuter, _) => {
-                vec![color(self.gpu.normal_format, None), color(DSF_FORMAT, None)]
-            }
-            (Shader::Light, _) => vec![color(LBUFFER_FORMAT, add_all)],
-            (Shader::Obliterate, _) => vec![color(LBUFFER_FORMAT, None), color(DSF_FORMAT, None)],
-            (_, Blend::Wboit) => vec![
-                color(self.gpu.accum_format, add_all),
-                color(
-                    REVEAL_FORMAT,
-                    Some(wgpu::BlendState {
-                        color: reveal,
-                        alpha: reveal,
-                    }),
-                ),
-            ],
-            (_, Blend::Over) => vec![color(OUTPUT_FORMAT, Some(wgpu::BlendState::ALPHA_BLENDING))],
-            (_, Blend::None) => vec![color(OUTPUT_FORMAT, None)],
-        };
-        let depth = |write: bool, compare| {
-            Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(write),
-                depth_compare: Some(compare),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            })
-        };
-        let depth_stencil = match (key.shader, key.blend) {
-            (Shader::Light | Shader::Obliterate, _) => None,
-            (Shader::Composite, _) => depth(false, wgpu::CompareFunction::Always),
-            (Shader::SkyProcedural | Shader::SkyCube, _) => {
-                depth(false, wgpu::CompareFunction::LessEqual)
-            }
-            (_, Blend::None) => depth(true, wgpu::CompareFunction::Less),
-            _ => depth(false, wgpu::CompareFunction::LessEqual),
-        };
-        // Blended shells show only their outer side (the far side's shells stick out behind
-        // the silhouette, where they would blend in the wrong order).
-        let cull_mode = matches!(
-            (key.shader, key.blend),
-            (Shader::Shells(_), Blend::Over | Blend::Wboit)
-        )
-        .then_some(wgpu::Face::Back);
         let (vs, fs) = key.shader.entry_points(key.blend == Blend::Wboit);
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&name),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some(vs),
-                compilation_options: Default::default(),
-                buffers: &vertex_buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode,
-                ..Default::default()
-            },
-            depth_stencil,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some(fs),
-                compilation_options: Default::default(),
-                targets: &targets,
+        let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> =
+            spec.vertex_buffers.iter().cloned().map(Some).collect();
+        Ok(
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&name),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: spec.cull,
+                    ..Default::default()
+                },
+                depth_stencil,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
             }),
-            multiview_mask: None,
-            cache: None,
-        })
+        )
     }
 }

@@ -3,6 +3,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+pub use pelt_scene::vertex::{FinInstance, FurVertex, MAX_FORWARD_LIGHTS, Vertex};
+
 /// Per-frame constants. Keep in sync with `Frame` in shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -57,73 +59,6 @@ pub struct LightUniforms {
     /// rgb colour × intensity; w intensity × luminance(colour).
     pub color: [f32; 4],
 }
-
-/// One vertex. Keep in sync with `VertexIn` in shaders/common.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Vertex {
-    /// Position in the asset's space.
-    pub position: [f32; 3],
-    /// Normal in the asset's space.
-    pub normal: [f32; 3],
-    /// Linear base colour and alpha (the primitive's material factor).
-    pub albedo: [f32; 4],
-    /// Normal-group ID (`_NORMAL_GROUP`, 0 when absent).
-    pub group: u32,
-}
-
-/// The per-vertex fur attributes (vertex buffer 1 of the fur pipelines). Keep in sync with
-/// `FurIn` in shaders/fur_common.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct FurVertex {
-    /// TANGENT in the asset's space (w = handedness).
-    pub tangent: [f32; 4],
-    /// TEXCOORD_0.
-    pub uv: [f32; 2],
-    /// `_FUR_COMB`: tangent-space comb direction, w = length (0 = no fur).
-    pub comb: [f32; 4],
-}
-
-impl FurVertex {
-    /// A vertex without fur.
-    pub const NONE: FurVertex = FurVertex {
-        tangent: [1.0, 0.0, 0.0, 1.0],
-        uv: [0.0; 2],
-        comb: [1.0, 0.0, 0.0, 0.0],
-    };
-}
-
-/// One fin edge, expanded for the fin quads (an instanced vertex buffer). Keep in sync with
-/// `FinIn` in shaders/fins.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct FinInstance {
-    /// Position of the edge's first vertex.
-    pub p0: [f32; 3],
-    /// Position of the second.
-    pub p1: [f32; 3],
-    /// Vertex normal at the first.
-    pub n0: [f32; 3],
-    /// Vertex normal at the second.
-    pub n1: [f32; 3],
-    /// Object-space comb direction and length at the first.
-    pub c0: [f32; 4],
-    /// At the second.
-    pub c1: [f32; 4],
-    /// Geometric normal of the first face beside the edge.
-    pub f0: [f32; 3],
-    /// Of the second (the first again on a boundary edge).
-    pub f1: [f32; 3],
-    /// x: the fin texture's horizontal offset; y: the edge's length in UV units.
-    pub u: [f32; 2],
-    /// Normal group of the first vertex.
-    pub group: u32,
-}
-
-/// The most lights the forward reference takes in one pass (`MAX_FORWARD_LIGHTS` in
-/// shaders/forward.wgsl).
-pub const MAX_FORWARD_LIGHTS: usize = 256;
 
 /// Uniform buffer offsets are multiples of this (wgpu's default limit).
 pub const UNIFORM_STRIDE: u64 = 256;

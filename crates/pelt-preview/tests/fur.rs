@@ -272,8 +272,15 @@ fn no_stipple_residue_after_obliteration() {
             .filter(|p| u32::from(u16::from_le_bytes([p[2], p[3]])) >> 8 == shell_id)
             .count()
     };
-    let before = shell_texels(&d.gbuffer.as_ref().expect("G-buffer").dsf.texture);
-    let after = shell_texels(&d.composition.as_ref().expect("composition").dsf.texture);
+    let before = shell_texels(&d.targets.gbuffer.as_ref().expect("G-buffer").dsf.texture);
+    let after = shell_texels(
+        &d.targets
+            .composition
+            .as_ref()
+            .expect("composition")
+            .dsf
+            .texture,
+    );
     eprintln!("outer-shell texels: {before} in the G-buffer, {after} after obliteration");
     assert!(
         before > 500,

@@ -10,7 +10,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
 use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 
-use crate::uniforms::{FinInstance, FurVertex};
+use crate::vertex::{FinInstance, FurVertex};
 
 /// One mip level of a texture, rows top to bottom.
 #[derive(Debug, Clone, PartialEq)]
@@ -350,7 +350,7 @@ fn edge_offset(a: u32, b: u32) -> f32 {
 pub fn fin_instances(
     doc: &Document,
     r: PrimitiveRef,
-    verts: &[crate::uniforms::Vertex],
+    verts: &[crate::vertex::Vertex],
     fur: &[FurVertex],
     base: usize,
     world: Mat4,
@@ -379,7 +379,7 @@ pub fn fin_instances(
         } else {
             face(e.normals[1])
         };
-        let comb = |v: &crate::uniforms::Vertex, f: &FurVertex| {
+        let comb = |v: &crate::vertex::Vertex, f: &FurVertex| {
             let c = Vec4::from(f.comb);
             comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c).extend(c.w)
         };

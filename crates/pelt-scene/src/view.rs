@@ -6,7 +6,7 @@
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
 
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene, Size};
 
 /// Matrices and frustum numbers for one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,8 +26,13 @@ pub struct View {
 impl View {
     /// The scene's camera at the output's aspect ratio.
     pub fn new(scene: &Scene) -> View {
-        let c = &scene.camera;
-        let aspect = scene.output.width as f32 / scene.output.height as f32;
+        View::of(&scene.camera, scene.output)
+    }
+
+    /// `camera` at the aspect ratio of `output`.
+    pub fn of(camera: &Camera, output: Size) -> View {
+        let c = camera;
+        let aspect = output.width as f32 / output.height as f32;
         let fov = c.fov_y_deg.to_radians();
         let view = Mat4::look_at_rh(c.position.into(), c.target.into(), c.up.into());
         let proj = Mat4::perspective_rh(fov, aspect, c.near, c.far);

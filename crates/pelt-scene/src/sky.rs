@@ -4,7 +4,14 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::draw::CubeImages;
+/// Six decoded cube faces (+X, −X, +Y, −Y, +Z, −Z), RGBA8 sRGB, `size` × `size` each.
+#[derive(Debug, Clone)]
+pub struct CubeImages {
+    /// Side length.
+    pub size: u32,
+    /// Faces, rows top to bottom.
+    pub faces: Vec<Vec<u8>>,
+}
 
 /// Largest face side.
 pub const MAX_FACE: u32 = 4096;

@@ -10,8 +10,9 @@ use std::fmt::{self, Write as _};
 use glam::{Mat4, Vec3};
 
 use crate::asset::MeshData;
+use crate::fur::FurLook;
 use crate::scene::{FurBlend, Material, Scene, Sky};
-use crate::uniforms::MAX_FORWARD_LIGHTS;
+use crate::vertex::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
 
 /// How the frame is lit.
@@ -195,54 +196,92 @@ pub struct Plan {
     pub notes: Vec<String>,
 }
 
-impl Plan {
-    /// Plans `scene` in `mode`; `meshes[mesh_of[i]]` is object i's mesh.
-    pub fn new(
-        scene: &Scene,
-        meshes: &[MeshData],
-        mesh_of: &[usize],
-        mode: Mode,
-    ) -> Result<Plan, PlanError> {
-        let view = View::new(scene);
+/// What an asset contributes to a plan, computed once per loaded mesh (bounds are a pass
+/// over every vertex; a frame must not redo it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshInfo {
+    /// Axis-aligned bounds in the asset's space.
+    pub bounds: (Vec3, Vec3),
+    /// Its fur's look and whether it has fin edges, when it has a baked comb.
+    pub fur: Option<(FurLook, bool)>,
+}
+
+impl MeshInfo {
+    /// The info of `mesh`.
+    pub fn of(mesh: &MeshData) -> MeshInfo {
+        MeshInfo {
+            bounds: mesh.bounds(),
+            fur: mesh
+                .fur
+                .as_ref()
+                .map(|f| (f.look.clone(), !f.fins.is_empty())),
+        }
+    }
+}
+
+/// The part of a plan that depends on the scene, its assets, the mode and the knobs, but not
+/// on the camera: every object that can be drawn with its material decisions, IDs and fur,
+/// and the lights. A camera move keeps it; a knob change makes a new one (no asset is read).
+#[derive(Debug, Clone)]
+pub struct ScenePlan {
+    /// The mode.
+    pub mode: Mode,
+    /// Output size.
+    pub output: (u32, u32),
+    /// L-buffer size for the mode, before knowing whether any light shows.
+    pub lbuffer: Option<(u32, u32)>,
+    /// DSF requested.
+    pub dsf: bool,
+    /// Every object (pattern and depth are filled in per camera), with its mesh bounds.
+    pub objects: Vec<(PlannedObject, (Vec3, Vec3))>,
+    /// Lights that give any light (world position, radius, colour × intensity).
+    pub lights: Vec<(Vec3, f32, Vec3)>,
+    /// How fur is composited.
+    pub fur_blend: FurBlend,
+    /// The background.
+    pub sky: Sky,
+    /// Linear ambient light.
+    pub ambient: Vec3,
+    /// The scene's light count.
+    pub scene_lights: usize,
+    /// Materials drawn as something simpler.
+    pub notes: Vec<String>,
+}
+
+impl ScenePlan {
+    /// The camera-independent plan of `scene` in `mode`; `infos[mesh_of[i]]` is object i's
+    /// mesh.
+    pub fn new(scene: &Scene, infos: &[MeshInfo], mesh_of: &[usize], mode: Mode) -> ScenePlan {
         let output = (scene.output.width, scene.output.height);
         let (lbuffer, dsf) = match mode {
             Mode::Inferred => (Some(scene.lbuffer_size()), scene.dsf),
             Mode::Deferred => (Some(output), false),
             Mode::Forward => (None, false),
         };
-        let bounds: Vec<(Vec3, Vec3)> = meshes.iter().map(MeshData::bounds).collect();
         let mut objects = Vec::new();
-        let mut rects = Vec::new();
         let mut notes = Vec::new();
-        let mut culled_objects = 0;
         let mut fur_count = 0;
         for (i, o) in scene.objects.iter().enumerate() {
-            let model = o.transform.matrix();
-            let (lo, hi) = bounds[mesh_of[i]];
-            let (vlo, vhi) = view.view_box(model, lo, hi);
-            let Some(rect) = view.screen_rect(vlo, vhi, output) else {
-                culled_objects += 1;
-                continue;
-            };
+            let info = &infos[mesh_of[i]];
             let mut fur = None;
             let (pattern, opacity) = match o.material {
                 Material::Alpha { opacity } => (1, opacity.0),
                 Material::Opaque => (0, 1.0),
                 Material::Fur(f) => {
-                    match &meshes[mesh_of[i]].fur {
-                        Some(data) => {
+                    match &info.fur {
+                        Some((look, has_fins)) => {
                             let color = Vec3::from(o.color);
                             fur = Some(PlannedFur {
                                 shells: f
                                     .shells
-                                    .unwrap_or(data.look.shells)
+                                    .unwrap_or(look.shells)
                                     .clamp(1, crate::scene::MAX_SHELLS),
-                                fins: f.fins && !data.fins.is_empty(),
+                                fins: f.fins && *has_fins,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
-                                length: f.length.unwrap_or(data.look.length),
-                                base_color: data.look.base_color * color,
-                                tip_color: data.look.tip_color * color,
-                                uv_scale: data.look.uv_scale,
+                                length: f.length.unwrap_or(look.length),
+                                base_color: look.base_color * color,
+                                tip_color: look.tip_color * color,
+                                uv_scale: look.uv_scale,
                             });
                             fur_count += 1;
                         }
@@ -263,17 +302,80 @@ impl Plan {
                     (0, 1.0)
                 }
             };
-            rects.push(rect);
-            objects.push(PlannedObject {
+            let planned = PlannedObject {
                 scene_index: i,
                 mesh: mesh_of[i],
-                model,
+                model: o.transform.matrix(),
                 id: (i % 255) as u32 + 1,
                 pattern,
                 opacity,
                 color: Vec3::from(o.color),
-                depth: -(vlo.z + vhi.z) / 2.0,
+                depth: 0.0,
                 fur,
+            };
+            objects.push((planned, info.bounds));
+        }
+        let lights = scene
+            .lights
+            .iter()
+            .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
+            .map(|l| {
+                (
+                    Vec3::from(l.position),
+                    l.radius.0,
+                    Vec3::from(l.color) * l.intensity.0,
+                )
+            })
+            .collect();
+        ScenePlan {
+            mode,
+            output,
+            lbuffer,
+            dsf,
+            objects,
+            lights,
+            fur_blend: scene.fur_blend,
+            sky: scene.sky.clone(),
+            ambient: Vec3::from(scene.ambient),
+            scene_lights: scene.lights.len(),
+            notes,
+        }
+    }
+}
+
+impl Plan {
+    /// Plans `scene` in `mode`; `meshes[mesh_of[i]]` is object i's mesh.
+    pub fn new(
+        scene: &Scene,
+        meshes: &[MeshData],
+        mesh_of: &[usize],
+        mode: Mode,
+    ) -> Result<Plan, PlanError> {
+        let infos: Vec<MeshInfo> = meshes.iter().map(MeshInfo::of).collect();
+        Plan::with_camera(
+            &ScenePlan::new(scene, &infos, mesh_of, mode),
+            &View::of(&scene.camera, scene.output),
+        )
+    }
+
+    /// The camera-dependent half: culling, draw order, stipple patterns, light scissor
+    /// rectangles and the passes, for `scene` seen through `view`.
+    pub fn with_camera(scene: &ScenePlan, view: &View) -> Result<Plan, PlanError> {
+        let view = *view;
+        let output = scene.output;
+        let mut objects = Vec::new();
+        let mut rects = Vec::new();
+        let mut culled_objects = 0;
+        for (o, (lo, hi)) in &scene.objects {
+            let (vlo, vhi) = view.view_box(o.model, *lo, *hi);
+            let Some(rect) = view.screen_rect(vlo, vhi, output) else {
+                culled_objects += 1;
+                continue;
+            };
+            rects.push(rect);
+            objects.push(PlannedObject {
+                depth: -(vlo.z + vhi.z) / 2.0,
+                ..o.clone()
             });
         }
         // Stipple patterns for the alpha objects that show.
@@ -306,22 +408,21 @@ impl Plan {
         let mut alpha = alpha_idx;
         by_depth(&mut alpha, true);
 
-        let light_target = lbuffer.unwrap_or(output);
+        let mode = scene.mode;
+        let light_target = scene.lbuffer.unwrap_or(output);
         let lights: Vec<PlannedLight> = scene
             .lights
             .iter()
-            .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
-            .filter_map(|l| {
-                let rect = view.light_rect(l.position.into(), l.radius.0, light_target)?;
+            .filter_map(|&(position, radius, color)| {
                 Some(PlannedLight {
-                    position: l.position.into(),
-                    radius: l.radius.0,
-                    color: Vec3::from(l.color) * l.intensity.0,
-                    rect,
+                    position,
+                    radius,
+                    color,
+                    rect: view.light_rect(position, radius, light_target)?,
                 })
             })
             .collect();
-        let culled_lights = scene.lights.len() - lights.len();
+        let culled_lights = scene.scene_lights - lights.len();
         if mode == Mode::Forward && lights.len() > MAX_FORWARD_LIGHTS {
             return Err(PlanError::TooManyLights {
                 count: lights.len(),
@@ -338,9 +439,12 @@ impl Plan {
                     Pass::Obliterate,
                     Pass::Material,
                 ],
-                lbuffer,
+                scene.lbuffer,
             ),
-            _ => (vec![Pass::Geometry, Pass::Light, Pass::Material], lbuffer),
+            _ => (
+                vec![Pass::Geometry, Pass::Light, Pass::Material],
+                scene.lbuffer,
+            ),
         };
         if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit {
             passes.extend([Pass::FurAccum, Pass::Composite]);
@@ -349,7 +453,7 @@ impl Plan {
             mode,
             view,
             output,
-            dsf: dsf && lbuffer.is_some(),
+            dsf: scene.dsf && lbuffer.is_some(),
             lbuffer,
             objects,
             opaque,
@@ -359,11 +463,11 @@ impl Plan {
             sky: scene.sky.clone(),
             lights,
             passes,
-            ambient: Vec3::from(scene.ambient),
+            ambient: scene.ambient,
             culled_objects,
             culled_lights,
             crowded_alpha,
-            notes,
+            notes: scene.notes.clone(),
         })
     }
 

@@ -11,7 +11,7 @@ use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 use serde_json::Value;
 
 use crate::fur::{self, FurData};
-use crate::uniforms::{FurVertex, Vertex};
+use crate::vertex::{FurVertex, Vertex};
 
 /// Why an asset could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -52,6 +52,45 @@ impl MeshData {
             |(lo, hi), v| (lo.min(v.position.into()), hi.max(v.position.into())),
         )
     }
+}
+
+/// An object's asset that failed to load.
+#[derive(Debug, thiserror::Error)]
+#[error("objects[{object}] ({}): {source}", path.display())]
+pub struct ObjectAssetError {
+    /// Object index in the scene.
+    pub object: usize,
+    /// Its asset path.
+    pub path: PathBuf,
+    /// Why.
+    #[source]
+    pub source: AssetError,
+}
+
+/// Loads each distinct asset of `scene` once; returns the meshes and each object's index
+/// into them. Objects are tinted by their scene colour in the shader, not here.
+pub fn load_scene(
+    scene: &crate::scene::Scene,
+) -> Result<(Vec<MeshData>, Vec<usize>), ObjectAssetError> {
+    let mut paths: Vec<&Path> = Vec::new();
+    let mut meshes = Vec::new();
+    let mut of = Vec::with_capacity(scene.objects.len());
+    for (i, o) in scene.objects.iter().enumerate() {
+        match paths.iter().position(|p| *p == o.asset.as_path()) {
+            Some(k) => of.push(k),
+            None => {
+                let m = load(&o.asset).map_err(|source| ObjectAssetError {
+                    object: i,
+                    path: o.asset.clone(),
+                    source,
+                })?;
+                paths.push(&o.asset);
+                of.push(meshes.len());
+                meshes.push(m);
+            }
+        }
+    }
+    Ok((meshes, of))
 }
 
 /// The prefix of built-in shape names.

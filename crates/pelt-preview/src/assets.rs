@@ -1,0 +1,341 @@
+//! GPU assets, the longest-lived data after the pipelines: meshes (vertex and index
+//! buffers), their fur (fur vertices, fin instances, the heightfield and fin texture with
+//! every mip level) and cube-map skies, uploaded once and shared by every view and frame that
+//! draws them. The cache is keyed by content (a BLAKE3 hash of the bytes uploaded), so a
+//! re-prepared scene, a turntable or a window's every frame reuses what is on the GPU, and a
+//! reloaded file whose bytes changed uploads again. Entries no live scene holds are dropped
+//! by [`AssetCache::sweep`].
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::asset::MeshData;
+use crate::fur::{FurData, Level};
+use crate::renderer::{FIN_FORMAT, HEIGHT_FORMAT, Renderer, SKY_FORMAT};
+use crate::sky::CubeImages;
+
+/// One mesh on the GPU.
+#[derive(Debug)]
+pub struct GpuMesh {
+    /// Vertices.
+    pub vertices: wgpu::Buffer,
+    /// Triangle indices.
+    pub indices: wgpu::Buffer,
+    /// Index count.
+    pub count: u32,
+    /// Its fur, when a fur object uses it.
+    pub fur: Option<GpuFur>,
+}
+
+/// A mesh's fur on the GPU.
+#[derive(Debug)]
+pub struct GpuFur {
+    /// Fur vertices (vertex buffer 1 of the fur pipelines).
+    pub vertices: wgpu::Buffer,
+    /// Fin instances.
+    pub fins: Option<wgpu::Buffer>,
+    /// Fin count.
+    pub fin_count: u32,
+    /// Heightfield, fin texture and samplers.
+    pub textures: wgpu::BindGroup,
+}
+
+/// A cube-map sky on the GPU.
+#[derive(Debug)]
+pub struct GpuSky {
+    /// The cube map and its sampler.
+    pub group: wgpu::BindGroup,
+}
+
+type Key = [u8; 32];
+
+/// The uploaded assets.
+#[derive(Debug, Default)]
+pub struct AssetCache {
+    meshes: HashMap<Key, Arc<GpuMesh>>,
+    skies: HashMap<Key, Arc<GpuSky>>,
+}
+
+fn level_bytes<T: bytemuck::Pod>(h: &mut blake3::Hasher, levels: &[Level<T>]) {
+    for l in levels {
+        h.update(&l.width.to_le_bytes());
+        h.update(&l.height.to_le_bytes());
+        h.update(bytemuck::cast_slice(&l.texels));
+    }
+}
+
+fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
+    let mut h = blake3::Hasher::new();
+    h.update(&(m.vertices.len() as u64).to_le_bytes());
+    h.update(bytemuck::cast_slice(&m.vertices));
+    h.update(bytemuck::cast_slice(&m.indices));
+    if let Some(f) = m.fur.as_ref().filter(|_| with_fur) {
+        h.update(b"fur");
+        h.update(bytemuck::cast_slice(&f.vertices));
+        h.update(bytemuck::cast_slice(&f.fins));
+        level_bytes(&mut h, &f.heightfield);
+        level_bytes(&mut h, &f.fin);
+    }
+    *h.finalize().as_bytes()
+}
+
+impl AssetCache {
+    /// `m` on the GPU (with its fur when `with_fur`), uploaded now unless it already is.
+    pub fn mesh(&mut self, r: &Renderer, m: &MeshData, with_fur: bool) -> Arc<GpuMesh> {
+        let key = mesh_key(m, with_fur);
+        Arc::clone(self.meshes.entry(key).or_insert_with(|| {
+            Arc::new(GpuMesh {
+                fur: m.fur.as_ref().filter(|_| with_fur).map(|f| gpu_fur(r, f)),
+                vertices: r.gpu.buffer_init(
+                    "vertices",
+                    bytemuck::cast_slice(&m.vertices),
+                    wgpu::BufferUsages::VERTEX,
+                ),
+                indices: r.gpu.buffer_init(
+                    "indices",
+                    bytemuck::cast_slice(&m.indices),
+                    wgpu::BufferUsages::INDEX,
+                ),
+                count: m.indices.len() as u32,
+            })
+        }))
+    }
+
+    /// The cube map of `cube`, uploaded now unless it already is.
+    pub fn sky(&mut self, r: &Renderer, cube: &CubeImages) -> Arc<GpuSky> {
+        let mut h = blake3::Hasher::new();
+        h.update(&cube.size.to_le_bytes());
+        for f in &cube.faces {
+            h.update(f);
+        }
+        let key = *h.finalize().as_bytes();
+        Arc::clone(self.skies.entry(key).or_insert_with(|| {
+            Arc::new(GpuSky {
+                group: sky_group(r, cube),
+            })
+        }))
+    }
+
+    /// Drops the assets no scene holds any more; returns how many.
+    pub fn sweep(&mut self) -> usize {
+        let before = self.meshes.len() + self.skies.len();
+        self.meshes.retain(|_, m| Arc::strong_count(m) > 1);
+        self.skies.retain(|_, s| Arc::strong_count(s) > 1);
+        before - self.meshes.len() - self.skies.len()
+    }
+
+    /// Meshes held.
+    pub fn mesh_count(&self) -> usize {
+        self.meshes.len()
+    }
+}
+
+/// f32 to IEEE half-float bits (round to nearest even), for the heightfield texture.
+pub fn f16_bits(v: f32) -> u16 {
+    let x = v.to_bits();
+    let sign = ((x >> 16) & 0x8000) as u16;
+    let exp = ((x >> 23) & 0xff) as i32;
+    let man = x & 0x7f_ffff;
+    if exp == 0xff {
+        return sign | 0x7c00 | if man != 0 { 0x200 } else { 0 };
+    }
+    let e = exp - 127 + 15;
+    if e >= 0x1f {
+        return sign | 0x7c00;
+    }
+    if e <= 0 {
+        if e < -10 {
+            return sign;
+        }
+        let m = man | 0x80_0000;
+        let shift = (14 - e) as u32;
+        let half = 1u32 << (shift - 1);
+        let mut r = m >> shift;
+        let rest = m & ((1 << shift) - 1);
+        if rest > half || (rest == half && r & 1 == 1) {
+            r += 1;
+        }
+        return sign | r as u16;
+    }
+    let mut r = ((e as u32) << 10) | (man >> 13);
+    let rest = man & 0x1fff;
+    if rest > 0x1000 || (rest == 0x1000 && r & 1 == 1) {
+        r += 1;
+    }
+    sign | r as u16
+}
+
+fn upload_levels<T>(
+    r: &Renderer,
+    label: &str,
+    format: wgpu::TextureFormat,
+    levels: &[Level<T>],
+    texel_bytes: impl Fn(&T) -> Vec<u8>,
+) -> wgpu::TextureView {
+    let device = &r.gpu.device;
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: levels[0].width,
+            height: levels[0].height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: levels.len() as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (i, l) in levels.iter().enumerate() {
+        let bytes: Vec<u8> = l.texels.iter().flat_map(&texel_bytes).collect();
+        let bpp = bytes.len() as u32 / (l.width * l.height).max(1);
+        r.gpu.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: i as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(l.width * bpp),
+                rows_per_image: Some(l.height),
+            },
+            wgpu::Extent3d {
+                width: l.width,
+                height: l.height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+fn gpu_fur(r: &Renderer, fur: &FurData) -> GpuFur {
+    let device = &r.gpu.device;
+    let height = upload_levels(r, "heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
+        f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
+    });
+    let fin = upload_levels(r, "fin texture", FIN_FORMAT, &fur.fin, |t| t.to_vec());
+    let sampler = |v_mode| {
+        device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("fur"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: v_mode,
+            address_mode_w: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        })
+    };
+    let repeat = sampler(wgpu::AddressMode::Repeat);
+    let fin_sampler = sampler(wgpu::AddressMode::ClampToEdge);
+    let textures = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("fur textures"),
+        layout: &r.layouts.fur,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&height),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&fin),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(&repeat),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&fin_sampler),
+            },
+        ],
+    });
+    GpuFur {
+        vertices: r.gpu.buffer_init(
+            "fur vertices",
+            bytemuck::cast_slice(&fur.vertices),
+            wgpu::BufferUsages::VERTEX,
+        ),
+        fins: (!fur.fins.is_empty()).then(|| {
+            r.gpu.buffer_init(
+                "fins",
+                bytemuck::cast_slice(&fur.fins),
+                wgpu::BufferUsages::VERTEX,
+            )
+        }),
+        fin_count: fur.fins.len() as u32,
+        textures,
+    }
+}
+
+fn sky_group(r: &Renderer, cube: &CubeImages) -> wgpu::BindGroup {
+    let device = &r.gpu.device;
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sky"),
+        size: wgpu::Extent3d {
+            width: cube.size,
+            height: cube.size,
+            depth_or_array_layers: 6,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SKY_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (i, face) in cube.faces.iter().enumerate() {
+        r.gpu.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: i as u32,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            face,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(cube.size * 4),
+                rows_per_image: Some(cube.size),
+            },
+            wgpu::Extent3d {
+                width: cube.size,
+                height: cube.size,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::Cube),
+        ..Default::default()
+    });
+    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("sky"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky"),
+        layout: &r.layouts.sky,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ],
+    })
+}

@@ -1,0 +1,35 @@
+//! Stippled alpha (Kircher & Lawrance §4): each alpha object writes only its stipple pattern's
+//! pixel of every 2×2 cell of the G-buffer (patterns assigned in the plan so overlapping
+//! objects differ), and is drawn blended back to front at output resolution, lit from its own
+//! stipple samples by the DSF filter.
+
+use crate::features::{Frame, MissingInput, material, slot};
+use crate::frame_data::FRAME_OUTPUT;
+use crate::recipe::Recipe;
+use crate::renderer::Blend;
+use crate::shaders::Shader;
+
+/// The alpha objects' stippled G-buffer draws (after opaque and fur).
+pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput> {
+    if f.plan.alpha.is_empty() {
+        return Ok(());
+    }
+    r.pipeline(Shader::GBuffer, Blend::None);
+    f.draw_objects(r, "geometry", &f.plan.alpha)
+}
+
+/// The alpha objects back to front, blended over with `shader` (material or forward).
+pub fn draw<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    pass: &'static str,
+    shader: Shader,
+) -> Result<(), MissingInput> {
+    if f.plan.alpha.is_empty() {
+        return Ok(());
+    }
+    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
+    r.bind(slot::LIGHTING, material::lighting(f, shader).0, None);
+    r.pipeline(shader, Blend::Over);
+    f.draw_objects(r, pass, &f.plan.alpha)
+}

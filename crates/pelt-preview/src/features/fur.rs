@@ -1,0 +1,199 @@
+//! Revie's deferred fur (§2.3–2.4) with Lengyel's fins. In the geometry pass, pass 1 draws
+//! each fur object's base mesh with the grain normal (Listing 2.5) and pass 2 its outer
+//! shell stippled into the top-left pixel of each 2×2 cell with rim normals (Listings 2.1,
+//! 2.3). The obliteration pass (§2.4.4) writes the composition copy of the L-buffer and DSF
+//! buffer with those texels replaced, which ordinary materials read. At output resolution the
+//! base mesh is drawn opaque, then N shells in one instanced draw and the silhouette fins,
+//! lit from the L-buffer at root and tip (or per light, forward), blended over or into the
+//! OIT targets.
+
+use crate::features::{
+    Frame, MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
+};
+use crate::plan::Pass;
+use crate::recipe::{Color, Recipe, Step};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::shaders::{Lighting, Shader};
+use crate::uniforms::FinInstance;
+
+/// Bind-group slots of obliterate.wgsl.
+pub mod obliterate_slot {
+    /// The L-buffer and DSF buffer read.
+    pub const SOURCE: u32 = 0;
+    /// Which IDs are outer shells.
+    pub const SHELL_TABLE: u32 = 1;
+}
+
+const FIN_ATTRIBUTES: [wgpu::VertexAttribute; 10] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x4,
+    5 => Float32x4, 6 => Float32x3, 7 => Float32x3, 8 => Float32x2, 9 => Uint32
+];
+
+/// The fin instance buffer: one [`FinInstance`] per quad (`FinIn` in fins.wgsl).
+pub fn fin_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<FinInstance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &FIN_ATTRIBUTES,
+    }
+}
+
+/// The pipelines of the fur shaders.
+pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    let lighting = |lt| match lt {
+        Lighting::Inferred => &l.textures,
+        Lighting::Forward => &l.light_array,
+    };
+    match key.shader {
+        Shader::Obliterate => PipelineSpec {
+            groups: vec![&l.textures, &l.shell_table],
+            vertex_buffers: Vec::new(),
+            blends: vec![None, None],
+            depth: None,
+            cull: None,
+        },
+        Shader::Shells(lt) | Shader::Fins(lt) => PipelineSpec {
+            groups: vec![&l.frame, &l.object, lighting(lt), &l.fur],
+            vertex_buffers: if matches!(key.shader, Shader::Fins(_)) {
+                vec![fin_layout()]
+            } else {
+                vec![vertex_layout(), fur_vertex_layout()]
+            },
+            blends: object_blends(key.blend),
+            depth: object_depth(key.blend),
+            // Blended shells show only their outer side (the far side's shells stick out
+            // behind the silhouette, where they would blend in the wrong order).
+            cull: (matches!(key.shader, Shader::Shells(_)) && key.blend != Blend::None)
+                .then_some(wgpu::Face::Back),
+        },
+        // FurBase, FurOuter: into the G-buffer.
+        _ => PipelineSpec {
+            groups: vec![&l.frame, &l.object],
+            vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
+            blends: vec![None, None],
+            depth: Some((true, wgpu::CompareFunction::Less)),
+            cull: None,
+        },
+    }
+}
+
+/// Binds fur object `k`'s mesh, fur vertices and textures.
+fn bind_fur<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    pass: &'static str,
+    k: usize,
+) -> Result<(&'a crate::assets::GpuMesh, &'a crate::assets::GpuFur), MissingInput> {
+    let mesh = f.mesh(pass, k)?;
+    let fur = mesh.fur.as_ref().ok_or_else(|| MissingInput {
+        pass,
+        what: format!(
+            "the fur of objects[{}] on the GPU",
+            f.plan.objects[k].scene_index
+        ),
+    })?;
+    f.bind_object(r, k);
+    r.push(Step::Vertices(0, &mesh.vertices));
+    r.push(Step::Vertices(1, &fur.vertices));
+    r.push(Step::Indices(&mesh.indices));
+    Ok((mesh, fur))
+}
+
+/// Geometry pass: base meshes, then stippled outer shells (Revie §2.4.2).
+pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput> {
+    if f.plan.fur.is_empty() {
+        return Ok(());
+    }
+    for shader in [Shader::FurBase, Shader::FurOuter] {
+        r.pipeline(shader, Blend::None);
+        for &k in &f.plan.fur {
+            let (mesh, _) = bind_fur(f, r, Pass::Geometry.name(), k)?;
+            r.push(Step::DrawIndexed(0..mesh.count, 0..1));
+        }
+    }
+    Ok(())
+}
+
+/// Stipple obliteration (Revie §2.4.4): the composition copy of the L-buffer and DSF buffer,
+/// with every outer-shell texel replaced by a neighbour of its 2×2 cell.
+pub fn obliterate_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let c = f.targets.composition.as_ref().ok_or_else(|| MissingInput {
+        pass: Pass::Obliterate.name(),
+        what: "the composition copy of the L-buffer".into(),
+    })?;
+    let clear = |t: &'a crate::targets::Target| Color {
+        view: &t.view,
+        format: t.format,
+        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+    };
+    let mut r = Recipe::new(Pass::Obliterate, vec![clear(&c.light), clear(&c.dsf)], None);
+    r.pipeline(Shader::Obliterate, Blend::None);
+    r.bind(obliterate_slot::SOURCE, &f.targets.lbuffer_read, None);
+    r.bind(obliterate_slot::SHELL_TABLE, f.data.shell_table(), None);
+    r.push(Step::Draw(0..3, 0..1));
+    Ok(r)
+}
+
+/// Material pass: each fur object's base mesh, opaque (shell instance 0).
+pub fn base<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    pass: &'static str,
+    lighting: Lighting,
+) -> Result<(), MissingInput> {
+    r.pipeline(Shader::Shells(lighting), Blend::None);
+    for &k in &f.plan.fur {
+        let (mesh, fur) = bind_fur(f, r, pass, k)?;
+        r.bind(slot::FUR, &fur.textures, None);
+        r.push(Step::DrawIndexed(0..mesh.count, 0..1));
+    }
+    Ok(())
+}
+
+/// Every fur object's shells (far objects first, inner shells first) and fins, with
+/// `blend`. The frame and lighting groups must be bound.
+pub fn layers<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    pass: &'static str,
+    lighting: Lighting,
+    blend: Blend,
+) -> Result<(), MissingInput> {
+    r.pipeline(Shader::Shells(lighting), blend);
+    for &k in &f.plan.fur {
+        let n = f.plan.objects[k].fur.map_or(0, |p| p.shells);
+        let (mesh, fur) = bind_fur(f, r, pass, k)?;
+        r.bind(slot::FUR, &fur.textures, None);
+        r.push(Step::DrawIndexed(0..mesh.count, 1..n + 1));
+    }
+    let with_fins: Vec<usize> = f
+        .plan
+        .fur
+        .iter()
+        .copied()
+        .filter(|&k| f.plan.objects[k].fur.is_some_and(|p| p.fins))
+        .collect();
+    if with_fins.is_empty() {
+        return Ok(());
+    }
+    r.pipeline(Shader::Fins(lighting), blend);
+    for k in with_fins {
+        let mesh = f.mesh(pass, k)?;
+        let fur = mesh.fur.as_ref();
+        let Some((fins, fur)) = fur.and_then(|x| x.fins.as_ref().map(|b| (b, x))) else {
+            // The plan turns fins on only for assets with fin edges.
+            return Err(MissingInput {
+                pass,
+                what: format!(
+                    "the fin edges of objects[{}] on the GPU",
+                    f.plan.objects[k].scene_index
+                ),
+            });
+        };
+        f.bind_object(r, k);
+        r.bind(slot::FUR, &fur.textures, None);
+        r.push(Step::Vertices(0, fins));
+        r.push(Step::Draw(0..6, 0..fur.fin_count));
+    }
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! Opaque geometry (Kircher & Lawrance §2.1): the geometry pass at L-buffer resolution
+//! writes every object's view normal (eq. 1), its 16-bit linear depth and DSF ID (object ID
+//! and normal group, §3.1) and hardware depth. Opaque objects go first, nearest first; the fur
+//! feature adds its base mesh and stippled outer shell, the alpha feature its stippled
+//! objects.
+
+use crate::features::{Frame, MissingInput, alpha, fur, slot, vertex_layout};
+use crate::frame_data::FRAME_LBUFFER;
+use crate::plan::Pass;
+use crate::recipe::{Color, Depth, Recipe};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::shaders::Shader;
+
+/// The pipeline of the G-buffer shader.
+pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    PipelineSpec {
+        groups: vec![&l.frame, &l.object],
+        vertex_buffers: vec![vertex_layout()],
+        blends: vec![None, None],
+        depth: Some((true, wgpu::CompareFunction::Less)),
+        cull: None,
+    }
+}
+
+/// The G-buffer's colour and depth attachments, cleared: normals 0, DSF depth code 65535
+/// (no surface) and ID 0, depth 1.
+fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let g = f.targets.gbuffer.as_ref().ok_or_else(|| MissingInput {
+        pass: Pass::Geometry.name(),
+        what: "a G-buffer".into(),
+    })?;
+    let dsf_empty = wgpu::Color {
+        r: 65535.0,
+        g: 0.0,
+        b: 0.0,
+        a: 0.0,
+    };
+    Ok(Recipe::new(
+        Pass::Geometry,
+        vec![
+            Color {
+                view: &g.normals.view,
+                format: g.normals.format,
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            },
+            Color {
+                view: &g.dsf.view,
+                format: g.dsf.format,
+                load: wgpu::LoadOp::Clear(dsf_empty),
+            },
+        ],
+        Some(Depth {
+            view: &g.depth.view,
+            format: g.depth.format,
+            load: wgpu::LoadOp::Clear(1.0),
+        }),
+    ))
+}
+
+/// The geometry pass.
+pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let mut r = attachments(f)?;
+    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_LBUFFER));
+    if !f.plan.opaque.is_empty() {
+        r.pipeline(Shader::GBuffer, Blend::None);
+        f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.opaque)?;
+    }
+    fur::gbuffer(f, &mut r)?;
+    alpha::gbuffer(f, &mut r)?;
+    Ok(r)
+}

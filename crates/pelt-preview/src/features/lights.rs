@@ -1,0 +1,77 @@
+//! Lights (Kircher & Lawrance §2.2): the L-buffer starts at the ambient term; each point
+//! light adds its diffuse and specular intensity over its scissor rectangle only, reading
+//! position and normal back from the G-buffer.
+
+use crate::features::{ADD, Frame, MissingInput};
+use crate::frame_data::{FRAME_LBUFFER, FrameData};
+use crate::plan::Pass;
+use crate::recipe::{Color, Recipe, Step};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::shaders::Shader;
+
+/// Bind-group slots of light.wgsl.
+pub mod slot {
+    /// Frame constants.
+    pub const FRAME: u32 = 0;
+    /// G-buffer normals and DSF buffer.
+    pub const GBUFFER: u32 = 1;
+    /// The light.
+    pub const LIGHT: u32 = 2;
+}
+
+/// The pipeline of the light shader: additive into the L-buffer.
+pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    PipelineSpec {
+        groups: vec![&l.frame, &l.textures, &l.light],
+        vertex_buffers: Vec::new(),
+        blends: vec![Some(ADD)],
+        depth: None,
+        cull: None,
+    }
+}
+
+/// The light pass.
+pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let missing = |what: &str| MissingInput {
+        pass: Pass::Light.name(),
+        what: what.into(),
+    };
+    let g = f
+        .targets
+        .gbuffer
+        .as_ref()
+        .ok_or_else(|| missing("a G-buffer"))?;
+    let l = f
+        .targets
+        .lbuffer
+        .as_ref()
+        .ok_or_else(|| missing("an L-buffer"))?;
+    let a = f.plan.ambient.as_dvec3();
+    let mut r = Recipe::new(
+        Pass::Light,
+        vec![Color {
+            view: &l.view,
+            format: l.format,
+            load: wgpu::LoadOp::Clear(wgpu::Color {
+                r: a.x,
+                g: a.y,
+                b: a.z,
+                a: 0.0,
+            }),
+        }],
+        None,
+    );
+    r.pipeline(Shader::Light, Blend::None);
+    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_LBUFFER));
+    r.bind(slot::GBUFFER, &g.read, None);
+    for (i, light) in f.plan.lights.iter().enumerate() {
+        r.push(Step::Scissor(light.rect));
+        r.bind(
+            slot::LIGHT,
+            f.data.lights(),
+            Some(FrameData::light_offset(i)),
+        );
+        r.push(Step::Draw(0..3, 0..1));
+    }
+    Ok(r)
+}

@@ -1,0 +1,110 @@
+//! The material pass (Kircher & Lawrance §2.3, §3, §4; Revie §2.4.4) at output resolution:
+//! every surface's full material with its light inferred from the L-buffer through
+//! discontinuity sensitive filtering. It draws, in order: opaque objects front to back, each
+//! fur object's base mesh, the sky, then every fur object's shells and fins far to near
+//! (stipple blend) and the alpha objects back to front, unless the OIT composite draws them.
+//! The forward reference ([`super::forward`]) takes the same order with its own shader.
+
+use crate::features::vertex_layout;
+use crate::features::{Frame, MissingInput, alpha, fur, object_blends, object_depth, sky, slot};
+use crate::frame_data::FRAME_OUTPUT;
+use crate::plan::Pass;
+use crate::recipe::{Color, Depth, Recipe};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::scene::FurBlend;
+use crate::shaders::{Lighting, Shader};
+
+/// Background of the output (linear).
+pub const BACKGROUND: wgpu::Color = wgpu::Color {
+    r: 0.02,
+    g: 0.022,
+    b: 0.028,
+    a: 1.0,
+};
+
+/// The pipeline of the material shader.
+pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    PipelineSpec {
+        groups: vec![&l.frame, &l.object, &l.textures],
+        vertex_buffers: vec![vertex_layout()],
+        blends: object_blends(key.blend),
+        depth: object_depth(key.blend),
+        cull: None,
+    }
+}
+
+/// The shader ordinary objects are drawn with in `plan`'s mode.
+pub fn object_shader(plan: &crate::plan::Plan) -> Shader {
+    if plan.mode == crate::plan::Mode::Forward {
+        Shader::Forward
+    } else {
+        Shader::Material
+    }
+}
+
+/// How `shader`'s objects and fur are lit: (the objects' lighting group, the fur's, the
+/// fur's lighting model).
+pub fn lighting<'a>(
+    f: &Frame<'a>,
+    shader: Shader,
+) -> (&'a wgpu::BindGroup, &'a wgpu::BindGroup, Lighting) {
+    if shader == Shader::Forward {
+        let a = f.data.light_array();
+        (a, a, Lighting::Forward)
+    } else {
+        (
+            &f.targets.material_read,
+            &f.targets.lbuffer_read,
+            Lighting::Inferred,
+        )
+    }
+}
+
+/// The output attachments: colour cleared to the background, depth to 1.
+fn attachments<'a>(f: &Frame<'a>, pass: Pass) -> Recipe<'a> {
+    Recipe::new(
+        pass,
+        vec![Color {
+            view: f.output.view,
+            format: f.output.format,
+            load: wgpu::LoadOp::Clear(BACKGROUND),
+        }],
+        Some(Depth {
+            view: &f.targets.depth.view,
+            format: f.targets.depth.format,
+            load: wgpu::LoadOp::Clear(1.0),
+        }),
+    )
+}
+
+/// The material pass (or, with `Shader::Forward`, the forward pass).
+pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>, MissingInput> {
+    let mut r = attachments(f, pass);
+    let (objects_light, fur_light, fur_lighting) = lighting(f, shader);
+    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
+    r.bind(slot::LIGHTING, objects_light, None);
+    if !f.plan.opaque.is_empty() {
+        r.pipeline(shader, Blend::None);
+        f.draw_objects(&mut r, pass.name(), &f.plan.opaque)?;
+    }
+    let has_fur = !f.plan.fur.is_empty();
+    if has_fur {
+        r.bind(slot::LIGHTING, fur_light, None);
+        fur::base(f, &mut r, pass.name(), fur_lighting)?;
+    }
+    sky::draw(f, &mut r, pass.name())?;
+    let wboit = has_fur && f.plan.fur_blend == FurBlend::Wboit;
+    if has_fur && !wboit {
+        r.bind(slot::LIGHTING, fur_light, None);
+        fur::layers(f, &mut r, pass.name(), fur_lighting, Blend::Over)?;
+    }
+    if !wboit {
+        alpha::draw(f, &mut r, pass.name(), shader)?;
+    }
+    Ok(r)
+}
+
+/// The material pass.
+pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    shade(f, Pass::Material, Shader::Material)
+}

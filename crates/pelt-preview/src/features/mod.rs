@@ -1,0 +1,202 @@
+//! One module per feature of the renderer. Each owns its shaders' pipeline layouts
+//! ([`spec`] dispatches to them) and builds its passes, or its part of shared passes, as
+//! [`Recipe`]s from a frame's inputs:
+//!
+//! - [`geometry`]: opaque geometry into the G-buffer (Kircher & Lawrance §2.1);
+//! - [`lights`]: scissored point lights into the L-buffer (§2.2);
+//! - [`material`]: the material pass with DSF (§2.3, §3), which draws what the other features
+//!   put at output resolution;
+//! - [`alpha`]: stippled alpha (§4);
+//! - [`fur`]: Revie's deferred fur: base and outer shell in the G-buffer, stipple
+//!   obliteration, shells and fins;
+//! - [`wboit`]: weighted blended OIT accumulation and composite (McGuire & Bavoil);
+//! - [`sky`]: procedural and cube-map skies;
+//! - [`forward`]: the forward reference.
+//!
+//! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
+//! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
+
+pub mod alpha;
+pub mod forward;
+pub mod fur;
+pub mod geometry;
+pub mod lights;
+pub mod material;
+pub mod sky;
+pub mod wboit;
+
+use std::sync::Arc;
+
+use crate::assets::{GpuMesh, GpuSky};
+use crate::frame_data::FrameData;
+use crate::plan::Plan;
+use crate::recipe::{Recipe, Step};
+use crate::renderer::{Layouts, PipelineKey, PipelineSpec};
+use crate::shaders::Shader;
+use crate::targets::ViewTargets;
+use crate::uniforms::{FurVertex, Vertex};
+
+/// Bind-group slots of the passes that draw objects (G-buffer, material, forward, shells,
+/// fins). Keep in sync with the `@group` numbers of those shaders (checked by the
+/// shader-validation test).
+pub mod slot {
+    /// Frame constants.
+    pub const FRAME: u32 = 0;
+    /// One object's constants.
+    pub const OBJECT: u32 = 1;
+    /// How the object is lit: the L-buffer and DSF buffer, or the forward light array.
+    pub const LIGHTING: u32 = 2;
+    /// The fur's heightfield and fin texture.
+    pub const FUR: u32 = 3;
+}
+
+/// A planned pass lacks something it needs.
+#[derive(Debug, thiserror::Error)]
+#[error("the {pass} pass needs {what}, which this frame does not have")]
+pub struct MissingInput {
+    /// The pass.
+    pub pass: &'static str,
+    /// What is missing.
+    pub what: String,
+}
+
+/// The output colour a frame renders into.
+#[derive(Debug, Clone, Copy)]
+pub struct Output<'a> {
+    /// The view (a window's surface texture, or the view's own colour target).
+    pub view: &'a wgpu::TextureView,
+    /// Its format.
+    pub format: wgpu::TextureFormat,
+}
+
+/// Everything one frame of one view draws from.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<'a> {
+    /// The CPU decisions.
+    pub plan: &'a Plan,
+    /// The meshes, by the plan's mesh index (None: not uploaded, no object uses it).
+    pub meshes: &'a [Option<Arc<GpuMesh>>],
+    /// The cube-map sky, when the scene has one.
+    pub sky: Option<&'a GpuSky>,
+    /// The view's targets.
+    pub targets: &'a ViewTargets,
+    /// The frame's uniforms.
+    pub data: &'a FrameData,
+    /// Where the image goes.
+    pub output: Output<'a>,
+}
+
+impl<'a> Frame<'a> {
+    /// Object `k`'s mesh.
+    pub fn mesh(&self, pass: &'static str, k: usize) -> Result<&'a GpuMesh, MissingInput> {
+        let o = &self.plan.objects[k];
+        self.meshes
+            .get(o.mesh)
+            .and_then(|m| m.as_deref())
+            .ok_or_else(|| MissingInput {
+                pass,
+                what: format!("the mesh of objects[{}] on the GPU", o.scene_index),
+            })
+    }
+
+    /// Binds object `k`'s uniforms.
+    pub fn bind_object(&self, recipe: &mut Recipe<'a>, k: usize) {
+        recipe.bind(
+            slot::OBJECT,
+            self.data.objects(),
+            Some(FrameData::object_offset(k)),
+        );
+    }
+
+    /// Draws each object of `order` with the current pipeline (its mesh alone).
+    pub fn draw_objects(
+        &self,
+        recipe: &mut Recipe<'a>,
+        pass: &'static str,
+        order: &[usize],
+    ) -> Result<(), MissingInput> {
+        for &k in order {
+            let mesh = self.mesh(pass, k)?;
+            self.bind_object(recipe, k);
+            recipe.push(Step::Vertices(0, &mesh.vertices));
+            recipe.push(Step::Indices(&mesh.indices));
+            recipe.push(Step::DrawIndexed(0..mesh.count, 0..1));
+        }
+        Ok(())
+    }
+}
+
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32
+];
+const FUR_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![
+    4 => Float32x4, 5 => Float32x2, 6 => Float32x4
+];
+
+/// Vertex buffer 0 of the object passes: [`Vertex`] (`VertexIn` in common.wgsl).
+pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    }
+}
+
+/// Vertex buffer 1 of the fur passes: [`FurVertex`] (`FurIn` in fur_common.wgsl).
+pub fn fur_vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<FurVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &FUR_ATTRIBUTES,
+    }
+}
+
+/// Additive blending (light accumulation, OIT sums).
+pub const ADD: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// How the feature that owns `key.shader` lays out its pipeline.
+pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    match key.shader {
+        Shader::GBuffer => geometry::spec(key, l),
+        Shader::Light => lights::spec(key, l),
+        Shader::Material => material::spec(key, l),
+        Shader::Forward => forward::spec(key, l),
+        Shader::FurBase | Shader::FurOuter | Shader::Obliterate | Shader::Shells(_) => {
+            fur::spec(key, l)
+        }
+        Shader::Fins(_) => fur::spec(key, l),
+        Shader::Composite => wboit::spec(key, l),
+        Shader::SkyProcedural | Shader::SkyCube => sky::spec(key, l),
+    }
+}
+
+/// Colour blend of an object shader drawn with `blend` into one target (`None`: replace;
+/// `Over`: straight alpha; `Wboit`: accumulation and revealage).
+pub fn object_blends(blend: crate::renderer::Blend) -> Vec<Option<wgpu::BlendState>> {
+    use crate::renderer::Blend;
+    match blend {
+        Blend::None => vec![None],
+        Blend::Over => vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
+        Blend::Wboit => wboit::blends(),
+    }
+}
+
+/// Depth state of an object shader drawn with `blend`: opaque writes and tests "less",
+/// blended layers test "less or equal" without writing.
+pub fn object_depth(blend: crate::renderer::Blend) -> Option<(bool, wgpu::CompareFunction)> {
+    match blend {
+        crate::renderer::Blend::None => Some((true, wgpu::CompareFunction::Less)),
+        _ => Some((false, wgpu::CompareFunction::LessEqual)),
+    }
+}

@@ -1,0 +1,112 @@
+//! Weighted blended order-independent transparency (McGuire & Bavoil 2013, eq. 7 with view
+//! depth; Frantzen's steps 2 and 3) for fur: shells and fins accumulate Σ colour·α·w and
+//! Σ α·w additively and the revealage Π (1 − α) multiplicatively, depth-tested against the
+//! image's opaque depth without writing it; the composite divides and blends the result over
+//! the image, then draws the alpha objects.
+
+use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
+use crate::frame_data::FRAME_OUTPUT;
+use crate::plan::Pass;
+use crate::recipe::{Color, Depth, Recipe, Step};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::shaders::Shader;
+
+/// Bind-group slots of composite.wgsl.
+pub mod slot_composite {
+    /// Accumulation and revealage.
+    pub const OIT: u32 = 0;
+}
+
+/// Blends of the two OIT targets: additive accumulation, revealage dst × (1 − src).
+pub fn blends() -> Vec<Option<wgpu::BlendState>> {
+    let reveal = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::OneMinusSrc,
+        operation: wgpu::BlendOperation::Add,
+    };
+    vec![
+        Some(super::ADD),
+        Some(wgpu::BlendState {
+            color: reveal,
+            alpha: reveal,
+        }),
+    ]
+}
+
+/// The pipeline of the composite shader.
+pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    PipelineSpec {
+        groups: vec![&l.oit],
+        vertex_buffers: Vec::new(),
+        blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
+        depth: Some((false, wgpu::CompareFunction::Always)),
+        cull: None,
+    }
+}
+
+fn missing(pass: Pass) -> MissingInput {
+    MissingInput {
+        pass: pass.name(),
+        what: "the OIT targets".into(),
+    }
+}
+
+fn keep_depth<'a>(f: &Frame<'a>) -> Option<Depth<'a>> {
+    Some(Depth {
+        view: &f.targets.depth.view,
+        format: f.targets.depth.format,
+        load: wgpu::LoadOp::Load,
+    })
+}
+
+/// Fur shells and fins into the OIT targets.
+pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let oit = f
+        .targets
+        .oit
+        .as_ref()
+        .ok_or_else(|| missing(Pass::FurAccum))?;
+    let target = |t: &'a crate::targets::Target, clear| Color {
+        view: &t.view,
+        format: t.format,
+        load: wgpu::LoadOp::Clear(clear),
+    };
+    let mut r = Recipe::new(
+        Pass::FurAccum,
+        vec![
+            target(&oit.accum, wgpu::Color::TRANSPARENT),
+            target(&oit.reveal, wgpu::Color::WHITE),
+        ],
+        keep_depth(f),
+    );
+    let shader = material::object_shader(f.plan);
+    let (_, fur_light, lighting) = material::lighting(f, shader);
+    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
+    r.bind(slot::LIGHTING, fur_light, None);
+    fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
+    Ok(r)
+}
+
+/// Resolves the OIT accumulation over the image, then draws the alpha objects.
+pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let oit = f
+        .targets
+        .oit
+        .as_ref()
+        .ok_or_else(|| missing(Pass::Composite))?;
+    let mut r = Recipe::new(
+        Pass::Composite,
+        vec![Color {
+            view: f.output.view,
+            format: f.output.format,
+            load: wgpu::LoadOp::Load,
+        }],
+        keep_depth(f),
+    );
+    r.pipeline(Shader::Composite, Blend::Over);
+    r.bind(slot_composite::OIT, &oit.read, None);
+    r.push(Step::Draw(0..3, 0..1));
+    let shader = material::object_shader(f.plan);
+    alpha::draw(f, &mut r, Pass::Composite.name(), shader)?;
+    Ok(r)
+}

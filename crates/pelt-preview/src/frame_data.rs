@@ -1,0 +1,314 @@
+//! Per-frame state: the uniforms a frame's camera, lights and knobs decide (frame constants
+//! per view and resolution, one slot per object and per light, the forward light array, the
+//! obliteration's shell table), in buffers made once and written with `queue.write_buffer`.
+//! Only bytes that changed since the last frame are written, so a still camera uploads
+//! nothing and an orbit uploads a few hundred bytes; a buffer grows (and its bind group is
+//! made again) only when a scene has more objects or lights than it holds.
+
+use glam::{Mat4, Vec3, Vec4Swizzles};
+
+use crate::plan::{Plan, PlannedLight};
+use crate::renderer::{Renderer, SHELL_TABLE_BYTES};
+use crate::uniforms::{
+    FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms, UNIFORM_STRIDE,
+};
+
+/// Specular strength of every material (no per-asset specular yet).
+pub const SPECULAR_STRENGTH: f32 = 0.25;
+/// Blinn-Phong exponent for every light.
+pub const SPECULAR_POWER: f32 = 32.0;
+/// DSF depth threshold floor, in 16-bit depth quantisation steps.
+pub const DEPTH_THRESHOLD_STEPS: u32 = 3;
+/// Rim bend strength of the outer shell's normals (Revie Listing 2.3, `glowStrength`).
+pub const RIM_STRENGTH: f32 = 0.8;
+/// Rim falloff (Listing 2.3, `glowFalloff`).
+pub const RIM_FALLOFF: f32 = 2.0;
+/// Width (in normalized shell depth) over which a strand fades out below its height.
+pub const STRAND_FADE: f32 = 0.15;
+/// Fin layers assumed to overlap a pixel on top of the shells, for the OIT weight bound.
+pub const FIN_LAYERS: u32 = 8;
+
+/// Frame uniform slot of the L-buffer-resolution passes of view 0.
+pub const FRAME_LBUFFER: u32 = 0;
+/// Frame uniform slot of the output-resolution passes of view 0.
+pub const FRAME_OUTPUT: u32 = UNIFORM_STRIDE as u32;
+
+/// The factor on every WBOIT weight: 1 with a 32-bit float accumulation; with a 16-bit one,
+/// small enough that `layers` layers at the largest weight (3e3, McGuire & Bavoil eq. 7) sum
+/// below 60 000 (f16 saturates at 65 504). A common factor cancels in the weighted average,
+/// so only the 1e-2 floor's place in f16's range moves.
+pub fn wboit_scale(accum: wgpu::TextureFormat, layers: u32) -> f32 {
+    if accum == wgpu::TextureFormat::Rgba32Float {
+        1.0
+    } else {
+        (60_000.0 / (3e3 * layers.max(1) as f32)).min(1.0)
+    }
+}
+
+/// One uniform buffer, its bind group and the bytes last written to it.
+#[derive(Debug)]
+struct Uniform {
+    label: &'static str,
+    buffer: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    layout: wgpu::BindGroupLayout,
+    /// Bytes of one binding (the element the shader sees).
+    binding: u64,
+    written: Vec<u8>,
+}
+
+impl Uniform {
+    fn new(
+        r: &Renderer,
+        label: &'static str,
+        layout: &wgpu::BindGroupLayout,
+        binding: u64,
+        capacity: u64,
+    ) -> Uniform {
+        let buffer = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: capacity.max(binding),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(binding),
+                }),
+            }],
+        });
+        Uniform {
+            label,
+            buffer,
+            group,
+            layout: layout.clone(),
+            binding,
+            written: Vec::new(),
+        }
+    }
+
+    /// Writes `bytes`, growing the buffer first if they do not fit, and only the 256-byte
+    /// blocks that differ from what the buffer holds.
+    fn write(&mut self, r: &Renderer, bytes: &[u8]) {
+        if bytes.len() as u64 > self.buffer.size() {
+            let grown = (bytes.len() as u64).next_power_of_two();
+            *self = Uniform::new(r, self.label, &self.layout, self.binding, grown);
+        }
+        let block = UNIFORM_STRIDE as usize;
+        let mut at = 0;
+        while at < bytes.len() {
+            let end = (at + block).min(bytes.len());
+            if self.written.get(at..end) != Some(&bytes[at..end]) {
+                // Runs of changed blocks go in one write.
+                let mut stop = end;
+                while stop < bytes.len() {
+                    let next = (stop + block).min(bytes.len());
+                    if self.written.get(stop..next) == Some(&bytes[stop..next]) {
+                        break;
+                    }
+                    stop = next;
+                }
+                r.gpu
+                    .write_buffer(&self.buffer, at as u64, &bytes[at..stop]);
+                at = stop;
+            } else {
+                at = end;
+            }
+        }
+        self.written.clear();
+        self.written.extend_from_slice(bytes);
+    }
+}
+
+/// The uniforms of one frame.
+#[derive(Debug)]
+pub struct FrameData {
+    frame: Uniform,
+    objects: Uniform,
+    lights: Uniform,
+    light_array: Uniform,
+    shell_table: Uniform,
+}
+
+/// `items` laid out one per [`UNIFORM_STRIDE`] bytes.
+fn strided<T: bytemuck::Pod>(items: &[T]) -> Vec<u8> {
+    let mut bytes = vec![0u8; items.len().max(1) * UNIFORM_STRIDE as usize];
+    for (i, it) in items.iter().enumerate() {
+        let b = bytemuck::bytes_of(it);
+        let at = i * UNIFORM_STRIDE as usize;
+        bytes[at..at + b.len()].copy_from_slice(b);
+    }
+    bytes
+}
+
+fn frame_uniforms(plan: &Plan, target: (u32, u32), lbuffer: (u32, u32)) -> FrameUniforms {
+    let v = &plan.view;
+    let size = |s: (u32, u32)| [s.0 as f32, s.1 as f32, 1.0 / s.0 as f32, 1.0 / s.1 as f32];
+    FrameUniforms {
+        view: v.view.to_cols_array_2d(),
+        proj: v.proj.to_cols_array_2d(),
+        ambient: plan.ambient.extend(SPECULAR_POWER).into(),
+        target_size: size(target),
+        lbuffer_size: size(lbuffer),
+        proj_params: [v.tan_half[0], v.tan_half[1], v.near, v.far],
+        flags: [
+            u32::from(plan.dsf),
+            plan.lights.len().min(MAX_FORWARD_LIGHTS) as u32,
+            DEPTH_THRESHOLD_STEPS,
+            u32::from(plan.lbuffer.is_some()),
+        ],
+    }
+}
+
+fn light_uniforms(view: Mat4, l: &PlannedLight) -> LightUniforms {
+    let p = (view * l.position.extend(1.0)).xyz();
+    let lum = l.color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    LightUniforms {
+        position_radius: p.extend(l.radius).into(),
+        color: l.color.extend(lum).into(),
+    }
+}
+
+fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
+    plan.objects
+        .iter()
+        .map(|o| {
+            let f = o.fur;
+            ObjectUniforms {
+                model: o.model.to_cols_array_2d(),
+                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
+                tint: o.color.extend(1.0).into(),
+                params: [o.opacity, SPECULAR_STRENGTH, 0.0, 0.0],
+                fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
+                fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
+                fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],
+                ids: [
+                    o.id,
+                    o.pattern,
+                    f.map_or(0, |f| f.shell_id),
+                    f.map_or(0, |f| f.shells),
+                ],
+            }
+        })
+        .collect()
+}
+
+impl FrameData {
+    /// Empty buffers for a frame of a few objects and lights (they grow when needed).
+    pub fn new(r: &Renderer) -> FrameData {
+        let l = &r.layouts;
+        let slot = |n: u64| n * UNIFORM_STRIDE;
+        let light_array = (MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()) as u64;
+        FrameData {
+            frame: Uniform::new(
+                r,
+                "frame",
+                &l.frame,
+                size_of::<FrameUniforms>() as u64,
+                slot(2),
+            ),
+            objects: Uniform::new(
+                r,
+                "objects",
+                &l.object,
+                size_of::<ObjectUniforms>() as u64,
+                slot(8),
+            ),
+            lights: Uniform::new(
+                r,
+                "lights",
+                &l.light,
+                size_of::<LightUniforms>() as u64,
+                slot(8),
+            ),
+            light_array: Uniform::new(r, "light array", &l.light_array, light_array, light_array),
+            shell_table: Uniform::new(
+                r,
+                "shell table",
+                &l.shell_table,
+                SHELL_TABLE_BYTES,
+                SHELL_TABLE_BYTES,
+            ),
+        }
+    }
+
+    /// Writes what `plan` decided (camera, objects, lights, knobs).
+    pub fn write(&mut self, r: &Renderer, plan: &Plan) {
+        let lsize = plan.lbuffer.unwrap_or((1, 1));
+        self.frame.write(
+            r,
+            &strided(&[
+                frame_uniforms(plan, lsize, lsize),
+                frame_uniforms(plan, plan.output, lsize),
+            ]),
+        );
+        let layers: u32 = plan
+            .objects
+            .iter()
+            .filter_map(|o| o.fur)
+            .map(|f| f.shells + FIN_LAYERS)
+            .sum();
+        let oit_scale = wboit_scale(r.gpu.accum_format, layers);
+        self.objects
+            .write(r, &strided(&object_uniforms(plan, oit_scale)));
+        let lights: Vec<LightUniforms> = plan
+            .lights
+            .iter()
+            .map(|x| light_uniforms(plan.view.view, x))
+            .collect();
+        self.lights.write(r, &strided(&lights));
+        let mut array = vec![<LightUniforms as bytemuck::Zeroable>::zeroed(); MAX_FORWARD_LIGHTS];
+        for (a, x) in array.iter_mut().zip(&lights) {
+            *a = *x;
+        }
+        self.light_array.write(r, bytemuck::cast_slice(&array));
+        let mut table = [0u32; 256];
+        for o in &plan.objects {
+            if let Some(f) = o.fur {
+                table[(f.shell_id & 255) as usize] = o.id;
+            }
+        }
+        self.shell_table.write(r, bytemuck::cast_slice(&table));
+    }
+
+    /// Frame constants (dynamic offset [`FRAME_LBUFFER`] or [`FRAME_OUTPUT`]).
+    pub fn frame(&self) -> &wgpu::BindGroup {
+        &self.frame.group
+    }
+
+    /// Object uniforms (dynamic offset [`FrameData::object_offset`]).
+    pub fn objects(&self) -> &wgpu::BindGroup {
+        &self.objects.group
+    }
+
+    /// One light per slot (light pass).
+    pub fn lights(&self) -> &wgpu::BindGroup {
+        &self.lights.group
+    }
+
+    /// Every light (forward).
+    pub fn light_array(&self) -> &wgpu::BindGroup {
+        &self.light_array.group
+    }
+
+    /// Which IDs are outer shells.
+    pub fn shell_table(&self) -> &wgpu::BindGroup {
+        &self.shell_table.group
+    }
+
+    /// Dynamic offset of object `k`'s uniforms.
+    pub fn object_offset(k: usize) -> u32 {
+        (k as u64 * UNIFORM_STRIDE) as u32
+    }
+
+    /// Dynamic offset of light `i`'s uniforms.
+    pub fn light_offset(i: usize) -> u32 {
+        (i as u64 * UNIFORM_STRIDE) as u32
+    }
+}

@@ -1,0 +1,182 @@
+//! A pass as data before it is encoded (kajiya's passes as functions from inputs to outputs;
+//! re_renderer's per-frame draw data): its attachments, with their formats, and the steps it
+//! takes (pipeline, bind groups by named slot, buffers, scissor, draws). Feature modules build
+//! recipes; the frame compiles every pipeline the recipes name, then encodes them. A pipeline
+//! is asked for by shader and blend only: its key takes the formats from the recipe's own
+//! attachments, so what is prepared is exactly what is drawn.
+
+use std::ops::Range;
+
+use crate::plan::Pass;
+use crate::renderer::{Blend, MAX_COLOR_TARGETS, PipelineError, PipelineKey, Renderer};
+use crate::shaders::Shader;
+
+/// A colour attachment.
+#[derive(Debug, Clone, Copy)]
+pub struct Color<'a> {
+    /// The view written.
+    pub view: &'a wgpu::TextureView,
+    /// Its format (goes into the pipeline keys).
+    pub format: wgpu::TextureFormat,
+    /// Clear or keep.
+    pub load: wgpu::LoadOp<wgpu::Color>,
+}
+
+/// A depth attachment.
+#[derive(Debug, Clone, Copy)]
+pub struct Depth<'a> {
+    /// The view.
+    pub view: &'a wgpu::TextureView,
+    /// Its format.
+    pub format: wgpu::TextureFormat,
+    /// Clear or keep.
+    pub load: wgpu::LoadOp<f32>,
+}
+
+/// One thing a pass does.
+#[derive(Debug, Clone)]
+pub enum Step<'a> {
+    /// Switch pipeline.
+    Pipeline(PipelineKey),
+    /// Bind a group at a slot, with its dynamic offset if it has one.
+    Bind {
+        /// The slot (a named constant of the feature).
+        slot: u32,
+        /// The group.
+        group: &'a wgpu::BindGroup,
+        /// Its dynamic offset.
+        offset: Option<u32>,
+    },
+    /// A vertex buffer at a slot.
+    Vertices(u32, &'a wgpu::Buffer),
+    /// The index buffer (u32 indices).
+    Indices(&'a wgpu::Buffer),
+    /// Scissor rectangle `[x0, y0, x1, y1)`.
+    Scissor([u32; 4]),
+    /// Non-indexed draw.
+    Draw(Range<u32>, Range<u32>),
+    /// Indexed draw.
+    DrawIndexed(Range<u32>, Range<u32>),
+}
+
+/// A pass before encoding.
+#[derive(Debug)]
+pub struct Recipe<'a> {
+    /// Which pass (label and timing name).
+    pub pass: Pass,
+    colors: Vec<Color<'a>>,
+    depth: Option<Depth<'a>>,
+    steps: Vec<Step<'a>>,
+}
+
+impl<'a> Recipe<'a> {
+    /// An empty pass writing `colors` and `depth`.
+    pub fn new(pass: Pass, colors: Vec<Color<'a>>, depth: Option<Depth<'a>>) -> Recipe<'a> {
+        debug_assert!(colors.len() <= MAX_COLOR_TARGETS);
+        Recipe {
+            pass,
+            colors,
+            depth,
+            steps: Vec::new(),
+        }
+    }
+
+    /// The key of `shader` with `blend` drawn into this pass's attachments.
+    pub fn key(&self, shader: Shader, blend: Blend) -> PipelineKey {
+        let mut colors = [None; MAX_COLOR_TARGETS];
+        for (c, a) in colors.iter_mut().zip(&self.colors) {
+            *c = Some(a.format);
+        }
+        PipelineKey {
+            shader,
+            blend,
+            colors,
+            depth: self.depth.map(|d| d.format),
+        }
+    }
+
+    /// Switches to `shader` with `blend`.
+    pub fn pipeline(&mut self, shader: Shader, blend: Blend) {
+        let key = self.key(shader, blend);
+        self.steps.push(Step::Pipeline(key));
+    }
+
+    /// Binds `group` at `slot`.
+    pub fn bind(&mut self, slot: u32, group: &'a wgpu::BindGroup, offset: Option<u32>) {
+        self.steps.push(Step::Bind {
+            slot,
+            group,
+            offset,
+        });
+    }
+
+    /// Any other step.
+    pub fn push(&mut self, step: Step<'a>) {
+        self.steps.push(step);
+    }
+
+    /// Every pipeline key the pass uses.
+    pub fn keys(&self) -> impl Iterator<Item = &PipelineKey> {
+        self.steps.iter().filter_map(|s| match s {
+            Step::Pipeline(k) => Some(k),
+            _ => None,
+        })
+    }
+
+    /// Encodes the pass (its pipelines must be prepared).
+    pub fn encode(
+        &self,
+        r: &Renderer,
+        enc: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> Result<(), PipelineError> {
+        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = self
+            .colors
+            .iter()
+            .map(|c| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: c.view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: c.load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(self.pass.name()),
+            color_attachments: &colors,
+            depth_stencil_attachment: self.depth.map(|d| wgpu::RenderPassDepthStencilAttachment {
+                view: d.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: d.load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for s in &self.steps {
+            match s {
+                Step::Pipeline(k) => pass.set_pipeline(&r.pipeline(k)?),
+                Step::Bind {
+                    slot,
+                    group,
+                    offset,
+                } => pass.set_bind_group(*slot, *group, offset.as_slice()),
+                Step::Vertices(slot, b) => pass.set_vertex_buffer(*slot, b.slice(..)),
+                Step::Indices(b) => pass.set_index_buffer(b.slice(..), wgpu::IndexFormat::Uint32),
+                Step::Scissor([x0, y0, x1, y1]) => {
+                    pass.set_scissor_rect(*x0, *y0, x1 - x0, y1 - y0)
+                }
+                Step::Draw(v, i) => pass.draw(v.clone(), i.clone()),
+                Step::DrawIndexed(v, i) => pass.draw_indexed(v.clone(), 0, i.clone()),
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,90 @@
+//! A scene on the GPU seen through one view: the three lifetimes of the renderer side by
+//! side. The scene's meshes, fur and sky are shared GPU assets ([`crate::assets`], uploaded
+//! once); the view's targets are its own ([`crate::targets`], made again when its size,
+//! format or L-buffer scale changes); the frame's uniforms are written each frame
+//! ([`crate::frame_data`]). The plan is split the same way: the [`ScenePlan`] changes with the
+//! scene and its knobs, the [`Plan`] with the camera.
+
+use std::sync::Arc;
+
+use crate::assets::{GpuMesh, GpuSky};
+use crate::features::{Frame, MissingInput, Output};
+use crate::frame_data::FrameData;
+use crate::plan::{MeshInfo, Mode, Plan, ScenePlan};
+use crate::scene::{Camera, Scene};
+use crate::targets::{TargetSpec, ViewTargets};
+use crate::view::View;
+
+/// One scene, one view.
+#[derive(Debug)]
+pub struct SceneView {
+    /// What each loaded mesh contributes to a plan.
+    pub infos: Vec<MeshInfo>,
+    /// Each scene object's mesh index.
+    pub mesh_of: Vec<usize>,
+    /// The camera-independent plan.
+    pub scene_plan: ScenePlan,
+    /// The current frame's plan.
+    pub plan: Plan,
+    /// The meshes on the GPU, by mesh index (None: no object draws it).
+    pub meshes: Vec<Option<Arc<GpuMesh>>>,
+    /// The cube-map sky on the GPU.
+    pub sky: Option<Arc<GpuSky>>,
+    /// The view's targets.
+    pub targets: ViewTargets,
+    /// The frame's uniforms.
+    pub data: FrameData,
+}
+
+impl SceneView {
+    /// The frame, drawn into `output`.
+    pub fn frame<'a>(&'a self, output: Output<'a>) -> Frame<'a> {
+        Frame {
+            plan: &self.plan,
+            meshes: &self.meshes,
+            sky: self.sky.as_deref(),
+            targets: &self.targets,
+            data: &self.data,
+            output,
+        }
+    }
+
+    /// The frame, drawn into the view's own colour target.
+    pub fn own_frame(&self) -> Result<Frame<'_>, MissingInput> {
+        let color = self.targets.color.as_ref().ok_or_else(|| MissingInput {
+            pass: "output",
+            what: "a colour target of the view's own (this view draws into a window)".into(),
+        })?;
+        Ok(self.frame(Output {
+            view: &color.view,
+            format: color.format,
+        }))
+    }
+
+    /// The target spec the current plan needs.
+    pub fn spec(&self) -> TargetSpec {
+        TargetSpec::of(
+            &self.plan,
+            self.targets.spec.color_format,
+            self.targets.spec.own_color,
+        )
+    }
+
+    /// A new scene plan for `scene` and `mode` (knobs changed), keeping the assets.
+    pub fn replan(&mut self, scene: &Scene, mode: Mode) -> Result<(), crate::PlanError> {
+        self.scene_plan = ScenePlan::new(scene, &self.infos, &self.mesh_of, mode);
+        self.plan = Plan::with_camera(&self.scene_plan, &View::new(scene))?;
+        Ok(())
+    }
+
+    /// The current scene plan seen from `camera`.
+    pub fn look(&mut self, camera: &Camera) -> Result<(), crate::PlanError> {
+        let (w, h) = self.scene_plan.output;
+        let size = crate::scene::Size {
+            width: w,
+            height: h,
+        };
+        self.plan = Plan::with_camera(&self.scene_plan, &View::of(camera, size))?;
+        Ok(())
+    }
+}

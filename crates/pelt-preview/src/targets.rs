@@ -1,0 +1,231 @@
+//! Per-view state (re_renderer's view targets): the render targets of one view, sized to it
+//! and made for its output format (a window surface's or the PNG's), and the bind groups that
+//! read them: the G-buffer and L-buffer at L-buffer resolution (Kircher & Lawrance §2.1–2.2),
+//! the obliterated composition copy (Revie §2.4.4), the OIT accumulation (McGuire & Bavoil),
+//! the output's depth and, for PNGs, the output colour. Made from a [`TargetSpec`] the plan
+//! derives; a view whose spec changes (resize, L-buffer scale, a pass turned on) gets new
+//! targets, and nothing else does.
+
+use crate::plan::{Pass, Plan};
+use crate::renderer::{DEPTH_FORMAT, DSF_FORMAT, LBUFFER_FORMAT, REVEAL_FORMAT, Renderer};
+
+/// What a view's targets depend on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TargetSpec {
+    /// Output size.
+    pub output: (u32, u32),
+    /// G-buffer and L-buffer size, when the frame has them.
+    pub lbuffer: Option<(u32, u32)>,
+    /// The output colour format.
+    pub color_format: wgpu::TextureFormat,
+    /// The view renders into a colour texture of its own (PNG output) rather than into one
+    /// the caller gives each frame (a window's surface).
+    pub own_color: bool,
+    /// The obliteration pass's composition copy is needed (fur with an L-buffer).
+    pub composition: bool,
+    /// The OIT targets are needed.
+    pub oit: bool,
+}
+
+impl TargetSpec {
+    /// The targets `plan` needs, with output colour in `color_format`.
+    pub fn of(plan: &Plan, color_format: wgpu::TextureFormat, own_color: bool) -> TargetSpec {
+        TargetSpec {
+            output: plan.output,
+            lbuffer: plan.lbuffer,
+            color_format,
+            own_color,
+            composition: plan.lbuffer.is_some() && plan.passes.contains(&Pass::Obliterate),
+            oit: plan.passes.contains(&Pass::FurAccum),
+        }
+    }
+}
+
+/// A texture and its default view.
+#[derive(Debug)]
+pub struct Target {
+    /// The texture.
+    pub texture: wgpu::Texture,
+    /// Its view.
+    pub view: wgpu::TextureView,
+    /// Its format.
+    pub format: wgpu::TextureFormat,
+}
+
+impl Target {
+    /// A 2D render target of `size` in `format` that passes can also read and copy from.
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Target {
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        Target {
+            texture,
+            view,
+            format,
+        }
+    }
+}
+
+/// The geometry pass's outputs (Kircher & Lawrance §2.1).
+#[derive(Debug)]
+pub struct GBuffer {
+    /// View normals, X/Y after eq. 1.
+    pub normals: Target,
+    /// Linear depth code and DSF ID.
+    pub dsf: Target,
+    /// Hardware depth.
+    pub depth: Target,
+    /// Normals and DSF, for the light pass.
+    pub read: wgpu::BindGroup,
+}
+
+/// The obliteration pass's output: the L-buffer and DSF buffer with the outer-shell stipple
+/// texels replaced (Revie §2.4.4).
+#[derive(Debug)]
+pub struct Composition {
+    /// Light.
+    pub light: Target,
+    /// Depth code and ID.
+    pub dsf: Target,
+}
+
+/// Weighted blended OIT targets.
+#[derive(Debug)]
+pub struct Oit {
+    /// Σ colour·α·w, Σ α·w.
+    pub accum: Target,
+    /// Π (1 − α).
+    pub reveal: Target,
+    /// Both, for the composite pass.
+    pub read: wgpu::BindGroup,
+}
+
+/// One view's targets.
+#[derive(Debug)]
+pub struct ViewTargets {
+    /// What they were made for.
+    pub spec: TargetSpec,
+    /// G-buffer (absent without an L-buffer).
+    pub gbuffer: Option<GBuffer>,
+    /// The light pass's output: RGB diffuse, A specular intensity (§2.2).
+    pub lbuffer: Option<Target>,
+    /// The original L-buffer and DSF buffer (1×1 stand-ins without one): the light the fur
+    /// reads at root and tip.
+    pub lbuffer_read: wgpu::BindGroup,
+    /// The obliteration pass's composition copy.
+    pub composition: Option<Composition>,
+    /// What the material pass reads: the composition copy when there is one, else
+    /// `lbuffer_read`'s textures.
+    pub material_read: wgpu::BindGroup,
+    /// OIT targets.
+    pub oit: Option<Oit>,
+    /// The output colour, when the view owns it.
+    pub color: Option<Target>,
+    /// The output's depth.
+    pub depth: Target,
+}
+
+fn pair(
+    r: &Renderer,
+    layout: &wgpu::BindGroupLayout,
+    a: &wgpu::TextureView,
+    b: &wgpu::TextureView,
+) -> wgpu::BindGroup {
+    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(a),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(b),
+            },
+        ],
+    })
+}
+
+impl ViewTargets {
+    /// Creates the targets of `spec`.
+    pub fn new(r: &Renderer, spec: TargetSpec) -> ViewTargets {
+        let device = &r.gpu.device;
+        let textures = &r.layouts.textures;
+        let tex = |label, size, format| Target::new(device, label, size, format);
+        let gbuffer = spec.lbuffer.map(|s| {
+            let normals = tex("normals", s, r.gpu.normal_format);
+            let dsf = tex("dsf", s, DSF_FORMAT);
+            let read = pair(r, textures, &normals.view, &dsf.view);
+            GBuffer {
+                normals,
+                dsf,
+                depth: tex("gbuffer depth", s, DEPTH_FORMAT),
+                read,
+            }
+        });
+        let lbuffer = spec.lbuffer.map(|s| tex("lbuffer", s, LBUFFER_FORMAT));
+        let lbuffer_read = match (&lbuffer, &gbuffer) {
+            (Some(lb), Some(g)) => pair(r, textures, &lb.view, &g.dsf.view),
+            _ => {
+                // Stand-ins the material shader never reads (flags.w = 0: ambient only).
+                let a = tex("no lbuffer", (1, 1), LBUFFER_FORMAT);
+                let b = tex("no dsf", (1, 1), DSF_FORMAT);
+                pair(r, textures, &a.view, &b.view)
+            }
+        };
+        let composition = spec
+            .lbuffer
+            .filter(|_| spec.composition)
+            .map(|s| Composition {
+                light: tex("composition", s, LBUFFER_FORMAT),
+                dsf: tex("composition dsf", s, DSF_FORMAT),
+            });
+        let material_read = match &composition {
+            Some(c) => pair(r, textures, &c.light.view, &c.dsf.view),
+            None => lbuffer_read.clone(),
+        };
+        let oit = spec.oit.then(|| {
+            let accum = tex("oit accum", spec.output, r.gpu.accum_format);
+            let reveal = tex("oit reveal", spec.output, REVEAL_FORMAT);
+            let read = pair(r, &r.layouts.oit, &accum.view, &reveal.view);
+            Oit {
+                accum,
+                reveal,
+                read,
+            }
+        });
+        ViewTargets {
+            spec,
+            gbuffer,
+            lbuffer,
+            lbuffer_read,
+            composition,
+            material_read,
+            oit,
+            color: spec
+                .own_color
+                .then(|| tex("output", spec.output, spec.color_format)),
+            depth: tex("output depth", spec.output, DEPTH_FORMAT),
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! pelt-scene: the CPU half of pelt's preview, with no GPU dependency (as `bevy_mesh` is to
+//! `bevy_render`). Everything here compiles and is tested without wgpu; the renderer
+//! (`pelt-preview`) depends on it, never the reverse.
+//!
+//! - [`scene`], [`procedural`], [`framing`]: what is rendered: scene files, generated scenes,
+//!   the default scene around one asset;
+//! - [`asset`], [`fur`], [`vertex`]: glTF/OBJ (and built-in shapes) flattened into vertex
+//!   records with normal-group IDs, the baked fur (comb, fins, textures, manifest);
+//! - [`view`], [`plan`]: the camera and the CPU decisions of a frame (Kircher & Lawrance
+//!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, passes);
+//! - [`orbit`]: the interactive orbit camera of `pelt view`;
+//! - [`sky`]: the cube-map sky's images.
+
+pub mod asset;
+pub mod framing;
+pub mod fur;
+pub mod orbit;
+pub mod plan;
+pub mod procedural;
+pub mod scene;
+pub mod sky;
+pub mod vertex;
+pub mod view;
+
+pub use plan::{Mode, Plan, PlanError};
+pub use scene::{Scene, SceneError};
