@@ -6,12 +6,6 @@
 @group(0) @binding(0) var accum: texture_2d<f32>;
 @group(0) @binding(1) var reveal: texture_2d<f32>;
 
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let p = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
-    return vec4<f32>(p * 2.0 - 1.0, 0.0, 1.0);
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let q = vec2<i32>(pos.xy);

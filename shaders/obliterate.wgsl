@@ -16,12 +16,6 @@ struct ObliterateOut {
     @location(1) dsf: vec2<u32>,
 }
 
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let p = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
-    return vec4<f32>(p * 2.0 - 1.0, 0.0, 1.0);
-}
-
 fn base_of(object_id: u32) -> u32 {
     let i = object_id & 255u;
     return shell_table[i >> 2u][i & 3u];

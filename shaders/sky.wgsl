@@ -1,5 +1,5 @@
-// sky.wgsl: the skybox at infinity (Frantzen's "skybox at infinity"): one full-screen
-// triangle at the far plane (depth 1, drawn where nothing else is), looking up the world
+// sky.wgsl: the skybox at infinity (Frantzen's "skybox at infinity"): the full-screen
+// triangle of fullscreen.wgsl at the far plane (depth 1, drawn where nothing else is), looking up the world
 // direction through each pixel either in a cube map made from six images (fs_cube) or in a
 // procedural sky (fs_procedural): a zenith-to-horizon gradient, a darker ground, and a soft
 // sun glow.
@@ -8,18 +8,10 @@
 @group(1) @binding(0) var sky_cube: texture_cube<f32>;
 @group(1) @binding(1) var sky_sampler: sampler;
 
-struct SkyOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) ndc: vec2<f32>,
-}
-
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32) -> SkyOut {
-    let p = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    var o: SkyOut;
-    o.clip = vec4<f32>(p, 1.0, 1.0);
-    o.ndc = p;
-    return o;
+// The pixel's normalized device coordinates.
+fn ndc_of(pos: vec4<f32>) -> vec2<f32> {
+    let uv = pos.xy * frame.target_size.zw;
+    return vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
 }
 
 // The world direction through a pixel (the view matrix is a rotation and a translation, so
@@ -46,11 +38,11 @@ fn procedural(d: vec3<f32>) -> vec3<f32> {
 }
 
 @fragment
-fn fs_procedural(s: SkyOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(procedural(world_dir(s.ndc)), 1.0);
+fn fs_procedural(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(procedural(world_dir(ndc_of(pos))), 1.0);
 }
 
 @fragment
-fn fs_cube(s: SkyOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(textureSample(sky_cube, sky_sampler, world_dir(s.ndc)).rgb, 1.0);
+fn fs_cube(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(textureSample(sky_cube, sky_sampler, world_dir(ndc_of(pos))).rgb, 1.0);
 }

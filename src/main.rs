@@ -8,6 +8,7 @@ mod demo;
 mod inspect;
 mod render;
 mod textures;
+mod view;
 
 #[global_allocator]
 static GLOBAL: pelt_alloc::HugePageAlloc = pelt_alloc::HugePageAlloc;
@@ -41,7 +42,20 @@ Examples:
   pelt render fixtures/scenes/alpha.json -o alpha.png --backend gl
   pelt render fixtures/scenes/alpha.json --explain
   pelt render fixtures/scenes/alpha.json -o alpha.png --mode forward --size 320x180
-  pelt render fixtures/scenes/alpha.json --bench 20";
+  pelt render fixtures/scenes/alpha.json --bench 20
+  pelt render out/demo/creature.glb --bench 30 --orbit 5 --json";
+
+const VIEW_EXAMPLES: &str = "\
+Controls: left drag orbits, right (or shift) drag pans, the wheel zooms, F frames the asset;
+M mode, [ ] L-buffer scale, D DSF, - = shells, I fins, B stipple/WBOIT, P screenshot,
+R reload, T measure pass costs, H help, Q quit. Drop a file on the window to open it.
+
+Examples:
+  pelt view out/demo/creature.glb
+  pelt view fixtures/scenes/alpha.json --backend vulkan
+  pelt view out/demo/creature.glb --budget-ms 100
+  pelt view out/demo/creature.glb --frames 3 --screenshot shot.png --size 320x180
+  pelt view out/demo/creature.glb --frames 24 --orbit 15 --screenshot still.png";
 
 const DEMO_EXAMPLES: &str = "\
 Examples:
@@ -73,6 +87,10 @@ enum Command {
     /// with inferred lighting, or the deferred and forward references.
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
+    /// Open a scene file or an asset in a window: orbit, pan, zoom, every knob on a key,
+    /// reload on change, screenshots; or, scripted, draw N frames and save the last.
+    #[command(after_help = VIEW_EXAMPLES)]
+    View(ViewArgs),
     /// Time the inferred-lighting paper's two experiments (101 objects × 81 lights against
     /// forward; 800×450 L-buffer with DSF against 1280×720 without) on this adapter.
     RenderBench(RenderBenchArgs),
@@ -185,12 +203,88 @@ pub struct RenderArgs {
     /// Time this many frames after warm-up and print the medians (whole frame and per pass).
     #[arg(long, value_name = "FRAMES", value_parser = clap::value_parser!(usize))]
     pub bench: Option<usize>,
-    /// Untimed frames before --bench.
+    /// Untimed frames before --bench (not with --json, whose frame 0 is the cold first frame).
     #[arg(long, default_value_t = 3)]
     pub warmup: usize,
+    /// With --bench: turn the camera this many degrees about its target before each frame.
+    #[arg(
+        long,
+        value_name = "DEG",
+        requires = "bench",
+        allow_negative_numbers = true
+    )]
+    pub orbit: Option<f32>,
+    /// With --bench: print one JSON object with every frame's time and the bytes it
+    /// uploaded (frame 0 includes the scene's meshes, textures and pipelines).
+    #[arg(long, requires = "bench")]
+    pub json: bool,
     /// Print nothing but errors and requested output.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Arguments of `pelt view`.
+#[derive(clap::Args)]
+pub struct ViewArgs {
+    /// A scene file (.json) or an asset (.glb, .gltf, .obj).
+    pub input: PathBuf,
+    /// inferred, deferred or forward (M cycles).
+    #[arg(long, default_value = "inferred")]
+    pub mode: pelt_preview::Mode,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Window size WxH (default: a scene's output size, or 960x540 for an asset).
+    #[arg(long, value_parser = size)]
+    pub size: Option<(u32, u32)>,
+    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
+    #[arg(long, value_parser = lbuffer_scale)]
+    pub lbuffer_scale: Option<f32>,
+    /// Discontinuity sensitive filtering on or off.
+    #[arg(long, value_enum)]
+    pub dsf: Option<OnOff>,
+    /// Shells per fur object, 1 to 256.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub shells: Option<u32>,
+    /// Silhouette fins on or off.
+    #[arg(long, value_enum)]
+    pub fins: Option<OnOff>,
+    /// How fur is composited: stipple or wboit.
+    #[arg(long)]
+    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+    /// Target frame time (ms) while the camera moves: L-buffer scale, shells and then
+    /// resolution are lowered to hold it; a still camera gets the full-quality frame.
+    #[arg(long, value_name = "MS", default_value_t = 66.0, value_parser = positive_ms)]
+    pub budget_ms: f64,
+    /// Reload the shaders from this folder when they change (debug builds: the source
+    /// tree's shaders/ by default).
+    #[arg(long, value_name = "DIR")]
+    pub shaders: Option<PathBuf>,
+    /// Scripted: draw this many frames, then exit (with --screenshot, save the last).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Scripted: write the still, full-quality frame after the last one to this PNG.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Scripted: orbit the camera this many degrees before each frame after the first.
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 0.0,
+        requires = "frames",
+        allow_negative_numbers = true
+    )]
+    pub orbit: f32,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+fn positive_ms(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{s:?} is not a positive number of milliseconds")),
+    }
 }
 
 /// Arguments of `pelt demo`.
@@ -407,7 +501,21 @@ fn degrees(s: &str) -> Result<f32, String> {
     }
 }
 
+/// Gives Mesa a private `XDG_RUNTIME_DIR` when none is set (see
+/// [`pelt_preview::gpu::private_runtime_dir`]), so a successful render prints no "error:" line.
+#[expect(
+    unsafe_code,
+    reason = "set_var is unsafe only with other threads reading the environment; main calls this first, before any thread exists"
+)]
+fn quiet_mesa() {
+    if let Some(dir) = pelt_preview::gpu::private_runtime_dir() {
+        // SAFETY: single-threaded at this point (first statement of main).
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", dir) };
+    }
+}
+
 fn main() -> ExitCode {
+    quiet_mesa();
     pelt_alloc::configure_from_env();
     let cli = Cli::parse();
     let result = match cli.command {
@@ -416,6 +524,7 @@ fn main() -> ExitCode {
         Command::Textures(args) => textures::run(&args),
         Command::Render(args) => render::run(&args),
         Command::RenderBench(args) => render::bench(&args),
+        Command::View(args) => view::run(&args),
         Command::Demo(args) => demo::run(&args),
     };
     match result {

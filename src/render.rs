@@ -6,62 +6,38 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
-use pelt_preview::asset::MeshData;
+use pelt_preview::knobs::{self, InputError, Knobs};
 use pelt_preview::procedural::{paper_lbuffer_scale, paper_objects_and_lights};
-use pelt_preview::{Mode, Plan, Preview, RenderError, Scene, load_meshes};
+use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
 
 use crate::{RenderArgs, RenderBenchArgs};
 
 /// Exit code for an input that could not be rendered.
 const FAILED: u8 = 1;
 
-/// The scene to render, with the asset's mesh when the input is one asset (so it is read once).
-fn scene_for(args: &RenderArgs) -> anyhow::Result<(Scene, Option<MeshData>)> {
-    let is_scene = args
-        .input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let (mut scene, mesh) = if is_scene {
-        (Scene::load(&args.input)?, None)
-    } else {
-        let mesh = pelt_preview::asset::load(&args.input)?;
-        let (w, h) = args.size.unwrap_or((640, 360));
-        let scene = pelt_preview::framing::asset_scene(&args.input, &mesh, w, h);
-        (scene, Some(mesh))
-    };
-    if let Some((w, h)) = args.size {
-        scene.output.width = w;
-        scene.output.height = h;
+/// Output size of an asset's default scene.
+pub const DEFAULT_SIZE: (u32, u32) = (640, 360);
+
+/// The knobs the flags set.
+pub fn knobs(args: &RenderArgs) -> Knobs {
+    Knobs {
+        size: args.size,
+        lbuffer_scale: args.lbuffer_scale,
+        dsf: args.dsf.map(|d| d == crate::OnOff::On),
+        shells: args.shells,
+        fins: args.fins.map(|f| f == crate::OnOff::On),
+        fur_blend: args.fur_blend,
     }
-    if let Some(s) = args.lbuffer_scale {
-        scene.lbuffer_scale = s;
-    }
-    if let Some(d) = args.dsf {
-        scene.dsf = d == crate::OnOff::On;
-    }
-    if let Some(b) = args.fur_blend {
-        scene.fur_blend = b;
-    }
-    override_fur(
-        &mut scene,
-        args.shells,
-        args.fins.map(|f| f == crate::OnOff::On),
-    );
-    Ok((scene, mesh))
 }
 
 /// Sets every fur material's shell count and fins switch where given.
 pub fn override_fur(scene: &mut Scene, shells: Option<u32>, fins: Option<bool>) {
-    for o in &mut scene.objects {
-        if let pelt_preview::scene::Material::Fur(f) = &mut o.material {
-            if shells.is_some() {
-                f.shells = shells;
-            }
-            if let Some(on) = fins {
-                f.fins = on;
-            }
-        }
+    Knobs {
+        shells,
+        fins,
+        ..Knobs::default()
     }
+    .apply(scene);
 }
 
 fn fail(e: impl std::fmt::Display) -> ExitCode {
@@ -71,20 +47,13 @@ fn fail(e: impl std::fmt::Display) -> ExitCode {
 
 /// Runs `pelt render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
-    let (scene, mesh) = match scene_for(args) {
-        Ok(s) => s,
+    let input = match knobs::load(&args.input, &knobs(args), DEFAULT_SIZE) {
+        Ok(i) => i,
         // A scene file's own errors are usage errors (2); an asset that cannot load fails (1).
-        Err(e) if e.downcast_ref::<pelt_preview::SceneError>().is_some() => return Err(e),
-        Err(e) => return Ok(fail(format!("{e:#}"))),
+        Err(InputError::Scene(e)) => return Err(e.into()),
+        Err(e) => return Ok(fail(e)),
     };
-    let (meshes, of) = match mesh {
-        // The default scene holds the one asset as its only object.
-        Some(m) => (vec![m], vec![0]),
-        None => match load_meshes(&scene) {
-            Ok(m) => m,
-            Err(e) => return Ok(fail(e)),
-        },
-    };
+    let (scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
     if args.explain {
         match Plan::new(&scene, &meshes, &of, args.mode) {
             Ok(p) => print!("{}", p.explain()),
@@ -100,6 +69,37 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
     };
     if !args.quiet {
         eprintln!("adapter: {}", preview.adapter());
+    }
+    if let (Some(frames), true) = (args.bench, args.json || args.orbit.is_some()) {
+        let deg = args.orbit.unwrap_or(0.0);
+        return Ok(
+            match pelt_preview::bench::orbit(
+                &mut preview,
+                &scene,
+                &meshes,
+                &of,
+                args.mode,
+                frames,
+                deg,
+            ) {
+                Ok(b) if args.json => {
+                    println!("{}", serde_json::to_string_pretty(&b)?);
+                    ExitCode::SUCCESS
+                }
+                Ok(b) => {
+                    println!(
+                        "orbit {deg}°/frame: {} frames, median {:.2} ms after the first ({:.2} ms, {} bytes uploaded); at most {} bytes uploaded per later frame",
+                        b.frames.len(),
+                        b.median_ms,
+                        b.frames.first().map_or(0.0, |f| f.ms),
+                        b.frames.first().map_or(0, |f| f.upload_bytes),
+                        b.max_upload_after_first
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(e) => fail(e),
+            },
+        );
     }
     let result = (|| -> Result<(), RenderError> {
         let d = preview.prepare_loaded(&scene, &meshes, &of, args.mode)?;

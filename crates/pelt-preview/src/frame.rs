@@ -104,6 +104,10 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             Pass::Forward => features::forward::pass(f),
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
+            Pass::Upscale => Err(MissingInput {
+                pass: p.name(),
+                what: "a source frame (upscaling is drawn by the window, never planned)".into(),
+            }),
         })
         .collect()
 }
@@ -129,7 +133,7 @@ const FRAME_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
 /// Waits for the submitted work. wgpu's GL back end gives up on a fence after a few seconds
 /// even when asked to wait indefinitely, which a heavy frame on llvmpipe can take; such
 /// timeouts are waited out again, up to [`FRAME_LIMIT`].
-fn wait(r: &Renderer) -> Result<(), FrameError> {
+pub fn wait(r: &Renderer) -> Result<(), FrameError> {
     let start = Instant::now();
     loop {
         match r.gpu.device.poll(wgpu::PollType::wait_indefinitely()) {
@@ -377,4 +381,15 @@ fn wall_pass_times(
         }
     }
     Ok(per)
+}
+
+/// Scales `source`'s frame up into `output` (the window's surface) and submits it.
+pub fn upscale(
+    r: &Renderer,
+    up: &features::upscale::Upscale,
+    output: features::Output<'_>,
+) -> Result<(), FrameError> {
+    let recipe = up.pass(output);
+    r.prepare(recipe.keys())?;
+    submit_frame(r, std::slice::from_ref(&recipe))
 }

@@ -104,6 +104,8 @@ pub struct Gpu {
     /// Its queue.
     pub queue: wgpu::Queue,
     /// The adapter it came from.
+    pub adapter: wgpu::Adapter,
+    /// The adapter's description.
     pub info: wgpu::AdapterInfo,
     /// The normal buffer's format: 16-bit unsigned normalized X/Y where the adapter can render
     /// to it, else 16-bit float.
@@ -216,6 +218,7 @@ impl Gpu {
             }
         }));
         Ok(Gpu {
+            adapter,
             errors,
             device,
             queue,
@@ -294,4 +297,24 @@ impl Gpu {
             }
         )
     }
+}
+
+/// A private runtime directory for this user when `XDG_RUNTIME_DIR` is unset, as Mesa's
+/// Vulkan window-system code (through libwayland) expects one and otherwise prints "error:
+/// XDG_RUNTIME_DIR is invalid or not set in the environment." on every device it opens.
+/// Returns the directory to set, or None when the variable is set already or no private
+/// directory could be made (then nothing changes: real errors are never hidden). The caller
+/// sets the variable before any thread starts (see `pelt`'s `main`).
+pub fn private_runtime_dir() -> Option<std::path::PathBuf> {
+    use std::os::unix::fs::{DirBuilderExt as _, MetadataExt as _, PermissionsExt as _};
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|v| !v.is_empty()) {
+        return None;
+    }
+    // The process's user: the owner of /proc/self.
+    let uid = std::fs::metadata("/proc/self").ok()?.uid();
+    let dir = std::env::temp_dir().join(format!("pelt-runtime-{uid}"));
+    let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
+    let m = std::fs::symlink_metadata(&dir).ok()?;
+    let private = m.is_dir() && m.uid() == uid && m.permissions().mode() & 0o777 == 0o700;
+    private.then_some(dir)
 }

@@ -15,6 +15,7 @@
 //! modules ([`features`]) as [`recipe::Recipe`]s, run in the order of [`frame::recipes`].
 
 pub mod assets;
+pub mod bench;
 pub mod features;
 pub mod frame;
 pub mod frame_data;
@@ -26,7 +27,9 @@ pub mod shaders;
 pub mod targets;
 pub mod uniforms;
 
-pub use pelt_scene::{asset, framing, fur, orbit, plan, procedural, scene, sky, view};
+pub use pelt_scene::{
+    asset, budget, framing, fur, knobs, orbit, plan, procedural, scene, sky, view,
+};
 
 use std::sync::Arc;
 
@@ -231,6 +234,12 @@ impl Preview {
                 what: "a colour target".into(),
             })?;
         Ok(frame::render(&self.renderer, &f, target)?)
+    }
+
+    /// Renders one frame into the view's own target and waits for the device (no readback).
+    pub fn draw(&self, sv: &SceneView) -> Result<(), RenderError> {
+        frame::draw(&self.renderer, &sv.own_frame()?)?;
+        Ok(frame::wait(&self.renderer)?)
     }
 
     /// Renders one frame into `view` (a window's surface texture, in the view's format).

@@ -80,6 +80,10 @@ pub struct Layouts {
     pub oit: wgpu::BindGroupLayout,
     /// The cube map and its sampler.
     pub sky: wgpu::BindGroupLayout,
+    /// A frame to scale up and its sampler.
+    pub upscale_source: wgpu::BindGroupLayout,
+    /// The target's size (w, h, 1/w, 1/h).
+    pub upscale_size: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -187,6 +191,11 @@ impl Layouts {
                     sampler_entry(1),
                 ],
             ),
+            upscale_source: layout(
+                "upscale source",
+                &[texture_entry(0, filterable, d2), sampler_entry(1)],
+            ),
+            upscale_size: layout("upscale size", &[uniform_entry(16, false)]),
         }
     }
 }
@@ -233,6 +242,8 @@ pub struct Renderer {
     modules: RefCell<HashMap<Shader, wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
     built: Cell<usize>,
+    /// Shader files loaded from disk (`pelt view --shaders`), replacing the built-in ones.
+    sources: RefCell<Option<Vec<(&'static str, String)>>>,
 }
 
 impl Renderer {
@@ -245,7 +256,19 @@ impl Renderer {
             modules: RefCell::new(HashMap::new()),
             pipelines: RefCell::new(HashMap::new()),
             built: Cell::new(0),
+            sources: RefCell::new(None),
         }
+    }
+
+    /// Reads every shader file from `dir` and validates every module; when all are valid,
+    /// they replace the current ones and every pipeline is rebuilt on the frame that next
+    /// draws it. On an error nothing changes (the last good pipelines stay).
+    pub fn load_shaders(&self, dir: &std::path::Path) -> Result<(), crate::shaders::ShaderError> {
+        let texts = crate::shaders::load_dir(dir)?;
+        *self.sources.borrow_mut() = Some(texts);
+        self.modules.borrow_mut().clear();
+        self.pipelines.borrow_mut().clear();
+        Ok(())
     }
 
     /// Compiles every pipeline of `keys` that is not cached yet; returns how many it built.
@@ -279,21 +302,24 @@ impl Renderer {
         self.built.get()
     }
 
-    /// Drops every cached module and pipeline (shader reload).
-    pub fn clear_pipelines(&self) {
-        self.modules.borrow_mut().clear();
-        self.pipelines.borrow_mut().clear();
-    }
-
     fn module(&self, shader: Shader) -> wgpu::ShaderModule {
         let device = &self.gpu.device;
+        let source = match &*self.sources.borrow() {
+            Some(texts) => shader.source_with(|n| {
+                texts
+                    .iter()
+                    .find(|(t, _)| *t == n)
+                    .map_or("", |(_, s)| s.as_str())
+            }),
+            None => shader.source(),
+        };
         self.modules
             .borrow_mut()
             .entry(shader)
             .or_insert_with(|| {
                 device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&shader.module_name()),
-                    source: wgpu::ShaderSource::Wgsl(shader.source().into()),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
                 })
             })
             .clone()

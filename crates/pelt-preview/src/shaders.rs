@@ -1,15 +1,25 @@
 //! The WGSL sources of the preview renderer. Every file lives in the repository's top-level
-//! `shaders/` folder and is compiled into the binary. A module is `common.wgsl` (shared
-//! structs and functions, no bindings), then for the fur passes `fur_common.wgsl` and one of
-//! the two fur lighting chunks (from the L-buffer, or forward Kajiya-Kay), then the pass's own
-//! file.
+//! `shaders/` folder and is compiled into the binary (and, in `pelt view --shaders DIR`,
+//! reloaded from disk). A module is `common.wgsl` (shared structs and functions, no
+//! bindings), then for the fur passes `fur_common.wgsl` and one of the two fur lighting
+//! chunks (from the L-buffer, or forward Kajiya-Kay), for screen-space passes
+//! `fullscreen.wgsl` (the one full-screen triangle), then the pass's own file. See
+//! `shaders/README.md`.
 
 /// The shared prelude.
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 14] = [
+pub const FILES: [(&str, &str); 16] = [
     ("common.wgsl", COMMON),
+    (
+        "fullscreen.wgsl",
+        include_str!("../../../shaders/fullscreen.wgsl"),
+    ),
+    (
+        "upscale.wgsl",
+        include_str!("../../../shaders/upscale.wgsl"),
+    ),
     (
         "gbuffer.wgsl",
         include_str!("../../../shaders/gbuffer.wgsl"),
@@ -95,11 +105,13 @@ pub enum Shader {
     SkyProcedural,
     /// Cube-map sky.
     SkyCube,
+    /// A lower-resolution frame scaled up to the window (`pelt view`'s frame budget).
+    Upscale,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 14] = [
+    pub const ALL: [Shader; 15] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -114,6 +126,7 @@ impl Shader {
         Shader::Composite,
         Shader::SkyProcedural,
         Shader::SkyCube,
+        Shader::Upscale,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -129,6 +142,7 @@ impl Shader {
             Shader::Fins(_) => "fins.wgsl",
             Shader::Composite => "composite.wgsl",
             Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
+            Shader::Upscale => "upscale.wgsl",
         }
     }
 
@@ -146,6 +160,9 @@ impl Shader {
             }
             _ => {}
         }
+        if self.fullscreen() {
+            p.push("fullscreen.wgsl");
+        }
         p.push(self.file());
         p
     }
@@ -157,22 +174,109 @@ impl Shader {
 
     /// The complete module source.
     pub fn source(self) -> String {
+        self.source_with(file)
+    }
+
+    /// The module source with each file's text from `text` (hot reload).
+    pub fn source_with<'t>(self, text: impl Fn(&str) -> &'t str) -> String {
         self.parts()
             .into_iter()
-            .map(file)
+            .map(text)
             .collect::<Vec<_>>()
             .join("\n")
     }
 
+    /// Whether the pass draws fullscreen.wgsl's triangle.
+    pub fn fullscreen(self) -> bool {
+        matches!(
+            self,
+            Shader::Light
+                | Shader::Obliterate
+                | Shader::Composite
+                | Shader::SkyProcedural
+                | Shader::SkyCube
+                | Shader::Upscale
+        )
+    }
+
     /// The vertex and fragment entry points (`wboit`: the weighted-blended output).
     pub fn entry_points(self, wboit: bool) -> (&'static str, &'static str) {
+        if self.fullscreen() {
+            return (
+                "vs_fullscreen",
+                match self {
+                    Shader::SkyProcedural => "fs_procedural",
+                    Shader::SkyCube => "fs_cube",
+                    _ => "fs_main",
+                },
+            );
+        }
         match self {
             Shader::FurBase => ("vs_base", "fs_base"),
             Shader::FurOuter => ("vs_outer", "fs_outer"),
-            Shader::SkyProcedural => ("vs_main", "fs_procedural"),
-            Shader::SkyCube => ("vs_main", "fs_cube"),
             Shader::Shells(_) | Shader::Fins(_) if wboit => ("vs_main", "fs_wboit"),
             _ => ("vs_main", "fs_main"),
         }
     }
+}
+
+/// A shader set that failed validation.
+#[derive(Debug, thiserror::Error)]
+pub enum ShaderError {
+    /// A file could not be read.
+    #[error("{}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A module does not parse or validate.
+    #[error("{module}: {message}")]
+    Invalid {
+        /// The module (its files joined by `+`).
+        module: String,
+        /// naga's error, with the source lines it points at.
+        message: String,
+    },
+}
+
+/// Parses and validates `source` with naga, the compiler wgpu itself uses; the error is
+/// naga's report with the lines it points at.
+pub fn validate(module: &str, source: &str) -> Result<naga::Module, ShaderError> {
+    let invalid = |message: String| ShaderError::Invalid {
+        module: module.to_owned(),
+        message,
+    };
+    let parsed = naga::front::wgsl::parse_str(source)
+        .map_err(|e| invalid(e.emit_to_string_with_path(source, module)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&parsed)
+    .map_err(|e| invalid(e.emit_to_string_with_path(source, module)))?;
+    Ok(parsed)
+}
+
+/// Every file of [`FILES`] read from `dir`, each module built from them validated. Returns
+/// the texts by file name, or the first error (nothing is replaced then).
+pub fn load_dir(dir: &std::path::Path) -> Result<Vec<(&'static str, String)>, ShaderError> {
+    let mut texts = Vec::with_capacity(FILES.len());
+    for (name, _) in FILES {
+        let path = dir.join(name);
+        let text =
+            std::fs::read_to_string(&path).map_err(|source| ShaderError::Read { path, source })?;
+        texts.push((name, text));
+    }
+    let lookup = |n: &str| {
+        texts
+            .iter()
+            .find(|(t, _)| *t == n)
+            .map_or("", |(_, s)| s.as_str())
+    };
+    for shader in Shader::ALL {
+        validate(&shader.module_name(), &shader.source_with(lookup))?;
+    }
+    Ok(texts)
 }

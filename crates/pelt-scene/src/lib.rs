@@ -8,12 +8,14 @@
 //!   records with normal-group IDs, the baked fur (comb, fins, textures, manifest);
 //! - [`view`], [`plan`]: the camera and the CPU decisions of a frame (Kircher & Lawrance
 //!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, passes);
-//! - [`orbit`]: the interactive orbit camera of `pelt view`;
+//! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;
 //! - [`sky`]: the cube-map sky's images.
 
 pub mod asset;
+pub mod budget;
 pub mod framing;
 pub mod fur;
+pub mod knobs;
 pub mod orbit;
 pub mod plan;
 pub mod procedural;

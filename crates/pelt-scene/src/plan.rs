@@ -138,6 +138,9 @@ pub enum Pass {
     FurAccum,
     /// Weighted blended OIT resolve over the image, then alpha objects.
     Composite,
+    /// A reduced-resolution frame scaled up to a window (`pelt view`'s frame budget; never
+    /// in a plan).
+    Upscale,
 }
 
 impl Pass {
@@ -151,6 +154,7 @@ impl Pass {
             Pass::Obliterate => "obliterate",
             Pass::FurAccum => "fur-oit",
             Pass::Composite => "composite",
+            Pass::Upscale => "upscale",
         }
     }
 }
@@ -546,6 +550,9 @@ impl Plan {
                         "{w}×{h}: shells and fins of {} fur objects into weighted blended OIT (depth-weighted accumulation, revealage)",
                         self.fur.len()
                     );
+                }
+                Pass::Upscale => {
+                    let _ = write!(s, "a reduced-resolution frame scaled up to the window");
                 }
                 Pass::Composite => {
                     let _ = write!(

@@ -11,7 +11,8 @@
 //!   obliteration, shells and fins;
 //! - [`wboit`]: weighted blended OIT accumulation and composite (McGuire & Bavoil);
 //! - [`sky`]: procedural and cube-map skies;
-//! - [`forward`]: the forward reference.
+//! - [`forward`]: the forward reference;
+//! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`).
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -23,6 +24,7 @@ pub mod geometry;
 pub mod lights;
 pub mod material;
 pub mod sky;
+pub mod upscale;
 pub mod wboit;
 
 use std::sync::Arc;
@@ -172,12 +174,14 @@ pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
         Shader::Light => lights::spec(key, l),
         Shader::Material => material::spec(key, l),
         Shader::Forward => forward::spec(key, l),
-        Shader::FurBase | Shader::FurOuter | Shader::Obliterate | Shader::Shells(_) => {
-            fur::spec(key, l)
-        }
-        Shader::Fins(_) => fur::spec(key, l),
+        Shader::FurBase
+        | Shader::FurOuter
+        | Shader::Obliterate
+        | Shader::Shells(_)
+        | Shader::Fins(_) => fur::spec(key, l),
         Shader::Composite => wboit::spec(key, l),
         Shader::SkyProcedural | Shader::SkyCube => sky::spec(key, l),
+        Shader::Upscale => upscale::spec(key, l),
     }
 }
 

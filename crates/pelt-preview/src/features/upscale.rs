@@ -1,0 +1,98 @@
+//! Upscaling for `pelt view`'s frame budget: a frame rendered at a fraction of the window's
+//! resolution while the camera moves is scaled up to the window with bilinear filtering in
+//! linear light (upscale.wgsl). The full-quality still frame is drawn straight into the
+//! window and never passes through here.
+
+use crate::features::Output;
+use crate::plan::Pass;
+use crate::recipe::{Color, Recipe, Step};
+use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec, Renderer};
+use crate::shaders::Shader;
+use crate::targets::Target;
+
+/// Bind-group slots of upscale.wgsl.
+pub mod slot {
+    /// The frame to scale and its sampler.
+    pub const SOURCE: u32 = 0;
+    /// The target's size.
+    pub const SIZE: u32 = 1;
+}
+
+/// The pipeline of the upscale shader.
+pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+    PipelineSpec {
+        groups: vec![&l.upscale_source, &l.upscale_size],
+        vertex_buffers: Vec::new(),
+        blends: vec![None],
+        depth: None,
+        cull: None,
+    }
+}
+
+/// What the pass reads: one source frame into one target size.
+#[derive(Debug)]
+pub struct Upscale {
+    source: wgpu::BindGroup,
+    size: wgpu::BindGroup,
+}
+
+impl Upscale {
+    /// Reads `source` into targets of `size`.
+    pub fn new(r: &Renderer, source: &Target, size: (u32, u32)) -> Upscale {
+        let device = &r.gpu.device;
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("upscale"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let (w, h) = (size.0 as f32, size.1 as f32);
+        let buffer = r.gpu.buffer_init(
+            "upscale size",
+            bytemuck::cast_slice(&[w, h, 1.0 / w, 1.0 / h]),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        Upscale {
+            source: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("upscale source"),
+                layout: &r.layouts.upscale_source,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&source.view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::Sampler(&sampler),
+                    },
+                ],
+            }),
+            size: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("upscale size"),
+                layout: &r.layouts.upscale_size,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            }),
+        }
+    }
+
+    /// The pass drawing the source over `output`.
+    pub fn pass<'a>(&'a self, output: Output<'a>) -> Recipe<'a> {
+        let mut r = Recipe::new(
+            Pass::Upscale,
+            vec![Color {
+                view: output.view,
+                format: output.format,
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            }],
+            None,
+        );
+        r.pipeline(Shader::Upscale, Blend::None);
+        r.bind(slot::SOURCE, &self.source, None);
+        r.bind(slot::SIZE, &self.size, None);
+        r.push(Step::Draw(0..3, 0..1));
+        r
+    }
+}

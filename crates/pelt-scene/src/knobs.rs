@@ -1,0 +1,157 @@
+//! The renderer's knobs as overrides of a scene (the flags of `pelt render` and the keys of
+//! `pelt view`): output size, L-buffer scale, DSF, shells, fins and fur blend; and how an
+//! input (a scene file or one asset framed by the default scene) becomes a scene.
+
+use std::path::Path;
+
+use crate::asset::{self, AssetError, MeshData};
+use crate::scene::{FurBlend, Material, Scene, SceneError};
+
+/// Overrides; `None` keeps the scene's value.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Knobs {
+    /// Output size.
+    pub size: Option<(u32, u32)>,
+    /// L-buffer scale (0.1 to 1).
+    pub lbuffer_scale: Option<f32>,
+    /// Discontinuity sensitive filtering.
+    pub dsf: Option<bool>,
+    /// Shells per fur object.
+    pub shells: Option<u32>,
+    /// Silhouette fins.
+    pub fins: Option<bool>,
+    /// How fur is composited.
+    pub fur_blend: Option<FurBlend>,
+}
+
+impl Knobs {
+    /// Applies the overrides to `scene`.
+    pub fn apply(&self, scene: &mut Scene) {
+        if let Some((w, h)) = self.size {
+            scene.output.width = w;
+            scene.output.height = h;
+        }
+        if let Some(s) = self.lbuffer_scale {
+            scene.lbuffer_scale = s;
+        }
+        if let Some(d) = self.dsf {
+            scene.dsf = d;
+        }
+        if let Some(b) = self.fur_blend {
+            scene.fur_blend = b;
+        }
+        for o in &mut scene.objects {
+            if let Material::Fur(f) = &mut o.material {
+                if self.shells.is_some() {
+                    f.shells = self.shells;
+                }
+                if let Some(on) = self.fins {
+                    f.fins = on;
+                }
+            }
+        }
+    }
+}
+
+/// Why an input could not become a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    /// The scene file is invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The asset could not be loaded.
+    #[error(transparent)]
+    Asset(#[from] AssetError),
+    /// A scene object's asset could not be loaded.
+    #[error(transparent)]
+    Object(#[from] asset::ObjectAssetError),
+}
+
+/// A loaded input: the scene, its meshes and each object's mesh index.
+#[derive(Debug, Clone)]
+pub struct Input {
+    /// The scene (overrides applied).
+    pub scene: Scene,
+    /// Its meshes.
+    pub meshes: Vec<MeshData>,
+    /// Object i's mesh is `meshes[mesh_of[i]]`.
+    pub mesh_of: Vec<usize>,
+}
+
+/// Whether `path` names a scene file (`.json`) rather than an asset.
+pub fn is_scene(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+/// Loads `path`: a scene file with its assets, or one asset in the default scene
+/// ([`crate::framing::asset_scene`]) at `default_size` unless `knobs.size` says otherwise.
+pub fn load(path: &Path, knobs: &Knobs, default_size: (u32, u32)) -> Result<Input, InputError> {
+    let (mut scene, meshes, mesh_of) = if is_scene(path) {
+        let scene = Scene::load(path)?;
+        let (meshes, of) = asset::load_scene(&scene)?;
+        (scene, meshes, of)
+    } else {
+        let mesh = asset::load(path)?;
+        let (w, h) = knobs.size.unwrap_or(default_size);
+        let scene = crate::framing::asset_scene(path, &mesh, w, h);
+        (scene, vec![mesh], vec![0])
+    };
+    knobs.apply(&mut scene);
+    Ok(Input {
+        scene,
+        meshes,
+        mesh_of,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{FurSettings, Object};
+
+    #[test]
+    fn overrides_reach_every_fur_object_and_leave_the_rest() {
+        let mut s = Scene::default();
+        for m in [Material::Fur(FurSettings::default()), Material::Opaque] {
+            s.objects.push(Object {
+                asset: "a.glb".into(),
+                transform: Default::default(),
+                material: m,
+                color: [1.0; 3],
+            });
+        }
+        let before = s.clone();
+        Knobs::default().apply(&mut s);
+        assert_eq!(s, before, "no overrides, no change");
+        Knobs {
+            size: Some((64, 32)),
+            lbuffer_scale: Some(0.5),
+            dsf: Some(false),
+            shells: Some(7),
+            fins: Some(false),
+            fur_blend: Some(FurBlend::Wboit),
+        }
+        .apply(&mut s);
+        assert_eq!((s.output.width, s.output.height), (64, 32));
+        assert_eq!(
+            (s.lbuffer_scale, s.dsf, s.fur_blend),
+            (0.5, false, FurBlend::Wboit)
+        );
+        let Material::Fur(f) = s.objects[0].material else {
+            panic!("fur")
+        };
+        assert_eq!((f.shells, f.fins), (Some(7), false));
+        assert_eq!(s.objects[1].material, Material::Opaque);
+    }
+
+    #[test]
+    fn an_asset_gets_the_default_scene_and_a_missing_one_is_named() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let i = load(&root.join("torus.glb"), &Knobs::default(), (120, 80)).expect("torus");
+        assert_eq!((i.scene.output.width, i.scene.output.height), (120, 80));
+        assert_eq!((i.meshes.len(), i.mesh_of.clone()), (1, vec![0]));
+        let e = load(&root.join("no-such.glb"), &Knobs::default(), (8, 8)).expect_err("missing");
+        assert!(e.to_string().contains("no-such.glb"), "{e}");
+    }
+}

@@ -1,0 +1,174 @@
+//! What the keys and the mouse of `pelt view` do, apart from the window: a key names an
+//! [`Action`], applying an action changes the [`Settings`] (mode and knobs), and mouse motion
+//! turns into orbit, pan and zoom amounts.
+
+use pelt_preview::Mode;
+use pelt_preview::knobs::Knobs;
+use pelt_preview::scene::FurBlend;
+
+/// Radians of orbit per pixel dragged.
+pub const ORBIT_PER_PIXEL: f32 = 0.008;
+/// Wheel steps per pixel of a touchpad's pixel delta.
+pub const ZOOM_PER_PIXEL: f32 = 1.0 / 40.0;
+
+/// What a key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Next mode: inferred, deferred, forward.
+    CycleMode,
+    /// L-buffer scale down (`[`) or up (`]`) by 0.125.
+    LbufferScale(i8),
+    /// DSF on/off.
+    ToggleDsf,
+    /// Shells halved (`-`) or doubled (`=`).
+    Shells(i8),
+    /// Fins on/off.
+    ToggleFins,
+    /// Stipple ⇄ WBOIT.
+    ToggleBlend,
+    /// Frame the asset.
+    Frame,
+    /// Write a screenshot.
+    Screenshot,
+    /// Reload the input (and the shaders).
+    Reload,
+    /// Re-measure the pass costs.
+    Measure,
+    /// Print the controls.
+    Help,
+    /// Close the window.
+    Quit,
+}
+
+/// The action of a key, by its character (lower case) or name.
+pub fn action(key: &str) -> Option<Action> {
+    Some(match key {
+        "m" => Action::CycleMode,
+        "[" => Action::LbufferScale(-1),
+        "]" => Action::LbufferScale(1),
+        "d" => Action::ToggleDsf,
+        "-" => Action::Shells(-1),
+        "=" | "+" => Action::Shells(1),
+        "i" => Action::ToggleFins,
+        "b" => Action::ToggleBlend,
+        "f" => Action::Frame,
+        "p" => Action::Screenshot,
+        "r" => Action::Reload,
+        "t" => Action::Measure,
+        "h" | "?" => Action::Help,
+        "q" | "Escape" => Action::Quit,
+        _ => return None,
+    })
+}
+
+/// The controls, for `H` and `--help`.
+pub const HELP: &str = "\
+pelt view controls:
+  left drag        orbit            right drag / shift+left drag   pan
+  wheel            zoom             F   frame the asset
+  M  mode (inferred, deferred, forward)      [ ]  L-buffer scale -/+ 0.125
+  D  DSF on/off    - =  shells halve/double  I  fins on/off   B  stipple/WBOIT
+  P  screenshot    R  reload input and shaders   T  measure pass costs
+  H  this help     Q / Esc  quit
+Drop a .glb, .gltf, .obj or .json on the window to open it; the open file reloads when it
+changes on disk.";
+
+/// The mode and the knobs the keys turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Lighting mode.
+    pub mode: Mode,
+    /// Overrides of the scene.
+    pub knobs: Knobs,
+}
+
+impl Settings {
+    /// Applies a knob action; `base` holds the scene's own values for the knobs not
+    /// overridden yet (L-buffer scale, DSF, shells, fins, blend). Returns whether anything
+    /// changed.
+    pub fn apply(&mut self, a: Action, base: &Knobs) -> bool {
+        let before = *self;
+        let k = &mut self.knobs;
+        match a {
+            Action::CycleMode => {
+                self.mode = match self.mode {
+                    Mode::Inferred => Mode::Deferred,
+                    Mode::Deferred => Mode::Forward,
+                    Mode::Forward => Mode::Inferred,
+                };
+            }
+            Action::LbufferScale(d) => {
+                let s = k.lbuffer_scale.or(base.lbuffer_scale).unwrap_or(0.625);
+                k.lbuffer_scale = Some((s + 0.125 * f32::from(d)).clamp(0.125, 1.0));
+            }
+            Action::ToggleDsf => k.dsf = Some(!k.dsf.or(base.dsf).unwrap_or(true)),
+            Action::Shells(d) => {
+                let s = k.shells.or(base.shells).unwrap_or(16);
+                k.shells = Some(if d > 0 { s * 2 } else { s / 2 }.clamp(1, 256));
+            }
+            Action::ToggleFins => k.fins = Some(!k.fins.or(base.fins).unwrap_or(true)),
+            Action::ToggleBlend => {
+                k.fur_blend = Some(match k.fur_blend.or(base.fur_blend) {
+                    Some(FurBlend::Wboit) => FurBlend::Stipple,
+                    _ => FurBlend::Wboit,
+                });
+            }
+            _ => return false,
+        }
+        *self != before
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_map_to_actions_and_unknown_keys_to_none() {
+        assert_eq!(action("m"), Some(Action::CycleMode));
+        assert_eq!(action("["), Some(Action::LbufferScale(-1)));
+        assert_eq!(action("Escape"), Some(Action::Quit));
+        assert_eq!(action("z"), None);
+    }
+
+    #[test]
+    fn knob_actions_change_the_settings_within_range() {
+        let base = Knobs {
+            lbuffer_scale: Some(0.625),
+            dsf: Some(true),
+            shells: Some(16),
+            fins: Some(true),
+            fur_blend: Some(FurBlend::Stipple),
+            size: None,
+        };
+        let mut s = Settings {
+            mode: Mode::Inferred,
+            knobs: Knobs::default(),
+        };
+        assert!(s.apply(Action::CycleMode, &base));
+        assert_eq!(s.mode, Mode::Deferred);
+        s.apply(Action::CycleMode, &base);
+        s.apply(Action::CycleMode, &base);
+        assert_eq!(s.mode, Mode::Inferred);
+        s.apply(Action::LbufferScale(1), &base);
+        assert_eq!(s.knobs.lbuffer_scale, Some(0.75));
+        for _ in 0..20 {
+            s.apply(Action::LbufferScale(-1), &base);
+        }
+        assert_eq!(s.knobs.lbuffer_scale, Some(0.125));
+        s.apply(Action::Shells(1), &base);
+        assert_eq!(s.knobs.shells, Some(32));
+        for _ in 0..10 {
+            s.apply(Action::Shells(1), &base);
+        }
+        assert_eq!(s.knobs.shells, Some(256));
+        s.apply(Action::ToggleDsf, &base);
+        s.apply(Action::ToggleFins, &base);
+        s.apply(Action::ToggleBlend, &base);
+        assert_eq!(
+            (s.knobs.dsf, s.knobs.fins, s.knobs.fur_blend),
+            (Some(false), Some(false), Some(FurBlend::Wboit))
+        );
+        assert!(!s.apply(Action::Screenshot, &base), "not a knob");
+    }
+}

@@ -1,0 +1,452 @@
+//! The state of `pelt view` apart from the window system: the open input (last good scene),
+//! the orbit camera, the settings the keys turn, the frame budget, and drawing one frame into
+//! a surface texture: at full quality when the camera is still, or, while it moves, at the
+//! quality the budget picks (lower L-buffer scale and shells, and a reduced resolution scaled
+//! up to the window).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use pelt_preview::budget::{Budget, Costs, Quality};
+use pelt_preview::features::Output;
+use pelt_preview::features::upscale::Upscale;
+use pelt_preview::knobs::{self, Input, Knobs};
+use pelt_preview::orbit::Orbit;
+use pelt_preview::plan::Pass;
+use pelt_preview::scene::{Material, Scene};
+use pelt_preview::{Image, Preview, RenderError, SceneView, ViewOutput};
+
+use crate::controls::Settings;
+use crate::watch::Watch;
+
+/// The window's output.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Surface {
+    /// Size in pixels.
+    pub size: (u32, u32),
+    /// Format.
+    pub format: wgpu::TextureFormat,
+}
+
+/// A reduced-resolution view and its upscale into the window.
+#[derive(Debug)]
+struct Reduced {
+    view: SceneView,
+    upscale: Upscale,
+}
+
+/// Everything `pelt view` draws.
+#[derive(Debug)]
+pub struct Viewer {
+    /// The input path.
+    pub path: PathBuf,
+    /// The last input that loaded (knobs not applied).
+    pub input: Input,
+    /// The mode and knob overrides.
+    pub settings: Settings,
+    /// The camera.
+    pub orbit: Orbit,
+    /// Whether the camera left the scene's own (so `orbit` decides it).
+    pub moved: bool,
+    /// The frame budget, once measured.
+    pub budget: Option<Budget>,
+    /// Target frame time while moving.
+    pub target_ms: f64,
+    /// Last measured pass times of the full-quality frame, for the overlay.
+    pub pass_ms: Vec<(Pass, f64)>,
+    /// The quality of the last frame drawn.
+    pub last_quality: Option<Quality>,
+    full: SceneView,
+    reduced: Option<Reduced>,
+    surface: Surface,
+    watch: Watch,
+}
+
+/// The files an input depends on (the file, and a scene's assets).
+fn dependencies(path: &Path, input: &Input) -> Vec<PathBuf> {
+    let mut v = vec![path.to_owned()];
+    if knobs::is_scene(path) {
+        for o in &input.scene.objects {
+            if !o
+                .asset
+                .to_string_lossy()
+                .starts_with(pelt_preview::asset::BUILTIN)
+            {
+                v.push(o.asset.clone());
+            }
+        }
+    }
+    v.sort();
+    v.dedup();
+    v
+}
+
+/// The fur shells of the scene's fur objects (the largest), or None without fur.
+fn max_shells(sv: &SceneView) -> Option<u32> {
+    sv.plan
+        .objects
+        .iter()
+        .filter_map(|o| o.fur)
+        .map(|f| f.shells)
+        .max()
+}
+
+impl Viewer {
+    /// Loads `path` for a window of `surface`.
+    pub fn open(
+        preview: &mut Preview,
+        path: &Path,
+        settings: Settings,
+        surface: Surface,
+        target_ms: f64,
+    ) -> Result<Viewer, ViewError> {
+        let input = load(path, surface.size)?;
+        let orbit = Orbit::new(&input.scene.camera);
+        let mut v = Viewer {
+            path: path.to_owned(),
+            watch: Watch::new(dependencies(path, &input)),
+            full: prepare(preview, &input, &settings, surface, None)?,
+            input,
+            settings,
+            orbit,
+            moved: false,
+            budget: None,
+            target_ms,
+            pass_ms: Vec::new(),
+            last_quality: None,
+            reduced: None,
+            surface,
+        };
+        v.refresh(preview)?;
+        Ok(v)
+    }
+
+    /// The scene as drawn at full quality: the input's, with the knobs and the camera.
+    pub fn scene(&self) -> Scene {
+        let mut s = self.input.scene.clone();
+        self.settings.knobs.apply(&mut s);
+        s.output.width = self.surface.size.0;
+        s.output.height = self.surface.size.1;
+        if self.moved {
+            s.camera = self.orbit.camera();
+        }
+        s
+    }
+
+    /// The scene at `q`.
+    fn scene_at(&self, q: &Quality) -> Scene {
+        let mut s = self.scene();
+        s.lbuffer_scale = q.lbuffer_scale;
+        if self.budget.is_some_and(|b| q.shells < b.costs.full.shells) {
+            Knobs {
+                shells: Some(q.shells),
+                ..Knobs::default()
+            }
+            .apply(&mut s);
+        }
+        let scale = |v: u32| ((v as f32 * q.render_scale).round() as u32).max(1);
+        s.output.width = scale(s.output.width);
+        s.output.height = scale(s.output.height);
+        s
+    }
+
+    /// Settings or size changed: the full-quality view follows (no asset is uploaded), and
+    /// the budget is measured again when next needed.
+    pub fn refresh(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
+        let scene = self.scene();
+        preview.update(&mut self.full, &scene, self.settings.mode)?;
+        self.budget = None;
+        self.reduced = None;
+        Ok(())
+    }
+
+    /// The window was resized.
+    pub fn resize(&mut self, preview: &mut Preview, size: (u32, u32)) -> Result<(), ViewError> {
+        self.surface.size = (size.0.max(1), size.1.max(1));
+        self.refresh(preview)
+    }
+
+    /// `F`: the scene's own camera back (for an asset, its default framing), keeping the
+    /// direction the orbit looks from.
+    pub fn frame(&mut self) {
+        self.orbit.frame(&self.input.scene.camera);
+        self.moved = true;
+    }
+
+    /// The camera moved by the user or a script.
+    pub fn camera_moved(&mut self) {
+        self.moved = true;
+    }
+
+    /// Opens `path` (a dropped file, or a reload of the same). On an error the last good
+    /// scene stays and the error is returned.
+    pub fn reload(&mut self, preview: &mut Preview, path: &Path) -> Result<(), ViewError> {
+        let input = load(path, self.surface.size)?;
+        let full = prepare(preview, &input, &self.settings, self.surface, None)?;
+        let same = path == self.path;
+        self.watch = Watch::new(dependencies(path, &input));
+        self.path = path.to_owned();
+        if !same {
+            self.orbit = Orbit::new(&input.scene.camera);
+            self.moved = false;
+        }
+        self.input = input;
+        self.full = full;
+        self.refresh(preview)?;
+        preview.assets.sweep();
+        Ok(())
+    }
+
+    /// Whether the input (or an asset it names) changed on disk since the last call.
+    pub fn input_changed(&mut self) -> bool {
+        self.watch.changed()
+    }
+
+    /// Measures the full-quality frame's pass costs (and, with fur, the frame with one shell)
+    /// for the budget and the overlay.
+    pub fn measure(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
+        let scene = self.scene();
+        let mode = self.settings.mode;
+        let input = &self.input;
+        let mut sv = prepare(preview, input, &self.settings, self.surface, Some(&scene))?;
+        let t = preview.time(&sv, 1, 1)?;
+        let split = |passes: &[(Pass, f64)]| {
+            let lres = |p: Pass| {
+                mode == pelt_preview::Mode::Inferred
+                    && matches!(p, Pass::Geometry | Pass::Light | Pass::Obliterate)
+            };
+            passes.iter().fold(
+                (0.0, 0.0),
+                |(l, o), &(p, ms)| {
+                    if lres(p) { (l + ms, o) } else { (l, o + ms) }
+                },
+            )
+        };
+        let (lbuffer_ms, output_ms) = split(&t.passes);
+        let shells = max_shells(&sv);
+        let one_shell_ms = match shells {
+            Some(n) if n > 1 => {
+                let mut one = scene.clone();
+                Knobs {
+                    shells: Some(1),
+                    ..Knobs::default()
+                }
+                .apply(&mut one);
+                preview.update(&mut sv, &one, mode)?;
+                split(&preview.time(&sv, 1, 1)?.passes).1
+            }
+            _ => output_ms,
+        };
+        let full = Quality {
+            lbuffer_scale: scene.lbuffer_scale,
+            shells: shells.unwrap_or(1),
+            render_scale: 1.0,
+        };
+        self.pass_ms = t.passes;
+        self.budget = Some(Budget {
+            target_ms: self.target_ms,
+            costs: Costs::fit(full, lbuffer_ms, output_ms, one_shell_ms),
+        });
+        Ok(())
+    }
+
+    /// Draws one frame into `texture` (the window's), at full quality when `moving` is
+    /// false. Returns the quality drawn.
+    pub fn draw(
+        &mut self,
+        preview: &mut Preview,
+        texture: &wgpu::TextureView,
+        moving: bool,
+    ) -> Result<Quality, ViewError> {
+        if moving && self.budget.is_none() {
+            self.measure(preview)?;
+        }
+        let q = match &self.budget {
+            Some(b) => b.choose(moving),
+            None => Quality {
+                lbuffer_scale: self.scene().lbuffer_scale,
+                shells: max_shells(&self.full).unwrap_or(1),
+                render_scale: 1.0,
+            },
+        };
+        let output = Output {
+            view: texture,
+            format: self.surface.format,
+        };
+        let full_quality = self.budget.is_none_or(|b| q == b.costs.full);
+        if full_quality {
+            let scene = self.scene();
+            if self.moved {
+                preview.look(&mut self.full, &scene.camera)?;
+            }
+            preview.draw_into(&self.full, texture)?;
+        } else {
+            let scene = self.scene_at(&q);
+            self.draw_reduced(preview, &scene, output)?;
+        }
+        self.last_quality = Some(q);
+        Ok(q)
+    }
+
+    fn draw_reduced(
+        &mut self,
+        preview: &mut Preview,
+        scene: &Scene,
+        output: Output<'_>,
+    ) -> Result<(), ViewError> {
+        let size = (scene.output.width, scene.output.height);
+        let fits = self
+            .reduced
+            .as_ref()
+            .is_some_and(|r| r.view.targets.spec.output == size);
+        if fits {
+            if let Some(r) = &mut self.reduced {
+                preview.update(&mut r.view, scene, self.settings.mode)?;
+            }
+        } else {
+            let view = prepare(
+                preview,
+                &self.input,
+                &self.settings,
+                self.surface,
+                Some(scene),
+            )?;
+            let color = view.targets.color.as_ref().ok_or_else(|| {
+                ViewError::Render(RenderError::from(pelt_preview::features::MissingInput {
+                    pass: "upscale",
+                    what: "the reduced frame".into(),
+                }))
+            })?;
+            let upscale = Upscale::new(&preview.renderer, color, self.surface.size);
+            self.reduced = Some(Reduced { view, upscale });
+        }
+        if let Some(r) = &self.reduced {
+            preview.draw(&r.view)?;
+            pelt_preview::frame::upscale(&preview.renderer, &r.upscale, output)
+                .map_err(RenderError::from)?;
+        }
+        Ok(())
+    }
+
+    /// The full-quality frame of the current camera and settings as an image (a screenshot:
+    /// rendered again into a texture of its own, from the same cached assets).
+    pub fn screenshot(&self, preview: &mut Preview) -> Result<Image, ViewError> {
+        let scene = self.scene();
+        let sv = prepare(
+            preview,
+            &self.input,
+            &self.settings,
+            self.surface,
+            Some(&scene),
+        )?;
+        Ok(preview.render(&sv)?)
+    }
+
+    /// One line for the title bar: input, settings, frame time and quality, pass times.
+    pub fn status(&self, frame_ms: f64) -> String {
+        let s = self.scene();
+        let shells = max_shells(&self.full);
+        let mut line = format!(
+            "pelt view: {} | {}",
+            self.path.file_name().map_or_else(
+                || self.path.display().to_string(),
+                |n| n.to_string_lossy().into_owned()
+            ),
+            self.settings.mode
+        );
+        if self.settings.mode == pelt_preview::Mode::Inferred {
+            line += &format!(
+                ", L-buffer {:.3}, DSF {}",
+                s.lbuffer_scale,
+                if s.dsf { "on" } else { "off" }
+            );
+        }
+        if let Some(n) = shells {
+            let fins = s
+                .objects
+                .iter()
+                .any(|o| matches!(o.material, Material::Fur(f) if f.fins));
+            line += &format!(
+                ", {n} shells{}, {:?}",
+                if fins { " + fins" } else { "" },
+                s.fur_blend
+            );
+        }
+        line += &format!(" | {frame_ms:.0} ms");
+        if let (Some(q), Some(b)) = (self.last_quality, &self.budget)
+            && q != b.costs.full
+        {
+            line += &format!(
+                " (moving: L {:.2}, {} shells, {:.0} % res; budget {:.0} ms)",
+                q.lbuffer_scale,
+                q.shells,
+                q.render_scale * 100.0,
+                b.target_ms
+            );
+        }
+        if !self.pass_ms.is_empty() {
+            let p: Vec<String> = self
+                .pass_ms
+                .iter()
+                .map(|(p, ms)| format!("{} {ms:.0}", p.name()))
+                .collect();
+            line += &format!(" | passes: {}", p.join(", "));
+        }
+        line
+    }
+}
+
+/// Loads an input for a window of `size` (an asset's default scene takes the window's size).
+fn load(path: &Path, size: (u32, u32)) -> Result<Input, ViewError> {
+    knobs::load(path, &Knobs::default(), size).map_err(ViewError::Input)
+}
+
+/// Prepares the input with the settings: for the window (`scene` None: drawn into the
+/// surface at its size) or into a texture of its own (`scene` given, e.g. reduced).
+fn prepare(
+    preview: &mut Preview,
+    input: &Input,
+    settings: &Settings,
+    surface: Surface,
+    scene: Option<&Scene>,
+) -> Result<SceneView, ViewError> {
+    let (scene, output) = match scene {
+        Some(s) => (s.clone(), ViewOutput::IMAGE),
+        None => {
+            let mut s = input.scene.clone();
+            settings.knobs.apply(&mut s);
+            s.output.width = surface.size.0;
+            s.output.height = surface.size.1;
+            (
+                s,
+                ViewOutput {
+                    format: surface.format,
+                    own_color: false,
+                },
+            )
+        }
+    };
+    Ok(preview.prepare_view(&scene, &input.meshes, &input.mesh_of, settings.mode, output)?)
+}
+
+/// Why the viewer stopped or an action failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// The input could not be loaded.
+    #[error(transparent)]
+    Input(knobs::InputError),
+    /// Rendering failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// The window system failed.
+    #[error("window: {0}")]
+    Window(String),
+    /// Writing a file failed.
+    #[error(transparent)]
+    Frame(#[from] pelt_preview::FrameError),
+}
+
+/// Time since `t`, in milliseconds.
+pub fn ms_since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,11 @@
+// fullscreen.wgsl: the one full-screen triangle every screen-space pass draws (light,
+// obliteration, OIT composite, sky, upscale). Three vertices cover the target; depth is 1
+// (the far plane), so the sky's "less or equal" test draws only where nothing else did and
+// passes without a depth test are unaffected. Prepended to those passes' modules (see
+// crates/pelt-preview/src/shaders.rs).
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    let p = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
+    return vec4<f32>(p * 2.0 - 1.0, 1.0, 1.0);
+}

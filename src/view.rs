@@ -1,0 +1,48 @@
+//! `pelt view`: the flags into [`pelt_view::ViewArgs`]; the window lives in `pelt-view`.
+
+use std::process::ExitCode;
+
+use pelt_preview::knobs::Knobs;
+
+use crate::{OnOff, ViewArgs};
+
+/// The source tree's shaders, for reloading in debug builds.
+fn default_shaders() -> Option<std::path::PathBuf> {
+    if !cfg!(debug_assertions) {
+        return None;
+    }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    dir.is_dir().then_some(dir)
+}
+
+/// Runs `pelt view`.
+pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
+    let on = |o: Option<OnOff>| o.map(|v| v == OnOff::On);
+    let view = pelt_view::ViewArgs {
+        input: args.input.clone(),
+        backend: args.backend,
+        mode: args.mode,
+        knobs: Knobs {
+            size: None,
+            lbuffer_scale: args.lbuffer_scale,
+            dsf: on(args.dsf),
+            shells: args.shells,
+            fins: on(args.fins),
+            fur_blend: args.fur_blend,
+        },
+        size: args.size,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        orbit: args.orbit,
+        budget_ms: args.budget_ms,
+        shaders: args.shaders.clone().or_else(default_shaders),
+        quiet: args.quiet,
+    };
+    match pelt_view::run(view) {
+        Ok(()) => Ok(ExitCode::SUCCESS),
+        Err(e) => {
+            eprintln!("pelt: {e}");
+            Ok(ExitCode::from(1))
+        }
+    }
+}
