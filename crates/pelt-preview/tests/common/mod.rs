@@ -6,6 +6,17 @@
 
 use std::path::PathBuf;
 
+use glam::Vec3;
+use pelt_bake::BakeOptions;
+use pelt_bake::fur::{FurAssets, bake_with_fur};
+use pelt_fixtures::build::{BuildOptions, ColorEncoding, document};
+use pelt_fur::{FurConfig, StrandParams};
+use pelt_preview::asset::{MeshData, flatten};
+use pelt_preview::fur::TextureSource;
+use pelt_preview::scene::{
+    Camera, FurBlend, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size,
+    Transform,
+};
 use pelt_preview::{Backend, Image, Mode, Preview, Scene};
 
 pub fn preview() -> Preview {
@@ -86,4 +97,105 @@ pub fn assert_flip(name: &str, reference: &Image, test: &Image, threshold: f32) 
         panic!("{name}: FLIP mean {mean:.5} > {threshold}; images in target/render-tests/");
     }
     mean
+}
+
+pub const LENGTH: f32 = 0.18;
+
+/// The fixture sphere, baked with fur.
+pub fn furry_sphere() -> MeshData {
+    let mut doc = document(
+        &pelt_fixtures::shapes::sphere(24, 48),
+        BuildOptions {
+            colors: ColorEncoding::U8x4,
+            ..BuildOptions::default()
+        },
+    );
+    let config = FurConfig {
+        length: f64::from(LENGTH),
+        uv_scale: 4.0,
+        textures: StrandParams {
+            size: 256,
+            strands: 3000,
+            radius: 0.005,
+            ..StrandParams::default()
+        },
+        ..FurConfig::default()
+    };
+    let assets = FurAssets::new(config).expect("textures");
+    bake_with_fur(&mut doc, &BakeOptions::default(), &assets).expect("bake");
+    let m = flatten(&doc).expect("flatten");
+    let fur = m.fur.as_ref().expect("baked fur");
+    assert_eq!(fur.source, TextureSource::Baked);
+    assert_eq!(fur.vertices.len(), m.vertices.len());
+    assert!(!fur.fins.is_empty(), "the bake stores fin edges");
+    assert!((fur.look.length - LENGTH).abs() < 1e-6);
+    m
+}
+
+pub fn light(p: Vec3, color: Vec3, intensity: f32, radius: f32) -> PointLight {
+    PointLight {
+        position: p.into(),
+        color: color.into(),
+        intensity: NonNegative(intensity),
+        radius: Positive(radius),
+    }
+}
+
+pub fn fur_object(settings: FurSettings) -> Object {
+    Object {
+        asset: PathBuf::from("sphere"),
+        transform: Transform::default(),
+        material: Material::Fur(settings),
+        color: [1.0; 3],
+    }
+}
+
+/// The furry sphere, lit by a key, a fill and a back light, on the flat background.
+pub fn scene(shells: u32, fins: bool, blend: FurBlend) -> Scene {
+    Scene {
+        output: Size {
+            width: 192,
+            height: 144,
+        },
+        camera: Camera {
+            position: [0.0, 0.6, 4.2],
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: 40.0,
+            near: 0.5,
+            far: 20.0,
+        },
+        ambient: [0.05; 3],
+        objects: vec![fur_object(FurSettings {
+            shells: Some(shells),
+            fins,
+            length: None,
+        })],
+        lights: vec![
+            light(
+                Vec3::new(2.5, 2.5, 3.0),
+                Vec3::new(1.0, 0.95, 0.85),
+                14.0,
+                12.0,
+            ),
+            light(
+                Vec3::new(-3.0, 0.5, 1.0),
+                Vec3::new(0.5, 0.6, 1.0),
+                5.0,
+                10.0,
+            ),
+            light(Vec3::new(0.0, 1.0, -3.5), Vec3::ONE, 10.0, 10.0),
+        ],
+        fur_blend: blend,
+        ..Scene::default()
+    }
+}
+
+/// Sets every fur object's shell count.
+pub fn set_shells(s: &mut Scene, shells: u32) {
+    pelt_preview::knobs::Knobs {
+        shells: Some(shells),
+        ..Default::default()
+    }
+    .apply(s);
 }

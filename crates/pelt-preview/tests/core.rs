@@ -1,0 +1,165 @@
+//! The renderer core's contracts, on a real adapter (`PELT_BACKEND=gl|vulkan`): GPU assets are
+//! uploaded once and frames after the first write only uniforms; camera and knob moves build
+//! no pipeline; a planned pass missing a target or resource is an error; pipeline keys carry
+//! the output format.
+
+mod common;
+
+use pelt_preview::asset::MeshData;
+use pelt_preview::orbit::Orbit;
+use pelt_preview::scene::FurBlend;
+use pelt_preview::{Mode, ViewOutput};
+
+use common::{furry_sphere, preview, scene};
+
+/// Most bytes a frame after the first may upload: its uniforms (frame constants, a few
+/// objects and lights, the forward light array, the shell table), never a mesh or texture.
+const UNIFORM_BYTES: u64 = 16 * 1024;
+
+/// Bytes of a mesh's vertex and index buffers.
+fn mesh_bytes(m: &MeshData) -> u64 {
+    (size_of_val(m.vertices.as_slice()) + size_of_val(m.indices.as_slice())) as u64
+}
+
+#[test]
+fn camera_and_knob_moves_build_no_pipeline_after_the_first_frame_and_upload_only_uniforms() {
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let mut s = scene(16, true, FurBlend::Stipple);
+    p.take_uploaded();
+    let mut sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    p.render(&sv).expect("frame 0");
+    let first = p.take_uploaded();
+    eprintln!("frame 0 uploaded {first} bytes");
+    assert!(first > mesh_bytes(&meshes[0]), "frame 0 uploads the mesh");
+    let built = p.renderer.pipelines_built();
+    assert!(built > 0);
+    let mut orbit = Orbit::new(&s.camera);
+    for k in 1..10 {
+        orbit.rotate(0.3, 0.04);
+        s.camera = orbit.camera();
+        match k % 3 {
+            0 => s.lbuffer_scale = [0.5, 0.75, 1.0][k % 2],
+            1 => common::set_shells(&mut s, [4, 24][k % 2]),
+            _ => s.dsf = !s.dsf,
+        }
+        p.update(&mut sv, &s, Mode::Inferred).expect("update");
+        p.render(&sv).expect("frame");
+        assert_eq!(
+            p.renderer.pipelines_built(),
+            built,
+            "frame {k} built a pipeline"
+        );
+        let up = p.take_uploaded();
+        eprintln!("frame {k} uploaded {up} bytes");
+        assert!(
+            up > 0 && up <= UNIFORM_BYTES,
+            "frame {k}: {up} bytes (a moved camera writes its uniforms, nothing more)"
+        );
+    }
+    // A still camera writes nothing at all.
+    p.update(&mut sv, &s, Mode::Inferred).expect("update");
+    p.render(&sv).expect("still frame");
+    assert_eq!(p.take_uploaded(), 0, "nothing changed, nothing written");
+    // The counter sees new pipelines: another mode needs its own.
+    p.update(&mut sv, &s, Mode::Forward).expect("forward");
+    p.render(&sv).expect("forward frame");
+    assert!(
+        p.renderer.pipelines_built() > built,
+        "forward compiles its pipelines"
+    );
+}
+
+#[test]
+fn a_scene_prepared_again_reuses_its_gpu_assets_and_a_changed_mesh_uploads() {
+    let mut p = preview();
+    let mut meshes = vec![furry_sphere()];
+    let s = scene(8, true, FurBlend::Stipple);
+    let first = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    let cold = p.take_uploaded();
+    let again = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("again");
+    let warm = p.take_uploaded();
+    eprintln!("first prepare {cold} bytes, second {warm}");
+    assert!(cold > mesh_bytes(&meshes[0]));
+    assert!(
+        warm <= UNIFORM_BYTES,
+        "the cache keeps the mesh and textures: {warm}"
+    );
+    // Same bytes, same GPU buffers.
+    let a = first.meshes[0].as_ref().expect("uploaded");
+    let b = again.meshes[0].as_ref().expect("uploaded");
+    assert!(std::sync::Arc::ptr_eq(a, b));
+    // Negative control: one vertex moved is another asset.
+    meshes[0].vertices[0].position[0] += 1e-3;
+    p.prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("changed");
+    assert!(p.take_uploaded() > mesh_bytes(&meshes[0]));
+    // Assets no scene holds are dropped.
+    drop((first, again));
+    assert!(p.assets.sweep() >= 1);
+}
+
+#[test]
+fn a_planned_pass_missing_its_target_or_mesh_is_an_error() {
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let s = scene(8, true, FurBlend::Stipple);
+    let mut sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    p.render(&sv).expect("whole, it renders");
+    sv.targets.gbuffer = None;
+    let e = p.render(&sv).expect_err("no G-buffer").to_string();
+    assert!(e.contains("geometry pass needs a G-buffer"), "{e}");
+    let mut sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    sv.meshes[0] = None;
+    let e = p.render(&sv).expect_err("no mesh").to_string();
+    assert!(e.contains("the mesh of objects[0]"), "{e}");
+    let mut sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    sv.targets.composition = None;
+    let e = p.render(&sv).expect_err("no composition").to_string();
+    assert!(e.contains("obliterate pass needs"), "{e}");
+}
+
+#[test]
+fn pipeline_keys_carry_the_output_format() {
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let s = scene(8, true, FurBlend::Stipple);
+    let rgba = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("rgba");
+    let a = p.render(&rgba).expect("rgba frame");
+    let built = p.renderer.pipelines_built();
+    let bgra = p
+        .prepare_view(
+            &s,
+            &meshes,
+            &[0],
+            Mode::Inferred,
+            ViewOutput {
+                format: wgpu::TextureFormat::Bgra8UnormSrgb,
+                own_color: true,
+            },
+        )
+        .expect("bgra");
+    let mut b = p.render(&bgra).expect("bgra frame");
+    let more = p.renderer.pipelines_built() - built;
+    // The material pass's pipelines (base, sky, shells, fins) are built again for the new
+    // format; the G-buffer, light and obliteration passes' are shared.
+    assert!((1..built).contains(&more), "{more} new of {built}");
+    for px in b.rgba.chunks_exact_mut(4) {
+        px.swap(0, 2);
+    }
+    assert_eq!(a, b, "the same image in either channel order");
+}

@@ -1,0 +1,278 @@
+//! `pelt view` end to end in a real window under Xvfb (`xvfb-run`, Debian `xvfb` and
+//! `xauth`), on the back end `PELT_BACKEND` names (CI runs GL and Vulkan): the scripted mode's
+//! screenshot equals `pelt render` of the same input, size, camera and knobs; after a scripted
+//! orbit drawn under a tight frame budget, the still frame equals the full-quality render of
+//! the final camera. Also `pelt render --bench --orbit --json` (frame 0 uploads the asset,
+//! later frames only uniforms) and a quiet successful render (no "error:" line).
+//!
+//! Without `xvfb-run` the window tests are skipped, unless `PELT_REQUIRE_XVFB` is set (CI sets
+//! it, so there a missing Xvfb fails).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::*;
+use pelt_preview::Image;
+
+fn backend() -> String {
+    std::env::var("PELT_BACKEND").unwrap_or_else(|_| "auto".into())
+}
+
+/// Whether the window tests can run here.
+fn have_xvfb() -> bool {
+    let found = Command::new("xvfb-run")
+        .arg("--help")
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty());
+    if !found {
+        assert!(
+            std::env::var_os("PELT_REQUIRE_XVFB").is_none(),
+            "PELT_REQUIRE_XVFB is set but xvfb-run is missing (apt-get install xvfb xauth)"
+        );
+        eprintln!("skipped: xvfb-run not found (apt-get install xvfb xauth)");
+    }
+    found
+}
+
+/// `pelt view ARGS` in a fresh X server.
+fn view(args: &[&str]) -> Output {
+    let b = backend();
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 640x480x24"])
+        .arg(env!("CARGO_BIN_EXE_pelt"))
+        .args(["view", "--backend", &b])
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run xvfb-run");
+    assert!(
+        out.status.success(),
+        "pelt view {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn load_png(path: &Path) -> Image {
+    let bytes = std::fs::read(path).expect("png written");
+    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .expect("valid png");
+    let mut rgba = vec![0; r.output_buffer_size().expect("size")];
+    let info = r.next_frame(&mut rgba).expect("frame");
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    Image {
+        width: info.width,
+        height: info.height,
+        rgba,
+    }
+}
+
+fn flip(reference: &Image, test: &Image) -> f32 {
+    assert_eq!(
+        (reference.width, reference.height),
+        (test.width, test.height)
+    );
+    let rgb = |i: &Image| {
+        let data: Vec<u8> = i
+            .rgba
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect();
+        nv_flip::FlipImageRgb8::with_data(i.width, i.height, &data)
+    };
+    let err = nv_flip::flip(
+        rgb(reference),
+        rgb(test),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    nv_flip::FlipPool::from_image(&err).mean()
+}
+
+/// The fixture creature baked with fur (the demo's asset, smaller textures' config).
+fn furry(dir: &Path) -> PathBuf {
+    bake(
+        &fixture("creature.glb"),
+        dir,
+        &["--config", fixture("fur.json").to_str().expect("utf8")],
+    )
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf8")
+}
+
+#[test]
+fn a_scripted_screenshot_equals_pelt_render() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-screenshot");
+    let asset = furry(&dir);
+    let shot = dir.join("view.png");
+    let out = view(&[
+        s(&asset),
+        "--frames",
+        "3",
+        "--screenshot",
+        s(&shot),
+        "--size",
+        "192x128",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.lines().any(|l| l.starts_with("error:")), "{err}");
+    let b = backend();
+    let render = |name: &str, extra: &[&str]| {
+        let path = dir.join(name);
+        let mut args = vec![
+            "render",
+            "--backend",
+            &b,
+            s(&asset),
+            "-o",
+            s(&path),
+            "--size",
+            "192x128",
+        ];
+        args.extend_from_slice(extra);
+        pelt_ok(&args);
+        load_png(&path)
+    };
+    let reference = render("render.png", &[]);
+    let got = load_png(&shot);
+    let f = flip(&reference, &got);
+    eprintln!("view screenshot against pelt render: FLIP {f:.5} ({err})");
+    assert!(f <= 0.01, "FLIP {f} > 0.01");
+    // Negative control: the comparison sees a change of one knob.
+    let other = render("render-2-shells.png", &["--shells", "2"]);
+    let g = flip(&other, &got);
+    eprintln!("against 2 shells: FLIP {g:.5}");
+    assert!(g > 0.01, "the check cannot tell 2 shells from 16: {g}");
+}
+
+#[test]
+fn the_still_frame_after_a_budgeted_orbit_equals_the_full_quality_render() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-orbit");
+    let asset = furry(&dir);
+    let (w, h) = (192, 128);
+    let shot = dir.join("still.png");
+    // A 1 ms budget forces every moving frame down to the floors.
+    let out = view(&[
+        s(&asset),
+        "--frames",
+        "6",
+        "--orbit",
+        "15",
+        "--budget-ms",
+        "1",
+        "--screenshot",
+        s(&shot),
+        "--size",
+        "192x128",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.lines().filter(|l| l.contains("(moving: ")).count() >= 3,
+        "the moving frames were drawn at reduced quality: {err}"
+    );
+    // The final camera: the default framing turned 5 × 15° about its target.
+    let mesh = pelt_preview::asset::load(&asset).expect("asset");
+    let mut scene = pelt_preview::framing::asset_scene(&asset, &mesh, w, h);
+    let mut orbit = pelt_preview::orbit::Orbit::new(&scene.camera);
+    for _ in 0..5 {
+        orbit.rotate(15f32.to_radians(), 0.0);
+    }
+    scene.camera = orbit.camera();
+    let scene_path = dir.join("final.json");
+    std::fs::write(&scene_path, serde_json::to_string(&scene).expect("json")).expect("write");
+    let reference = dir.join("final.png");
+    let b = backend();
+    pelt_ok(&[
+        "render",
+        "--backend",
+        &b,
+        s(&scene_path),
+        "-o",
+        s(&reference),
+    ]);
+    let f = flip(&load_png(&reference), &load_png(&shot));
+    eprintln!("still frame after the orbit against the full-quality render: FLIP {f:.5}");
+    assert!(f <= 0.005, "FLIP {f} > 0.005");
+}
+
+#[test]
+fn an_orbit_bench_uploads_the_asset_once_then_only_uniforms() {
+    let dir = scratch("view-bench");
+    let asset = furry(&dir);
+    let b = backend();
+    let out = pelt_ok(&[
+        "render",
+        "--backend",
+        &b,
+        s(&asset),
+        "--size",
+        "160x90",
+        "--bench",
+        "5",
+        "--orbit",
+        "12",
+        "--json",
+        "-q",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let frames = v["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), 5);
+    let bytes = |k: usize| frames[k]["upload_bytes"].as_u64().expect("upload_bytes");
+    let file = std::fs::metadata(&asset).expect("asset").len();
+    // Frame 0 uploads the mesh, fur vertices, fins and every mip of the fur textures: at
+    // least half the file's bytes (the file also holds what the preview does not draw).
+    assert!(
+        bytes(0) > file / 2,
+        "frame 0: {} of a {file}-byte asset",
+        bytes(0)
+    );
+    for k in 1..5 {
+        assert!(frames[k]["ms"].as_f64().is_some_and(|ms| ms > 0.0));
+        assert!(
+            bytes(k) > 0 && bytes(k) <= 16 * 1024,
+            "frame {k} uploaded {} bytes",
+            bytes(k)
+        );
+    }
+}
+
+#[test]
+fn a_successful_render_prints_no_error_line_without_a_runtime_dir() {
+    let dir = scratch("view-quiet");
+    let out_png = dir.join("quiet.png");
+    let b = backend();
+    let out = Command::new(env!("CARGO_BIN_EXE_pelt"))
+        .args(["render", "--backend", &b])
+        .arg(fixture("torus.glb"))
+        .arg("-o")
+        .arg(&out_png)
+        .args(["--size", "64x48"])
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("run pelt");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        !err.lines().any(|l| l.trim_start().starts_with("error:")),
+        "a successful render printed an error line: {err}"
+    );
+    // A real error still shows.
+    let bad = Command::new(env!("CARGO_BIN_EXE_pelt"))
+        .args(["render", "--backend", &b, "no-such.glb", "-o"])
+        .arg(dir.join("never.png"))
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .expect("run pelt");
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("no-such.glb"));
+}
