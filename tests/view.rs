@@ -227,7 +227,7 @@ fn an_orbit_bench_uploads_the_asset_once_then_only_uniforms() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     let frames = v["frames"].as_array().expect("frames");
     assert_eq!(frames.len(), 5);
-    let bytes = |k: usize| frames[k]["upload_bytes"].as_u64().expect("upload_bytes");
+    let bytes = |f: &serde_json::Value| f["upload_bytes"].as_u64().expect("upload_bytes");
     let file = std::fs::metadata(&asset).expect("asset").len();
     // Frame 0 uploads the mesh, fur vertices, fins and every mip of the fur textures: at
     // least half the file's bytes (the file also holds what the preview does not draw).
