@@ -104,19 +104,10 @@ fn shade(s: FinOut) -> vec4<f32> {
 }
 
 @fragment
-fn fs_main(s: FinOut) -> @location(0) vec4<f32> {
+fn fs_main(s: FinOut) -> FurOut {
     let c = shade(s);
     if c.a <= 0.002 {
         discard;
     }
-    return c;
-}
-
-@fragment
-fn fs_wboit(s: FinOut) -> WboitOut {
-    let c = shade(s);
-    if c.a <= 0.002 {
-        discard;
-    }
-    return wboit_out(c.rgb, c.a, -s.view_pos.z, object.fur_params.w);
+    return fur_out(c, -s.view_pos.z, object.fur_params.w);
 }

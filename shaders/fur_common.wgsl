@@ -142,16 +142,29 @@ struct FurLight {
     specular: vec3<f32>,
 }
 
-struct WboitOut {
-    @location(0) accum: vec4<f32>,
+// Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the shells and fins
+// of the weighted blended OIT pass, false where they blend straight alpha "over". One
+// fragment entry point serves both; the revealage output has a target only under WBOIT.
+override WBOIT: bool = false;
+
+struct FurOut {
+    // Straight colour and alpha ("over"), or Σ colour·α·w and Σ α·w (WBOIT).
+    @location(0) color: vec4<f32>,
+    // WBOIT: α, multiplied into the revealage target as 1 − α.
     @location(1) reveal: vec4<f32>,
 }
 
-// A layer's contribution to the weighted blended accumulation (straight colour, alpha).
-fn wboit_out(color: vec3<f32>, a: f32, depth: f32, scale: f32) -> WboitOut {
-    var o: WboitOut;
-    let w = wboit_weight(depth, a, scale);
-    o.accum = vec4<f32>(color * a, a) * w;
-    o.reveal = vec4<f32>(a);
+// A layer's output: straight alpha, or its contribution to the weighted blended
+// accumulation (McGuire & Bavoil eq. 7 with view depth `depth`).
+fn fur_out(c: vec4<f32>, depth: f32, scale: f32) -> FurOut {
+    var o: FurOut;
+    if WBOIT {
+        let w = wboit_weight(depth, c.a, scale);
+        o.color = vec4<f32>(c.rgb * c.a, c.a) * w;
+        o.reveal = vec4<f32>(c.a);
+    } else {
+        o.color = c;
+        o.reveal = vec4<f32>(0.0);
+    }
     return o;
 }

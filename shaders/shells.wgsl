@@ -6,7 +6,7 @@
 // fur_light_forward.wgsl), takes the root-to-tip albedo lerp by shell depth, and fades
 // strands out with smoothstep where the shell depth reaches the heightfield sampled at
 // TEXCOORD_0 × uvScale. fs_main writes straight alpha for "over" blending (inner shells
-// first); fs_wboit writes weighted blended OIT (McGuire & Bavoil 2013).
+// first) or, with the WBOIT override, weighted blended OIT (McGuire & Bavoil 2013).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
@@ -69,19 +69,10 @@ fn shade(s: ShellOut) -> vec4<f32> {
 }
 
 @fragment
-fn fs_main(s: ShellOut) -> @location(0) vec4<f32> {
+fn fs_main(s: ShellOut) -> FurOut {
     let c = shade(s);
     if c.a <= 0.0 {
         discard;
     }
-    return c;
-}
-
-@fragment
-fn fs_wboit(s: ShellOut) -> WboitOut {
-    let c = shade(s);
-    if c.a <= 0.0 {
-        discard;
-    }
-    return wboit_out(c.rgb, c.a, -s.view_pos.z, object.fur_params.w);
+    return fur_out(c, -s.view_pos.z, object.fur_params.w);
 }

@@ -128,83 +128,135 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 /// Bytes of the obliteration pass's ID table (`array<vec4<u32>, 64>`).
 pub const SHELL_TABLE_BYTES: u64 = 1024;
 
-impl Layouts {
-    fn new(device: &wgpu::Device) -> Layouts {
-        let layout = |label: &str, entries: &[wgpu::BindGroupLayoutEntry]| {
-            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                entries,
-            })
-        };
+/// A bind group layout by name: what a pipeline spec lists, slot by slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LayoutId {
+    /// [`Layouts::frame`].
+    Frame,
+    /// [`Layouts::object`].
+    Object,
+    /// [`Layouts::textures`].
+    Textures,
+    /// [`Layouts::light`].
+    Light,
+    /// [`Layouts::light_array`].
+    LightArray,
+    /// [`Layouts::fur`].
+    Fur,
+    /// [`Layouts::shell_table`].
+    ShellTable,
+    /// [`Layouts::oit`].
+    Oit,
+    /// [`Layouts::sky`].
+    Sky,
+    /// [`Layouts::upscale_source`].
+    UpscaleSource,
+    /// [`Layouts::upscale_size`].
+    UpscaleSize,
+}
+
+impl LayoutId {
+    /// Every layout.
+    pub const ALL: [LayoutId; 11] = [
+        LayoutId::Frame,
+        LayoutId::Object,
+        LayoutId::Textures,
+        LayoutId::Light,
+        LayoutId::LightArray,
+        LayoutId::Fur,
+        LayoutId::ShellTable,
+        LayoutId::Oit,
+        LayoutId::Sky,
+        LayoutId::UpscaleSource,
+        LayoutId::UpscaleSize,
+    ];
+
+    /// The layout's entries (plain data: the shader test checks them against the WGSL).
+    pub fn entries(self) -> Vec<wgpu::BindGroupLayoutEntry> {
         let d2 = wgpu::TextureViewDimension::D2;
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
         let size = |n: usize| n as u64;
-        Layouts {
-            frame: layout(
-                "frame",
-                &[uniform_entry(size(size_of::<FrameUniforms>()), true)],
-            ),
-            object: layout(
-                "object",
-                &[uniform_entry(size(size_of::<ObjectUniforms>()), true)],
-            ),
-            textures: layout(
-                "textures",
-                &[
-                    texture_entry(0, unfilterable, d2),
-                    texture_entry(1, wgpu::TextureSampleType::Uint, d2),
-                ],
-            ),
-            light: layout(
-                "light",
-                &[uniform_entry(size(size_of::<LightUniforms>()), true)],
-            ),
-            light_array: layout(
-                "light array",
-                &[uniform_entry(
-                    size(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()),
-                    false,
-                )],
-            ),
-            fur: layout(
-                "fur textures",
-                &[
-                    texture_entry(0, filterable, d2),
-                    texture_entry(1, filterable, d2),
-                    sampler_entry(2),
-                    sampler_entry(3),
-                ],
-            ),
-            shell_table: layout("shell table", &[uniform_entry(SHELL_TABLE_BYTES, false)]),
-            oit: layout(
-                "oit",
-                &[
-                    texture_entry(0, unfilterable, d2),
-                    texture_entry(1, unfilterable, d2),
-                ],
-            ),
-            sky: layout(
-                "sky",
-                &[
-                    texture_entry(0, filterable, wgpu::TextureViewDimension::Cube),
-                    sampler_entry(1),
-                ],
-            ),
-            upscale_source: layout(
-                "upscale source",
-                &[texture_entry(0, filterable, d2), sampler_entry(1)],
-            ),
-            upscale_size: layout("upscale size", &[uniform_entry(16, false)]),
+        match self {
+            LayoutId::Frame => vec![uniform_entry(size(size_of::<FrameUniforms>()), true)],
+            LayoutId::Object => vec![uniform_entry(size(size_of::<ObjectUniforms>()), true)],
+            LayoutId::Textures => vec![
+                texture_entry(0, unfilterable, d2),
+                texture_entry(1, wgpu::TextureSampleType::Uint, d2),
+            ],
+            LayoutId::Light => vec![uniform_entry(size(size_of::<LightUniforms>()), true)],
+            LayoutId::LightArray => vec![uniform_entry(
+                size(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()),
+                false,
+            )],
+            LayoutId::Fur => vec![
+                texture_entry(0, filterable, d2),
+                texture_entry(1, filterable, d2),
+                sampler_entry(2),
+                sampler_entry(3),
+            ],
+            LayoutId::ShellTable => vec![uniform_entry(SHELL_TABLE_BYTES, false)],
+            LayoutId::Oit => vec![
+                texture_entry(0, unfilterable, d2),
+                texture_entry(1, unfilterable, d2),
+            ],
+            LayoutId::Sky => vec![
+                texture_entry(0, filterable, wgpu::TextureViewDimension::Cube),
+                sampler_entry(1),
+            ],
+            LayoutId::UpscaleSource => vec![texture_entry(0, filterable, d2), sampler_entry(1)],
+            LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
         }
     }
 }
 
-/// How a feature lays out one of its pipelines; the formats come from the key.
+impl Layouts {
+    fn new(device: &wgpu::Device) -> Layouts {
+        let layout = |id: LayoutId| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&format!("{id:?}")),
+                entries: &id.entries(),
+            })
+        };
+        Layouts {
+            frame: layout(LayoutId::Frame),
+            object: layout(LayoutId::Object),
+            textures: layout(LayoutId::Textures),
+            light: layout(LayoutId::Light),
+            light_array: layout(LayoutId::LightArray),
+            fur: layout(LayoutId::Fur),
+            shell_table: layout(LayoutId::ShellTable),
+            oit: layout(LayoutId::Oit),
+            sky: layout(LayoutId::Sky),
+            upscale_source: layout(LayoutId::UpscaleSource),
+            upscale_size: layout(LayoutId::UpscaleSize),
+        }
+    }
+
+    /// The layout named `id`.
+    pub fn get(&self, id: LayoutId) -> &wgpu::BindGroupLayout {
+        match id {
+            LayoutId::Frame => &self.frame,
+            LayoutId::Object => &self.object,
+            LayoutId::Textures => &self.textures,
+            LayoutId::Light => &self.light,
+            LayoutId::LightArray => &self.light_array,
+            LayoutId::Fur => &self.fur,
+            LayoutId::ShellTable => &self.shell_table,
+            LayoutId::Oit => &self.oit,
+            LayoutId::Sky => &self.sky,
+            LayoutId::UpscaleSource => &self.upscale_source,
+            LayoutId::UpscaleSize => &self.upscale_size,
+        }
+    }
+}
+
+/// How a feature lays out one of its pipelines; the formats come from the key. Plain data,
+/// so the shader test can check it against the WGSL without a device.
 #[derive(Debug)]
-pub struct PipelineSpec<'a> {
+pub struct PipelineSpec {
     /// Bind group layouts by slot, slot 0 first (every slot up to the last present).
-    pub groups: Vec<&'a wgpu::BindGroupLayout>,
+    pub groups: Vec<LayoutId>,
     /// Vertex buffers by slot.
     pub vertex_buffers: Vec<wgpu::VertexBufferLayout<'static>>,
     /// Blend of each colour target, in attachment order.
@@ -214,6 +266,8 @@ pub struct PipelineSpec<'a> {
     pub depth: Option<(bool, wgpu::CompareFunction)>,
     /// Faces culled.
     pub cull: Option<wgpu::Face>,
+    /// Values of the module's `override` constants (by name).
+    pub constants: Vec<(&'static str, f64)>,
 }
 
 /// Why a pipeline could not be made or found.
@@ -326,7 +380,7 @@ impl Renderer {
     }
 
     fn build(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
-        let spec = crate::features::spec(key, &self.layouts);
+        let spec = crate::features::spec(key);
         let mismatch = |message: String| PipelineError::Mismatch { key: *key, message };
         let formats: Vec<wgpu::TextureFormat> = key.colors.iter().flatten().copied().collect();
         if formats.len() != spec.blends.len() {
@@ -364,14 +418,21 @@ impl Renderer {
         let module = self.module(key.shader);
         let device = &self.gpu.device;
         let name = key.shader.module_name();
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> =
-            spec.groups.iter().map(|&g| Some(g)).collect();
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = spec
+            .groups
+            .iter()
+            .map(|&g| Some(self.layouts.get(g)))
+            .collect();
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(&name),
             bind_group_layouts: &groups,
             immediate_size: 0,
         });
-        let (vs, fs) = key.shader.entry_points(key.blend == Blend::Wboit);
+        let (vs, fs) = key.shader.entry_points();
+        let options = wgpu::PipelineCompilationOptions {
+            constants: &spec.constants,
+            ..Default::default()
+        };
         let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> =
             spec.vertex_buffers.iter().cloned().map(Some).collect();
         Ok(
@@ -381,7 +442,7 @@ impl Renderer {
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some(vs),
-                    compilation_options: Default::default(),
+                    compilation_options: options.clone(),
                     buffers: &buffers,
                 },
                 primitive: wgpu::PrimitiveState {
@@ -393,7 +454,7 @@ impl Renderer {
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
-                    compilation_options: Default::default(),
+                    compilation_options: options,
                     targets: &targets,
                 }),
                 multiview_mask: None,

@@ -199,8 +199,9 @@ impl Shader {
         )
     }
 
-    /// The vertex and fragment entry points (`wboit`: the weighted-blended output).
-    pub fn entry_points(self, wboit: bool) -> (&'static str, &'static str) {
+    /// The vertex and fragment entry points (one pair per module; the fur shaders' blend
+    /// is an `override` constant, see features/fur.rs).
+    pub fn entry_points(self) -> (&'static str, &'static str) {
         if self.fullscreen() {
             return (
                 "vs_fullscreen",
@@ -214,7 +215,6 @@ impl Shader {
         match self {
             Shader::FurBase => ("vs_base", "fs_base"),
             Shader::FurOuter => ("vs_outer", "fs_outer"),
-            Shader::Shells(_) | Shader::Fins(_) if wboit => ("vs_main", "fs_wboit"),
             _ => ("vs_main", "fs_main"),
         }
     }

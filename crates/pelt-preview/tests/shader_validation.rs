@@ -1,24 +1,196 @@
 //! Every WGSL file in the top-level `shaders/` folder parses and validates with naga, no GPU
 //! needed (as re_renderer's tests/shader_validation.rs does); every file there is one the
-//! renderer compiles; and the uniform structs have the sizes the Rust side declares.
+//! renderer compiles; the uniform structs have the sizes the Rust side declares; and every
+//! pipeline's vertex-buffer layout and bind-group slots match its entry points' inputs and
+//! `@group` bindings.
 
 use std::path::Path;
 
+use pelt_preview::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use pelt_preview::shaders::{COMMON, FILES, Shader};
 use pelt_preview::uniforms::{
     FinInstance, FrameUniforms, FurVertex, LightUniforms, ObjectUniforms, Vertex,
 };
 
-fn validate(name: &str, source: &str) -> naga::Module {
+fn validate_info(name: &str, source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
     let module = naga::front::wgsl::parse_str(source)
         .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    naga::valid::Validator::new(
+    let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::empty(),
     )
     .validate(&module)
     .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    module
+    (module, info)
+}
+
+fn validate(name: &str, source: &str) -> naga::Module {
+    validate_info(name, source).0
+}
+
+fn key(shader: Shader) -> PipelineKey {
+    PipelineKey {
+        shader,
+        blend: Blend::None,
+        colors: [None; 2],
+        depth: None,
+    }
+}
+
+/// Whether a vertex format feeds a WGSL input of type `ty`.
+fn fits(format: wgpu::VertexFormat, ty: &naga::TypeInner) -> bool {
+    use naga::{Scalar, TypeInner, VectorSize};
+    let f32v = |n| TypeInner::Vector {
+        size: n,
+        scalar: Scalar::F32,
+    };
+    match format {
+        wgpu::VertexFormat::Float32 => *ty == TypeInner::Scalar(Scalar::F32),
+        wgpu::VertexFormat::Float32x2 => *ty == f32v(VectorSize::Bi),
+        wgpu::VertexFormat::Float32x3 => *ty == f32v(VectorSize::Tri),
+        wgpu::VertexFormat::Float32x4 => *ty == f32v(VectorSize::Quad),
+        wgpu::VertexFormat::Uint32 => *ty == TypeInner::Scalar(Scalar::U32),
+        _ => false,
+    }
+}
+
+/// The vertex entry point's `@location` inputs against `spec`'s vertex buffers: the same
+/// locations, each fed a format of its type.
+fn check_vertex(m: &naga::Module, vs: &str, spec: &PipelineSpec) -> Result<(), String> {
+    let ep = m
+        .entry_points
+        .iter()
+        .find(|e| e.name == vs)
+        .ok_or(format!("no entry point {vs}"))?;
+    let mut inputs = Vec::new();
+    let mut add = |binding: &Option<naga::Binding>, ty: naga::Handle<naga::Type>| {
+        if let Some(naga::Binding::Location { location, .. }) = binding {
+            inputs.push((*location, m.types[ty].inner.clone()));
+        }
+    };
+    for a in &ep.function.arguments {
+        match &m.types[a.ty].inner {
+            naga::TypeInner::Struct { members, .. } if a.binding.is_none() => {
+                for mb in members {
+                    add(&mb.binding, mb.ty);
+                }
+            }
+            _ => add(&a.binding, a.ty),
+        }
+    }
+    let attrs: Vec<&wgpu::VertexAttribute> = spec
+        .vertex_buffers
+        .iter()
+        .flat_map(|b| b.attributes.iter())
+        .collect();
+    if attrs.len() != inputs.len() {
+        return Err(format!(
+            "{} attributes for {} inputs",
+            attrs.len(),
+            inputs.len()
+        ));
+    }
+    for (loc, ty) in &inputs {
+        let a = attrs
+            .iter()
+            .find(|a| a.shader_location == *loc)
+            .ok_or(format!("no attribute at location {loc}"))?;
+        if !fits(a.format, ty) {
+            return Err(format!(
+                "location {loc}: {:?} does not feed {ty:?}",
+                a.format
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every global an entry point of `eps` uses, against the layout `spec` puts at its group.
+fn check_groups(
+    m: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    eps: [&str; 2],
+    spec: &PipelineSpec,
+) -> Result<(), String> {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(m.to_ctx()).map_err(|e| e.to_string())?;
+    for (i, ep) in m.entry_points.iter().enumerate() {
+        if !eps.contains(&ep.name.as_str()) {
+            continue;
+        }
+        let used = info.get_entry_point(i);
+        for (h, g) in m.global_variables.iter() {
+            let Some(rb) = &g.binding else { continue };
+            if used[h].is_empty() {
+                continue;
+            }
+            let name = g.name.clone().unwrap_or_default();
+            let id = spec.groups.get(rb.group as usize).ok_or(format!(
+                "{}: {name} at @group({}) but the pipeline has {} groups",
+                ep.name,
+                rb.group,
+                spec.groups.len()
+            ))?;
+            let entry = id
+                .entries()
+                .into_iter()
+                .find(|e| e.binding == rb.binding)
+                .ok_or(format!("{name}: {id:?} has no binding {}", rb.binding))?;
+            let ok = match (&m.types[g.ty].inner, entry.ty) {
+                (
+                    _,
+                    wgpu::BindingType::Buffer {
+                        ty,
+                        min_binding_size,
+                        ..
+                    },
+                ) => {
+                    let size = u64::from(layouter[g.ty].size);
+                    g.space == naga::AddressSpace::Uniform
+                        && ty == wgpu::BufferBindingType::Uniform
+                        && min_binding_size.map(|n| n.get()) == Some(size)
+                }
+                (naga::TypeInner::Sampler { .. }, wgpu::BindingType::Sampler(_)) => true,
+                (
+                    naga::TypeInner::Image { dim, class, .. },
+                    wgpu::BindingType::Texture {
+                        sample_type,
+                        view_dimension,
+                        ..
+                    },
+                ) => {
+                    let dim_ok = match dim {
+                        naga::ImageDimension::D2 => {
+                            view_dimension == wgpu::TextureViewDimension::D2
+                        }
+                        naga::ImageDimension::Cube => {
+                            view_dimension == wgpu::TextureViewDimension::Cube
+                        }
+                        _ => false,
+                    };
+                    let kind_ok = match (class, sample_type) {
+                        (
+                            naga::ImageClass::Sampled { kind, .. },
+                            wgpu::TextureSampleType::Float { .. },
+                        ) => *kind == naga::ScalarKind::Float,
+                        (naga::ImageClass::Sampled { kind, .. }, wgpu::TextureSampleType::Uint) => {
+                            *kind == naga::ScalarKind::Uint
+                        }
+                        _ => false,
+                    };
+                    dim_ok && kind_ok
+                }
+                _ => false,
+            };
+            if !ok {
+                return Err(format!(
+                    "{}: {name} at @group({}) @binding({}) does not match {id:?}",
+                    ep.name, rb.group, rb.binding
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 #[test]
@@ -52,15 +224,59 @@ fn every_shader_file_validates_and_is_compiled_by_the_renderer() {
         let source = s.source();
         let m = validate(&s.module_name(), &source);
         let entries: Vec<&str> = m.entry_points.iter().map(|e| e.name.as_str()).collect();
-        for wboit in [false, true] {
-            let (vs, fs) = s.entry_points(wboit);
-            assert!(
-                entries.contains(&vs) && entries.contains(&fs),
-                "{}: {vs}/{fs} in {entries:?}",
-                s.module_name()
-            );
+        let (vs, fs) = s.entry_points();
+        assert!(
+            entries.contains(&vs) && entries.contains(&fs),
+            "{}: {vs}/{fs} in {entries:?}",
+            s.module_name()
+        );
+    }
+}
+
+#[test]
+fn every_pipeline_layout_matches_its_entry_points() {
+    for s in Shader::ALL {
+        let (m, info) = validate_info(&s.module_name(), &s.source());
+        let (vs, fs) = s.entry_points();
+        for blend in [Blend::None, Blend::Over, Blend::Wboit] {
+            let spec = pelt_preview::features::spec(&PipelineKey { blend, ..key(s) });
+            check_vertex(&m, vs, &spec)
+                .unwrap_or_else(|e| panic!("{} vertex buffers: {e}", s.module_name()));
+            check_groups(&m, &info, [vs, fs], &spec)
+                .unwrap_or_else(|e| panic!("{} bind groups: {e}", s.module_name()));
+            // Every override constant the pipeline sets exists in the module.
+            for (name, _) in &spec.constants {
+                assert!(
+                    m.overrides
+                        .iter()
+                        .any(|(_, o)| o.name.as_deref() == Some(name)),
+                    "{}: no override {name}",
+                    s.module_name()
+                );
+            }
         }
     }
+}
+
+/// The layout checks can fail: a G-buffer pipeline fed the fur vertex buffer, or with its
+/// groups swapped, is caught.
+#[test]
+fn a_mismatched_layout_is_caught() {
+    let s = Shader::GBuffer;
+    let (m, info) = validate_info(&s.module_name(), &s.source());
+    let (vs, fs) = s.entry_points();
+    let mut spec = pelt_preview::features::spec(&key(s));
+    spec.vertex_buffers = vec![pelt_preview::features::fur_vertex_layout()];
+    assert!(check_vertex(&m, vs, &spec).is_err());
+    let mut spec = pelt_preview::features::spec(&key(s));
+    spec.groups.reverse();
+    let e = check_groups(&m, &info, [vs, fs], &spec).expect_err("swapped groups");
+    assert!(e.contains("does not match"), "{e}");
+    let mut spec = pelt_preview::features::spec(&key(Shader::SkyCube));
+    spec.groups = vec![LayoutId::Frame];
+    let (m, info) = validate_info("sky", &Shader::SkyCube.source());
+    let e = check_groups(&m, &info, ["vs_fullscreen", "fs_cube"], &spec).expect_err("missing");
+    assert!(e.contains("@group(1)"), "{e}");
 }
 
 #[test]

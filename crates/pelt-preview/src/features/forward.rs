@@ -4,17 +4,18 @@
 use crate::features::{Frame, MissingInput, material, object_blends, object_depth, vertex_layout};
 use crate::plan::Pass;
 use crate::recipe::Recipe;
-use crate::renderer::{Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{LayoutId, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// The pipeline of the forward shader.
-pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.frame, &l.object, &l.light_array],
+        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::LightArray],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),
         cull: None,
+        constants: Vec::new(),
     }
 }
 

@@ -12,7 +12,7 @@ use crate::features::{
 };
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::shaders::{Lighting, Shader};
 use crate::uniforms::FinInstance;
 
@@ -39,21 +39,27 @@ pub fn fin_layout() -> wgpu::VertexBufferLayout<'static> {
 }
 
 /// The pipelines of the fur shaders.
-pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
     let lighting = |lt| match lt {
-        Lighting::Inferred => &l.textures,
-        Lighting::Forward => &l.light_array,
+        Lighting::Inferred => LayoutId::Textures,
+        Lighting::Forward => LayoutId::LightArray,
     };
     match key.shader {
         Shader::Obliterate => PipelineSpec {
-            groups: vec![&l.textures, &l.shell_table],
+            groups: vec![LayoutId::Textures, LayoutId::ShellTable],
             vertex_buffers: Vec::new(),
             blends: vec![None, None],
             depth: None,
             cull: None,
+            constants: Vec::new(),
         },
         Shader::Shells(lt) | Shader::Fins(lt) => PipelineSpec {
-            groups: vec![&l.frame, &l.object, lighting(lt), &l.fur],
+            groups: vec![
+                LayoutId::Frame,
+                LayoutId::Object,
+                lighting(lt),
+                LayoutId::Fur,
+            ],
             vertex_buffers: if matches!(key.shader, Shader::Fins(_)) {
                 vec![fin_layout()]
             } else {
@@ -65,14 +71,21 @@ pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
             // behind the silhouette, where they would blend in the wrong order).
             cull: (matches!(key.shader, Shader::Shells(_)) && key.blend != Blend::None)
                 .then_some(wgpu::Face::Back),
+            // One fragment entry point: straight alpha, or with WBOIT the OIT outputs.
+            constants: if key.blend == Blend::Wboit {
+                vec![("WBOIT", 1.0)]
+            } else {
+                Vec::new()
+            },
         },
         // FurBase, FurOuter: into the G-buffer.
         _ => PipelineSpec {
-            groups: vec![&l.frame, &l.object],
+            groups: vec![LayoutId::Frame, LayoutId::Object],
             vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
             blends: vec![None, None],
             depth: Some((true, wgpu::CompareFunction::Less)),
             cull: None,
+            constants: Vec::new(),
         },
     }
 }

@@ -8,17 +8,18 @@ use crate::features::{Frame, MissingInput, alpha, fur, slot, vertex_layout};
 use crate::frame_data::FRAME_LBUFFER;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// The pipeline of the G-buffer shader.
-pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.frame, &l.object],
+        groups: vec![LayoutId::Frame, LayoutId::Object],
         vertex_buffers: vec![vertex_layout()],
         blends: vec![None, None],
         depth: Some((true, wgpu::CompareFunction::Less)),
         cull: None,
+        constants: Vec::new(),
     }
 }
 

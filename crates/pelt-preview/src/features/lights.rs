@@ -6,7 +6,7 @@ use crate::features::{ADD, Frame, MissingInput};
 use crate::frame_data::{FRAME_LBUFFER, FrameData};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// Bind-group slots of light.wgsl.
@@ -20,13 +20,14 @@ pub mod slot {
 }
 
 /// The pipeline of the light shader: additive into the L-buffer.
-pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.frame, &l.textures, &l.light],
+        groups: vec![LayoutId::Frame, LayoutId::Textures, LayoutId::Light],
         vertex_buffers: Vec::new(),
         blends: vec![Some(ADD)],
         depth: None,
         cull: None,
+        constants: Vec::new(),
     }
 }
 

@@ -10,7 +10,7 @@ use crate::features::{Frame, MissingInput, alpha, fur, object_blends, object_dep
 use crate::frame_data::FRAME_OUTPUT;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::scene::FurBlend;
 use crate::shaders::{Lighting, Shader};
 
@@ -23,13 +23,14 @@ pub const BACKGROUND: wgpu::Color = wgpu::Color {
 };
 
 /// The pipeline of the material shader.
-pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.frame, &l.object, &l.textures],
+        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::Textures],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),
         cull: None,
+        constants: Vec::new(),
     }
 }
 

@@ -33,7 +33,7 @@ use crate::assets::{GpuMesh, GpuSky};
 use crate::frame_data::FrameData;
 use crate::plan::Plan;
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 use crate::targets::ViewTargets;
 use crate::uniforms::{FurVertex, Vertex};
@@ -168,20 +168,20 @@ pub const ADD: wgpu::BlendState = wgpu::BlendState {
 };
 
 /// How the feature that owns `key.shader` lays out its pipeline.
-pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
     match key.shader {
-        Shader::GBuffer => geometry::spec(key, l),
-        Shader::Light => lights::spec(key, l),
-        Shader::Material => material::spec(key, l),
-        Shader::Forward => forward::spec(key, l),
+        Shader::GBuffer => geometry::spec(key),
+        Shader::Light => lights::spec(key),
+        Shader::Material => material::spec(key),
+        Shader::Forward => forward::spec(key),
         Shader::FurBase
         | Shader::FurOuter
         | Shader::Obliterate
         | Shader::Shells(_)
-        | Shader::Fins(_) => fur::spec(key, l),
-        Shader::Composite => wboit::spec(key, l),
-        Shader::SkyProcedural | Shader::SkyCube => sky::spec(key, l),
-        Shader::Upscale => upscale::spec(key, l),
+        | Shader::Fins(_) => fur::spec(key),
+        Shader::Composite => wboit::spec(key),
+        Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
+        Shader::Upscale => upscale::spec(key),
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::features::{Frame, MissingInput};
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::scene::Sky;
 use crate::shaders::Shader;
 
@@ -17,17 +17,18 @@ pub mod slot {
 }
 
 /// The pipelines of the sky shaders: depth test "less or equal" at depth 1, no writes.
-pub fn spec<'l>(key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: if key.shader == Shader::SkyCube {
-            vec![&l.frame, &l.sky]
+            vec![LayoutId::Frame, LayoutId::Sky]
         } else {
-            vec![&l.frame]
+            vec![LayoutId::Frame]
         },
         vertex_buffers: Vec::new(),
         blends: vec![None],
         depth: Some((false, wgpu::CompareFunction::LessEqual)),
         cull: None,
+        constants: Vec::new(),
     }
 }
 

@@ -6,7 +6,7 @@
 use crate::features::Output;
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec, Renderer};
 use crate::shaders::Shader;
 use crate::targets::Target;
 
@@ -19,13 +19,14 @@ pub mod slot {
 }
 
 /// The pipeline of the upscale shader.
-pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.upscale_source, &l.upscale_size],
+        groups: vec![LayoutId::UpscaleSource, LayoutId::UpscaleSize],
         vertex_buffers: Vec::new(),
         blends: vec![None],
         depth: None,
         cull: None,
+        constants: Vec::new(),
     }
 }
 

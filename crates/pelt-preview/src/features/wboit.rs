@@ -8,7 +8,7 @@ use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
 use crate::frame_data::FRAME_OUTPUT;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, Layouts, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// Bind-group slots of composite.wgsl.
@@ -34,13 +34,14 @@ pub fn blends() -> Vec<Option<wgpu::BlendState>> {
 }
 
 /// The pipeline of the composite shader.
-pub fn spec<'l>(_key: &PipelineKey, l: &'l Layouts) -> PipelineSpec<'l> {
+pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![&l.oit],
+        groups: vec![LayoutId::Oit],
         vertex_buffers: Vec::new(),
         blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
         depth: Some((false, wgpu::CompareFunction::Always)),
         cull: None,
+        constants: Vec::new(),
     }
 }
 
