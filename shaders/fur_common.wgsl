@@ -12,16 +12,33 @@ struct FurIn {
     @location(6) comb: vec4<f32>,
 }
 
-// The baked comb in object space: c.x·T + c.y·B + c.z·N, with T Gram-Schmidt'd against N
-// and B = cross(N, T)·w (docs: "Decoding _FUR_COMB").
-fn comb_object(n: vec3<f32>, t: vec4<f32>, c: vec3<f32>) -> vec3<f32> {
-    let nn = normalize(n);
-    var tt = t.xyz - nn * dot(nn, t.xyz);
-    if dot(tt, tt) < 1e-12 {
-        tt = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(nn.x) > 0.9);
-        tt = tt - nn * dot(nn, tt);
+// The tangent frame's T exactly as pelt_geom::frame::Frame::new builds it (the one rule the
+// bake, inspect and the preview share): T Gram-Schmidt'd against unit N; where nothing is left
+// of it (|T − N(N·T)| ≤ 1e-6 |T|, or T zero) the coordinate axis least aligned with N (x, then
+// y, then z on ties), projected.
+fn frame_tangent(n: vec3<f32>, t: vec3<f32>) -> vec3<f32> {
+    let p = t - n * dot(n, t);
+    let tl = length(t);
+    if tl > 0.0 && length(p) > 1e-6 * tl {
+        return normalize(p);
     }
-    tt = normalize(tt);
+    let a = abs(n);
+    var e = vec3<f32>(0.0, 0.0, 1.0);
+    if a.x <= a.y && a.x <= a.z {
+        e = vec3<f32>(1.0, 0.0, 0.0);
+    } else if a.y <= a.z {
+        e = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    return normalize(e - n * dot(n, e));
+}
+
+// Revie §2.4.1 decoded: the comb `c` (tangent space) at a vertex with normal `n` and tangent `t`
+// (w = handedness) as an object-space unit direction; the tangent where the comb has no
+// direction. pelt_geom::frame::Frame::comb_direction on the CPU.
+fn comb_object(n: vec3<f32>, t: vec4<f32>, c: vec3<f32>) -> vec3<f32> {
+    let nl = length(n);
+    let nn = select(vec3<f32>(0.0, 0.0, 1.0), n / nl, nl > 0.0);
+    let tt = frame_tangent(nn, t.xyz);
     let b = cross(nn, tt) * select(1.0, -1.0, t.w < 0.0);
     let d = c.x * tt + c.y * b + c.z * nn;
     let len = length(d);

@@ -7,8 +7,8 @@ use std::collections::BTreeSet;
 use std::process::ExitCode;
 
 use pelt_io::accessor;
+use pelt_io::contract::{self, NORMAL_GROUP_ATTRIBUTE};
 use pelt_io::mesh::encoding;
-use pelt_io::topology::NORMAL_GROUP_ATTRIBUTE;
 use serde_json::{Value, json};
 
 use crate::InspectArgs;
@@ -98,16 +98,8 @@ fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
             );
             entry["bounds"] = json!({"min": lo, "max": hi});
         }
-        if let Some(i) = doc.attribute(r, "_FUR_COMB")? {
-            let c = accessor::read_vec::<4>(doc, i, &format!("{place} attribute _FUR_COMB"))?;
-            let normalized = accessor::read(doc, i, "")?.normalized;
-            entry["comb"] = comb_stats(c.iter().map(|&c| {
-                if normalized {
-                    pelt_bake::comb::decode_unorm(c)
-                } else {
-                    c
-                }
-            }));
+        if let Some(c) = contract::read_comb(doc, r, count)? {
+            entry["comb"] = comb_stats(c.iter().map(|&c| c.to_array()));
         } else if let Some(i) = doc.attribute(r, "COLOR_0")? {
             let e = accessor::read(doc, i, &format!("{place} attribute COLOR_0"))?;
             let lens: Vec<f32> = (0..e.count)

@@ -19,7 +19,7 @@ use crate::options::{BakeOptions, Quantize, TopologyMode};
 use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive, group_primitive};
 
 /// The attribute pelt writes.
-pub const COMB_ATTRIBUTE: &str = "_FUR_COMB";
+pub use pelt_io::contract::COMB_ATTRIBUTE;
 
 /// One primitive in the report.
 #[derive(Debug, Clone, Serialize)]

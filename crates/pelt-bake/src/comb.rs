@@ -114,7 +114,7 @@ pub fn encode_u8(c: [f32; 4]) -> [u8; 4] {
 /// Decodes a normalized-integer `_FUR_COMB` (components already divided by 65535 or 255, as a
 /// GPU does for normalized formats) back to direction and length.
 pub fn decode_unorm(c: [f32; 4]) -> [f32; 4] {
-    [c[0] * 2.0 - 1.0, c[1] * 2.0 - 1.0, c[2] * 2.0 - 1.0, c[3]]
+    pelt_io::contract::decode_comb(c, true)
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@
 pub mod asset;
 pub mod comb;
 pub mod config;
-pub mod frame;
+pub use pelt_geom::frame;
 pub mod fur;
 pub mod options;
 pub mod primitive;

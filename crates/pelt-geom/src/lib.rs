@@ -14,6 +14,7 @@
 
 pub mod fastmath;
 pub mod fins;
+pub mod frame;
 pub mod group_ids;
 pub mod mesh;
 pub mod mikktspace;

@@ -17,6 +17,7 @@
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
+pub mod contract;
 pub mod document;
 pub mod edit;
 pub mod error;

@@ -187,6 +187,22 @@ fn map_read(r: &Renderer, buffer: &wgpu::Buffer) -> Result<wgpu::BufferView, Fra
     buffer.slice(..).get_mapped_range().map_err(|e| fail(&e))
 }
 
+/// The bytes of `buffer` (a buffer with `COPY_SRC` usage), through a mapped copy.
+pub fn read_buffer(r: &Renderer, buffer: &wgpu::Buffer) -> Result<Vec<u8>, FrameError> {
+    let staging = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read buffer"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = encoder(r);
+    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    r.gpu.queue.submit([enc.finish()]);
+    let bytes = map_read(r, &staging)?.to_vec();
+    staging.unmap();
+    Ok(bytes)
+}
+
 /// Copies a 4-byte-per-texel texture (RGBA8, Rg16Uint, …) to the CPU, rows top to bottom,
 /// removing the 256-byte row padding.
 pub fn read_back(

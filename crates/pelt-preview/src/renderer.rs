@@ -84,6 +84,8 @@ pub struct Layouts {
     pub upscale_source: wgpu::BindGroupLayout,
     /// The target's size (w, h, 1/w, 1/h).
     pub upscale_size: wgpu::BindGroupLayout,
+    /// A compute pass's storage buffers: binding 0 read, binding 1 read and written.
+    pub storage: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -111,6 +113,19 @@ fn texture_entry(
             sample_type,
             view_dimension,
             multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
         },
         count: None,
     }
@@ -153,11 +168,13 @@ pub enum LayoutId {
     UpscaleSource,
     /// [`Layouts::upscale_size`].
     UpscaleSize,
+    /// [`Layouts::storage`].
+    Storage,
 }
 
 impl LayoutId {
     /// Every layout.
-    pub const ALL: [LayoutId; 11] = [
+    pub const ALL: [LayoutId; 12] = [
         LayoutId::Frame,
         LayoutId::Object,
         LayoutId::Textures,
@@ -169,6 +186,7 @@ impl LayoutId {
         LayoutId::Sky,
         LayoutId::UpscaleSource,
         LayoutId::UpscaleSize,
+        LayoutId::Storage,
     ];
 
     /// The layout's entries (plain data: the shader test checks them against the WGSL).
@@ -206,6 +224,7 @@ impl LayoutId {
             ],
             LayoutId::UpscaleSource => vec![texture_entry(0, filterable, d2), sampler_entry(1)],
             LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
+            LayoutId::Storage => vec![storage_entry(0, true), storage_entry(1, false)],
         }
     }
 }
@@ -230,6 +249,7 @@ impl Layouts {
             sky: layout(LayoutId::Sky),
             upscale_source: layout(LayoutId::UpscaleSource),
             upscale_size: layout(LayoutId::UpscaleSize),
+            storage: layout(LayoutId::Storage),
         }
     }
 
@@ -247,6 +267,7 @@ impl Layouts {
             LayoutId::Sky => &self.sky,
             LayoutId::UpscaleSource => &self.upscale_source,
             LayoutId::UpscaleSize => &self.upscale_size,
+            LayoutId::Storage => &self.storage,
         }
     }
 }
@@ -295,6 +316,7 @@ pub struct Renderer {
     pub layouts: Layouts,
     modules: RefCell<HashMap<Shader, wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
+    compute: RefCell<HashMap<Shader, wgpu::ComputePipeline>>,
     built: Cell<usize>,
     /// Shader files loaded from disk (`pelt view --shaders`), replacing the built-in ones.
     sources: RefCell<Option<Vec<(&'static str, String)>>>,
@@ -309,6 +331,7 @@ impl Renderer {
             layouts,
             modules: RefCell::new(HashMap::new()),
             pipelines: RefCell::new(HashMap::new()),
+            compute: RefCell::new(HashMap::new()),
             built: Cell::new(0),
             sources: RefCell::new(None),
         }
@@ -322,6 +345,7 @@ impl Renderer {
         *self.sources.borrow_mut() = Some(texts);
         self.modules.borrow_mut().clear();
         self.pipelines.borrow_mut().clear();
+        self.compute.borrow_mut().clear();
         Ok(())
     }
 
@@ -349,6 +373,49 @@ impl Renderer {
             .get(key)
             .cloned()
             .ok_or(PipelineError::NotPrepared(*key))
+    }
+
+    /// The compute pipeline of `shader` (a compute module), compiled on first use.
+    pub fn compute(&self, shader: Shader) -> Result<wgpu::ComputePipeline, PipelineError> {
+        if let Some(p) = self.compute.borrow().get(&shader) {
+            return Ok(p.clone());
+        }
+        let key = PipelineKey {
+            shader,
+            blend: Blend::None,
+            colors: [None; MAX_COLOR_TARGETS],
+            depth: None,
+        };
+        if !shader.is_compute() {
+            return Err(PipelineError::Mismatch {
+                key,
+                message: "not a compute shader".into(),
+            });
+        }
+        let spec = crate::features::spec(&key);
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = spec
+            .groups
+            .iter()
+            .map(|&g| Some(self.layouts.get(g)))
+            .collect();
+        let device = &self.gpu.device;
+        let name = shader.module_name();
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&name),
+            bind_group_layouts: &groups,
+            immediate_size: 0,
+        });
+        let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&name),
+            layout: Some(&layout),
+            module: &self.module(shader),
+            entry_point: Some(shader.entry_points().0),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        self.compute.borrow_mut().insert(shader, p.clone());
+        self.built.set(self.built.get() + 1);
+        Ok(p)
     }
 
     /// Pipelines compiled since the renderer was made.

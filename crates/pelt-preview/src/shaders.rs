@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 16] = [
+pub const FILES: [(&str, &str); 17] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -19,6 +19,10 @@ pub const FILES: [(&str, &str); 16] = [
     (
         "upscale.wgsl",
         include_str!("../../../shaders/upscale.wgsl"),
+    ),
+    (
+        "tangent_frames.wgsl",
+        include_str!("../../../shaders/tangent_frames.wgsl"),
     ),
     (
         "gbuffer.wgsl",
@@ -107,11 +111,13 @@ pub enum Shader {
     SkyCube,
     /// A lower-resolution frame scaled up to the window (`pelt view`'s frame budget).
     Upscale,
+    /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
+    TangentFrames,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 15] = [
+    pub const ALL: [Shader; 16] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -127,6 +133,7 @@ impl Shader {
         Shader::SkyProcedural,
         Shader::SkyCube,
         Shader::Upscale,
+        Shader::TangentFrames,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -143,6 +150,7 @@ impl Shader {
             Shader::Composite => "composite.wgsl",
             Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
             Shader::Upscale => "upscale.wgsl",
+            Shader::TangentFrames => "tangent_frames.wgsl",
         }
     }
 
@@ -150,7 +158,9 @@ impl Shader {
     pub fn parts(self) -> Vec<&'static str> {
         let mut p = vec!["common.wgsl"];
         match self {
-            Shader::FurBase | Shader::FurOuter => p.push("fur_common.wgsl"),
+            Shader::FurBase | Shader::FurOuter | Shader::TangentFrames => {
+                p.push("fur_common.wgsl");
+            }
             Shader::Shells(l) | Shader::Fins(l) => {
                 p.push("fur_common.wgsl");
                 p.push(match l {
@@ -186,6 +196,11 @@ impl Shader {
             .join("\n")
     }
 
+    /// Whether the module is a compute shader (its one entry point is `cs_main`).
+    pub fn is_compute(self) -> bool {
+        self == Shader::TangentFrames
+    }
+
     /// Whether the pass draws fullscreen.wgsl's triangle.
     pub fn fullscreen(self) -> bool {
         matches!(
@@ -202,6 +217,9 @@ impl Shader {
     /// The vertex and fragment entry points (one pair per module; the fur shaders' blend
     /// is an `override` constant, see features/fur.rs).
     pub fn entry_points(self) -> (&'static str, &'static str) {
+        if self.is_compute() {
+            return ("cs_main", "cs_main");
+        }
         if self.fullscreen() {
             return (
                 "vs_fullscreen",

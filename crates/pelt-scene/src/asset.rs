@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use pelt_io::contract::NORMAL_GROUP_ATTRIBUTE;
 use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 use serde_json::Value;
 
@@ -311,10 +312,10 @@ fn base_color(doc: &Document, r: PrimitiveRef) -> Result<[f32; 4], IoError> {
 
 /// `_NORMAL_GROUP` of the primitive, checked against its vertex count (None when absent).
 fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec<u32>>, IoError> {
-    let Some(i) = doc.attribute(r, "_NORMAL_GROUP")? else {
+    let Some(i) = doc.attribute(r, NORMAL_GROUP_ATTRIBUTE)? else {
         return Ok(None);
     };
-    let place = format!("{} attribute _NORMAL_GROUP", doc.place(r));
+    let place = format!("{} attribute {NORMAL_GROUP_ATTRIBUTE}", doc.place(r));
     let e = accessor::read(doc, i, &place)?;
     if e.components != 1 || e.count != n {
         return Err(doc.invalid(

@@ -8,7 +8,7 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
-use pelt_io::{Document, IoError, PrimitiveRef, accessor};
+use pelt_io::{Document, IoError, PrimitiveRef};
 
 use crate::vertex::{FinInstance, FurVertex};
 
@@ -271,46 +271,7 @@ pub fn look_and_textures(
     }
 }
 
-/// `_FUR_COMB` of a primitive decoded to tangent-space xyz and length (None when absent).
-pub fn read_comb(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec<Vec4>>, IoError> {
-    let Some(i) = doc.attribute(r, "_FUR_COMB")? else {
-        return Ok(None);
-    };
-    let place = format!("{} attribute _FUR_COMB", doc.place(r));
-    let e = accessor::read(doc, i, &place)?;
-    if e.components != 4 || e.count != n {
-        return Err(doc.invalid(
-            place,
-            format!(
-                "must be VEC4 with one value per vertex ({n}), found {} × {}",
-                e.ty, e.count
-            ),
-        ));
-    }
-    let signed = e.normalized;
-    Ok(Some(
-        e.to_f32::<4>()
-            .into_iter()
-            .map(|c| {
-                let v = Vec4::from(c);
-                if signed {
-                    (v.truncate() * 2.0 - Vec3::ONE).extend(v.w)
-                } else {
-                    v
-                }
-            })
-            .collect(),
-    ))
-}
-
-/// The comb of a vertex in object space: c.x·T + c.y·B + c.z·N (docs: "Decoding
-/// `_FUR_COMB`"), with T Gram-Schmidt'd against N and B = cross(N, T)·w.
-pub fn comb_object(n: Vec3, t: Vec4, c: Vec4) -> Vec3 {
-    let n = n.normalize_or(Vec3::Z);
-    let tt = (t.truncate() - n * n.dot(t.truncate())).normalize_or(n.any_orthonormal_vector());
-    let b = n.cross(tt) * if t.w < 0.0 { -1.0 } else { 1.0 };
-    (c.x * tt + c.y * b + c.z * n).normalize_or_zero()
-}
+pub use pelt_io::contract::{comb_object, read_comb};
 
 /// One primitive's fur vertices, in the asset's space (`world` applied to the tangent).
 pub fn fur_vertices(
@@ -381,7 +342,7 @@ pub fn fin_instances(
         };
         let comb = |v: &crate::vertex::Vertex, f: &FurVertex| {
             let c = Vec4::from(f.comb);
-            comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c).extend(c.w)
+            comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(c.w)
         };
         let uv_len = (Vec2::from(fa.uv) - Vec2::from(fb.uv)).length();
         out.push(FinInstance {

@@ -182,6 +182,14 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Composite => wboit::spec(key),
         Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
         Shader::Upscale => upscale::spec(key),
+        Shader::TangentFrames => PipelineSpec {
+            groups: vec![crate::renderer::LayoutId::Storage],
+            vertex_buffers: Vec::new(),
+            blends: Vec::new(),
+            depth: None,
+            cull: None,
+            constants: Vec::new(),
+        },
     }
 }
 

@@ -1,9 +1,12 @@
-//! The tangent frame a comb is expressed in, as the renderer rebuilds it from the vertex data:
-//! N unit, T = normalize(T − N (N·T)) (Gram-Schmidt; glTF only promises T roughly orthogonal),
-//! B = cross(N, T) · w with w = ±1 (glTF 2.0 §3.7.2.1). f64 throughout.
+//! The tangent frame a comb is expressed in, as every consumer rebuilds it from the vertex
+//! data: N unit, T = normalize(T − N (N·T)) (Gram-Schmidt; glTF only promises T roughly
+//! orthogonal), B = cross(N, T) · w with w = ±1 (glTF 2.0 §3.7.2.1). f64 throughout. This is
+//! the one rule (Revie Listing 2.7): the bake expresses combs in it, `pelt inspect` and the
+//! preview decode them with it, and `comb_object` in shaders/fur_common.wgsl implements the
+//! same steps and fallback on the GPU (checked against this module by the preview's tests).
 
+use crate::normals::normalize_f64;
 use glam::{DVec3, Vec3, Vec4};
-use pelt_geom::normals::normalize_f64;
 
 /// Below this length (relative) a tangent has no direction left once projected.
 pub const DEGENERATE_TANGENT: f64 = 1e-6;
@@ -66,6 +69,14 @@ impl Frame {
             },
             degenerate,
         )
+    }
+
+    /// The object-space unit direction of a tangent-space comb (the decoding every renderer
+    /// does); the tangent where the comb has no direction (below 1e-6).
+    pub fn comb_direction(&self, c: DVec3) -> DVec3 {
+        let d = self.to_object(c);
+        let len = d.length();
+        if len > 1e-6 { d / len } else { self.t }
     }
 
     /// Tangent-space coordinates of an object-space vector.
