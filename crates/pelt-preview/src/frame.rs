@@ -104,9 +104,9 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             Pass::Forward => features::forward::pass(f),
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
-            Pass::Upscale => Err(MissingInput {
+            Pass::Upscale | Pass::Mips => Err(MissingInput {
                 pass: p.name(),
-                what: "a source frame (upscaling is drawn by the window, never planned)".into(),
+                what: "a source (upscaling and mips are drawn on request, never planned)".into(),
             }),
         })
         .collect()
@@ -208,6 +208,17 @@ pub fn read_buffer(r: &Renderer, buffer: &wgpu::Buffer) -> Result<Vec<u8>, Frame
 pub fn read_back(
     r: &Renderer,
     texture: &wgpu::Texture,
+    size: (u32, u32),
+) -> Result<Image, FrameError> {
+    read_back_layer(r, texture, 0, 0, size)
+}
+
+/// [`read_back`] of one layer and mip level (`size` is that level's).
+pub fn read_back_layer(
+    r: &Renderer,
+    texture: &wgpu::Texture,
+    layer: u32,
+    mip: u32,
     (w, h): (u32, u32),
 ) -> Result<Image, FrameError> {
     let device = &r.gpu.device;
@@ -222,7 +233,16 @@ pub fn read_back(
     });
     let mut enc = encoder(r);
     enc.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: mip,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
+            aspect: wgpu::TextureAspect::All,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout {

@@ -86,6 +86,8 @@ pub struct Layouts {
     pub upscale_size: wgpu::BindGroupLayout,
     /// A compute pass's storage buffers: binding 0 read, binding 1 read and written.
     pub storage: wgpu::BindGroupLayout,
+    /// A 2D-array texture and its sampler (mip generation).
+    pub array_source: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -170,11 +172,13 @@ pub enum LayoutId {
     UpscaleSize,
     /// [`Layouts::storage`].
     Storage,
+    /// [`Layouts::array_source`].
+    ArraySource,
 }
 
 impl LayoutId {
     /// Every layout.
-    pub const ALL: [LayoutId; 12] = [
+    pub const ALL: [LayoutId; 13] = [
         LayoutId::Frame,
         LayoutId::Object,
         LayoutId::Textures,
@@ -187,6 +191,7 @@ impl LayoutId {
         LayoutId::UpscaleSource,
         LayoutId::UpscaleSize,
         LayoutId::Storage,
+        LayoutId::ArraySource,
     ];
 
     /// The layout's entries (plain data: the shader test checks them against the WGSL).
@@ -225,6 +230,10 @@ impl LayoutId {
             LayoutId::UpscaleSource => vec![texture_entry(0, filterable, d2), sampler_entry(1)],
             LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
             LayoutId::Storage => vec![storage_entry(0, true), storage_entry(1, false)],
+            LayoutId::ArraySource => vec![
+                texture_entry(0, filterable, wgpu::TextureViewDimension::D2Array),
+                sampler_entry(1),
+            ],
         }
     }
 }
@@ -250,6 +259,7 @@ impl Layouts {
             upscale_source: layout(LayoutId::UpscaleSource),
             upscale_size: layout(LayoutId::UpscaleSize),
             storage: layout(LayoutId::Storage),
+            array_source: layout(LayoutId::ArraySource),
         }
     }
 
@@ -268,6 +278,7 @@ impl Layouts {
             LayoutId::UpscaleSource => &self.upscale_source,
             LayoutId::UpscaleSize => &self.upscale_size,
             LayoutId::Storage => &self.storage,
+            LayoutId::ArraySource => &self.array_source,
         }
     }
 }

@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 17] = [
+pub const FILES: [(&str, &str); 18] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -19,6 +19,10 @@ pub const FILES: [(&str, &str); 17] = [
     (
         "upscale.wgsl",
         include_str!("../../../shaders/upscale.wgsl"),
+    ),
+    (
+        "downsample.wgsl",
+        include_str!("../../../shaders/downsample.wgsl"),
     ),
     (
         "tangent_frames.wgsl",
@@ -111,13 +115,15 @@ pub enum Shader {
     SkyCube,
     /// A lower-resolution frame scaled up to the window (`pelt view`'s frame budget).
     Upscale,
+    /// One mip level of a layered target from the level above.
+    Downsample,
     /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
     TangentFrames,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 16] = [
+    pub const ALL: [Shader; 17] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -133,6 +139,7 @@ impl Shader {
         Shader::SkyProcedural,
         Shader::SkyCube,
         Shader::Upscale,
+        Shader::Downsample,
         Shader::TangentFrames,
     ];
 
@@ -150,6 +157,7 @@ impl Shader {
             Shader::Composite => "composite.wgsl",
             Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
             Shader::Upscale => "upscale.wgsl",
+            Shader::Downsample => "downsample.wgsl",
             Shader::TangentFrames => "tangent_frames.wgsl",
         }
     }
@@ -211,6 +219,7 @@ impl Shader {
                 | Shader::SkyProcedural
                 | Shader::SkyCube
                 | Shader::Upscale
+                | Shader::Downsample
         )
     }
 

@@ -229,3 +229,99 @@ impl ViewTargets {
         }
     }
 }
+
+/// A render target of several layers (a cube's six faces, +X −X +Y −Y +Z −Z, or any 2D
+/// array) with a mip chain, rendered one layer and mip at a time ([`LayeredTarget::layer`])
+/// and sampled whole as a 2D array ([`LayeredTarget::sampled`]; shaders pick a cube's face
+/// by direction themselves, as `textureLoad` cannot read cube textures anyway). What layered
+/// distance maps and reflection probes render into.
+///
+/// wgpu's GL back end makes every square texture with a multiple of 6 layers a GL cube map,
+/// whose faces it can neither render to one by one nor read back; on GL such a target gets
+/// one spare layer, so it stays a 2D array.
+#[derive(Debug)]
+pub struct LayeredTarget {
+    /// The texture.
+    pub texture: wgpu::Texture,
+    /// Its format.
+    pub format: wgpu::TextureFormat,
+    /// Size of mip 0.
+    pub size: (u32, u32),
+    /// Layers (6 for a cube).
+    pub layers: u32,
+    /// Mip levels.
+    pub mips: u32,
+    /// The layers as a 2D array.
+    pub sampled: wgpu::TextureView,
+}
+
+/// Mip levels of a full chain down to 1×1.
+pub fn full_chain(size: (u32, u32)) -> u32 {
+    32 - size.0.max(size.1).max(1).leading_zeros()
+}
+
+impl LayeredTarget {
+    /// `layers` layers of `size` with `mips` levels.
+    pub fn new(
+        r: &Renderer,
+        label: &str,
+        size: (u32, u32),
+        layers: u32,
+        mips: u32,
+        format: wgpu::TextureFormat,
+    ) -> LayeredTarget {
+        let cube_like = size.0 == size.1 && layers % 6 == 0;
+        let allocated = if cube_like && r.gpu.info.backend == wgpu::Backend::Gl {
+            layers + 1
+        } else {
+            layers
+        };
+        let texture = r.gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: allocated,
+            },
+            mip_level_count: mips,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let sampled = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            array_layer_count: Some(layers),
+            ..Default::default()
+        });
+        LayeredTarget {
+            texture,
+            format,
+            size,
+            layers,
+            mips,
+            sampled,
+        }
+    }
+
+    /// One layer (face) at one mip level, as a 2D view to render into.
+    pub fn layer(&self, layer: u32, mip: u32) -> wgpu::TextureView {
+        self.texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer,
+            array_layer_count: Some(1),
+            base_mip_level: mip,
+            mip_level_count: Some(1),
+            ..Default::default()
+        })
+    }
+
+    /// The size of mip `mip`.
+    pub fn mip_size(&self, mip: u32) -> (u32, u32) {
+        ((self.size.0 >> mip).max(1), (self.size.1 >> mip).max(1))
+    }
+}

@@ -1,13 +1,16 @@
 //! The renderer core's contracts, on a real adapter (`PELT_BACKEND=gl|vulkan`): GPU assets are
 //! uploaded once and frames after the first write only uniforms; camera and knob moves build
 //! no pipeline; a planned pass missing a target or resource is an error; pipeline keys carry
-//! the output format.
+//! the output format; cube and array targets render one layer at a time, with mip chains.
 
 mod common;
 
 use pelt_preview::asset::MeshData;
+use pelt_preview::features::mips::mip_chain;
+use pelt_preview::frame::read_back_layer;
 use pelt_preview::orbit::Orbit;
 use pelt_preview::scene::FurBlend;
+use pelt_preview::targets::{LayeredTarget, full_chain};
 use pelt_preview::{Mode, ViewOutput};
 
 use common::{furry_sphere, preview, scene};
@@ -162,4 +165,120 @@ fn pipeline_keys_carry_the_output_format() {
         px.swap(0, 2);
     }
     assert_eq!(a, b, "the same image in either channel order");
+}
+
+/// Clears layer `layer` (mip 0) of `t` to `rgb` through its own view.
+fn clear_layer(p: &pelt_preview::Preview, t: &LayeredTarget, layer: u32, rgb: [f64; 3]) {
+    let r = &p.renderer;
+    let view = t.layer(layer, 0);
+    let mut enc = r
+        .gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("clear layer"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: rgb[0],
+                    g: rgb[1],
+                    b: rgb[2],
+                    a: 1.0,
+                }),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    r.gpu.queue.submit([enc.finish()]);
+}
+
+#[test]
+fn cube_faces_and_array_layers_render_one_at_a_time_and_mips_average_them() {
+    let p = preview();
+    let r = &p.renderer;
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let cube = LayeredTarget::new(r, "cube", (16, 16), 6, full_chain((16, 16)), format);
+    assert_eq!(cube.mips, 5);
+    for face in 0..6 {
+        let f = f64::from(face);
+        clear_layer(&p, &cube, face, [f / 5.0, 1.0 - f / 5.0, 0.5]);
+    }
+    // Face 4: a one-texel checker of 0 and 255.
+    let checker: Vec<u8> = (0..16 * 16)
+        .flat_map(|i| {
+            let v = if (i % 16 + i / 16) % 2 == 0 { 255 } else { 0 };
+            [v, v, v, 255]
+        })
+        .collect();
+    r.gpu.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &cube.texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: 4 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        &checker,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(64),
+            rows_per_image: Some(16),
+        },
+        wgpu::Extent3d {
+            width: 16,
+            height: 16,
+            depth_or_array_layers: 1,
+        },
+    );
+    mip_chain(r, &cube).expect("mips");
+    let read = |layer, mip| {
+        read_back_layer(r, &cube.texture, layer, mip, cube.mip_size(mip)).expect("read")
+    };
+    for face in [0u32, 2, 5] {
+        let want = [
+            (f64::from(face) / 5.0 * 255.0).round() as u8,
+            ((1.0 - f64::from(face) / 5.0) * 255.0).round() as u8,
+            128,
+        ];
+        for mip in [0, 2, 4] {
+            let px = read(face, mip).pixel(0, 0);
+            for c in 0..3 {
+                assert!(
+                    px[c].abs_diff(want[c]) <= 1,
+                    "face {face} mip {mip}: {px:?}, want {want:?}"
+                );
+            }
+        }
+    }
+    // The checker averages to grey at mip 1 already, and stays there down to 1×1.
+    for mip in 1..5 {
+        let img = read(4, mip);
+        assert!(
+            img.rgba.chunks_exact(4).all(|p| p[0].abs_diff(128) <= 1),
+            "mip {mip} of the checker: {:?}",
+            img.pixel(0, 0)
+        );
+    }
+    assert_eq!(read(4, 0).pixel(0, 0)[0], 255, "mip 0 is untouched");
+    // A 2D array: three layers, each its own.
+    let array = LayeredTarget::new(r, "array", (8, 4), 3, 1, format);
+    for layer in 0..3 {
+        clear_layer(&p, &array, layer, [f64::from(layer) / 2.0, 0.0, 1.0]);
+    }
+    for layer in 0..3 {
+        let px = read_back_layer(r, &array.texture, layer, 0, (8, 4))
+            .expect("read")
+            .pixel(7, 3);
+        assert_eq!(
+            px[0],
+            (f64::from(layer) / 2.0 * 255.0).round() as u8,
+            "layer {layer}"
+        );
+    }
 }

@@ -158,18 +158,25 @@ fn check_groups(
                 },
                 (naga::TypeInner::Sampler { .. }, wgpu::BindingType::Sampler(_)) => true,
                 (
-                    naga::TypeInner::Image { dim, class, .. },
+                    naga::TypeInner::Image {
+                        dim,
+                        arrayed,
+                        class,
+                    },
                     wgpu::BindingType::Texture {
                         sample_type,
                         view_dimension,
                         ..
                     },
                 ) => {
-                    let dim_ok = match dim {
-                        naga::ImageDimension::D2 => {
+                    let dim_ok = match (dim, arrayed) {
+                        (naga::ImageDimension::D2, false) => {
                             view_dimension == wgpu::TextureViewDimension::D2
                         }
-                        naga::ImageDimension::Cube => {
+                        (naga::ImageDimension::D2, true) => {
+                            view_dimension == wgpu::TextureViewDimension::D2Array
+                        }
+                        (naga::ImageDimension::Cube, false) => {
                             view_dimension == wgpu::TextureViewDimension::Cube
                         }
                         _ => false,

@@ -141,6 +141,8 @@ pub enum Pass {
     /// A reduced-resolution frame scaled up to a window (`pelt view`'s frame budget; never
     /// in a plan).
     Upscale,
+    /// Mip levels of a layered target (never in a plan).
+    Mips,
 }
 
 impl Pass {
@@ -155,6 +157,7 @@ impl Pass {
             Pass::FurAccum => "fur-oit",
             Pass::Composite => "composite",
             Pass::Upscale => "upscale",
+            Pass::Mips => "mips",
         }
     }
 }
@@ -553,6 +556,9 @@ impl Plan {
                 }
                 Pass::Upscale => {
                     let _ = write!(s, "a reduced-resolution frame scaled up to the window");
+                }
+                Pass::Mips => {
+                    let _ = write!(s, "mip levels of a layered target");
                 }
                 Pass::Composite => {
                     let _ = write!(

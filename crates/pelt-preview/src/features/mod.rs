@@ -12,7 +12,8 @@
 //! - [`wboit`]: weighted blended OIT accumulation and composite (McGuire & Bavoil);
 //! - [`sky`]: procedural and cube-map skies;
 //! - [`forward`]: the forward reference;
-//! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`).
+//! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`);
+//! - [`mips`]: mip chains of layered targets (cube faces, arrays).
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -23,6 +24,7 @@ pub mod fur;
 pub mod geometry;
 pub mod lights;
 pub mod material;
+pub mod mips;
 pub mod sky;
 pub mod upscale;
 pub mod wboit;
@@ -182,6 +184,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Composite => wboit::spec(key),
         Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
         Shader::Upscale => upscale::spec(key),
+        Shader::Downsample => mips::spec(key),
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),

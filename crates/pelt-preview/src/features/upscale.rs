@@ -1,7 +1,7 @@
-//! Upscaling for `pelt view`'s frame budget: a frame rendered at a fraction of the window's
-//! resolution while the camera moves is scaled up to the window with bilinear filtering in
-//! linear light (upscale.wgsl). The full-quality still frame is drawn straight into the
-//! window and never passes through here.
+//! Resampling one 2D view into a target of another size with bilinear filtering in linear
+//! light (upscale.wgsl): `pelt view`'s frame budget scales a reduced-resolution frame up to
+//! the window (the full-quality still frame is drawn straight into the window and never
+//! passes through here).
 
 use crate::features::Output;
 use crate::plan::Pass;
@@ -40,6 +40,11 @@ pub struct Upscale {
 impl Upscale {
     /// Reads `source` into targets of `size`.
     pub fn new(r: &Renderer, source: &Target, size: (u32, u32)) -> Upscale {
+        Upscale::from_view(r, &source.view, size)
+    }
+
+    /// Reads the 2D view `source` into targets of `size`.
+    pub fn from_view(r: &Renderer, source: &wgpu::TextureView, size: (u32, u32)) -> Upscale {
         let device = &r.gpu.device;
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("upscale"),
@@ -60,7 +65,7 @@ impl Upscale {
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&source.view),
+                        resource: wgpu::BindingResource::TextureView(source),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,

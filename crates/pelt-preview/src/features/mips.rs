@@ -1,0 +1,122 @@
+//! Mip chains of layered targets ([`crate::targets::LayeredTarget`]: cube faces and 2D
+//! arrays): each level of each layer drawn from the level above by downsample.wgsl, whose
+//! bilinear sample at a texel's centre is the 2×2 average above (box filter; in linear light
+//! for sRGB formats). All levels of all layers go in one submission.
+
+use crate::features::Output;
+use crate::plan::Pass;
+use crate::recipe::{Color, Recipe, Step};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::shaders::Shader;
+use crate::targets::LayeredTarget;
+
+/// Bind-group slots of downsample.wgsl.
+pub mod slot {
+    /// The level above, as a 2D array, and its sampler.
+    pub const SOURCE: u32 = 0;
+    /// 1 / the written level's size, and the layer.
+    pub const PARAMS: u32 = 1;
+}
+
+/// The pipeline of the downsample shader.
+pub fn spec(_key: &PipelineKey) -> PipelineSpec {
+    PipelineSpec {
+        groups: vec![LayoutId::ArraySource, LayoutId::UpscaleSize],
+        vertex_buffers: Vec::new(),
+        blends: vec![None],
+        depth: None,
+        cull: None,
+        constants: Vec::new(),
+    }
+}
+
+/// One level of one layer: its source group, its parameters and the view it writes.
+struct Level {
+    source: wgpu::BindGroup,
+    params: wgpu::BindGroup,
+    target: wgpu::TextureView,
+}
+
+fn level(r: &Renderer, t: &LayeredTarget, sampler: &wgpu::Sampler, layer: u32, mip: u32) -> Level {
+    let device = &r.gpu.device;
+    let above = t.texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        base_mip_level: mip - 1,
+        mip_level_count: Some(1),
+        array_layer_count: Some(t.layers),
+        ..Default::default()
+    });
+    let (w, h) = t.mip_size(mip);
+    let params = r.gpu.buffer_init(
+        "downsample params",
+        bytemuck::cast_slice(&[1.0 / w as f32, 1.0 / h as f32, layer as f32, 0.0]),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    Level {
+        source: device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("downsample source"),
+            layout: &r.layouts.array_source,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&above),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        }),
+        params: device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("downsample params"),
+            layout: &r.layouts.upscale_size,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: params.as_entire_binding(),
+            }],
+        }),
+        target: t.layer(layer, mip),
+    }
+}
+
+/// Fills mips 1.. of every layer of `t` from mip 0.
+pub fn mip_chain(r: &Renderer, t: &LayeredTarget) -> Result<(), crate::FrameError> {
+    let sampler = r.gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("downsample"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    let mut enc = r
+        .gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("mip chain"),
+        });
+    for mip in 1..t.mips {
+        for layer in 0..t.layers {
+            let l = level(r, t, &sampler, layer, mip);
+            let out = Output {
+                view: &l.target,
+                format: t.format,
+            };
+            let mut recipe = Recipe::new(
+                Pass::Mips,
+                vec![Color {
+                    view: out.view,
+                    format: out.format,
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                }],
+                None,
+            );
+            recipe.pipeline(Shader::Downsample, Blend::None);
+            recipe.bind(slot::SOURCE, &l.source, None);
+            recipe.bind(slot::PARAMS, &l.params, None);
+            recipe.push(Step::Draw(0..3, 0..1));
+            r.prepare(recipe.keys())?;
+            recipe.encode(r, &mut enc, None)?;
+        }
+    }
+    r.gpu.queue.submit([enc.finish()]);
+    Ok(())
+}
