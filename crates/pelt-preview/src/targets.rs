@@ -270,7 +270,7 @@ impl LayeredTarget {
         mips: u32,
         format: wgpu::TextureFormat,
     ) -> LayeredTarget {
-        let cube_like = size.0 == size.1 && layers % 6 == 0;
+        let cube_like = size.0 == size.1 && layers.is_multiple_of(6);
         let allocated = if cube_like && r.gpu.info.backend == wgpu::Backend::Gl {
             layers + 1
         } else {
