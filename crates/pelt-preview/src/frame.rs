@@ -154,6 +154,30 @@ fn submit_frame(r: &Renderer, recipes: &[Recipe<'_>]) -> Result<(), FrameError> 
     Ok(())
 }
 
+/// Renders several views in one frame: every view's passes in one submission, then each
+/// view's image read back (each frame must draw into its targets' own colour target).
+pub fn render_many(r: &Renderer, frames: &[Frame<'_>]) -> Result<Vec<Image>, FrameError> {
+    let scope = r.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let mut all = Vec::new();
+    for f in frames {
+        all.extend(prepared(r, f)?);
+    }
+    submit_frame(r, &all)?;
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(FrameError::Device(e.to_string()));
+    }
+    frames
+        .iter()
+        .map(|f| {
+            let target = f.targets.color.as_ref().ok_or_else(|| MissingInput {
+                pass: "output",
+                what: "a colour target of the view's own".into(),
+            })?;
+            read_back(r, &target.texture, f.plan.output)
+        })
+        .collect()
+}
+
 /// Renders one frame of `f` and submits it (into a window's surface, or the view's own
 /// target), with device errors checked.
 pub fn draw(r: &Renderer, f: &Frame<'_>) -> Result<(), FrameError> {

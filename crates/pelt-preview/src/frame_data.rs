@@ -1,6 +1,8 @@
-//! Per-frame state: the uniforms a frame's camera, lights and knobs decide (frame constants
-//! per view and resolution, one slot per object and per light, the forward light array, the
-//! obliteration's shell table), in buffers made once and written with `queue.write_buffer`.
+//! Per-frame state: the uniforms a frame's cameras, lights and knobs decide (frame constants
+//! per view and resolution, one slot per object and per light of each view, each view's
+//! forward light array, the obliteration's shell table), in buffers made once and written with
+//! `queue.write_buffer`. Several views of one scene share the buffers, each at its own slots
+//! (view-major), so they are drawn in one frame.
 //! Only bytes that changed since the last frame are written, so a still camera uploads
 //! nothing and an orbit uploads a few hundred bytes; a buffer grows (and its bind group is
 //! made again) only when a scene has more objects or lights than it holds.
@@ -28,10 +30,14 @@ pub const STRAND_FADE: f32 = 0.15;
 /// Fin layers assumed to overlap a pixel on top of the shells, for the OIT weight bound.
 pub const FIN_LAYERS: u32 = 8;
 
-/// Frame uniform slot of the L-buffer-resolution passes of view 0.
-pub const FRAME_LBUFFER: u32 = 0;
-/// Frame uniform slot of the output-resolution passes of view 0.
-pub const FRAME_OUTPUT: u32 = UNIFORM_STRIDE as u32;
+/// Which frame constants a pass binds: its view's at L-buffer or at output resolution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Res {
+    /// The geometry and light passes.
+    Lbuffer,
+    /// Every output-resolution pass.
+    Output,
+}
 
 /// The factor on every WBOIT weight: 1 with a 32-bit float accumulation; with a 16-bit one,
 /// small enough that `layers` layers at the largest weight (3e3, McGuire & Bavoil eq. 7) sum
@@ -134,7 +140,14 @@ pub struct FrameData {
     lights: Uniform,
     light_array: Uniform,
     shell_table: Uniform,
+    /// Object slots per view.
+    object_stride: usize,
+    /// Light slots per view.
+    light_stride: usize,
 }
+
+/// Bytes of one view's forward light array.
+const LIGHT_ARRAY_BYTES: usize = MAX_FORWARD_LIGHTS * size_of::<LightUniforms>();
 
 /// `items` laid out one per [`UNIFORM_STRIDE`] bytes.
 fn strided<T: bytemuck::Pod>(items: &[T]) -> Vec<u8> {
@@ -204,7 +217,7 @@ impl FrameData {
     pub fn new(r: &Renderer) -> FrameData {
         let l = &r.layouts;
         let slot = |n: u64| n * UNIFORM_STRIDE;
-        let light_array = (MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()) as u64;
+        let light_array = LIGHT_ARRAY_BYTES as u64;
         FrameData {
             frame: Uniform::new(
                 r,
@@ -235,41 +248,70 @@ impl FrameData {
                 SHELL_TABLE_BYTES,
                 SHELL_TABLE_BYTES,
             ),
+            object_stride: 1,
+            light_stride: 1,
         }
     }
 
-    /// Writes what `plan` decided (camera, objects, lights, knobs).
+    /// Writes what `plan` decided (camera, objects, lights, knobs) as view 0.
     pub fn write(&mut self, r: &Renderer, plan: &Plan) {
-        let lsize = plan.lbuffer.unwrap_or((1, 1));
-        self.frame.write(
-            r,
-            &strided(&[
-                frame_uniforms(plan, lsize, lsize),
-                frame_uniforms(plan, plan.output, lsize),
-            ]),
-        );
-        let layers: u32 = plan
-            .objects
+        self.write_views(r, &[plan]);
+    }
+
+    /// Writes each view's plan at its slots (view v: frame slots 2v and 2v + 1, objects and
+    /// lights from v × their stride, light array v).
+    pub fn write_views(&mut self, r: &Renderer, plans: &[&Plan]) {
+        self.object_stride = plans
             .iter()
-            .filter_map(|o| o.fur)
-            .map(|f| f.shells + FIN_LAYERS)
-            .sum();
-        let oit_scale = wboit_scale(r.gpu.accum_format, layers);
-        self.objects
-            .write(r, &strided(&object_uniforms(plan, oit_scale)));
-        let lights: Vec<LightUniforms> = plan
-            .lights
+            .map(|p| p.objects.len())
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        self.light_stride = plans
             .iter()
-            .map(|x| light_uniforms(plan.view.view, x))
-            .collect();
-        self.lights.write(r, &strided(&lights));
-        let mut array = vec![<LightUniforms as bytemuck::Zeroable>::zeroed(); MAX_FORWARD_LIGHTS];
-        for (a, x) in array.iter_mut().zip(&lights) {
-            *a = *x;
+            .map(|p| p.lights.len())
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let mut frames = Vec::with_capacity(2 * plans.len());
+        let mut objects = Vec::new();
+        let mut lights = Vec::new();
+        let mut array =
+            vec![<LightUniforms as bytemuck::Zeroable>::zeroed(); MAX_FORWARD_LIGHTS * plans.len()];
+        let zero = <ObjectUniforms as bytemuck::Zeroable>::zeroed();
+        for (v, plan) in plans.iter().enumerate() {
+            let lsize = plan.lbuffer.unwrap_or((1, 1));
+            frames.push(frame_uniforms(plan, lsize, lsize));
+            frames.push(frame_uniforms(plan, plan.output, lsize));
+            let layers: u32 = plan
+                .objects
+                .iter()
+                .filter_map(|o| o.fur)
+                .map(|f| f.shells + FIN_LAYERS)
+                .sum();
+            let mut o = object_uniforms(plan, wboit_scale(r.gpu.accum_format, layers));
+            o.resize(self.object_stride, zero);
+            objects.extend(o);
+            let mut l: Vec<LightUniforms> = plan
+                .lights
+                .iter()
+                .map(|x| light_uniforms(plan.view.view, x))
+                .collect();
+            for (a, x) in array[v * MAX_FORWARD_LIGHTS..].iter_mut().zip(&l) {
+                *a = *x;
+            }
+            l.resize(
+                self.light_stride,
+                <LightUniforms as bytemuck::Zeroable>::zeroed(),
+            );
+            lights.extend(l);
         }
+        self.frame.write(r, &strided(&frames));
+        self.objects.write(r, &strided(&objects));
+        self.lights.write(r, &strided(&lights));
         self.light_array.write(r, bytemuck::cast_slice(&array));
         let mut table = [0u32; 256];
-        for o in &plan.objects {
+        for o in plans.iter().flat_map(|p| &p.objects) {
             if let Some(f) = o.fur {
                 table[(f.shell_id & 255) as usize] = o.id;
             }
@@ -277,7 +319,28 @@ impl FrameData {
         self.shell_table.write(r, bytemuck::cast_slice(&table));
     }
 
-    /// Frame constants (dynamic offset [`FRAME_LBUFFER`] or [`FRAME_OUTPUT`]).
+    /// Dynamic offset of view `view`'s frame constants at `res`.
+    pub fn frame_offset(&self, view: usize, res: Res) -> u32 {
+        let slot = 2 * view + usize::from(res == Res::Output);
+        (slot as u64 * UNIFORM_STRIDE) as u32
+    }
+
+    /// Dynamic offset of object `k`'s uniforms in view `view`.
+    pub fn object_offset(&self, view: usize, k: usize) -> u32 {
+        ((view * self.object_stride + k) as u64 * UNIFORM_STRIDE) as u32
+    }
+
+    /// Dynamic offset of light `i`'s uniforms in view `view`.
+    pub fn light_offset(&self, view: usize, i: usize) -> u32 {
+        ((view * self.light_stride + i) as u64 * UNIFORM_STRIDE) as u32
+    }
+
+    /// Dynamic offset of view `view`'s forward light array.
+    pub fn light_array_offset(&self, view: usize) -> u32 {
+        (view * LIGHT_ARRAY_BYTES) as u32
+    }
+
+    /// Frame constants (dynamic offset [`FrameData::frame_offset`]).
     pub fn frame(&self) -> &wgpu::BindGroup {
         &self.frame.group
     }
@@ -300,15 +363,5 @@ impl FrameData {
     /// Which IDs are outer shells.
     pub fn shell_table(&self) -> &wgpu::BindGroup {
         &self.shell_table.group
-    }
-
-    /// Dynamic offset of object `k`'s uniforms.
-    pub fn object_offset(k: usize) -> u32 {
-        (k as u64 * UNIFORM_STRIDE) as u32
-    }
-
-    /// Dynamic offset of light `i`'s uniforms.
-    pub fn light_offset(i: usize) -> u32 {
-        (i as u64 * UNIFORM_STRIDE) as u32
     }
 }

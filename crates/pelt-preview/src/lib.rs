@@ -186,6 +186,7 @@ impl Preview {
             sky,
             targets: ViewTargets::new(&self.renderer, spec),
             data,
+            extra: Vec::new(),
         };
         self.assets.sweep();
         match self.renderer.gpu.take_error() {
@@ -219,7 +220,48 @@ impl Preview {
         if spec != sv.targets.spec {
             sv.targets = ViewTargets::new(&self.renderer, spec);
         }
-        sv.data.write(&self.renderer, &sv.plan);
+        for e in &mut sv.extra {
+            let spec = TargetSpec::of(&e.plan, e.targets.spec.color_format, true);
+            if spec != e.targets.spec {
+                e.targets = ViewTargets::new(&self.renderer, spec);
+            }
+        }
+        let plans: Vec<&Plan> = std::iter::once(&sv.plan)
+            .chain(sv.extra.iter().map(|e| &e.plan))
+            .collect();
+        sv.data.write_views(&self.renderer, &plans);
+    }
+
+    /// Adds a view of the same scene from `camera`, drawn in the same frame by
+    /// [`Preview::render_views`] into targets of its own (PNG output), with uniform slots of
+    /// its own; returns its index.
+    pub fn add_view(
+        &mut self,
+        sv: &mut SceneView,
+        camera: &scene::Camera,
+    ) -> Result<usize, RenderError> {
+        let (w, h) = sv.scene_plan.output;
+        let size = scene::Size {
+            width: w,
+            height: h,
+        };
+        let plan = Plan::with_camera(&sv.scene_plan, &view::View::of(camera, size))?;
+        let spec = TargetSpec::of(&plan, renderer::OUTPUT_FORMAT, true);
+        sv.extra.push(scene_view::ExtraView {
+            camera: *camera,
+            plan,
+            targets: ViewTargets::new(&self.renderer, spec),
+        });
+        self.refresh(sv);
+        Ok(sv.view_count() - 1)
+    }
+
+    /// Renders every view of `sv` in one frame (one submission) and reads each back.
+    pub fn render_views(&self, sv: &SceneView) -> Result<Vec<Image>, RenderError> {
+        let frames = (0..sv.view_count())
+            .map(|v| sv.view_frame(v))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(frame::render_many(&self.renderer, &frames)?)
     }
 
     /// Renders one frame into the view's own target and reads it back.

@@ -70,7 +70,7 @@ pub struct Layouts {
     pub textures: wgpu::BindGroupLayout,
     /// One light (dynamic offset).
     pub light: wgpu::BindGroupLayout,
-    /// Every light (forward).
+    /// Every light (forward; dynamic offset: one array per view).
     pub light_array: wgpu::BindGroupLayout,
     /// Heightfield, fin texture, their samplers.
     pub fur: wgpu::BindGroupLayout,
@@ -210,7 +210,7 @@ impl LayoutId {
             LayoutId::Light => vec![uniform_entry(size(size_of::<LightUniforms>()), true)],
             LayoutId::LightArray => vec![uniform_entry(
                 size(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()),
-                false,
+                true,
             )],
             LayoutId::Fur => vec![
                 texture_entry(0, filterable, d2),

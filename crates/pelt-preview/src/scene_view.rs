@@ -15,7 +15,19 @@ use crate::scene::{Camera, Scene};
 use crate::targets::{TargetSpec, ViewTargets};
 use crate::view::View;
 
-/// One scene, one view.
+/// Another camera on the same scene, drawn in the same frame into targets of its own, with
+/// uniform slots of its own.
+#[derive(Debug)]
+pub struct ExtraView {
+    /// Its camera.
+    pub camera: Camera,
+    /// Its plan.
+    pub plan: Plan,
+    /// Its targets (with a colour target of their own).
+    pub targets: ViewTargets,
+}
+
+/// One scene, one view (and, for frames that draw several, extra views).
 #[derive(Debug)]
 pub struct SceneView {
     /// What each loaded mesh contributes to a plan.
@@ -32,8 +44,10 @@ pub struct SceneView {
     pub sky: Option<Arc<GpuSky>>,
     /// The view's targets.
     pub targets: ViewTargets,
-    /// The frame's uniforms.
+    /// The frame's uniforms (view 0, then each extra view).
     pub data: FrameData,
+    /// Views after the first, drawn in the same frame.
+    pub extra: Vec<ExtraView>,
 }
 
 impl SceneView {
@@ -46,7 +60,47 @@ impl SceneView {
             targets: &self.targets,
             data: &self.data,
             output,
+            view: 0,
         }
+    }
+
+    /// Views in the frame.
+    pub fn view_count(&self) -> usize {
+        1 + self.extra.len()
+    }
+
+    /// Every view's plan, view 0 first.
+    pub fn plans(&self) -> Vec<&Plan> {
+        std::iter::once(&self.plan)
+            .chain(self.extra.iter().map(|e| &e.plan))
+            .collect()
+    }
+
+    /// View `v`'s frame, drawn into its own colour target (view 0: [`SceneView::own_frame`]).
+    pub fn view_frame(&self, v: usize) -> Result<Frame<'_>, MissingInput> {
+        if v == 0 {
+            return self.own_frame();
+        }
+        let e = self.extra.get(v - 1).ok_or_else(|| MissingInput {
+            pass: "output",
+            what: format!("view {v} (the frame has {})", self.view_count()),
+        })?;
+        let color = e.targets.color.as_ref().ok_or_else(|| MissingInput {
+            pass: "output",
+            what: format!("a colour target for view {v}"),
+        })?;
+        Ok(Frame {
+            plan: &e.plan,
+            meshes: &self.meshes,
+            sky: self.sky.as_deref(),
+            targets: &e.targets,
+            data: &self.data,
+            output: Output {
+                view: &color.view,
+                format: color.format,
+            },
+            view: v,
+        })
     }
 
     /// The frame, drawn into the view's own colour target.
@@ -74,6 +128,9 @@ impl SceneView {
     pub fn replan(&mut self, scene: &Scene, mode: Mode) -> Result<(), crate::PlanError> {
         self.scene_plan = ScenePlan::new(scene, &self.infos, &self.mesh_of, mode);
         self.plan = Plan::with_camera(&self.scene_plan, &View::new(scene))?;
+        for e in &mut self.extra {
+            e.plan = Plan::with_camera(&self.scene_plan, &View::of(&e.camera, scene.output))?;
+        }
         Ok(())
     }
 

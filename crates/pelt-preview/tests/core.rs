@@ -282,3 +282,42 @@ fn cube_faces_and_array_layers_render_one_at_a_time_and_mips_average_them() {
         );
     }
 }
+
+#[test]
+fn several_views_in_one_frame_each_equal_their_own_render() {
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let s = scene(8, true, FurBlend::Stipple);
+    let mut cameras = vec![s.camera];
+    for deg in [90.0_f32, 200.0] {
+        let mut o = Orbit::new(&s.camera);
+        o.rotate(deg.to_radians(), 0.3);
+        cameras.push(o.camera());
+    }
+    for mode in [Mode::Inferred, Mode::Forward] {
+        let mut sv = p.prepare_loaded(&s, &meshes, &[0], mode).expect("prepare");
+        for c in &cameras[1..] {
+            p.add_view(&mut sv, c).expect("add view");
+        }
+        let frame = p.render_views(&sv).expect("three views, one frame");
+        assert_eq!(frame.len(), 3);
+        for (v, c) in cameras.iter().enumerate() {
+            let alone = {
+                let mut one = s.clone();
+                one.camera = *c;
+                let sv1 = p
+                    .prepare_loaded(&one, &meshes, &[0], mode)
+                    .expect("prepare");
+                p.render(&sv1).expect("render")
+            };
+            assert!(
+                frame[v] == alone,
+                "{mode} view {v} differs from its own render"
+            );
+        }
+        assert!(
+            frame[0] != frame[1] && frame[1] != frame[2],
+            "the views differ"
+        );
+    }
+}

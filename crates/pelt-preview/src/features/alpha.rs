@@ -4,7 +4,7 @@
 //! stipple samples by the DSF filter.
 
 use crate::features::{Frame, MissingInput, material, slot};
-use crate::frame_data::FRAME_OUTPUT;
+use crate::frame_data::Res;
 use crate::recipe::Recipe;
 use crate::renderer::Blend;
 use crate::shaders::Shader;
@@ -28,8 +28,9 @@ pub fn draw<'a>(
     if f.plan.alpha.is_empty() {
         return Ok(());
     }
-    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
-    r.bind(slot::LIGHTING, material::lighting(f, shader).0, None);
+    f.bind_frame(r, Res::Output);
+    let (group, offset) = material::lighting(f, shader).0;
+    r.bind(slot::LIGHTING, group, offset);
     r.pipeline(shader, Blend::Over);
     f.draw_objects(r, pass, &f.plan.alpha)
 }

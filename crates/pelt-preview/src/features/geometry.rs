@@ -4,8 +4,8 @@
 //! feature adds its base mesh and stippled outer shell, the alpha feature its stippled
 //! objects.
 
-use crate::features::{Frame, MissingInput, alpha, fur, slot, vertex_layout};
-use crate::frame_data::FRAME_LBUFFER;
+use crate::features::{Frame, MissingInput, alpha, fur, vertex_layout};
+use crate::frame_data::Res;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
@@ -61,7 +61,7 @@ fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
 /// The geometry pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f)?;
-    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_LBUFFER));
+    f.bind_frame(&mut r, Res::Lbuffer);
     if !f.plan.opaque.is_empty() {
         r.pipeline(Shader::GBuffer, Blend::None);
         f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.opaque)?;

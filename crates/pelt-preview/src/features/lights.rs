@@ -3,7 +3,7 @@
 //! position and normal back from the G-buffer.
 
 use crate::features::{ADD, Frame, MissingInput};
-use crate::frame_data::{FRAME_LBUFFER, FrameData};
+use crate::frame_data::Res;
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
@@ -63,14 +63,18 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         None,
     );
     r.pipeline(Shader::Light, Blend::None);
-    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_LBUFFER));
+    r.bind(
+        slot::FRAME,
+        f.data.frame(),
+        Some(f.data.frame_offset(f.view, Res::Lbuffer)),
+    );
     r.bind(slot::GBUFFER, &g.read, None);
     for (i, light) in f.plan.lights.iter().enumerate() {
         r.push(Step::Scissor(light.rect));
         r.bind(
             slot::LIGHT,
             f.data.lights(),
-            Some(FrameData::light_offset(i)),
+            Some(f.data.light_offset(f.view, i)),
         );
         r.push(Step::Draw(0..3, 0..1));
     }

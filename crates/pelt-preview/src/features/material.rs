@@ -7,7 +7,7 @@
 
 use crate::features::vertex_layout;
 use crate::features::{Frame, MissingInput, alpha, fur, object_blends, object_depth, sky, slot};
-use crate::frame_data::FRAME_OUTPUT;
+use crate::frame_data::Res;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
@@ -43,23 +43,26 @@ pub fn object_shader(plan: &crate::plan::Plan) -> Shader {
     }
 }
 
-/// How `shader`'s objects and fur are lit: (the objects' lighting group, the fur's, the
-/// fur's lighting model).
-pub fn lighting<'a>(
-    f: &Frame<'a>,
-    shader: Shader,
-) -> (&'a wgpu::BindGroup, &'a wgpu::BindGroup, Lighting) {
+/// How `shader`'s objects and fur are lit: (the objects' lighting group, the fur's, each
+/// with its offset, and the fur's lighting model).
+pub fn lighting<'a>(f: &Frame<'a>, shader: Shader) -> (Bound<'a>, Bound<'a>, Lighting) {
     if shader == Shader::Forward {
-        let a = f.data.light_array();
+        let a = (
+            f.data.light_array(),
+            Some(f.data.light_array_offset(f.view)),
+        );
         (a, a, Lighting::Forward)
     } else {
         (
-            &f.targets.material_read,
-            &f.targets.lbuffer_read,
+            (&f.targets.material_read, None),
+            (&f.targets.lbuffer_read, None),
             Lighting::Inferred,
         )
     }
 }
+
+/// A bind group with its dynamic offset, if it has one.
+pub type Bound<'a> = (&'a wgpu::BindGroup, Option<u32>);
 
 /// The output attachments: colour cleared to the background, depth to 1.
 fn attachments<'a>(f: &Frame<'a>, pass: Pass) -> Recipe<'a> {
@@ -82,21 +85,21 @@ fn attachments<'a>(f: &Frame<'a>, pass: Pass) -> Recipe<'a> {
 pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f, pass);
     let (objects_light, fur_light, fur_lighting) = lighting(f, shader);
-    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
-    r.bind(slot::LIGHTING, objects_light, None);
+    f.bind_frame(&mut r, Res::Output);
+    r.bind(slot::LIGHTING, objects_light.0, objects_light.1);
     if !f.plan.opaque.is_empty() {
         r.pipeline(shader, Blend::None);
         f.draw_objects(&mut r, pass.name(), &f.plan.opaque)?;
     }
     let has_fur = !f.plan.fur.is_empty();
     if has_fur {
-        r.bind(slot::LIGHTING, fur_light, None);
+        r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
         fur::base(f, &mut r, pass.name(), fur_lighting)?;
     }
     sky::draw(f, &mut r, pass.name())?;
     let wboit = has_fur && f.plan.fur_blend == FurBlend::Wboit;
     if has_fur && !wboit {
-        r.bind(slot::LIGHTING, fur_light, None);
+        r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
         fur::layers(f, &mut r, pass.name(), fur_lighting, Blend::Over)?;
     }
     if !wboit {

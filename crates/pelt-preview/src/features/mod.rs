@@ -32,7 +32,7 @@ pub mod wboit;
 use std::sync::Arc;
 
 use crate::assets::{GpuMesh, GpuSky};
-use crate::frame_data::FrameData;
+use crate::frame_data::{FrameData, Res};
 use crate::plan::Plan;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{PipelineKey, PipelineSpec};
@@ -88,6 +88,8 @@ pub struct Frame<'a> {
     pub data: &'a FrameData,
     /// Where the image goes.
     pub output: Output<'a>,
+    /// Which view of the frame's uniforms this is (0 for a single view).
+    pub view: usize,
 }
 
 impl<'a> Frame<'a> {
@@ -108,7 +110,16 @@ impl<'a> Frame<'a> {
         recipe.bind(
             slot::OBJECT,
             self.data.objects(),
-            Some(FrameData::object_offset(k)),
+            Some(self.data.object_offset(self.view, k)),
+        );
+    }
+
+    /// Binds this view's frame constants at `res` (at the object passes' frame slot).
+    pub fn bind_frame(&self, recipe: &mut Recipe<'a>, res: Res) {
+        recipe.bind(
+            slot::FRAME,
+            self.data.frame(),
+            Some(self.data.frame_offset(self.view, res)),
         );
     }
 

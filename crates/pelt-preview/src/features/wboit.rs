@@ -5,7 +5,7 @@
 //! the image, then draws the alpha objects.
 
 use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
-use crate::frame_data::FRAME_OUTPUT;
+use crate::frame_data::Res;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
@@ -82,8 +82,8 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     );
     let shader = material::object_shader(f.plan);
     let (_, fur_light, lighting) = material::lighting(f, shader);
-    r.bind(slot::FRAME, f.data.frame(), Some(FRAME_OUTPUT));
-    r.bind(slot::LIGHTING, fur_light, None);
+    f.bind_frame(&mut r, Res::Output);
+    r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
     fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
     Ok(r)
 }
