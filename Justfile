@@ -66,3 +66,11 @@ bench-render backend="vulkan":
 bench-fur backend="vulkan":
     cargo run --release -- render-bench --experiment fur --backend {{backend}}
     PELT_BACKEND={{backend}} cargo bench -p pelt-preview --bench lbuffer_scale
+
+# The demo creature in a window (bakes it first): orbit, knobs on keys, reload on change.
+view: demo
+    cargo run --release -- view out/demo/creature.glb
+
+# pelt view's frame budget: orbit frame times at 66, 100 and 200 ms budgets under Xvfb.
+bench-view frames="30":
+    bash bench/view.sh {{frames}}

@@ -48,7 +48,7 @@ Examples:
 const VIEW_EXAMPLES: &str = "\
 Controls: left drag orbits, right (or shift) drag pans, the wheel zooms, F frames the asset;
 M mode, [ ] L-buffer scale, D DSF, - = shells, I fins, B stipple/WBOIT, P screenshot,
-R reload, T measure pass costs, H help, Q quit. Drop a file on the window to open it.
+R reload, T measure pass costs, O overlay, H help, Q quit. Drop a file on the window to open it.
 
 Examples:
   pelt view out/demo/creature.glb
@@ -266,6 +266,10 @@ pub struct ViewArgs {
     /// Scripted: write the still, full-quality frame after the last one to this PNG.
     #[arg(long, value_name = "FILE", requires = "frames")]
     pub screenshot: Option<PathBuf>,
+    /// Scripted: draw the text overlay too (it is off in scripted mode, so screenshots are
+    /// the plain render).
+    #[arg(long, requires = "frames")]
+    pub overlay: bool,
     /// Scripted: orbit the camera this many degrees before each frame after the first.
     #[arg(
         long,

@@ -36,6 +36,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         orbit: args.orbit,
         budget_ms: args.budget_ms,
         shaders: args.shaders.clone().or_else(default_shaders),
+        overlay: args.overlay,
         quiet: args.quiet,
     };
     match pelt_view::run(view) {

@@ -270,3 +270,56 @@ fn a_successful_render_prints_no_error_line_without_a_runtime_dir() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("no-such.glb"));
 }
+
+#[test]
+fn the_overlay_draws_text_over_the_window_and_nothing_else() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-overlay");
+    let asset = furry(&dir);
+    let shot = dir.join("overlay.png");
+    let out = view(&[
+        s(&asset),
+        "--frames",
+        "2",
+        "--overlay",
+        "--screenshot",
+        s(&shot),
+        "--size",
+        "256x160",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    if !err.contains("the window's last frame") {
+        // This surface cannot be read back (GL): the screenshot is rendered offscreen and
+        // carries no overlay, so there is nothing to check here.
+        eprintln!("skipped: the screenshot is not the window's frame ({err})");
+        return;
+    }
+    let reference = dir.join("render.png");
+    let b = backend();
+    pelt_ok(&[
+        "render",
+        "--backend",
+        &b,
+        s(&asset),
+        "-o",
+        s(&reference),
+        "--size",
+        "256x160",
+    ]);
+    let (r, v) = (load_png(&reference), load_png(&shot));
+    // Text: pure white pixels in the top-left box that the render does not have.
+    let white = |i: &Image, x, y| i.pixel(x, y)[..3] == [255, 255, 255];
+    let text = (8..250)
+        .flat_map(|x| (8..40).map(move |y| (x, y)))
+        .filter(|&(x, y)| white(&v, x, y) && !white(&r, x, y))
+        .count();
+    assert!(text > 100, "{text} text pixels in the overlay box");
+    // Below the box the frame is the render's.
+    let below = |i: &Image| i.rgba[(64 * 256 * 4) as usize..].to_vec();
+    assert!(
+        below(&v) == below(&r),
+        "the overlay changed pixels outside its box"
+    );
+}

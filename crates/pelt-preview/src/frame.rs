@@ -104,7 +104,7 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             Pass::Forward => features::forward::pass(f),
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
-            Pass::Upscale | Pass::Mips => Err(MissingInput {
+            Pass::Upscale | Pass::Mips | Pass::Overlay => Err(MissingInput {
                 pass: p.name(),
                 what: "a source (upscaling and mips are drawn on request, never planned)".into(),
             }),
@@ -441,6 +441,19 @@ fn wall_pass_times(
         }
     }
     Ok(per)
+}
+
+/// Draws the overlay's text over `output` (the window's surface) and submits it.
+pub fn overlay(
+    r: &Renderer,
+    ov: &features::overlay::Overlay,
+    output: features::Output<'_>,
+) -> Result<(), FrameError> {
+    let Some(recipe) = ov.pass(output) else {
+        return Ok(());
+    };
+    r.prepare(recipe.keys())?;
+    submit_frame(r, std::slice::from_ref(&recipe))
 }
 
 /// Scales `source`'s frame up into `output` (the window's surface) and submits it.

@@ -88,6 +88,8 @@ pub struct Layouts {
     pub storage: wgpu::BindGroupLayout,
     /// A 2D-array texture and its sampler (mip generation).
     pub array_source: wgpu::BindGroupLayout,
+    /// The overlay's text bitmap.
+    pub text: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -174,11 +176,13 @@ pub enum LayoutId {
     Storage,
     /// [`Layouts::array_source`].
     ArraySource,
+    /// [`Layouts::text`].
+    Text,
 }
 
 impl LayoutId {
     /// Every layout.
-    pub const ALL: [LayoutId; 13] = [
+    pub const ALL: [LayoutId; 14] = [
         LayoutId::Frame,
         LayoutId::Object,
         LayoutId::Textures,
@@ -192,6 +196,7 @@ impl LayoutId {
         LayoutId::UpscaleSize,
         LayoutId::Storage,
         LayoutId::ArraySource,
+        LayoutId::Text,
     ];
 
     /// The layout's entries (plain data: the shader test checks them against the WGSL).
@@ -230,6 +235,7 @@ impl LayoutId {
             LayoutId::UpscaleSource => vec![texture_entry(0, filterable, d2), sampler_entry(1)],
             LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
             LayoutId::Storage => vec![storage_entry(0, true), storage_entry(1, false)],
+            LayoutId::Text => vec![texture_entry(0, filterable, d2)],
             LayoutId::ArraySource => vec![
                 texture_entry(0, filterable, wgpu::TextureViewDimension::D2Array),
                 sampler_entry(1),
@@ -260,6 +266,7 @@ impl Layouts {
             upscale_size: layout(LayoutId::UpscaleSize),
             storage: layout(LayoutId::Storage),
             array_source: layout(LayoutId::ArraySource),
+            text: layout(LayoutId::Text),
         }
     }
 
@@ -279,6 +286,7 @@ impl Layouts {
             LayoutId::UpscaleSize => &self.upscale_size,
             LayoutId::Storage => &self.storage,
             LayoutId::ArraySource => &self.array_source,
+            LayoutId::Text => &self.text,
         }
     }
 }

@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 18] = [
+pub const FILES: [(&str, &str); 19] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -19,6 +19,10 @@ pub const FILES: [(&str, &str); 18] = [
     (
         "upscale.wgsl",
         include_str!("../../../shaders/upscale.wgsl"),
+    ),
+    (
+        "overlay.wgsl",
+        include_str!("../../../shaders/overlay.wgsl"),
     ),
     (
         "downsample.wgsl",
@@ -117,13 +121,15 @@ pub enum Shader {
     Upscale,
     /// One mip level of a layered target from the level above.
     Downsample,
+    /// `pelt view`'s text overlay.
+    Overlay,
     /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
     TangentFrames,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 17] = [
+    pub const ALL: [Shader; 18] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -140,6 +146,7 @@ impl Shader {
         Shader::SkyCube,
         Shader::Upscale,
         Shader::Downsample,
+        Shader::Overlay,
         Shader::TangentFrames,
     ];
 
@@ -158,6 +165,7 @@ impl Shader {
             Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
             Shader::Upscale => "upscale.wgsl",
             Shader::Downsample => "downsample.wgsl",
+            Shader::Overlay => "overlay.wgsl",
             Shader::TangentFrames => "tangent_frames.wgsl",
         }
     }
@@ -220,6 +228,7 @@ impl Shader {
                 | Shader::SkyCube
                 | Shader::Upscale
                 | Shader::Downsample
+                | Shader::Overlay
         )
     }
 

@@ -321,3 +321,61 @@ fn several_views_in_one_frame_each_equal_their_own_render() {
         );
     }
 }
+
+#[test]
+fn shaders_reload_from_a_folder_and_a_broken_set_keeps_the_last_good_pipelines() {
+    let dir = std::env::temp_dir().join(format!("pelt-shaders-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    for (name, text) in pelt_preview::shaders::FILES {
+        std::fs::write(dir.join(name), text).expect("write");
+    }
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let mut s = scene(8, true, FurBlend::Stipple);
+    s.sky = pelt_preview::scene::Sky::Procedural;
+    let sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    let before = p.render(&sv).expect("render");
+    // A broken file: naga's error names the module and the line; nothing changes.
+    let sky = dir.join("sky.wgsl");
+    let good = std::fs::read_to_string(&sky).expect("read");
+    std::fs::write(&sky, good.replace("fn procedural(", "fn procedural(((")).expect("write");
+    let e = p
+        .renderer
+        .load_shaders(&dir)
+        .expect_err("broken sky")
+        .to_string();
+    assert!(e.contains("sky.wgsl") && e.contains("procedural((("), "{e}");
+    assert_eq!(
+        p.render(&sv).expect("render"),
+        before,
+        "the last good pipelines draw"
+    );
+    // A valid edit takes effect on the next frame: a red zenith.
+    std::fs::write(
+        &sky,
+        good.replace(
+            "let zenith = vec3<f32>(0.10, 0.22, 0.55);",
+            "let zenith = vec3<f32>(0.90, 0.02, 0.02);",
+        ),
+    )
+    .expect("write");
+    let built = p.renderer.pipelines_built();
+    p.renderer.load_shaders(&dir).expect("valid set");
+    let after = p.render(&sv).expect("render");
+    assert!(
+        p.renderer.pipelines_built() > built,
+        "pipelines rebuilt from the new source"
+    );
+    // The top-left corner is sky (the sphere covers the top centre).
+    let corner = |i: &pelt_preview::Image| i.pixel(2, 0);
+    let (b, a) = (corner(&before), corner(&after));
+    if !(a[0] > b[0] + 40 && a[2] < b[2]) {
+        let out = common::out_dir();
+        before.save(&out.join("reload-before.png")).expect("write");
+        after.save(&out.join("reload-actual.png")).expect("write");
+        panic!("the sky did not turn red: {b:?} -> {a:?}; images in target/render-tests/");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

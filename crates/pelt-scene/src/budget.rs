@@ -7,7 +7,10 @@
 //! the passes at L-buffer resolution (geometry, light, obliteration) scale with the L-buffer's
 //! pixel count, (scale × render scale)²; the output-resolution passes with the render
 //! scale²; and the part of them that draws fur shells also with the shell count (measured as
-//! the difference between a frame at full shells and one at a single shell).
+//! the difference between a frame at full shells and one at a single shell). What the model
+//! leaves out (vertex work that does not shrink with resolution, the upscale, presenting) is
+//! learned from the moving frames themselves: predictions are scaled by the running ratio of
+//! measured to predicted time ([`Budget::observe`]).
 
 /// The knobs the budget turns.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,6 +97,40 @@ pub struct Budget {
     pub target_ms: f64,
     /// The costs it predicts with.
     pub costs: Costs,
+    /// Measured over predicted frame time of the moving frames so far (what the pass model
+    /// leaves out: vertex work that does not shrink with resolution, the upscale, presenting),
+    /// an exponential average; 1 until a frame is observed.
+    pub correction: f64,
+}
+
+/// Weight of the newest frame in [`Budget::correction`].
+const CORRECTION_WEIGHT: f64 = 0.4;
+
+impl Budget {
+    /// A budget of `target_ms` with `costs`, before any frame is observed.
+    pub fn new(target_ms: f64, costs: Costs) -> Budget {
+        Budget {
+            target_ms,
+            costs,
+            correction: 1.0,
+        }
+    }
+
+    /// Predicted frame time at `q`, corrected by what frames took.
+    pub fn predict(&self, q: &Quality) -> f64 {
+        self.costs.predict(q) * self.correction
+    }
+
+    /// A frame drawn at `q` took `ms`: the correction moves towards measured / predicted
+    /// (kept within 0.5 to 4, so one outlier cannot throw the budget off).
+    pub fn observe(&mut self, q: &Quality, ms: f64) {
+        let model = self.costs.predict(q);
+        if !(model > 0.0 && ms.is_finite() && ms > 0.0) {
+            return;
+        }
+        let ratio = (ms / model).clamp(0.5, 4.0);
+        self.correction = (1.0 - CORRECTION_WEIGHT) * self.correction + CORRECTION_WEIGHT * ratio;
+    }
 }
 
 impl Budget {
@@ -108,13 +145,13 @@ impl Budget {
         if !moving {
             return q;
         }
-        while self.costs.predict(&q) > self.target_ms {
-            let now = self.costs.predict(&q);
+        while self.predict(&q) > self.target_ms {
+            let now = self.predict(&q);
             let [lbuffer, shells, render] = steps(&q, &full);
             let best = [lbuffer, shells]
                 .into_iter()
                 .flatten()
-                .map(|s| (now - self.costs.predict(&s), s))
+                .map(|s| (now - self.predict(&s), s))
                 .filter(|(saved, _)| *saved > 0.0)
                 .max_by(|a, b| a.0.total_cmp(&b.0))
                 .map(|(_, s)| s)
@@ -162,10 +199,7 @@ mod tests {
     fn a_moving_camera_gets_settings_that_fit_and_a_still_one_full_quality() {
         let c = demo();
         for target in [66.0, 100.0, 200.0, 400.0] {
-            let b = Budget {
-                target_ms: target,
-                costs: c,
-            };
+            let b = Budget::new(target, c);
             let q = b.choose(true);
             assert!(
                 c.predict(&q) <= target,
@@ -175,27 +209,18 @@ mod tests {
             assert_eq!(b.choose(false), FULL);
         }
         // A budget the full frame meets changes nothing.
-        let easy = Budget {
-            target_ms: 1000.0,
-            costs: c,
-        };
+        let easy = Budget::new(1000.0, c);
         assert_eq!(easy.choose(true), FULL);
     }
 
     #[test]
     fn the_knob_that_saves_most_goes_first() {
         // Shells dominate: the first step halves them.
-        let b = Budget {
-            target_ms: 500.0,
-            costs: demo(),
-        };
+        let b = Budget::new(500.0, demo());
         assert_eq!(b.choose(true), Quality { shells: 8, ..FULL });
         // Resolution goes last: with a budget the other two cannot reach, both are at their
         // floors before it moves.
-        let b = Budget {
-            target_ms: 100.0,
-            costs: demo(),
-        };
+        let b = Budget::new(100.0, demo());
         let q = b.choose(true);
         assert!(q.render_scale < 1.0, "{q:?}");
         assert_eq!(q.shells, FLOOR.shells);
@@ -205,11 +230,7 @@ mod tests {
         );
         // Without fur the L-buffer passes dominate: the L-buffer scale goes down first.
         let lit = Costs::fit(Quality { shells: 1, ..FULL }, 300.0, 100.0, 100.0);
-        let q = Budget {
-            target_ms: 350.0,
-            costs: lit,
-        }
-        .choose(true);
+        let q = Budget::new(350.0, lit).choose(true);
         assert!(
             q.lbuffer_scale < FULL.lbuffer_scale && q.render_scale == 1.0,
             "{q:?}"
@@ -217,11 +238,28 @@ mod tests {
     }
 
     #[test]
+    fn observed_frames_correct_a_model_that_is_too_optimistic() {
+        // The real frames take 1.6 × the model (fixed costs it does not see).
+        let actual = |q: &Quality| demo().predict(q) * 1.6;
+        let mut b = Budget::new(150.0, demo());
+        let first = b.choose(true);
+        assert!(actual(&first) > 150.0, "uncorrected, the model overshoots");
+        for _ in 0..12 {
+            let q = b.choose(true);
+            b.observe(&q, actual(&q));
+        }
+        let q = b.choose(true);
+        assert!(actual(&q) <= 150.0, "corrected: {q:?} takes {}", actual(&q));
+        assert!((b.correction - 1.6).abs() < 0.05, "{}", b.correction);
+        // A still camera is still full quality, and nonsense is ignored.
+        assert_eq!(b.choose(false), FULL);
+        b.observe(&q, f64::NAN);
+        assert!((b.correction - 1.6).abs() < 0.05);
+    }
+
+    #[test]
     fn an_impossible_budget_stops_at_the_floors() {
-        let b = Budget {
-            target_ms: 0.001,
-            costs: demo(),
-        };
+        let b = Budget::new(0.001, demo());
         let q = b.choose(true);
         assert_eq!(q.shells, FLOOR.shells);
         assert!(

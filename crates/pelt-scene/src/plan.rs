@@ -143,6 +143,8 @@ pub enum Pass {
     Upscale,
     /// Mip levels of a layered target (never in a plan).
     Mips,
+    /// `pelt view`'s text overlay (never in a plan).
+    Overlay,
 }
 
 impl Pass {
@@ -158,6 +160,7 @@ impl Pass {
             Pass::Composite => "composite",
             Pass::Upscale => "upscale",
             Pass::Mips => "mips",
+            Pass::Overlay => "overlay",
         }
     }
 }
@@ -559,6 +562,9 @@ impl Plan {
                 }
                 Pass::Mips => {
                     let _ = write!(s, "mip levels of a layered target");
+                }
+                Pass::Overlay => {
+                    let _ = write!(s, "text over the window");
                 }
                 Pass::Composite => {
                     let _ = write!(

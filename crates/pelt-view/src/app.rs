@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use pelt_preview::features::overlay::Overlay;
 use pelt_preview::{Gpu, Preview};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -45,6 +46,9 @@ struct Running {
     capture: bool,
     /// The last frame read back from the surface.
     captured: Option<pelt_preview::Image>,
+    /// The text overlay, and whether it shows.
+    overlay: Overlay,
+    show_overlay: bool,
 }
 
 /// The application.
@@ -119,13 +123,19 @@ impl App {
             mode: a.mode,
             knobs: a.knobs,
         };
-        let viewer = Viewer::open(
+        let mut viewer = Viewer::open(
             &mut preview,
             &a.input,
             settings,
             Surface { size, format },
             a.budget_ms,
         )?;
+        let scripted = a.frames.is_some();
+        if !scripted {
+            // The pass times for the overlay and the budget's costs, before the first frame.
+            viewer.measure(&mut preview)?;
+        }
+        let overlay = Overlay::new(&preview.renderer, 1.0);
         let shaders = a.shaders.clone().map(|dir| {
             let files = pelt_preview::shaders::FILES
                 .iter()
@@ -151,6 +161,8 @@ impl App {
             message: None,
             capture,
             captured: None,
+            overlay,
+            show_overlay: !scripted || a.overlay,
         })
     }
 }
@@ -226,6 +238,7 @@ impl Running {
                     }
                 }
                 Action::Help => println!("{}", controls::HELP),
+                Action::ToggleOverlay => self.show_overlay = !self.show_overlay,
                 Action::Quit => el.exit(),
                 _ => {}
             }
@@ -274,6 +287,19 @@ impl Running {
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
         self.viewer.draw(&mut self.preview, &view, moving)?;
+        if self.show_overlay {
+            let mut lines = self.viewer.status_lines(self.frame_ms);
+            if let Some(m) = &self.message {
+                lines.insert(0, m.clone());
+            }
+            self.overlay.set(&self.preview.renderer, lines);
+            let output = pelt_preview::features::Output {
+                view: &view,
+                format: self.config.format,
+            };
+            pelt_preview::frame::overlay(&self.preview.renderer, &self.overlay, output)
+                .map_err(pelt_preview::RenderError::from)?;
+        }
         pelt_preview::frame::wait(&self.preview.renderer)
             .map_err(pelt_preview::RenderError::from)?;
         if capture && self.capture {
@@ -289,6 +315,7 @@ impl Running {
         }
         self.preview.renderer.gpu.queue.present(texture);
         self.frame_ms = ms_since(t);
+        self.viewer.observe(self.frame_ms);
         let mut title = self.viewer.status(self.frame_ms);
         if let Some(m) = &self.message {
             title = format!("{m} | {title}");
@@ -417,7 +444,13 @@ impl ApplicationHandler for App {
                     scripted_frame(r, &self.args, n, el)
                 } else {
                     let moving = r.moving();
-                    r.redraw(moving, false).map(|_| ())
+                    let first = r.frame_ms == 0.0;
+                    let drawn = r.redraw(moving, false);
+                    // The overlay shows the previous frame's time: draw the first one twice.
+                    if first {
+                        r.window.request_redraw();
+                    }
+                    drawn.map(|_| ())
                 };
                 if let Err(e) = result {
                     if scripted {

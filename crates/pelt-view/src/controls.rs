@@ -34,6 +34,8 @@ pub enum Action {
     Reload,
     /// Re-measure the pass costs.
     Measure,
+    /// Show or hide the text overlay.
+    ToggleOverlay,
     /// Print the controls.
     Help,
     /// Close the window.
@@ -55,6 +57,7 @@ pub fn action(key: &str) -> Option<Action> {
         "p" => Action::Screenshot,
         "r" => Action::Reload,
         "t" => Action::Measure,
+        "o" => Action::ToggleOverlay,
         "h" | "?" => Action::Help,
         "q" | "Escape" => Action::Quit,
         _ => return None,
@@ -68,7 +71,7 @@ pelt view controls:
   wheel            zoom             F   frame the asset
   M  mode (inferred, deferred, forward)      [ ]  L-buffer scale -/+ 0.125
   D  DSF on/off    - =  shells halve/double  I  fins on/off   B  stipple/WBOIT
-  P  screenshot    R  reload input and shaders   T  measure pass costs
+  P  screenshot    R  reload input and shaders   T  measure pass costs   O  overlay on/off
   H  this help     Q / Esc  quit
 Drop a .glb, .gltf, .obj or .json on the window to open it; the open file reloads when it
 changes on disk.";

@@ -43,6 +43,8 @@ pub struct ViewArgs {
     pub budget_ms: f64,
     /// Folder to reload the shaders from when they change.
     pub shaders: Option<PathBuf>,
+    /// Show the text overlay in scripted mode too (the window always starts with it).
+    pub overlay: bool,
     /// Print only errors.
     pub quiet: bool,
 }

@@ -243,10 +243,10 @@ impl Viewer {
             render_scale: 1.0,
         };
         self.pass_ms = t.passes;
-        self.budget = Some(Budget {
-            target_ms: self.target_ms,
-            costs: Costs::fit(full, lbuffer_ms, output_ms, one_shell_ms),
-        });
+        self.budget = Some(Budget::new(
+            self.target_ms,
+            Costs::fit(full, lbuffer_ms, output_ms, one_shell_ms),
+        ));
         Ok(())
     }
 
@@ -328,6 +328,16 @@ impl Viewer {
         Ok(())
     }
 
+    /// The last frame took `ms` (drawn, presented, waited for): a reduced one teaches the
+    /// budget what its model leaves out.
+    pub fn observe(&mut self, ms: f64) {
+        if let (Some(b), Some(q)) = (&mut self.budget, self.last_quality)
+            && q != b.costs.full
+        {
+            b.observe(&q, ms);
+        }
+    }
+
     /// The full-quality frame of the current camera and settings as an image (a screenshot:
     /// rendered again into a texture of its own, from the same cached assets).
     pub fn screenshot(&self, preview: &mut Preview) -> Result<Image, ViewError> {
@@ -342,12 +352,13 @@ impl Viewer {
         Ok(preview.render(&sv)?)
     }
 
-    /// One line for the title bar: input, settings, frame time and quality, pass times.
-    pub fn status(&self, frame_ms: f64) -> String {
+    /// The status as lines (the overlay): input and settings; frame time and, while
+    /// moving, the quality the budget chose; the measured pass times.
+    pub fn status_lines(&self, frame_ms: f64) -> Vec<String> {
         let s = self.scene();
         let shells = max_shells(&self.full);
-        let mut line = format!(
-            "pelt view: {} | {}",
+        let mut first = format!(
+            "{} | {}",
             self.path.file_name().map_or_else(
                 || self.path.display().to_string(),
                 |n| n.to_string_lossy().into_owned()
@@ -355,7 +366,7 @@ impl Viewer {
             self.settings.mode
         );
         if self.settings.mode == pelt_preview::Mode::Inferred {
-            line += &format!(
+            first += &format!(
                 ", L-buffer {:.3}, DSF {}",
                 s.lbuffer_scale,
                 if s.dsf { "on" } else { "off" }
@@ -366,17 +377,17 @@ impl Viewer {
                 .objects
                 .iter()
                 .any(|o| matches!(o.material, Material::Fur(f) if f.fins));
-            line += &format!(
+            first += &format!(
                 ", {n} shells{}, {:?}",
                 if fins { " + fins" } else { "" },
                 s.fur_blend
             );
         }
-        line += &format!(" | {frame_ms:.0} ms");
+        let mut second = format!("frame {frame_ms:.0} ms");
         if let (Some(q), Some(b)) = (self.last_quality, &self.budget)
             && q != b.costs.full
         {
-            line += &format!(
+            second += &format!(
                 " (moving: L {:.2}, {} shells, {:.0} % res; budget {:.0} ms)",
                 q.lbuffer_scale,
                 q.shells,
@@ -384,15 +395,21 @@ impl Viewer {
                 b.target_ms
             );
         }
+        let mut lines = vec![first, second];
         if !self.pass_ms.is_empty() {
             let p: Vec<String> = self
                 .pass_ms
                 .iter()
                 .map(|(p, ms)| format!("{} {ms:.0}", p.name()))
                 .collect();
-            line += &format!(" | passes: {}", p.join(", "));
+            lines.push(format!("passes (ms, full quality): {}", p.join(", ")));
         }
-        line
+        lines
+    }
+
+    /// The status in one line (title bar, scripted mode's log).
+    pub fn status(&self, frame_ms: f64) -> String {
+        format!("pelt view: {}", self.status_lines(frame_ms).join(" | "))
     }
 }
 

@@ -13,7 +13,8 @@
 //! - [`sky`]: procedural and cube-map skies;
 //! - [`forward`]: the forward reference;
 //! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`);
-//! - [`mips`]: mip chains of layered targets (cube faces, arrays).
+//! - [`mips`]: mip chains of layered targets (cube faces, arrays);
+//! - [`overlay`]: `pelt view`'s text overlay.
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -25,6 +26,7 @@ pub mod geometry;
 pub mod lights;
 pub mod material;
 pub mod mips;
+pub mod overlay;
 pub mod sky;
 pub mod upscale;
 pub mod wboit;
@@ -196,6 +198,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
         Shader::Upscale => upscale::spec(key),
         Shader::Downsample => mips::spec(key),
+        Shader::Overlay => overlay::spec(key),
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),
