@@ -171,32 +171,9 @@ pub struct RenderArgs {
     /// Output PNG. May be left out with --explain or --bench.
     #[arg(short, long, required_unless_present_any = ["explain", "bench"])]
     pub output: Option<PathBuf>,
-    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF)
-    /// or forward (per-object light loop, the reference).
-    #[arg(long, default_value = "inferred")]
-    pub mode: pelt_preview::Mode,
-    /// wgpu back end: auto, vulkan or gl.
-    #[arg(long, default_value = "auto")]
-    pub backend: pelt_preview::Backend,
-    /// Output size WxH (overrides the scene's).
-    #[arg(long, value_parser = size)]
-    pub size: Option<(u32, u32)>,
-    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
-    #[arg(long, value_parser = lbuffer_scale)]
-    pub lbuffer_scale: Option<f32>,
-    /// Discontinuity sensitive filtering on or off (overrides the scene's).
-    #[arg(long, value_enum)]
-    pub dsf: Option<OnOff>,
-    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
-    pub shells: Option<u32>,
-    /// Silhouette fins on or off (overrides the scene's).
-    #[arg(long, value_enum)]
-    pub fins: Option<OnOff>,
-    /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
-    /// outer) or wboit (weighted blended order-independent transparency).
-    #[arg(long)]
-    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+    /// Mode, back end, size and the knobs.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
     /// Print the passes this scene needs (no GPU is opened unless -o or --bench is given).
     #[arg(long)]
     pub explain: bool,
@@ -228,30 +205,10 @@ pub struct RenderArgs {
 pub struct ViewArgs {
     /// A scene file (.json) or an asset (.glb, .gltf, .obj).
     pub input: PathBuf,
-    /// inferred, deferred or forward (M cycles).
-    #[arg(long, default_value = "inferred")]
-    pub mode: pelt_preview::Mode,
-    /// wgpu back end: auto, vulkan or gl.
-    #[arg(long, default_value = "auto")]
-    pub backend: pelt_preview::Backend,
-    /// Window size WxH (default: a scene's output size, or 960x540 for an asset).
-    #[arg(long, value_parser = size)]
-    pub size: Option<(u32, u32)>,
-    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
-    #[arg(long, value_parser = lbuffer_scale)]
-    pub lbuffer_scale: Option<f32>,
-    /// Discontinuity sensitive filtering on or off.
-    #[arg(long, value_enum)]
-    pub dsf: Option<OnOff>,
-    /// Shells per fur object, 1 to 256.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
-    pub shells: Option<u32>,
-    /// Silhouette fins on or off.
-    #[arg(long, value_enum)]
-    pub fins: Option<OnOff>,
-    /// How fur is composited: stipple or wboit.
-    #[arg(long)]
-    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+    /// Mode, back end, size (the window's; default: a scene's output size, or 960x540 for
+    /// an asset) and the knobs; M, [ ], D, - =, I and B change them in the window.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
     /// Target frame time (ms) while the camera moves: L-buffer scale, shells and then
     /// resolution are lowered to hold it; a still camera gets the full-quality frame.
     #[arg(long, value_name = "MS", default_value_t = 66.0, value_parser = positive_ms)]
@@ -288,6 +245,53 @@ fn positive_ms(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("{s:?} is not a positive number of milliseconds")),
+    }
+}
+
+/// The renderer's mode, back end, size and knobs: the same flags for `pelt render` and
+/// `pelt view`.
+#[derive(clap::Args)]
+pub struct KnobArgs {
+    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF)
+    /// or forward (per-object light loop, the reference).
+    #[arg(long, default_value = "inferred")]
+    pub mode: pelt_preview::Mode,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Output size WxH (overrides the scene's).
+    #[arg(long, value_parser = size)]
+    pub size: Option<(u32, u32)>,
+    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
+    #[arg(long, value_parser = lbuffer_scale)]
+    pub lbuffer_scale: Option<f32>,
+    /// Discontinuity sensitive filtering on or off (overrides the scene's).
+    #[arg(long, value_enum)]
+    pub dsf: Option<OnOff>,
+    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub shells: Option<u32>,
+    /// Silhouette fins on or off (overrides the scene's).
+    #[arg(long, value_enum)]
+    pub fins: Option<OnOff>,
+    /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
+    /// outer) or wboit (weighted blended order-independent transparency).
+    #[arg(long)]
+    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+}
+
+impl KnobArgs {
+    /// The overrides the flags set.
+    pub fn knobs(&self) -> pelt_preview::knobs::Knobs {
+        let on = |o: Option<OnOff>| o.map(|v| v == OnOff::On);
+        pelt_preview::knobs::Knobs {
+            size: self.size,
+            lbuffer_scale: self.lbuffer_scale,
+            dsf: on(self.dsf),
+            shells: self.shells,
+            fins: on(self.fins),
+            fur_blend: self.fur_blend,
+        }
     }
 }
 

@@ -18,18 +18,6 @@ const FAILED: u8 = 1;
 /// Output size of an asset's default scene.
 pub const DEFAULT_SIZE: (u32, u32) = (640, 360);
 
-/// The knobs the flags set.
-pub fn knobs(args: &RenderArgs) -> Knobs {
-    Knobs {
-        size: args.size,
-        lbuffer_scale: args.lbuffer_scale,
-        dsf: args.dsf.map(|d| d == crate::OnOff::On),
-        shells: args.shells,
-        fins: args.fins.map(|f| f == crate::OnOff::On),
-        fur_blend: args.fur_blend,
-    }
-}
-
 /// Sets every fur material's shell count and fins switch where given.
 pub fn override_fur(scene: &mut Scene, shells: Option<u32>, fins: Option<bool>) {
     Knobs {
@@ -47,7 +35,7 @@ fn fail(e: impl std::fmt::Display) -> ExitCode {
 
 /// Runs `pelt render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
-    let input = match knobs::load(&args.input, &knobs(args), DEFAULT_SIZE) {
+    let input = match knobs::load(&args.input, &args.knobs.knobs(), DEFAULT_SIZE) {
         Ok(i) => i,
         // A scene file's own errors are usage errors (2); an asset that cannot load fails (1).
         Err(InputError::Scene(e)) => return Err(e.into()),
@@ -55,7 +43,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
     };
     let (scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
     if args.explain {
-        match Plan::new(&scene, &meshes, &of, args.mode) {
+        match Plan::new(&scene, &meshes, &of, args.knobs.mode) {
             Ok(p) => print!("{}", p.explain()),
             Err(e) => return Ok(fail(e)),
         }
@@ -63,7 +51,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::SUCCESS);
         }
     }
-    let mut preview = match Preview::new(args.backend) {
+    let mut preview = match Preview::new(args.knobs.backend) {
         Ok(p) => p,
         Err(e) => return Ok(fail(e)),
     };
@@ -78,7 +66,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
                 &scene,
                 &meshes,
                 &of,
-                args.mode,
+                args.knobs.mode,
                 frames,
                 deg,
             ) {
@@ -102,7 +90,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let result = (|| -> Result<(), RenderError> {
-        let d = preview.prepare_loaded(&scene, &meshes, &of, args.mode)?;
+        let d = preview.prepare_loaded(&scene, &meshes, &of, args.knobs.mode)?;
         for n in &d.plan.notes {
             eprintln!("pelt: note: {n}");
         }
@@ -115,7 +103,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
                     out.display(),
                     image.width,
                     image.height,
-                    args.mode
+                    args.knobs.mode
                 );
             }
         }

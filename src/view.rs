@@ -4,7 +4,7 @@ use std::process::ExitCode;
 
 use pelt_preview::knobs::Knobs;
 
-use crate::{OnOff, ViewArgs};
+use crate::ViewArgs;
 
 /// The source tree's shaders, for reloading in debug builds.
 fn default_shaders() -> Option<std::path::PathBuf> {
@@ -17,20 +17,16 @@ fn default_shaders() -> Option<std::path::PathBuf> {
 
 /// Runs `pelt view`.
 pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
-    let on = |o: Option<OnOff>| o.map(|v| v == OnOff::On);
     let view = pelt_view::ViewArgs {
         input: args.input.clone(),
-        backend: args.backend,
-        mode: args.mode,
+        backend: args.knobs.backend,
+        mode: args.knobs.mode,
+        // The size is the window's, not an override of the scene's.
         knobs: Knobs {
             size: None,
-            lbuffer_scale: args.lbuffer_scale,
-            dsf: on(args.dsf),
-            shells: args.shells,
-            fins: on(args.fins),
-            fur_blend: args.fur_blend,
+            ..args.knobs.knobs()
         },
-        size: args.size,
+        size: args.knobs.size,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         orbit: args.orbit,
