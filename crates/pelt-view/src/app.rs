@@ -71,12 +71,10 @@ impl App {
 
     fn start(&mut self, el: &ActiveEventLoop) -> Result<Running, ViewError> {
         let a = &self.args;
+        let (w, h) = crate::window_size(a);
         let attrs = Window::default_attributes()
             .with_title("pelt view")
-            .with_inner_size(PhysicalSize::new(
-                crate::window_size(a).0,
-                crate::window_size(a).1,
-            ));
+            .with_inner_size(PhysicalSize::new(w, h));
         let window = Arc::new(
             el.create_window(attrs)
                 .map_err(|e| ViewError::Window(e.to_string()))?,
