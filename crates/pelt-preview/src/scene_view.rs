@@ -69,13 +69,6 @@ impl SceneView {
         1 + self.extra.len()
     }
 
-    /// Every view's plan, view 0 first.
-    pub fn plans(&self) -> Vec<&Plan> {
-        std::iter::once(&self.plan)
-            .chain(self.extra.iter().map(|e| &e.plan))
-            .collect()
-    }
-
     /// View `v`'s frame, drawn into its own colour target (view 0: [`SceneView::own_frame`]).
     pub fn view_frame(&self, v: usize) -> Result<Frame<'_>, MissingInput> {
         if v == 0 {

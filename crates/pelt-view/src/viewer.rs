@@ -105,7 +105,13 @@ impl Viewer {
         let mut v = Viewer {
             path: path.to_owned(),
             watch: Watch::new(dependencies(path, &input)),
-            full: prepare(preview, &input, &settings, surface, None)?,
+            full: prepare(
+                preview,
+                &input,
+                settings.mode,
+                &scene_of(&input, &settings.knobs, surface.size),
+                window_output(surface),
+            )?,
             input,
             settings,
             orbit,
@@ -123,10 +129,7 @@ impl Viewer {
 
     /// The scene as drawn at full quality: the input's, with the knobs and the camera.
     pub fn scene(&self) -> Scene {
-        let mut s = self.input.scene.clone();
-        self.settings.knobs.apply(&mut s);
-        s.output.width = self.surface.size.0;
-        s.output.height = self.surface.size.1;
+        let mut s = scene_of(&self.input, &self.settings.knobs, self.surface.size);
         if self.moved {
             s.camera = self.orbit.camera();
         }
@@ -182,7 +185,14 @@ impl Viewer {
     /// scene stays and the error is returned.
     pub fn reload(&mut self, preview: &mut Preview, path: &Path) -> Result<(), ViewError> {
         let input = load(path, self.surface.size)?;
-        let full = prepare(preview, &input, &self.settings, self.surface, None)?;
+        let scene = scene_of(&input, &self.settings.knobs, self.surface.size);
+        let full = prepare(
+            preview,
+            &input,
+            self.settings.mode,
+            &scene,
+            window_output(self.surface),
+        )?;
         let same = path == self.path;
         self.watch = Watch::new(dependencies(path, &input));
         self.path = path.to_owned();
@@ -208,7 +218,7 @@ impl Viewer {
         let scene = self.scene();
         let mode = self.settings.mode;
         let input = &self.input;
-        let mut sv = prepare(preview, input, &self.settings, self.surface, Some(&scene))?;
+        let mut sv = prepare(preview, input, mode, &scene, ViewOutput::IMAGE)?;
         let t = preview.time(&sv, 1, 1)?;
         let split = |passes: &[(Pass, f64)]| {
             let lres = |p: Pass| {
@@ -307,9 +317,9 @@ impl Viewer {
             let view = prepare(
                 preview,
                 &self.input,
-                &self.settings,
-                self.surface,
-                Some(scene),
+                self.settings.mode,
+                scene,
+                ViewOutput::IMAGE,
             )?;
             let color = view.targets.color.as_ref().ok_or_else(|| {
                 ViewError::Render(RenderError::from(pelt_preview::features::MissingInput {
@@ -341,13 +351,12 @@ impl Viewer {
     /// The full-quality frame of the current camera and settings as an image (a screenshot:
     /// rendered again into a texture of its own, from the same cached assets).
     pub fn screenshot(&self, preview: &mut Preview) -> Result<Image, ViewError> {
-        let scene = self.scene();
         let sv = prepare(
             preview,
             &self.input,
-            &self.settings,
-            self.surface,
-            Some(&scene),
+            self.settings.mode,
+            &self.scene(),
+            ViewOutput::IMAGE,
         )?;
         Ok(preview.render(&sv)?)
     }
@@ -418,32 +427,32 @@ fn load(path: &Path, size: (u32, u32)) -> Result<Input, ViewError> {
     knobs::load(path, &Knobs::default(), size).map_err(ViewError::Input)
 }
 
-/// Prepares the input with the settings: for the window (`scene` None: drawn into the
-/// surface at its size) or into a texture of its own (`scene` given, e.g. reduced).
+/// The input's scene with the knobs applied, at the window's size.
+fn scene_of(input: &Input, knobs: &Knobs, size: (u32, u32)) -> Scene {
+    let mut s = input.scene.clone();
+    knobs.apply(&mut s);
+    s.output.width = size.0;
+    s.output.height = size.1;
+    s
+}
+
+/// What the window draws into: its surface's texture, given each frame.
+fn window_output(surface: Surface) -> ViewOutput {
+    ViewOutput {
+        format: surface.format,
+        own_color: false,
+    }
+}
+
+/// Prepares `scene` with `input`'s meshes for `output` (the window, or a texture of its own).
 fn prepare(
     preview: &mut Preview,
     input: &Input,
-    settings: &Settings,
-    surface: Surface,
-    scene: Option<&Scene>,
+    mode: pelt_preview::Mode,
+    scene: &Scene,
+    output: ViewOutput,
 ) -> Result<SceneView, ViewError> {
-    let (scene, output) = match scene {
-        Some(s) => (s.clone(), ViewOutput::IMAGE),
-        None => {
-            let mut s = input.scene.clone();
-            settings.knobs.apply(&mut s);
-            s.output.width = surface.size.0;
-            s.output.height = surface.size.1;
-            (
-                s,
-                ViewOutput {
-                    format: surface.format,
-                    own_color: false,
-                },
-            )
-        }
-    };
-    Ok(preview.prepare_view(&scene, &input.meshes, &input.mesh_of, settings.mode, output)?)
+    Ok(preview.prepare_view(scene, &input.meshes, &input.mesh_of, mode, output)?)
 }
 
 /// Why the viewer stopped or an action failed.
