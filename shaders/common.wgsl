@@ -28,7 +28,8 @@ struct Object {
     normal_model: mat4x4<f32>,
     // rgb: linear colour multiplied into the vertex albedo; a: unused.
     tint: vec4<f32>,
-    // x: opacity; y: specular strength; z, w: unused.
+    // x: opacity; y: specular strength; z: the object's distance map (mirror and glass);
+    // w: unused.
     params: vec4<f32>,
     // Fur only. rgb: root colour (linear, times the object's colour); w: fur length.
     fur_base: vec4<f32>,
@@ -40,6 +41,9 @@ struct Object {
     // x: object ID (1..255); y: stipple pattern (0 = opaque, 1..3 = alpha layer); z: the
     // fur's outer-shell ID; w: shell count.
     ids: vec4<u32>,
+    // What the surface does to rays (GPU Gems 3 Listing 17-5's convention): rgb = F0 for a
+    // mirror, the tint for glass; a = -1 for a mirror, 0 diffuse, the IOR for glass.
+    optics: vec4<f32>,
 }
 
 struct Light {

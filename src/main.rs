@@ -252,10 +252,11 @@ fn positive_ms(s: &str) -> Result<f64, String> {
 /// `pelt view`.
 #[derive(clap::Args)]
 pub struct KnobArgs {
-    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF)
-    /// or forward (per-object light loop, the reference).
+    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF),
+    /// forward (per-object light loop, the reference) or raytrace (`pelt render` only: the
+    /// CPU ray tracer, the ground truth of mirrors and glass).
     #[arg(long, default_value = "inferred")]
-    pub mode: pelt_preview::Mode,
+    pub mode: RenderMode,
     /// wgpu back end: auto, vulkan or gl.
     #[arg(long, default_value = "auto")]
     pub backend: pelt_preview::Backend,
@@ -278,6 +279,67 @@ pub struct KnobArgs {
     /// outer) or wboit (weighted blended order-independent transparency).
     #[arg(long)]
     pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+    /// How mirrors and glass are drawn: distance-maps (GPU Gems 3 ch. 17), envmap (the
+    /// classic environment-map baseline) or off (opaque).
+    #[arg(long)]
+    pub reflections: Option<pelt_preview::scene::Technique>,
+    /// Distance-map linear search steps per quarter turn, 1 to 1024.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub linear_steps: Option<u32>,
+    /// Secant refinement steps, 0 to 64.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub secant_steps: Option<u32>,
+    /// Distance-map layers, 3 to 8 (object front faces, back faces, and depth-peeled
+    /// layers of the rest of the scene).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(3..=8))]
+    pub layers: Option<u32>,
+    /// Cube-map face size, a power of two from 8 to 4096.
+    #[arg(long, value_name = "N", value_parser = cube_size)]
+    pub cube_size: Option<u32>,
+    /// Most specular bounces on a path, 1 to 16.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub max_depth: Option<u32>,
+    /// Min-max acceleration of the distance-map search on or off.
+    #[arg(long, value_enum)]
+    pub min_max: Option<OnOff>,
+}
+
+/// The renderer (`--mode`): one of the GPU modes, or the CPU ray tracer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderMode {
+    /// A GPU mode.
+    Gpu(pelt_preview::Mode),
+    /// The CPU ray tracer.
+    Raytrace,
+}
+
+impl std::str::FromStr for RenderMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "raytrace" => Ok(RenderMode::Raytrace),
+            _ => s
+                .parse()
+                .map(RenderMode::Gpu)
+                .map_err(|e: String| e.replace("or forward)", "forward or raytrace)")),
+        }
+    }
+}
+
+impl std::fmt::Display for RenderMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RenderMode::Gpu(m) => m.fmt(f),
+            RenderMode::Raytrace => f.write_str("raytrace"),
+        }
+    }
+}
+
+fn cube_size(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(v) if v.is_power_of_two() && (8..=4096).contains(&v) => Ok(v),
+        _ => Err(format!("{s:?} is not a power of two from 8 to 4096")),
+    }
 }
 
 impl KnobArgs {
@@ -291,6 +353,15 @@ impl KnobArgs {
             shells: self.shells,
             fins: on(self.fins),
             fur_blend: self.fur_blend,
+            reflections: pelt_preview::knobs::ReflectionKnobs {
+                technique: self.reflections,
+                linear_steps: self.linear_steps,
+                secant_steps: self.secant_steps,
+                layers: self.layers,
+                cube_size: self.cube_size,
+                max_depth: self.max_depth,
+                min_max: on(self.min_max),
+            },
         }
     }
 }

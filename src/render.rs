@@ -42,8 +42,12 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Err(e) => return Ok(fail(e)),
     };
     let (scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
+    let mode = match args.knobs.mode {
+        crate::RenderMode::Gpu(m) => m,
+        crate::RenderMode::Raytrace => return raytrace(args, &scene, &meshes, &of),
+    };
     if args.explain {
-        match Plan::new(&scene, &meshes, &of, args.knobs.mode) {
+        match Plan::new(&scene, &meshes, &of, mode) {
             Ok(p) => print!("{}", p.explain()),
             Err(e) => return Ok(fail(e)),
         }
@@ -61,15 +65,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
     if let (Some(frames), true) = (args.bench, args.json || args.orbit.is_some()) {
         let deg = args.orbit.unwrap_or(0.0);
         return Ok(
-            match pelt_preview::bench::orbit(
-                &mut preview,
-                &scene,
-                &meshes,
-                &of,
-                args.knobs.mode,
-                frames,
-                deg,
-            ) {
+            match pelt_preview::bench::orbit(&mut preview, &scene, &meshes, &of, mode, frames, deg)
+            {
                 Ok(b) if args.json => {
                     println!("{}", serde_json::to_string_pretty(&b)?);
                     ExitCode::SUCCESS
@@ -90,7 +87,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let result = (|| -> Result<(), RenderError> {
-        let d = preview.prepare_loaded(&scene, &meshes, &of, args.knobs.mode)?;
+        let d = preview.prepare_loaded(&scene, &meshes, &of, mode)?;
         for n in &d.plan.notes {
             eprintln!("pelt: note: {n}");
         }
@@ -103,7 +100,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
                     out.display(),
                     image.width,
                     image.height,
-                    args.knobs.mode
+                    mode
                 );
             }
         }
@@ -117,6 +114,51 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(e),
     })
+}
+
+/// `pelt render --mode raytrace`: the CPU ray tracer's image of the scene.
+fn raytrace(
+    args: &RenderArgs,
+    scene: &Scene,
+    meshes: &[pelt_preview::asset::MeshData],
+    of: &[usize],
+) -> anyhow::Result<ExitCode> {
+    if args.bench.is_some() {
+        anyhow::bail!("--bench times GPU frames; the ray tracer reports its own time with -o");
+    }
+    let Some(out) = &args.output else {
+        if args.explain {
+            println!(
+                "mode raytrace: one ray per pixel centre through a BVH, up to {} specular bounces, on the CPU",
+                scene.reflections.max_depth
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    };
+    let start = std::time::Instant::now();
+    let traced = match pelt_trace::trace_scene(scene, meshes, of) {
+        Ok(t) => t,
+        Err(e) => return Ok(fail(e)),
+    };
+    let image = pelt_preview::Image {
+        width: traced.width,
+        height: traced.height,
+        rgba: traced.rgba,
+    };
+    if let Err(e) = image.save(out) {
+        return Ok(fail(e));
+    }
+    if !args.quiet {
+        eprintln!(
+            "wrote {} ({}×{}, raytrace mode, {:.2} s on {} threads)",
+            out.display(),
+            image.width,
+            image.height,
+            start.elapsed().as_secs_f64(),
+            rayon::current_num_threads()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn timings_line(t: &pelt_preview::Timings) -> String {

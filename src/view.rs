@@ -20,7 +20,12 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
     let view = pelt_view::ViewArgs {
         input: args.input.clone(),
         backend: args.knobs.backend,
-        mode: args.knobs.mode,
+        mode: match args.knobs.mode {
+            crate::RenderMode::Gpu(m) => m,
+            crate::RenderMode::Raytrace => anyhow::bail!(
+                "--mode raytrace is pelt render's (the CPU ray tracer writes a PNG); pelt view takes inferred, deferred or forward"
+            ),
+        },
         // The size is the window's, not an override of the scene's.
         knobs: Knobs {
             size: None,

@@ -93,10 +93,13 @@ impl Image {
 /// The frame's passes in the plan's order, as recipes (this is the frame's ordering: a new
 /// pass gets its place here).
 pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    f.plan
-        .passes
-        .iter()
-        .map(|&p| match p {
+    let mut out = Vec::new();
+    for &p in &f.plan.passes {
+        if p == Pass::DistanceMaps {
+            out.extend(features::reflect::map_passes(f)?);
+            continue;
+        }
+        out.push(match p {
             Pass::Geometry => features::geometry::pass(f),
             Pass::Light => features::lights::pass(f),
             Pass::Obliterate => features::fur::obliterate_pass(f),
@@ -104,12 +107,15 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             Pass::Forward => features::forward::pass(f),
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
+            Pass::MinMax => features::reflect::minmax_pass(f),
+            Pass::DistanceMaps => unreachable!("expanded above"),
             Pass::Upscale | Pass::Mips | Pass::Overlay => Err(MissingInput {
                 pass: p.name(),
                 what: "a source (upscaling and mips are drawn on request, never planned)".into(),
             }),
-        })
-        .collect()
+        }?);
+    }
+    Ok(out)
 }
 
 /// Builds the frame's recipes and compiles the pipelines they use that are not cached yet.
@@ -353,13 +359,21 @@ pub fn time(
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
+    // A pass of many recipes (a distance map's faces) is their sum.
+    let mut passes: Vec<(Pass, f64)> = Vec::new();
+    for (pass, ms) in recipes
+        .iter()
+        .map(|p| p.pass)
+        .zip(per.into_iter().map(median))
+    {
+        match passes.iter_mut().find(|(p, _)| *p == pass) {
+            Some((_, t)) => *t += ms,
+            None => passes.push((pass, ms)),
+        }
+    }
     Ok(Timings {
         frame_ms: median(whole),
-        passes: recipes
-            .iter()
-            .map(|p| p.pass)
-            .zip(per.into_iter().map(median))
-            .collect(),
+        passes,
         clock,
         frames,
     })

@@ -15,10 +15,7 @@ use crate::uniforms::{
     FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms, UNIFORM_STRIDE,
 };
 
-/// Specular strength of every material (no per-asset specular yet).
-pub const SPECULAR_STRENGTH: f32 = 0.25;
-/// Blinn-Phong exponent for every light.
-pub const SPECULAR_POWER: f32 = 32.0;
+pub use pelt_scene::shading::{SPECULAR_POWER, SPECULAR_STRENGTH};
 /// DSF depth threshold floor, in 16-bit depth quantisation steps.
 pub const DEPTH_THRESHOLD_STEPS: u32 = 3;
 /// Rim bend strength of the outer shell's normals (Revie Listing 2.3, `glowStrength`).
@@ -197,7 +194,7 @@ fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
                 model: o.model.to_cols_array_2d(),
                 normal_model: o.model.inverse().transpose().to_cols_array_2d(),
                 tint: o.color.extend(1.0).into(),
-                params: [o.opacity, SPECULAR_STRENGTH, 0.0, 0.0],
+                params: [o.opacity, SPECULAR_STRENGTH, o.map.unwrap_or(0) as f32, 0.0],
                 fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
                 fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
                 fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],
@@ -207,6 +204,7 @@ fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
                     f.map_or(0, |f| f.shell_id),
                     f.map_or(0, |f| f.shells),
                 ],
+                optics: o.optics.encoded(),
             }
         })
         .collect()

@@ -174,6 +174,16 @@ impl Preview {
             }
             _ => None,
         };
+        let maps = if scene_plan.maps.is_empty() {
+            None
+        } else {
+            let group = sky.as_ref().map(|s| &s.group);
+            Some(features::reflect::Maps::new(
+                &self.renderer,
+                &scene_plan,
+                group,
+            )?)
+        };
         let spec = TargetSpec::of(&plan, output.format, output.own_color);
         let mut data = FrameData::new(&self.renderer);
         data.write(&self.renderer, &plan);
@@ -187,6 +197,7 @@ impl Preview {
             targets: ViewTargets::new(&self.renderer, spec),
             data,
             extra: Vec::new(),
+            maps,
         };
         self.assets.sweep();
         match self.renderer.gpu.take_error() {
@@ -204,6 +215,15 @@ impl Preview {
         mode: Mode,
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
+        let plan = &sv.scene_plan;
+        match &mut sv.maps {
+            _ if plan.maps.is_empty() => sv.maps = None,
+            Some(m) if m.fits(plan) => m.write(&self.renderer, plan),
+            _ => {
+                let group = sv.sky.as_ref().map(|s| &s.group);
+                sv.maps = Some(features::reflect::Maps::new(&self.renderer, plan, group)?);
+            }
+        }
         self.refresh(sv);
         Ok(())
     }

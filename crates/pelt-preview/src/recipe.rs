@@ -57,6 +57,28 @@ pub enum Step<'a> {
     Draw(Range<u32>, Range<u32>),
     /// Indexed draw.
     DrawIndexed(Range<u32>, Range<u32>),
+    /// Switch to a compute pipeline (compute recipes).
+    Compute(Shader),
+    /// Dispatch workgroups (compute recipes).
+    Dispatch([u32; 3]),
+}
+
+/// What kind of GPU work a recipe is.
+#[derive(Debug)]
+enum Kind<'a> {
+    /// A render pass.
+    Render,
+    /// A compute pass.
+    Compute,
+    /// A copy of `count` layers of `src` from layer `from` to `dst` at layer `to`.
+    Copy {
+        src: &'a wgpu::Texture,
+        from: u32,
+        dst: &'a wgpu::Texture,
+        to: u32,
+        count: u32,
+        size: (u32, u32),
+    },
 }
 
 /// A pass before encoding.
@@ -64,6 +86,7 @@ pub enum Step<'a> {
 pub struct Recipe<'a> {
     /// Which pass (label and timing name).
     pub pass: Pass,
+    kind: Kind<'a>,
     colors: Vec<Color<'a>>,
     depth: Option<Depth<'a>>,
     steps: Vec<Step<'a>>,
@@ -75,8 +98,47 @@ impl<'a> Recipe<'a> {
         debug_assert!(colors.len() <= MAX_COLOR_TARGETS);
         Recipe {
             pass,
+            kind: Kind::Render,
             colors,
             depth,
+            steps: Vec::new(),
+        }
+    }
+
+    /// An empty compute pass.
+    pub fn compute(pass: Pass) -> Recipe<'a> {
+        Recipe {
+            pass,
+            kind: Kind::Compute,
+            colors: Vec::new(),
+            depth: None,
+            steps: Vec::new(),
+        }
+    }
+
+    /// A copy of `count` layers (mip 0, `size`) of `src` from layer `from` into `dst` at
+    /// layer `to`.
+    pub fn copy(
+        pass: Pass,
+        src: &'a wgpu::Texture,
+        from: u32,
+        dst: &'a wgpu::Texture,
+        to: u32,
+        count: u32,
+        size: (u32, u32),
+    ) -> Recipe<'a> {
+        Recipe {
+            pass,
+            kind: Kind::Copy {
+                src,
+                from,
+                dst,
+                to,
+                count,
+                size,
+            },
+            colors: Vec::new(),
+            depth: None,
             steps: Vec::new(),
         }
     }
@@ -123,13 +185,57 @@ impl<'a> Recipe<'a> {
         })
     }
 
-    /// Encodes the pass (its pipelines must be prepared).
+    /// Encodes the pass (its render pipelines must be prepared; compute pipelines are made
+    /// on first use). A copy has no pass of its own: it times an empty compute pass before
+    /// it, so every recipe writes its two timestamps.
     pub fn encode(
         &self,
         r: &Renderer,
         enc: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> Result<(), PipelineError> {
+        let compute_ts = timestamps
+            .as_ref()
+            .map(|t| wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: t.beginning_of_pass_write_index,
+                end_of_pass_write_index: t.end_of_pass_write_index,
+            });
+        match &self.kind {
+            Kind::Render => {}
+            Kind::Compute => return self.encode_compute(r, enc, compute_ts),
+            Kind::Copy {
+                src,
+                from,
+                dst,
+                to,
+                count,
+                size,
+            } => {
+                if compute_ts.is_some() {
+                    drop(enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(self.pass.name()),
+                        timestamp_writes: compute_ts,
+                    }));
+                }
+                let at = |texture, z| wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x: 0, y: 0, z },
+                    aspect: wgpu::TextureAspect::All,
+                };
+                enc.copy_texture_to_texture(
+                    at(src, *from),
+                    at(dst, *to),
+                    wgpu::Extent3d {
+                        width: size.0,
+                        height: size.1,
+                        depth_or_array_layers: *count,
+                    },
+                );
+                return Ok(());
+            }
+        }
         let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = self
             .colors
             .iter()
@@ -175,6 +281,32 @@ impl<'a> Recipe<'a> {
                 }
                 Step::Draw(v, i) => pass.draw(v.clone(), i.clone()),
                 Step::DrawIndexed(v, i) => pass.draw_indexed(v.clone(), 0, i.clone()),
+                Step::Compute(_) | Step::Dispatch(_) => {}
+            }
+        }
+        Ok(())
+    }
+
+    fn encode_compute(
+        &self,
+        r: &Renderer,
+        enc: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), PipelineError> {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.pass.name()),
+            timestamp_writes: timestamps,
+        });
+        for s in &self.steps {
+            match s {
+                Step::Compute(shader) => pass.set_pipeline(&r.compute(*shader)?),
+                Step::Bind {
+                    slot,
+                    group,
+                    offset,
+                } => pass.set_bind_group(*slot, *group, offset.as_slice()),
+                Step::Dispatch([x, y, z]) => pass.dispatch_workgroups(*x, *y, *z),
+                _ => {}
             }
         }
         Ok(())

@@ -90,6 +90,14 @@ pub struct Layouts {
     pub array_source: wgpu::BindGroupLayout,
     /// The overlay's text bitmap.
     pub text: wgpu::BindGroupLayout,
+    /// One distance-map face's constants (dynamic offset).
+    pub face: wgpu::BindGroupLayout,
+    /// The previous distance-map layer (depth peeling).
+    pub peel: wgpu::BindGroupLayout,
+    /// Distance maps, their ranges and the search's knobs (reflect.wgsl).
+    pub reflect_maps: wgpu::BindGroupLayout,
+    /// Distance maps and their ranges, written (minmax.wgsl).
+    pub minmax: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -178,11 +186,19 @@ pub enum LayoutId {
     ArraySource,
     /// [`Layouts::text`].
     Text,
+    /// [`Layouts::face`].
+    Face,
+    /// [`Layouts::peel`].
+    Peel,
+    /// [`Layouts::reflect_maps`].
+    ReflectMaps,
+    /// [`Layouts::minmax`].
+    MinMax,
 }
 
 impl LayoutId {
     /// Every layout.
-    pub const ALL: [LayoutId; 14] = [
+    pub const ALL: [LayoutId; 18] = [
         LayoutId::Frame,
         LayoutId::Object,
         LayoutId::Textures,
@@ -197,6 +213,10 @@ impl LayoutId {
         LayoutId::Storage,
         LayoutId::ArraySource,
         LayoutId::Text,
+        LayoutId::Face,
+        LayoutId::Peel,
+        LayoutId::ReflectMaps,
+        LayoutId::MinMax,
     ];
 
     /// The layout's entries (plain data: the shader test checks them against the WGSL).
@@ -204,6 +224,7 @@ impl LayoutId {
         let d2 = wgpu::TextureViewDimension::D2;
         let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let filterable = wgpu::TextureSampleType::Float { filterable: true };
+        let array = wgpu::TextureViewDimension::D2Array;
         let size = |n: usize| n as u64;
         match self {
             LayoutId::Frame => vec![uniform_entry(size(size_of::<FrameUniforms>()), true)],
@@ -236,6 +257,34 @@ impl LayoutId {
             LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
             LayoutId::Storage => vec![storage_entry(0, true), storage_entry(1, false)],
             LayoutId::Text => vec![texture_entry(0, filterable, d2)],
+            LayoutId::Face => vec![uniform_entry(
+                size(size_of::<crate::features::reflect::FaceUniforms>()),
+                true,
+            )],
+            LayoutId::Peel => vec![texture_entry(0, unfilterable, array)],
+            LayoutId::ReflectMaps => vec![
+                texture_entry(0, unfilterable, array),
+                texture_entry(1, unfilterable, array),
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ..storage_entry(2, true)
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ..uniform_entry(
+                        size(size_of::<crate::features::reflect::ReflectUniforms>()),
+                        false,
+                    )
+                },
+            ],
+            LayoutId::MinMax => vec![
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ..texture_entry(0, unfilterable, array)
+                },
+                storage_entry(1, false),
+            ],
             LayoutId::ArraySource => vec![
                 texture_entry(0, filterable, wgpu::TextureViewDimension::D2Array),
                 sampler_entry(1),
@@ -267,6 +316,10 @@ impl Layouts {
             storage: layout(LayoutId::Storage),
             array_source: layout(LayoutId::ArraySource),
             text: layout(LayoutId::Text),
+            face: layout(LayoutId::Face),
+            peel: layout(LayoutId::Peel),
+            reflect_maps: layout(LayoutId::ReflectMaps),
+            minmax: layout(LayoutId::MinMax),
         }
     }
 
@@ -287,6 +340,10 @@ impl Layouts {
             LayoutId::Storage => &self.storage,
             LayoutId::ArraySource => &self.array_source,
             LayoutId::Text => &self.text,
+            LayoutId::Face => &self.face,
+            LayoutId::Peel => &self.peel,
+            LayoutId::ReflectMaps => &self.reflect_maps,
+            LayoutId::MinMax => &self.minmax,
         }
     }
 }

@@ -48,6 +48,8 @@ pub struct SceneView {
     pub data: FrameData,
     /// Views after the first, drawn in the same frame.
     pub extra: Vec<ExtraView>,
+    /// The mirror and glass objects' distance maps (scene-wide: every view reads them).
+    pub maps: Option<crate::features::reflect::Maps>,
 }
 
 impl SceneView {
@@ -61,6 +63,7 @@ impl SceneView {
             data: &self.data,
             output,
             view: 0,
+            maps: self.maps.as_ref(),
         }
     }
 
@@ -93,6 +96,7 @@ impl SceneView {
                 format: color.format,
             },
             view: v,
+            maps: self.maps.as_ref(),
         })
     }
 

@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 19] = [
+pub const FILES: [(&str, &str); 22] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -72,6 +72,15 @@ pub const FILES: [(&str, &str); 19] = [
         include_str!("../../../shaders/composite.wgsl"),
     ),
     ("sky.wgsl", include_str!("../../../shaders/sky.wgsl")),
+    (
+        "distance_map.wgsl",
+        include_str!("../../../shaders/distance_map.wgsl"),
+    ),
+    ("minmax.wgsl", include_str!("../../../shaders/minmax.wgsl")),
+    (
+        "reflect.wgsl",
+        include_str!("../../../shaders/reflect.wgsl"),
+    ),
 ];
 
 fn file(name: &str) -> &'static str {
@@ -125,11 +134,17 @@ pub enum Shader {
     Overlay,
     /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
     TangentFrames,
+    /// One face of one layer of a distance map (distance_map.wgsl).
+    DistanceMap,
+    /// Compute: each distance-map layer's distance range (minmax.wgsl).
+    MinMax,
+    /// Mirrors and glass through their distance maps (reflect.wgsl).
+    Reflect,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 18] = [
+    pub const ALL: [Shader; 21] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -148,6 +163,9 @@ impl Shader {
         Shader::Downsample,
         Shader::Overlay,
         Shader::TangentFrames,
+        Shader::DistanceMap,
+        Shader::MinMax,
+        Shader::Reflect,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -167,6 +185,9 @@ impl Shader {
             Shader::Downsample => "downsample.wgsl",
             Shader::Overlay => "overlay.wgsl",
             Shader::TangentFrames => "tangent_frames.wgsl",
+            Shader::DistanceMap => "distance_map.wgsl",
+            Shader::MinMax => "minmax.wgsl",
+            Shader::Reflect => "reflect.wgsl",
         }
     }
 
@@ -214,7 +235,7 @@ impl Shader {
 
     /// Whether the module is a compute shader (its one entry point is `cs_main`).
     pub fn is_compute(self) -> bool {
-        self == Shader::TangentFrames
+        matches!(self, Shader::TangentFrames | Shader::MinMax)
     }
 
     /// Whether the pass draws fullscreen.wgsl's triangle.

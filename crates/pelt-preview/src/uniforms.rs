@@ -48,6 +48,9 @@ pub struct ObjectUniforms {
     /// x object ID (1..255); y stipple pattern (0 opaque, 1..3); z the fur's outer-shell ID;
     /// w shell count.
     pub ids: [u32; 4],
+    /// rgb F0 (mirror) or tint (glass); a: −1 mirror, 0 diffuse, the IOR for glass
+    /// (GPU Gems 3 Listing 17-5's sign convention).
+    pub optics: [f32; 4],
 }
 
 /// One point light. Keep in sync with `Light` in shaders/common.wgsl.
@@ -69,9 +72,9 @@ mod tests {
 
     #[test]
     fn sizes_match_the_wgsl_layouts() {
-        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 6 vec4 = 224; Light = 32.
+        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 7 vec4 = 240; Light = 32.
         assert_eq!(size_of::<FrameUniforms>(), 208);
-        assert_eq!(size_of::<ObjectUniforms>(), 224);
+        assert_eq!(size_of::<ObjectUniforms>(), 240);
         assert_eq!(size_of::<FurVertex>(), 40);
         assert_eq!(size_of::<FinInstance>(), 116);
         assert_eq!(size_of::<LightUniforms>(), 32);

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::asset::{self, AssetError, MeshData};
-use crate::scene::{FurBlend, Material, Scene, SceneError};
+use crate::scene::{FurBlend, Material, Reflections, Scene, SceneError, Technique};
 
 /// Overrides; `None` keeps the scene's value.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -22,6 +22,49 @@ pub struct Knobs {
     pub fins: Option<bool>,
     /// How fur is composited.
     pub fur_blend: Option<FurBlend>,
+    /// Mirrors and glass.
+    pub reflections: ReflectionKnobs,
+}
+
+/// Overrides of the scene's `reflections` block; `None` keeps the scene's value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ReflectionKnobs {
+    /// The technique.
+    pub technique: Option<Technique>,
+    /// Linear search steps.
+    pub linear_steps: Option<u32>,
+    /// Secant steps.
+    pub secant_steps: Option<u32>,
+    /// Distance-map layers.
+    pub layers: Option<u32>,
+    /// Cube face size.
+    pub cube_size: Option<u32>,
+    /// Most bounces.
+    pub max_depth: Option<u32>,
+    /// Min-max acceleration.
+    pub min_max: Option<bool>,
+}
+
+impl ReflectionKnobs {
+    /// Applies the overrides to `r`.
+    pub fn apply(&self, r: &mut Reflections) {
+        let set = |v: &mut u32, o: Option<u32>| {
+            if let Some(o) = o {
+                *v = o;
+            }
+        };
+        if let Some(t) = self.technique {
+            r.technique = t;
+        }
+        set(&mut r.linear_steps, self.linear_steps);
+        set(&mut r.secant_steps, self.secant_steps);
+        set(&mut r.layers, self.layers);
+        set(&mut r.cube_size, self.cube_size);
+        set(&mut r.max_depth, self.max_depth);
+        if let Some(m) = self.min_max {
+            r.min_max = m;
+        }
+    }
 }
 
 impl Knobs {
@@ -40,6 +83,7 @@ impl Knobs {
         if let Some(b) = self.fur_blend {
             scene.fur_blend = b;
         }
+        self.reflections.apply(&mut scene.reflections);
         for o in &mut scene.objects {
             if let Material::Fur(f) = &mut o.material {
                 if self.shells.is_some() {
@@ -131,8 +175,28 @@ mod tests {
             shells: Some(7),
             fins: Some(false),
             fur_blend: Some(FurBlend::Wboit),
+            reflections: ReflectionKnobs {
+                technique: Some(Technique::Envmap),
+                linear_steps: Some(80),
+                min_max: Some(false),
+                ..Default::default()
+            },
         }
         .apply(&mut s);
+        assert_eq!(
+            (
+                s.reflections.technique,
+                s.reflections.linear_steps,
+                s.reflections.min_max,
+                s.reflections.secant_steps
+            ),
+            (
+                Technique::Envmap,
+                80,
+                false,
+                Reflections::default().secant_steps
+            )
+        );
         assert_eq!((s.output.width, s.output.height), (64, 32));
         assert_eq!(
             (s.lbuffer_scale, s.dsf, s.fur_blend),

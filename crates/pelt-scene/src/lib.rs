@@ -20,6 +20,7 @@ pub mod orbit;
 pub mod plan;
 pub mod procedural;
 pub mod scene;
+pub mod shading;
 pub mod sky;
 pub mod vertex;
 pub mod view;

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 
 use crate::asset::MeshData;
 use crate::fur::FurLook;
-use crate::scene::{FurBlend, Material, Scene, Sky};
+use crate::scene::{FurBlend, Material, Reflections, Scene, Sky, Technique};
 use crate::vertex::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
 
@@ -87,6 +87,55 @@ pub struct PlannedObject {
     pub depth: f32,
     /// Its fur, when it is drawn as fur.
     pub fur: Option<PlannedFur>,
+    /// How it reflects and refracts (the material the distance maps store).
+    pub optics: Optics,
+    /// Its distance map (an index into [`ScenePlan::maps`]), when it is drawn as a mirror
+    /// or glass.
+    pub map: Option<u32>,
+}
+
+/// What a surface does to a ray, in Listing 17-5's terms (GPU Gems 3 §17.3).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Optics {
+    /// Lit locally (the rays end here).
+    #[default]
+    Diffuse,
+    /// An ideal reflector with Fresnel reflectance `f0` at normal incidence.
+    Mirror {
+        /// F0 per channel.
+        f0: Vec3,
+    },
+    /// An ideal refractor.
+    Glass {
+        /// Index of refraction.
+        ior: f32,
+        /// Colour multiplied into light entering it.
+        tint: Vec3,
+    },
+}
+
+impl Optics {
+    /// The material as the distance maps store it: rgb = F0 (mirror) or tint (glass); a =
+    /// Listing 17-5's sign convention: negative for a reflector, 0 diffuse, the IOR (> 0)
+    /// for a refractor.
+    pub fn encoded(self) -> [f32; 4] {
+        match self {
+            Optics::Diffuse => [0.0; 4],
+            Optics::Mirror { f0 } => [f0.x, f0.y, f0.z, -1.0],
+            Optics::Glass { ior, tint } => [tint.x, tint.y, tint.z, ior],
+        }
+    }
+}
+
+/// One mirror or glass object's layered distance map (GPU Gems 3 §17.2.1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannedMap {
+    /// The object's index in the scene.
+    pub scene_index: usize,
+    /// The reference point: the centre of the object's world bounds.
+    pub reference: Vec3,
+    /// Half the diagonal of its world bounds.
+    pub radius: f32,
 }
 
 /// How one object's fur is drawn.
@@ -124,6 +173,10 @@ pub struct PlannedLight {
 /// A pass, for `--explain` and timing labels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pass {
+    /// Layered distance maps of every mirror and glass object (GPU Gems 3 §17.2.1).
+    DistanceMaps,
+    /// Each distance-map layer's minimum and maximum distance (Figure 17-4), a compute pass.
+    MinMax,
     /// G-buffer at L-buffer resolution.
     Geometry,
     /// Scissored lights into the L-buffer.
@@ -151,6 +204,8 @@ impl Pass {
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
+            Pass::DistanceMaps => "distance-maps",
+            Pass::MinMax => "min-max",
             Pass::Geometry => "geometry",
             Pass::Light => "light",
             Pass::Material => "material",
@@ -186,6 +241,16 @@ pub struct Plan {
     pub alpha: Vec<usize>,
     /// Fur objects, farthest first.
     pub fur: Vec<usize>,
+    /// Mirror and glass objects drawn through their distance maps, nearest first.
+    pub reflective: Vec<usize>,
+    /// Every distance map (the scene plan's, when a mirror or glass object shows).
+    pub maps: Vec<PlannedMap>,
+    /// The mirror and glass knobs.
+    pub reflections: Reflections,
+    /// The centre and radius of the scene's world bounds.
+    pub extent: (Vec3, f32),
+    /// Lights the distance maps are lit by (every light of the scene, on screen or not).
+    pub map_lights: usize,
     /// How fur shells and fins are composited.
     pub fur_blend: FurBlend,
     /// The background.
@@ -256,6 +321,29 @@ pub struct ScenePlan {
     pub scene_lights: usize,
     /// Materials drawn as something simpler.
     pub notes: Vec<String>,
+    /// The mirror and glass knobs.
+    pub reflections: Reflections,
+    /// One distance map per mirror or glass object (none when the technique is off).
+    pub maps: Vec<PlannedMap>,
+    /// The centre and radius of the whole scene's world bounds.
+    pub extent: (Vec3, f32),
+}
+
+/// The world bounds of `lo..hi` under `model`.
+fn world_box(model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+    let mut wlo = Vec3::splat(f32::INFINITY);
+    let mut whi = Vec3::splat(f32::NEG_INFINITY);
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = model.transform_point3(c);
+        wlo = wlo.min(w);
+        whi = whi.max(w);
+    }
+    (wlo, whi)
 }
 
 impl ScenePlan {
@@ -271,6 +359,9 @@ impl ScenePlan {
         let mut objects = Vec::new();
         let mut notes = Vec::new();
         let mut fur_count = 0;
+        let mut maps = Vec::new();
+        let (mut scene_lo, mut scene_hi) =
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for (i, o) in scene.objects.iter().enumerate() {
             let info = &infos[mesh_of[i]];
             let mut fur = None;
@@ -301,27 +392,41 @@ impl ScenePlan {
                     }
                     (0, 1.0)
                 }
-                other => {
-                    notes.push(format!(
-                        "objects[{i}]: {} is drawn opaque (its passes come in a later issue)",
-                        match other {
-                            Material::Mirror => "mirror",
-                            _ => "glass",
-                        }
-                    ));
-                    (0, 1.0)
-                }
+                Material::Mirror { .. } | Material::Glass { .. } => (0, 1.0),
             };
+            let optics = match o.material {
+                Material::Mirror { f0 } => Optics::Mirror { f0: Vec3::from(f0) },
+                Material::Glass { ior, tint } => Optics::Glass {
+                    ior: ior.0,
+                    tint: Vec3::from(tint),
+                },
+                _ => Optics::Diffuse,
+            };
+            let model = o.transform.matrix();
+            let (wlo, whi) = world_box(model, info.bounds.0, info.bounds.1);
+            scene_lo = scene_lo.min(wlo);
+            scene_hi = scene_hi.max(whi);
+            let map = (optics != Optics::Diffuse && scene.reflections.technique != Technique::Off)
+                .then(|| {
+                    maps.push(PlannedMap {
+                        scene_index: i,
+                        reference: (wlo + whi) / 2.0,
+                        radius: (whi - wlo).length() / 2.0,
+                    });
+                    maps.len() as u32 - 1
+                });
             let planned = PlannedObject {
                 scene_index: i,
                 mesh: mesh_of[i],
-                model: o.transform.matrix(),
+                model,
                 id: (i % 255) as u32 + 1,
                 pattern,
                 opacity,
                 color: Vec3::from(o.color),
                 depth: 0.0,
                 fur,
+                optics,
+                map,
             };
             objects.push((planned, info.bounds));
         }
@@ -349,6 +454,16 @@ impl ScenePlan {
             ambient: Vec3::from(scene.ambient),
             scene_lights: scene.lights.len(),
             notes,
+            reflections: scene.reflections,
+            maps,
+            extent: if scene_lo.x <= scene_hi.x {
+                (
+                    (scene_lo + scene_hi) / 2.0,
+                    (scene_hi - scene_lo).length() / 2.0,
+                )
+            } else {
+                (Vec3::ZERO, 1.0)
+            },
         }
     }
 }
@@ -408,9 +523,20 @@ impl Plan {
             });
         };
         let mut opaque: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].pattern == 0 && objects[k].fur.is_none())
+            .filter(|&k| {
+                objects[k].pattern == 0 && objects[k].fur.is_none() && objects[k].map.is_none()
+            })
             .collect();
         by_depth(&mut opaque, false);
+        let mut reflective: Vec<usize> = (0..objects.len())
+            .filter(|&k| objects[k].map.is_some())
+            .collect();
+        by_depth(&mut reflective, false);
+        let maps = if reflective.is_empty() {
+            Vec::new()
+        } else {
+            scene.maps.clone()
+        };
         let mut fur: Vec<usize> = (0..objects.len())
             .filter(|&k| objects[k].fur.is_some())
             .collect();
@@ -459,6 +585,13 @@ impl Plan {
         if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit {
             passes.extend([Pass::FurAccum, Pass::Composite]);
         }
+        if !maps.is_empty() {
+            let mut first = vec![Pass::DistanceMaps];
+            if scene.reflections.min_max && scene.reflections.technique == Technique::DistanceMaps {
+                first.push(Pass::MinMax);
+            }
+            passes.splice(0..0, first);
+        }
         Ok(Plan {
             mode,
             view,
@@ -469,6 +602,11 @@ impl Plan {
             opaque,
             alpha,
             fur,
+            reflective,
+            maps,
+            reflections: scene.reflections,
+            extent: scene.extent,
+            map_lights: scene.lights.len(),
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
             lights,
@@ -524,8 +662,17 @@ impl Plan {
         };
         let _ = writeln!(s, "passes:");
         for p in &self.passes {
-            let _ = write!(s, "  {:<11}", p.name());
+            let _ = write!(s, "  {:<14}", p.name());
             match p {
+                Pass::DistanceMaps => self.explain_maps(&mut s),
+                Pass::MinMax => {
+                    let _ = write!(
+                        s,
+                        "compute: minimum and maximum distance of each of {} maps × {} layers (Figure 17-4), one workgroup each",
+                        self.maps.len(),
+                        self.reflections.layers
+                    );
+                }
                 Pass::Geometry => {
                     let (lw, lh) = self.lbuffer.unwrap_or(self.output);
                     let _ = write!(
@@ -633,8 +780,55 @@ impl Plan {
         s
     }
 
+    /// The distance-map pass in words, with its cost drivers.
+    fn explain_maps(&self, s: &mut String) {
+        let r = &self.reflections;
+        let faces = self.maps.len() as u64 * 6 * u64::from(r.layers);
+        let texels = faces * u64::from(r.cube_size) * u64::from(r.cube_size);
+        let _ = write!(
+            s,
+            "{} maps × 6 faces × {} layers (the object's front faces, its back faces, {} of the rest of the scene, depth-peeled) × {}² texels = {} face renders, {:.1} M texels: radiance + material (Listing 17-5's sign convention), normal + distance; every object of the scene × {} lights per texel",
+            self.maps.len(),
+            r.layers,
+            r.layers - 2,
+            r.cube_size,
+            faces,
+            texels as f64 / 1e6,
+            self.map_lights
+        );
+    }
+
+    /// The mirror and glass part of the material (or forward) pass in words.
+    fn explain_reflective(&self, s: &mut String) {
+        if self.reflective.is_empty() {
+            return;
+        }
+        let r = &self.reflections;
+        let _ = write!(s, "; {} mirror/glass objects by ", self.reflective.len());
+        match r.technique {
+            Technique::Envmap => {
+                let _ = write!(
+                    s,
+                    "environment mapping (direction lookups in the same cube maps), up to {} bounces",
+                    r.max_depth
+                );
+            }
+            _ => {
+                let _ = write!(
+                    s,
+                    "ray tracing their distance maps: {} linear steps per quarter turn per layer, {} secant steps, min-max {}, up to {} bounces",
+                    r.linear_steps,
+                    r.secant_steps,
+                    if r.min_max { "on" } else { "off" },
+                    r.max_depth
+                );
+            }
+        }
+    }
+
     /// The fur and sky part of the material (or forward) pass in words.
     fn explain_fur(&self, s: &mut String) {
+        self.explain_reflective(s);
         for &k in &self.fur {
             let o = &self.objects[k];
             if let Some(f) = o.fur {

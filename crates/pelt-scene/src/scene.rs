@@ -4,6 +4,7 @@
 //! column, and the field's path (`objects[3].material.opacity`); unknown keys are errors.
 //! Asset paths are relative to the scene file's folder.
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3};
@@ -23,12 +24,48 @@ pub enum Material {
     /// Deferred fur (Revie), from the asset's baked comb and fur manifest.
     Fur(FurSettings),
     /// Mirror (layered distance maps, GPU Gems 3 ch. 17).
-    Mirror,
+    Mirror {
+        /// Fresnel reflectance at normal incidence per channel (§17.3), written as `f0` or
+        /// derived from a refraction index `n` and extinction coefficient `k`.
+        f0: [f32; 3],
+    },
     /// Glass with an index of refraction.
     Glass {
         /// Index of refraction (1 to 3).
         ior: Ior,
+        /// Colour multiplied into light each time it enters the glass (default white).
+        tint: [f32; 3],
     },
+}
+
+/// A silvered mirror's reflectance at normal incidence when a scene gives none (silver,
+/// n ≈ 0.15, k ≈ 3.6).
+pub const DEFAULT_MIRROR_F0: [f32; 3] = [0.95, 0.95, 0.95];
+
+/// Fresnel reflectance at normal incidence from a refraction index and an extinction
+/// coefficient (GPU Gems 3 §17.3, after Lazányi & Szirmay-Kalos): ((n−1)² + k²) / ((n+1)² + k²).
+pub fn fresnel_f0(n: f32, k: f32) -> f32 {
+    ((n - 1.0) * (n - 1.0) + k * k) / ((n + 1.0) * (n + 1.0) + k * k)
+}
+
+/// A number or an RGB triple, as written for `f0`, `n`, `k` and `tint`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Rgb {
+    /// The same value in each channel.
+    Grey(f32),
+    /// One value per channel.
+    Rgb([f32; 3]),
+}
+
+impl Rgb {
+    /// Per channel.
+    pub fn channels(self) -> [f32; 3] {
+        match self {
+            Rgb::Grey(v) => [v; 3],
+            Rgb::Rgb(c) => c,
+        }
+    }
 }
 
 /// A fur material's overrides of the asset's manifest.
@@ -185,6 +222,51 @@ pub struct MaterialSpec {
     /// Fur length in mesh units (fur only; default: the asset's manifest).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length: Option<f32>,
+    /// Reflectance at normal incidence, 0 to 1 (mirror only; not with `n`/`k`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub f0: Option<Rgb>,
+    /// Refraction index of a metal, above 0 (mirror only, with optional `k`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub n: Option<Rgb>,
+    /// Extinction coefficient of a metal, at least 0 (mirror only, with `n`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k: Option<Rgb>,
+    /// Colour of the glass, 0 to 1 (glass only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tint: Option<Rgb>,
+}
+
+/// A mirror's F0 from `f0`, or `n` and `k`.
+fn mirror_f0(m: &MaterialSpec) -> Result<[f32; 3], String> {
+    match (m.f0, m.n, m.k) {
+        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+            Err("give a mirror either f0 or n and k, not both".into())
+        }
+        (Some(f0), None, None) => {
+            let c = f0.channels();
+            if c.iter().all(|v| (0.0..=1.0).contains(v)) {
+                Ok(c)
+            } else {
+                Err(format!("f0 components must be from 0 to 1, got {c:?}"))
+            }
+        }
+        (None, None, Some(_)) => Err("k needs n (the metal's refraction index)".into()),
+        (None, Some(n), k) => {
+            let (n, k) = (n.channels(), k.map_or([0.0; 3], Rgb::channels));
+            if !n.iter().all(|v| v.is_finite() && *v > 0.0) {
+                return Err(format!(
+                    "n components must be finite and above 0, got {n:?}"
+                ));
+            }
+            if !k.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                return Err(format!(
+                    "k components must be finite and at least 0, got {k:?}"
+                ));
+            }
+            Ok([0, 1, 2].map(|i| fresnel_f0(n[i], k[i])))
+        }
+        (None, None, None) => Ok(DEFAULT_MIRROR_F0),
+    }
 }
 
 impl TryFrom<MaterialSpec> for Material {
@@ -196,6 +278,20 @@ impl TryFrom<MaterialSpec> for Material {
                 m.kind
             ))
         };
+        if m.kind != MaterialKind::Mirror {
+            if m.f0.is_some() {
+                return extra("f0");
+            }
+            if m.n.is_some() {
+                return extra("n");
+            }
+            if m.k.is_some() {
+                return extra("k");
+            }
+        }
+        if m.kind != MaterialKind::Glass && m.tint.is_some() {
+            return extra("tint");
+        }
         if m.kind != MaterialKind::Fur {
             if m.shells.is_some() {
                 return extra("shells");
@@ -243,8 +339,13 @@ impl TryFrom<MaterialSpec> for Material {
                 if m.opacity.is_some() {
                     return extra("opacity");
                 }
+                let tint = m.tint.map_or([1.0; 3], Rgb::channels);
+                if !tint.iter().all(|v| (0.0..=1.0).contains(v)) {
+                    return Err(format!("tint components must be from 0 to 1, got {tint:?}"));
+                }
                 Ok(Material::Glass {
                     ior: m.ior.unwrap_or(Ior(1.5)),
+                    tint,
                 })
             }
             kind => {
@@ -255,7 +356,7 @@ impl TryFrom<MaterialSpec> for Material {
                     return extra("ior");
                 }
                 Ok(match kind {
-                    MaterialKind::Mirror => Material::Mirror,
+                    MaterialKind::Mirror => Material::Mirror { f0: mirror_f0(&m)? },
                     _ => Material::Opaque,
                 })
             }
@@ -272,6 +373,10 @@ impl From<Material> for MaterialSpec {
             shells: None,
             fins: None,
             length: None,
+            f0: None,
+            n: None,
+            k: None,
+            tint: None,
         };
         match m {
             Material::Opaque => {}
@@ -285,10 +390,14 @@ impl From<Material> for MaterialSpec {
                 spec.fins = (!f.fins).then_some(false);
                 spec.length = f.length;
             }
-            Material::Mirror => spec.kind = MaterialKind::Mirror,
-            Material::Glass { ior } => {
+            Material::Mirror { f0 } => {
+                spec.kind = MaterialKind::Mirror;
+                spec.f0 = (f0 != DEFAULT_MIRROR_F0).then_some(Rgb::Rgb(f0));
+            }
+            Material::Glass { ior, tint } => {
                 spec.kind = MaterialKind::Glass;
                 spec.ior = Some(ior);
+                spec.tint = (tint != [1.0; 3]).then_some(Rgb::Rgb(tint));
             }
         }
         spec
@@ -517,6 +626,125 @@ pub struct Scene {
     pub sky: Sky,
     /// How fur shells and fins are composited.
     pub fur_blend: FurBlend,
+    /// Mirrors and glass: the technique and its knobs.
+    pub reflections: Reflections,
+}
+
+/// How mirrors and glass are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Technique {
+    /// Layered distance maps searched per pixel (GPU Gems 3 ch. 17).
+    #[default]
+    DistanceMaps,
+    /// Classic environment mapping: the same cube maps looked up by direction alone, as if
+    /// every ray started at the reference point (the baseline).
+    Envmap,
+    /// Drawn opaque.
+    Off,
+}
+
+impl std::str::FromStr for Technique {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "distance-maps" => Ok(Technique::DistanceMaps),
+            "envmap" => Ok(Technique::Envmap),
+            "off" => Ok(Technique::Off),
+            _ => Err(format!(
+                "unknown reflection technique {s:?} (expected distance-maps, envmap or off)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for Technique {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Technique::DistanceMaps => "distance-maps",
+            Technique::Envmap => "envmap",
+            Technique::Off => "off",
+        })
+    }
+}
+
+/// The knobs of mirrors and glass (GPU Gems 3 ch. 17), the scene's `reflections` block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct Reflections {
+    /// The technique.
+    pub technique: Technique,
+    /// Linear search steps per quarter turn of directions seen from the reference point
+    /// (§17.2.2, Listing 17-1).
+    pub linear_steps: u32,
+    /// Secant refinement steps (Listing 17-2).
+    pub secant_steps: u32,
+    /// Distance-map layers: the object's front faces, its back faces, and depth-peeled
+    /// layers of the rest of the scene (3 is the paper's 2 + 1).
+    pub layers: u32,
+    /// Cube-map face size in texels (a power of two).
+    pub cube_size: u32,
+    /// Most specular bounces on a path (Listing 17-5's MAXDEPTH).
+    pub max_depth: u32,
+    /// Min-max acceleration (Figure 17-4).
+    pub min_max: bool,
+}
+
+impl Default for Reflections {
+    fn default() -> Self {
+        Reflections {
+            technique: Technique::DistanceMaps,
+            linear_steps: 32,
+            secant_steps: 6,
+            layers: 3,
+            cube_size: 256,
+            max_depth: 4,
+            min_max: true,
+        }
+    }
+}
+
+/// Ranges of the reflection knobs.
+pub mod reflection_limits {
+    /// Linear steps.
+    pub const LINEAR_STEPS: std::ops::RangeInclusive<u32> = 1..=1024;
+    /// Secant steps.
+    pub const SECANT_STEPS: std::ops::RangeInclusive<u32> = 0..=64;
+    /// Layers.
+    pub const LAYERS: std::ops::RangeInclusive<u32> = 3..=8;
+    /// Cube size (also a power of two, and at most the adapter's texture limit).
+    pub const CUBE_SIZE: std::ops::RangeInclusive<u32> = 8..=4096;
+    /// Bounces.
+    pub const MAX_DEPTH: std::ops::RangeInclusive<u32> = 1..=16;
+}
+
+impl Reflections {
+    /// The first knob out of range, as (field, message).
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        use reflection_limits as l;
+        let range = |field, v: u32, r: std::ops::RangeInclusive<u32>| {
+            if r.contains(&v) {
+                Ok(())
+            } else {
+                Err((
+                    field,
+                    format!("must be {} to {}, got {v}", r.start(), r.end()),
+                ))
+            }
+        };
+        range("linearSteps", self.linear_steps, l::LINEAR_STEPS)?;
+        range("secantSteps", self.secant_steps, l::SECANT_STEPS)?;
+        range("layers", self.layers, l::LAYERS)?;
+        range("maxDepth", self.max_depth, l::MAX_DEPTH)?;
+        range("cubeSize", self.cube_size, l::CUBE_SIZE)?;
+        if !self.cube_size.is_power_of_two() {
+            return Err((
+                "cubeSize",
+                format!("must be a power of two, got {}", self.cube_size),
+            ));
+        }
+        Ok(())
+    }
 }
 
 mod sky_serde {
@@ -547,6 +775,7 @@ impl Default for Scene {
             lights: Vec::new(),
             sky: Sky::None,
             fur_blend: FurBlend::Stipple,
+            reflections: Reflections::default(),
         }
     }
 }
@@ -697,6 +926,9 @@ impl Scene {
                 "target must differ from position and not lie along up".into(),
             ));
         }
+        self.reflections
+            .check()
+            .map_err(|(f, m)| (format!("reflections.{f}"), m))?;
         for (i, obj) in self.objects.iter().enumerate() {
             obj.transform
                 .check()

@@ -342,6 +342,7 @@ fn scene_knobs(v: &Viewer) -> pelt_preview::knobs::Knobs {
         shells: fur.and_then(|f| f.shells).or(manifest_shells),
         fins: fur.map(|f| f.fins),
         fur_blend: Some(s.fur_blend),
+        reflections: Default::default(),
     }
 }
 

@@ -143,6 +143,7 @@ mod tests {
             fins: Some(true),
             fur_blend: Some(FurBlend::Stipple),
             size: None,
+            reflections: Default::default(),
         };
         let mut s = Settings {
             mode: Mode::Inferred,

@@ -62,9 +62,12 @@ fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f)?;
     f.bind_frame(&mut r, Res::Lbuffer);
-    if !f.plan.opaque.is_empty() {
+    if !f.plan.opaque.is_empty() || !f.plan.reflective.is_empty() {
         r.pipeline(Shader::GBuffer, Blend::None);
         f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.opaque)?;
+        // Mirrors and glass hold their pixels' depth and IDs (they are shaded later, from
+        // their distance maps, not from the L-buffer).
+        f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.reflective)?;
     }
     fur::gbuffer(f, &mut r)?;
     alpha::gbuffer(f, &mut r)?;

@@ -1,12 +1,15 @@
 //! The material pass (Kircher & Lawrance §2.3, §3, §4; Revie §2.4.4) at output resolution:
 //! every surface's full material with its light inferred from the L-buffer through
-//! discontinuity sensitive filtering. It draws, in order: opaque objects front to back, each
+//! discontinuity sensitive filtering. It draws, in order: opaque objects front to back, mirror
+//! and glass objects through their distance maps ([`super::reflect`]), each
 //! fur object's base mesh, the sky, then every fur object's shells and fins far to near
 //! (stipple blend) and the alpha objects back to front, unless the OIT composite draws them.
 //! The forward reference ([`super::forward`]) takes the same order with its own shader.
 
 use crate::features::vertex_layout;
-use crate::features::{Frame, MissingInput, alpha, fur, object_blends, object_depth, sky, slot};
+use crate::features::{
+    Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot,
+};
 use crate::frame_data::Res;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
@@ -14,11 +17,11 @@ use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use crate::scene::FurBlend;
 use crate::shaders::{Lighting, Shader};
 
-/// Background of the output (linear).
+/// Background of the output (linear; [`pelt_scene::shading::BACKGROUND`]).
 pub const BACKGROUND: wgpu::Color = wgpu::Color {
-    r: 0.02,
-    g: 0.022,
-    b: 0.028,
+    r: pelt_scene::shading::BACKGROUND[0] as f64,
+    g: pelt_scene::shading::BACKGROUND[1] as f64,
+    b: pelt_scene::shading::BACKGROUND[2] as f64,
     a: 1.0,
 };
 
@@ -90,6 +93,10 @@ pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>
     if !f.plan.opaque.is_empty() {
         r.pipeline(shader, Blend::None);
         f.draw_objects(&mut r, pass.name(), &f.plan.opaque)?;
+    }
+    if !f.plan.reflective.is_empty() {
+        reflect::draw(f, &mut r, pass.name())?;
+        r.bind(slot::LIGHTING, objects_light.0, objects_light.1);
     }
     let has_fur = !f.plan.fur.is_empty();
     if has_fur {

@@ -14,7 +14,8 @@
 //! - [`forward`]: the forward reference;
 //! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`);
 //! - [`mips`]: mip chains of layered targets (cube faces, arrays);
-//! - [`overlay`]: `pelt view`'s text overlay.
+//! - [`overlay`]: `pelt view`'s text overlay;
+//! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17).
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -27,6 +28,7 @@ pub mod lights;
 pub mod material;
 pub mod mips;
 pub mod overlay;
+pub mod reflect;
 pub mod sky;
 pub mod upscale;
 pub mod wboit;
@@ -92,6 +94,8 @@ pub struct Frame<'a> {
     pub output: Output<'a>,
     /// Which view of the frame's uniforms this is (0 for a single view).
     pub view: usize,
+    /// The scene's distance maps, when it has mirrors or glass.
+    pub maps: Option<&'a reflect::Maps>,
 }
 
 impl<'a> Frame<'a> {
@@ -199,6 +203,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Upscale => upscale::spec(key),
         Shader::Downsample => mips::spec(key),
         Shader::Overlay => overlay::spec(key),
+        Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),

@@ -1,0 +1,614 @@
+//! Mirrors and glass from layered distance maps (GPU Gems 3 ch. 17, Umenhoffer, Patow and
+//! Szirmay-Kalos). Per mirror or glass object, a cube map from its reference point with
+//! `layers` layers (§17.2.1: its front faces, its back faces, and depth-peeled layers of the
+//! rest of the scene), each texel holding material and radiance (Listing 17-5's convention)
+//! and normal and distance (distance_map.wgsl); each layer's minimum and maximum distance in
+//! a compute pass (Figure 17-4, minmax.wgsl); then the objects themselves drawn in the
+//! material (or forward) pass by reflect.wgsl, which traces each pixel's reflection and
+//! refraction paths through the maps (§17.2.2, §17.3).
+//!
+//! The maps depend on the scene and the knobs, not on the camera: [`Maps`] is made with the
+//! scene view (every object of the scene is drawn into them, on screen or not, lit by every
+//! light), and made again when the knobs change its textures.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+
+use crate::assets::GpuMesh;
+use crate::features::{Frame, MissingInput, vertex_layout};
+use crate::plan::{Pass, ScenePlan};
+use crate::recipe::{Color, Depth, Recipe, Step};
+use crate::renderer::{Blend, DEPTH_FORMAT, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::scene::{Sky, Technique};
+use crate::shaders::Shader;
+use crate::targets::{LayeredTarget, Target};
+use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
+
+/// Bind-group slots of distance_map.wgsl.
+pub mod slot {
+    /// The face being drawn (dynamic offset).
+    pub const FACE: u32 = 0;
+    /// One object's constants (dynamic offset).
+    pub const OBJECT: u32 = 1;
+    /// Every light of the scene, world space.
+    pub const LIGHTS: u32 = 2;
+    /// The previous layer's distances (depth peeling).
+    pub const PEEL: u32 = 3;
+    /// reflect.wgsl: the maps, their ranges and the knobs.
+    pub const MAPS: u32 = 2;
+    /// reflect.wgsl: the cube-map sky.
+    pub const SKY: u32 = 3;
+    /// minmax.wgsl: the distances and the ranges.
+    pub const RANGES: u32 = 0;
+}
+
+/// Most distance maps (mirror and glass objects) in a scene.
+pub const MAX_MAPS: usize = 64;
+/// Most lights the maps are lit by (distance_map.wgsl's `MAX_MAP_LIGHTS`).
+pub const MAX_MAP_LIGHTS: usize = 256;
+/// Format of the material target.
+pub const MATERIAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the normal and distance target (32-bit distances for the secant search).
+pub const GEOMETRY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// One face of one layer. Keep in sync with `Face` in shaders/distance_map.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct FaceUniforms {
+    /// World to this face's clip space.
+    pub view_proj: [[f32; 4]; 4],
+    /// xyz: the reference point.
+    pub reference: [f32; 4],
+    /// rgb ambient; w specular power.
+    pub ambient: [f32; 4],
+    /// x layer, y light count, z the map's object (scene index), w face.
+    pub ids: [u32; 4],
+}
+
+/// The search's knobs and the reference points. Keep in sync with `Reflect` in
+/// shaders/reflect.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct ReflectUniforms {
+    /// x linear steps, y secant steps, z layers, w most bounces.
+    pub knobs: [u32; 4],
+    /// x min-max on, y technique (0 distance maps, 1 environment map), z sky (0 background,
+    /// 1 procedural, 2 cube map), w cube face size.
+    pub flags: [u32; 4],
+    /// rgb background, w the scene's radius.
+    pub background: [f32; 4],
+    /// Each map's reference point.
+    pub maps: [[f32; 4]; MAX_MAPS],
+}
+
+/// What the maps' textures depend on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapSpec {
+    /// Maps.
+    pub maps: u32,
+    /// Layers per map.
+    pub layers: u32,
+    /// Face size.
+    pub cube: u32,
+}
+
+/// The six faces' view matrices about the origin: row 0 maps a direction to the face's
+/// s coordinate, row 1 to −t, row 2 to −(major axis) (GPUs' cube-map convention, which
+/// reflect.wgsl's `face_uv` inverts).
+pub fn face_view(face: u32) -> Mat4 {
+    let (s, t, m) = match face {
+        0 => (Vec3::NEG_Z, Vec3::NEG_Y, Vec3::X),
+        1 => (Vec3::Z, Vec3::NEG_Y, Vec3::NEG_X),
+        2 => (Vec3::X, Vec3::Z, Vec3::Y),
+        3 => (Vec3::X, Vec3::NEG_Z, Vec3::NEG_Y),
+        4 => (Vec3::X, Vec3::NEG_Y, Vec3::Z),
+        _ => (Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z),
+    };
+    Mat4::from_cols(
+        s.extend(0.0),
+        (-t).extend(0.0),
+        (-m).extend(0.0),
+        glam::Vec4::W,
+    )
+    .transpose()
+}
+
+/// The distance maps of one scene and everything that draws and reads them.
+#[derive(Debug)]
+pub struct Maps {
+    /// What the textures were made for.
+    pub spec: MapSpec,
+    /// Material and radiance, every (map, layer, face).
+    pub material: LayeredTarget,
+    /// Normal and distance.
+    pub geometry: LayeredTarget,
+    depth: Target,
+    peel: LayeredTarget,
+    views: Vec<(wgpu::TextureView, wgpu::TextureView)>,
+    faces: wgpu::Buffer,
+    faces_group: wgpu::BindGroup,
+    objects: wgpu::Buffer,
+    objects_group: wgpu::BindGroup,
+    lights: wgpu::Buffer,
+    lights_group: wgpu::BindGroup,
+    /// Each layer's (min, max) distance.
+    pub ranges: wgpu::Buffer,
+    params: wgpu::Buffer,
+    read: wgpu::BindGroup,
+    minmax: wgpu::BindGroup,
+    peel_read: wgpu::BindGroup,
+    sky: wgpu::BindGroup,
+    /// What goes into the maps: (scene index, mesh index).
+    draws: Vec<(usize, usize)>,
+}
+
+fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn group(
+    r: &Renderer,
+    label: &str,
+    layout: LayoutId,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .enumerate()
+        .map(|(i, res)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: res.clone(),
+        })
+        .collect();
+    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: r.layouts.get(layout),
+        entries: &entries,
+    })
+}
+
+fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer,
+        offset: 0,
+        size: wgpu::BufferSize::new(size as u64),
+    })
+}
+
+/// A 1×1 cube for the sky slot of scenes without a cube-map sky.
+fn no_sky(r: &Renderer) -> wgpu::BindGroup {
+    let tex = LayeredTarget::new(r, "no sky", (1, 1), 6, 1, wgpu::TextureFormat::Rgba8Unorm);
+    let view = tex.texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::Cube),
+        array_layer_count: Some(6),
+        ..Default::default()
+    });
+    let sampler = r
+        .gpu
+        .device
+        .create_sampler(&wgpu::SamplerDescriptor::default());
+    group(
+        r,
+        "no sky",
+        LayoutId::Sky,
+        &[
+            wgpu::BindingResource::TextureView(&view),
+            wgpu::BindingResource::Sampler(&sampler),
+        ],
+    )
+}
+
+impl Maps {
+    /// The maps of `plan` (which must have at least one), with the scene's cube-map sky
+    /// group when it has one. Fails when the cube size is above the adapter's limit.
+    pub fn new(
+        r: &Renderer,
+        plan: &ScenePlan,
+        sky: Option<&wgpu::BindGroup>,
+    ) -> Result<Maps, MissingInput> {
+        let k = plan.reflections;
+        let limit = r.gpu.device.limits().max_texture_dimension_2d;
+        if k.cube_size > limit {
+            return Err(MissingInput {
+                pass: Pass::DistanceMaps.name(),
+                what: format!(
+                    "reflections.cubeSize {} within the adapter's texture limit ({limit})",
+                    k.cube_size
+                ),
+            });
+        }
+        if plan.maps.len() > MAX_MAPS {
+            return Err(MissingInput {
+                pass: Pass::DistanceMaps.name(),
+                what: format!(
+                    "at most {MAX_MAPS} mirror and glass objects (the scene has {})",
+                    plan.maps.len()
+                ),
+            });
+        }
+        let spec = MapSpec {
+            maps: plan.maps.len() as u32,
+            layers: k.layers,
+            cube: k.cube_size,
+        };
+        let size = (spec.cube, spec.cube);
+        let layers = spec.maps * spec.layers * 6;
+        let material = LayeredTarget::new(
+            r,
+            "distance maps: material",
+            size,
+            layers,
+            1,
+            MATERIAL_FORMAT,
+        );
+        let geometry = LayeredTarget::new(
+            r,
+            "distance maps: geometry",
+            size,
+            layers,
+            1,
+            GEOMETRY_FORMAT,
+        );
+        // Depth peeling reads a copy of the previous layer (a 1×1 stand-in without peels: a
+        // pass may not read the texture it renders into).
+        let peel_size = if spec.layers > 3 { size } else { (1, 1) };
+        let peel = LayeredTarget::new(r, "distance maps: peel", peel_size, 6, 1, GEOMETRY_FORMAT);
+        let views = (0..layers)
+            .map(|i| (material.layer(i, 0), geometry.layer(i, 0)))
+            .collect();
+        let depth = Target::new(&r.gpu.device, "distance maps: depth", size, DEPTH_FORMAT);
+        let stride = UNIFORM_STRIDE;
+        let faces = uniform_buffer(
+            r,
+            "faces",
+            u64::from(layers) * stride,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let n_objects = plan.objects.len().max(1) as u64;
+        let objects = uniform_buffer(
+            r,
+            "map objects",
+            n_objects * stride,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
+        let lights = uniform_buffer(
+            r,
+            "map lights",
+            light_bytes as u64,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let ranges = uniform_buffer(
+            r,
+            "distance ranges",
+            u64::from(spec.maps * spec.layers) * 8,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let params = uniform_buffer(
+            r,
+            "reflect params",
+            size_of::<ReflectUniforms>() as u64,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let tex = wgpu::BindingResource::TextureView;
+        let maps = Maps {
+            faces_group: group(
+                r,
+                "faces",
+                LayoutId::Face,
+                &[sized(&faces, size_of::<FaceUniforms>())],
+            ),
+            objects_group: group(
+                r,
+                "map objects",
+                LayoutId::Object,
+                &[sized(&objects, size_of::<ObjectUniforms>())],
+            ),
+            lights_group: group(
+                r,
+                "map lights",
+                LayoutId::LightArray,
+                &[sized(&lights, light_bytes)],
+            ),
+            read: group(
+                r,
+                "distance maps",
+                LayoutId::ReflectMaps,
+                &[
+                    tex(&material.sampled),
+                    tex(&geometry.sampled),
+                    ranges.as_entire_binding(),
+                    params.as_entire_binding(),
+                ],
+            ),
+            minmax: group(
+                r,
+                "min-max",
+                LayoutId::MinMax,
+                &[tex(&geometry.sampled), ranges.as_entire_binding()],
+            ),
+            peel_read: group(r, "peel", LayoutId::Peel, &[tex(&peel.sampled)]),
+            sky: sky.cloned().unwrap_or_else(|| no_sky(r)),
+            spec,
+            material,
+            geometry,
+            depth,
+            peel,
+            views,
+            faces,
+            objects,
+            lights,
+            ranges,
+            params,
+            draws: Vec::new(),
+        };
+        let mut maps = maps;
+        maps.write(r, plan);
+        Ok(maps)
+    }
+}
+
+impl Maps {
+    /// Writes the faces, objects, lights and knobs of `plan` (its maps must fit the spec).
+    pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
+        let k = plan.reflections;
+        let (centre, radius) = plan.extent;
+        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let lights: Vec<LightUniforms> = plan
+            .lights
+            .iter()
+            .take(MAX_MAP_LIGHTS)
+            .map(|&(p, radius, color)| LightUniforms {
+                position_radius: p.extend(radius).into(),
+                color: color.extend(lum(color)).into(),
+            })
+            .collect();
+        let stride = UNIFORM_STRIDE as usize;
+        let mut faces = vec![0u8; self.views.len() * stride];
+        for (m, map) in plan.maps.iter().enumerate() {
+            let reach = (map.reference - centre).length() + radius;
+            let proj = Mat4::perspective_rh(
+                std::f32::consts::FRAC_PI_2,
+                1.0,
+                (radius * 1e-4).max(1e-5),
+                (reach * 2.0).max(1e-3),
+            );
+            let to_ref = Mat4::from_translation(-map.reference);
+            for layer in 0..k.layers {
+                for face in 0..6u32 {
+                    let i = (m as u32 * k.layers + layer) * 6 + face;
+                    let u = FaceUniforms {
+                        view_proj: (proj * face_view(face) * to_ref).to_cols_array_2d(),
+                        reference: map.reference.extend(0.0).into(),
+                        ambient: plan
+                            .ambient
+                            .extend(crate::frame_data::SPECULAR_POWER)
+                            .into(),
+                        ids: [layer, lights.len() as u32, map.scene_index as u32, face],
+                    };
+                    let at = i as usize * stride;
+                    faces[at..at + size_of::<FaceUniforms>()]
+                        .copy_from_slice(bytemuck::bytes_of(&u));
+                }
+            }
+        }
+        r.gpu.write_buffer(&self.faces, 0, &faces);
+        let mut objects = vec![0u8; plan.objects.len() * stride];
+        self.draws.clear();
+        for (i, (o, _)) in plan.objects.iter().enumerate() {
+            let u = ObjectUniforms {
+                model: o.model.to_cols_array_2d(),
+                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
+                tint: o.color.extend(1.0).into(),
+                params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
+                fur_base: o
+                    .fur
+                    .map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
+                fur_tip: [0.0; 4],
+                fur_params: [0.0; 4],
+                ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
+                optics: o.optics.encoded(),
+            };
+            objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
+                .copy_from_slice(bytemuck::bytes_of(&u));
+            if o.pattern == 0 {
+                self.draws.push((i, o.mesh));
+            }
+        }
+        if !objects.is_empty() {
+            r.gpu.write_buffer(&self.objects, 0, &objects);
+        }
+        let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
+        let lb: &[u8] = bytemuck::cast_slice(&lights);
+        light_bytes[..lb.len()].copy_from_slice(lb);
+        r.gpu.write_buffer(&self.lights, 0, &light_bytes);
+        let mut refs = [[0.0f32; 4]; MAX_MAPS];
+        for (slot, m) in refs.iter_mut().zip(&plan.maps) {
+            *slot = m.reference.extend(0.0).into();
+        }
+        let params = ReflectUniforms {
+            knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
+            flags: [
+                u32::from(k.min_max),
+                u32::from(k.technique == Technique::Envmap),
+                match plan.sky {
+                    Sky::None => 0,
+                    Sky::Procedural => 1,
+                    Sky::Cubemap(_) => 2,
+                },
+                k.cube_size,
+            ],
+            background: Vec3::from(pelt_scene::shading::BACKGROUND)
+                .extend(radius.max(1e-3))
+                .into(),
+            maps: refs,
+        };
+        r.gpu
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Whether these maps fit `plan`'s knobs and map count.
+    pub fn fits(&self, plan: &ScenePlan) -> bool {
+        self.spec
+            == MapSpec {
+                maps: plan.maps.len() as u32,
+                layers: plan.reflections.layers,
+                cube: plan.reflections.cube_size,
+            }
+    }
+}
+
+/// The pipelines of distance_map.wgsl and reflect.wgsl, and minmax.wgsl's layout.
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
+    let (groups, blends, vertex_buffers, depth) = match key.shader {
+        Shader::DistanceMap => (
+            vec![
+                LayoutId::Face,
+                LayoutId::Object,
+                LayoutId::LightArray,
+                LayoutId::Peel,
+            ],
+            vec![None, None],
+            vec![vertex_layout()],
+            Some((true, wgpu::CompareFunction::Less)),
+        ),
+        Shader::MinMax => (vec![LayoutId::MinMax], Vec::new(), Vec::new(), None),
+        _ => (
+            vec![
+                LayoutId::Frame,
+                LayoutId::Object,
+                LayoutId::ReflectMaps,
+                LayoutId::Sky,
+            ],
+            crate::features::object_blends(Blend::None),
+            vec![vertex_layout()],
+            crate::features::object_depth(Blend::None),
+        ),
+    };
+    PipelineSpec {
+        groups,
+        vertex_buffers,
+        blends,
+        depth,
+        cull: None,
+        constants: Vec::new(),
+    }
+}
+
+fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput> {
+    f.maps.ok_or_else(|| MissingInput {
+        pass,
+        what: "the scene's distance maps".into(),
+    })
+}
+
+fn mesh<'a>(f: &Frame<'a>, pass: &'static str, k: usize) -> Result<&'a GpuMesh, MissingInput> {
+    f.meshes
+        .get(k)
+        .and_then(|m| m.as_deref())
+        .ok_or_else(|| MissingInput {
+            pass,
+            what: format!("mesh {k} on the GPU"),
+        })
+}
+
+/// The distance-map pass: every face of every layer of every map, each a render pass (a
+/// copy of the previous layer before each peeled one).
+pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    let name = Pass::DistanceMaps.name();
+    let m = maps(f, name)?;
+    let mut out = Vec::new();
+    for map in 0..m.spec.maps {
+        for layer in 0..m.spec.layers {
+            let base = (map * m.spec.layers + layer) * 6;
+            if layer >= 3 {
+                out.push(Recipe::copy(
+                    Pass::DistanceMaps,
+                    &m.geometry.texture,
+                    base - 6,
+                    &m.peel.texture,
+                    0,
+                    6,
+                    (m.spec.cube, m.spec.cube),
+                ));
+            }
+            for face in 0..6 {
+                let (mat, geo) = &m.views[(base + face) as usize];
+                let mut r = Recipe::new(
+                    Pass::DistanceMaps,
+                    vec![
+                        Color {
+                            view: mat,
+                            format: MATERIAL_FORMAT,
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        },
+                        Color {
+                            view: geo,
+                            format: GEOMETRY_FORMAT,
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: 0.0,
+                                g: 0.0,
+                                b: 0.0,
+                                a: -1.0,
+                            }),
+                        },
+                    ],
+                    Some(Depth {
+                        view: &m.depth.view,
+                        format: DEPTH_FORMAT,
+                        load: wgpu::LoadOp::Clear(1.0),
+                    }),
+                );
+                r.pipeline(Shader::DistanceMap, Blend::None);
+                r.bind(
+                    slot::FACE,
+                    &m.faces_group,
+                    Some((base + face) * UNIFORM_STRIDE as u32),
+                );
+                r.bind(slot::LIGHTS, &m.lights_group, Some(0));
+                r.bind(slot::PEEL, &m.peel_read, None);
+                for &(i, k) in &m.draws {
+                    let g = mesh(f, name, k)?;
+                    r.bind(
+                        slot::OBJECT,
+                        &m.objects_group,
+                        Some(i as u32 * UNIFORM_STRIDE as u32),
+                    );
+                    r.push(Step::Vertices(0, &g.vertices));
+                    r.push(Step::Indices(&g.indices));
+                    r.push(Step::DrawIndexed(0..g.count, 0..1));
+                }
+                out.push(r);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The min-max pass: one workgroup per (map, layer).
+pub fn minmax_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
+    let m = maps(f, Pass::MinMax.name())?;
+    let mut r = Recipe::compute(Pass::MinMax);
+    r.push(Step::Compute(Shader::MinMax));
+    r.bind(slot::RANGES, &m.minmax, None);
+    r.push(Step::Dispatch([m.spec.maps, m.spec.layers, 1]));
+    Ok(r)
+}
+
+/// Draws the plan's mirror and glass objects through their maps (in the material or forward
+/// pass, after the opaque objects; the caller binds the frame and rebinds its own slots after).
+pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
+    if f.plan.reflective.is_empty() {
+        return Ok(());
+    }
+    let m = maps(f, pass)?;
+    r.pipeline(Shader::Reflect, Blend::None);
+    r.bind(slot::MAPS, &m.read, None);
+    r.bind(slot::SKY, &m.sky, None);
+    f.draw_objects(r, pass, &f.plan.reflective)
+}

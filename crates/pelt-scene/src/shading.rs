@@ -1,0 +1,145 @@
+//! The local lighting model every renderer of pelt shares, on the CPU: the constants the
+//! GPU passes are given (specular strength and power, the background) and CPU twins of
+//! `point_light` in shaders/common.wgsl and the procedural sky of shaders/sky.wgsl, so the
+//! ray tracer (`pelt-trace`) lights a surface exactly as the rasterizer does; and Schlick's
+//! Fresnel approximation with F0 as GPU Gems 3 §17.3 uses it.
+
+use glam::Vec3;
+
+/// Specular strength of every material (no per-asset specular yet).
+pub const SPECULAR_STRENGTH: f32 = 0.25;
+/// Blinn-Phong exponent for every light.
+pub const SPECULAR_POWER: f32 = 32.0;
+/// The linear background colour where there is no sky.
+pub const BACKGROUND: [f32; 3] = [0.02, 0.022, 0.028];
+
+/// A point light as the shaders see it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    /// Position.
+    pub position: Vec3,
+    /// Radius where its light reaches zero.
+    pub radius: f32,
+    /// Linear colour × intensity.
+    pub color: Vec3,
+}
+
+/// One light at point `p` with unit normal `n` seen from direction `v` (unit, from `p`
+/// toward the viewer): (diffuse irradiance, specular intensity), as `point_light` in
+/// common.wgsl: Lambert and Blinn-Phong with an inverse-square falloff windowed to zero at
+/// the radius.
+pub fn point_light(p: Vec3, n: Vec3, v: Vec3, light: &Light) -> (Vec3, f32) {
+    let to_light = light.position - p;
+    let dist = to_light.length();
+    if dist >= light.radius {
+        return (Vec3::ZERO, 0.0);
+    }
+    let l = to_light / dist.max(1e-6);
+    let ndl = n.dot(l).max(0.0);
+    let x = dist / light.radius;
+    let window = (1.0 - x * x * x * x).clamp(0.0, 1.0);
+    let atten = window * window / (1.0 + dist * dist);
+    let h = (l + v).normalize_or_zero();
+    let spec = n.dot(h).max(0.0).powf(SPECULAR_POWER) * ndl * atten;
+    (light.color * (ndl * atten), spec)
+}
+
+/// The radiance leaving a diffuse surface of `albedo` at `p` (unit normal `n` facing the
+/// viewer, `v` toward it): ambient plus every light's diffuse times the albedo, plus the
+/// specular in each light's colour (the forward pass's sum).
+pub fn shade(albedo: Vec3, p: Vec3, n: Vec3, v: Vec3, ambient: Vec3, lights: &[Light]) -> Vec3 {
+    let mut diffuse = ambient;
+    let mut specular = Vec3::ZERO;
+    for l in lights {
+        let (d, s) = point_light(p, n, v, l);
+        diffuse += d;
+        specular += s * l.color;
+    }
+    albedo * diffuse + SPECULAR_STRENGTH * specular
+}
+
+/// Direction of the procedural sky's sun.
+const SUN: Vec3 = Vec3::new(0.48, 0.62, 0.62);
+
+/// The procedural sky in unit direction `d` (sky.wgsl's `procedural`).
+pub fn procedural_sky(d: Vec3) -> Vec3 {
+    let zenith = Vec3::new(0.10, 0.22, 0.55);
+    let horizon = Vec3::new(0.55, 0.63, 0.75);
+    let ground = Vec3::new(0.09, 0.08, 0.07);
+    let up = d.y;
+    let sky = horizon.lerp(zenith, up.clamp(0.0, 1.0).powf(0.6));
+    let below = (horizon * 0.6).lerp(ground, (-up * 6.0).clamp(0.0, 1.0));
+    let mut c = if up >= 0.0 { sky } else { below };
+    let s = d.dot(SUN.normalize()).max(0.0);
+    c += Vec3::new(1.0, 0.85, 0.6) * (0.6 * s.powi(64) + 0.15 * s.powi(6));
+    c
+}
+
+/// Schlick's Fresnel with reflectance `f0` at normal incidence, at `cos` = |N·V|
+/// (GPU Gems 3 §17.3: F = F0 + (1 − F0)(1 − N·V)⁵).
+pub fn fresnel(f0: Vec3, cos: f32) -> Vec3 {
+    let m = (1.0 - cos.abs().min(1.0)).powi(5);
+    f0 + (Vec3::ONE - f0) * m
+}
+
+/// A dielectric's F0 from its index of refraction: ((n − 1) / (n + 1))².
+pub fn dielectric_f0(ior: f32) -> f32 {
+    let r = (ior - 1.0) / (ior + 1.0);
+    r * r
+}
+
+/// Linear to 8-bit sRGB, as an sRGB render target stores it.
+pub fn srgb8(linear: f32) -> u8 {
+    let c = linear.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// 8-bit sRGB to linear.
+pub fn linear_of_srgb8(v: u8) -> f32 {
+    let s = f32::from(v) / 255.0;
+    if s <= 0.040_45 {
+        s / 12.92
+    } else {
+        ((s + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_spans_f0_to_one_and_metals_reflect_more() {
+        let f0 = Vec3::splat(dielectric_f0(1.5));
+        assert!((f0.x - 0.04).abs() < 1e-6);
+        assert_eq!(fresnel(f0, 1.0), f0);
+        assert!((fresnel(f0, 0.0) - Vec3::ONE).length() < 1e-6);
+        assert!(crate::scene::fresnel_f0(0.15, 3.6) > 0.9);
+        assert!((crate::scene::fresnel_f0(1.5, 0.0) - 0.04).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_light_falls_to_zero_at_its_radius_and_faces_matter() {
+        let l = Light {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            radius: 3.0,
+            color: Vec3::ONE,
+        };
+        let up = Vec3::Y;
+        let (d, s) = point_light(Vec3::ZERO, up, up, &l);
+        assert!(d.x > 0.0 && s > 0.0);
+        assert_eq!(point_light(Vec3::ZERO, -up, up, &l).0, Vec3::ZERO);
+        assert_eq!(
+            point_light(Vec3::new(0.0, -1.5, 0.0), up, up, &l).0,
+            Vec3::ZERO
+        );
+        for v in [0u8, 1, 60, 128, 254, 255] {
+            assert_eq!(srgb8(linear_of_srgb8(v)), v);
+        }
+    }
+}

@@ -1,0 +1,110 @@
+// distance_map.wgsl: one face of one layer of a mirror or glass object's layered distance map
+// (GPU Gems 3 ch. 17, §17.2.1). The scene is drawn from the reference point through a 90°
+// cube face; each texel keeps, in two targets, the material (rgb radiance lit by the scene's
+// lights with the same local lighting as the main view, seen from the reference point, a = 0;
+// or, for mirrors and glass, Listing 17-5's material: rgb F0 or tint, a = -1 or the IOR) and
+// the geometry (xyz the unit outward normal, w the distance from the reference point; the
+// target is cleared to -1, so a texel with no surface has a negative distance).
+// Layers: 0 keeps the object's own faces that face the reference point, 1 its faces that face
+// away, 2 the nearest surfaces of the rest of the scene, 3.. the next ones, each peeled behind
+// the layer before (the previous layer's distances come in as `peel`).
+//
+// Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect.rs.
+
+struct Face {
+    view_proj: mat4x4<f32>,
+    // xyz: the reference point (world); w: unused.
+    reference: vec4<f32>,
+    // rgb: ambient light; w: specular power.
+    ambient: vec4<f32>,
+    // x: the layer; y: light count; z: the map's object (scene index); w: the face (0..5).
+    ids: vec4<u32>,
+}
+
+const MAX_MAP_LIGHTS: u32 = 256u;
+
+@group(0) @binding(0) var<uniform> face: Face;
+@group(1) @binding(0) var<uniform> object: Object;
+@group(2) @binding(0) var<uniform> lights: array<Light, MAX_MAP_LIGHTS>;
+@group(3) @binding(0) var peel: texture_2d_array<f32>;
+
+struct MapVertex {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec4<f32>,
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> MapVertex {
+    var o: MapVertex;
+    let world = object.model * vec4<f32>(v.position, 1.0);
+    o.clip = face.view_proj * world;
+    o.world = world.xyz;
+    o.normal = (object.normal_model * vec4<f32>(v.normal, 0.0)).xyz;
+    // Fur objects show their base mesh in the fur's root colour.
+    let color = select(object.tint.rgb, object.fur_base.rgb, object.ids.w > 0u);
+    o.albedo = v.albedo * vec4<f32>(color, 1.0);
+    return o;
+}
+
+struct Texel {
+    @location(0) material: vec4<f32>,
+    @location(1) geometry: vec4<f32>,
+}
+
+// The local lighting of the forward pass at `p` (relative to the reference point, which is
+// the viewer), with `n` facing it.
+fn radiance(albedo: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    var diffuse = face.ambient.rgb;
+    var specular = vec3<f32>(0.0);
+    let count = min(face.ids.y, MAX_MAP_LIGHTS);
+    for (var i = 0u; i < count; i++) {
+        var light = lights[i];
+        light.position_radius = vec4<f32>(
+            light.position_radius.xyz - face.reference.xyz,
+            light.position_radius.w,
+        );
+        let r = point_light(p, n, light, face.ambient.w);
+        diffuse += r.rgb;
+        if light.color.w > 0.0 {
+            specular += r.a * light.color.rgb / light.color.w;
+        }
+    }
+    return albedo * diffuse + object.params.y * specular;
+}
+
+@fragment
+fn fs_main(in: MapVertex) -> Texel {
+    let rel = in.world - face.reference.xyz;
+    let dist = length(rel);
+    let n = normalize(in.normal);
+    let layer = face.ids.x;
+    let own = object.ids.x == face.ids.z;
+    if layer <= 1u {
+        // The object's own faces, split by whether they face the reference point.
+        let facing = dot(n, rel) < 0.0;
+        if !own || facing != (layer == 0u) {
+            discard;
+        }
+    } else {
+        if own {
+            discard;
+        }
+        if layer >= 3u {
+            let before = textureLoad(peel, vec2<i32>(in.clip.xy), i32(face.ids.w), 0).w;
+            if before < 0.0 || dist <= before * 1.0005 {
+                discard;
+            }
+        }
+    }
+    var t: Texel;
+    t.geometry = vec4<f32>(n, dist);
+    if object.optics.a != 0.0 {
+        t.material = object.optics;
+    } else {
+        let toward = select(-n, n, dot(n, rel) < 0.0);
+        t.material = vec4<f32>(radiance(in.albedo.rgb, rel, toward), 0.0);
+    }
+    return t;
+}
