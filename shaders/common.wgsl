@@ -165,3 +165,32 @@ fn specular_color(l: vec4<f32>) -> vec3<f32> {
     }
     return l.a * l.rgb / lum;
 }
+
+// Octahedral encoding of a unit vector into [-1, 1]^2 (Cigolle et al. 2014), and back.
+fn oct_encode(n: vec3<f32>) -> vec2<f32> {
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    if n.z >= 0.0 {
+        return p;
+    }
+    return (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+}
+
+fn oct_decode(e: vec2<f32>) -> vec3<f32> {
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    let t = max(-n.z, 0.0);
+    n.x += select(t, -t, n.x >= 0.0);
+    n.y += select(t, -t, n.y >= 0.0);
+    return normalize(n);
+}
+
+// A distance-map geometry texel (Rgba16Float on every back end): xy the octahedral normal,
+// z the distance rounded to f16, w the remainder (so the sum keeps about 22 bits).
+fn pack_geometry(n: vec3<f32>, d: f32) -> vec4<f32> {
+    let hi = unpack2x16float(pack2x16float(vec2<f32>(d, 0.0))).x;
+    return vec4<f32>(oct_encode(n), hi, d - hi);
+}
+
+// The distance of a geometry texel (negative: no surface).
+fn texel_distance(g: vec4<f32>) -> f32 {
+    return g.z + g.w;
+}

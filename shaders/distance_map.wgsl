@@ -3,8 +3,9 @@
 // cube face; each texel keeps, in two targets, the material (rgb radiance lit by the scene's
 // lights with the same local lighting as the main view, seen from the reference point, a = 0;
 // or, for mirrors and glass, Listing 17-5's material: rgb F0 or tint, a = -1 or the IOR) and
-// the geometry (xyz the unit outward normal, w the distance from the reference point; the
-// target is cleared to -1, so a texel with no surface has a negative distance).
+// the geometry (the unit outward normal and the distance from the reference point, packed by
+// common.wgsl's pack_geometry; the target is cleared to distance -1, so a texel with no
+// surface has a negative distance).
 // Layers: 0 keeps the object's own faces that face the reference point, 1 its faces that face
 // away, 2 the nearest surfaces of the rest of the scene, 3.. the next ones, each peeled behind
 // the layer before (the previous layer's distances come in as `peel`).
@@ -92,14 +93,14 @@ fn fs_main(in: MapVertex) -> Texel {
             discard;
         }
         if layer >= 3u {
-            let before = textureLoad(peel, vec2<i32>(in.clip.xy), i32(face.ids.w), 0).w;
+            let before = texel_distance(textureLoad(peel, vec2<i32>(in.clip.xy), i32(face.ids.w), 0));
             if before < 0.0 || dist <= before * 1.0005 {
                 discard;
             }
         }
     }
     var t: Texel;
-    t.geometry = vec4<f32>(n, dist);
+    t.geometry = pack_geometry(n, dist);
     if object.optics.a != 0.0 {
         t.material = object.optics;
     } else {

@@ -25,7 +25,7 @@ fn cs_main(
     for (var t = i; t < per_face * 6u; t += THREADS) {
         let f = t / per_face;
         let r = t % per_face;
-        let d = textureLoad(maps, vec2<u32>(r % size, r / size), layer * 6u + f, 0).w;
+        let d = texel_distance(textureLoad(maps, vec2<u32>(r % size, r / size), layer * 6u + f, 0));
         if d > 0.0 {
             mn = min(mn, d);
             mx = max(mx, d);

@@ -1,11 +1,13 @@
 // reflect.wgsl: mirrors and glass in the material (or forward) pass, by ray tracing their
 // layered distance maps (GPU Gems 3 ch. 17). Per pixel: Listing 17-5's loop of reflections
-// and refractions with Schlick's Fresnel (F0 from n and k for metals), total internal
+// and refractions: Schlick's Fresnel for mirrors (F0 from n and k for metals, §17.3), the exact
+// dielectric Fresnel for glass (Schlick's does not vanish at IOR 1), total internal
 // reflection, and up to MAXDEPTH bounces; each next hit found by Hit(): a linear search per
 // layer stepping uniformly in texture space between the projections of the ray's ends
 // (Listing 17-1, Figure 17-3), clipped to the layer's min-max shell (Figure 17-4), the layer
-// with the nearest overshoot taken, then a secant search (Listing 17-2) that keeps one
-// undershooting and one overshooting bound and stops at a sample with no surface. The maps are
+// with the nearest refined hit taken; each bracket refined by a secant search (Listing 17-2)
+// that keeps one undershooting and one overshooting bound, and dropped when the refinement
+// does not land on the surface (the ray passed behind a silhouette). The maps are
 // 2D arrays (map, layer, face) read with textureLoad (a cube view cannot be); distances are
 // filtered bilinearly within a face unless the four texels straddle a silhouette or an empty
 // texel, where the nearest texel is taken. Technique 1 (environment mapping, the baseline)
@@ -26,7 +28,8 @@ struct Reflect {
     flags: vec4<u32>,
     // rgb: the background (no sky); w: the scene's radius.
     background: vec4<f32>,
-    // xyz: each map's reference point (world).
+    // xyz: each map's reference point (world); w: the radius about it that holds the whole
+    // scene.
     maps: array<vec4<f32>, MAX_MAPS>,
 }
 
@@ -105,10 +108,10 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     t.at = array<vec2<i32>, 4>(i0, vec2<i32>(i1.x, i0.y), vec2<i32>(i0.x, i1.y), i1);
     t.w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
     let d4 = vec4<f32>(
-        textureLoad(geometry_maps, t.at[0], t.layer, 0).w,
-        textureLoad(geometry_maps, t.at[1], t.layer, 0).w,
-        textureLoad(geometry_maps, t.at[2], t.layer, 0).w,
-        textureLoad(geometry_maps, t.at[3], t.layer, 0).w,
+        texel_distance(textureLoad(geometry_maps, t.at[0], t.layer, 0)),
+        texel_distance(textureLoad(geometry_maps, t.at[1], t.layer, 0)),
+        texel_distance(textureLoad(geometry_maps, t.at[2], t.layer, 0)),
+        texel_distance(textureLoad(geometry_maps, t.at[3], t.layer, 0)),
     );
     let lo = min(min(d4.x, d4.y), min(d4.z, d4.w));
     let hi4 = max(max(d4.x, d4.y), max(d4.z, d4.w));
@@ -120,10 +123,12 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     return t;
 }
 
+// The filtered normal (unnormalized) and distance.
 fn geometry(t: Taps) -> vec4<f32> {
     var g = vec4<f32>(0.0);
     for (var i = 0; i < 4; i++) {
-        g += t.w[i] * textureLoad(geometry_maps, t.at[i], t.layer, 0);
+        let x = textureLoad(geometry_maps, t.at[i], t.layer, 0);
+        g += t.w[i] * vec4<f32>(oct_decode(x.xy), texel_distance(x));
     }
     return g;
 }
@@ -170,73 +175,132 @@ fn sphere(x: vec3<f32>, r: vec3<f32>, radius: f32) -> vec2<f32> {
     return vec2<f32>(-b - s, -b + s);
 }
 
-// Listing 17-1 in one layer: march the ray from d0 to d1 (d1 < 0: to infinity) in steps that
-// are uniform in the direction seen from the reference point, and bracket the first place
-// where it passes from in front of the layer's surface to behind it.
-fn linear(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>) -> Bracket {
+// Listing 17-1 in one layer: march the ray from d0 to d1 in steps that are uniform in the
+// direction seen from the reference point (Figure 17-3), and bracket the first place where
+// it passes from in front of the layer's surface to behind it. The ray's far end is where it
+// leaves the layer's max sphere (min-max on, Figure 17-4) or the sphere holding the whole
+// scene (off: nothing lies beyond it, so this is the paper's r(infinity)); its near end is
+// where it enters the min-max shell, or its start. The march is split where the ray passes
+// closest to the reference point, so that no segment turns by 180 degrees (a ray through the
+// reference point would otherwise interpolate through the zero direction).
+fn linear(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>) -> March {
     var b: Bracket;
     b.found = false;
+    var none = March(false, b, 0.0);
     var d0 = 0.0;
-    var d1 = -1.0;
-    let eps = 1e-5 * params.background.w;
+    var d1 = 0.0;
+    var inner_start = false;
     if params.flags.x == 1u {
         let mm = ranges[map * params.knobs.z + layer];
         if mm.y <= 0.0 {
-            return b;
+            return none;
         }
-        let outer = sphere(x, r, mm.y);
+        let outer = sphere(x, r, mm.y * 1.0001);
         if outer.y < 0.0 || outer.x > outer.y {
-            return b;
+            return none;
         }
         d1 = outer.y;
-        let inner = sphere(x, r, mm.x);
         if dot(x, x) < mm.x * mm.x {
-            d0 = max(inner.y, 0.0);
+            d0 = max(sphere(x, r, mm.x).y, 0.0);
         } else {
             d0 = max(outer.x, 0.0);
         }
+        inner_start = d0 > 0.0;
+    } else {
+        d1 = max(sphere(x, r, params.maps[map].w).y, 0.0);
     }
-    let p0 = x + r * d0;
-    let l0 = max(length(p0), eps);
-    var e = r;
-    var l1 = 1.0;
-    if d1 >= 0.0 {
-        e = x + r * d1;
-        l1 = max(length(e), eps);
+    let dc = clamp(-dot(x, r), d0, d1);
+    var state = March(false, b, 0.0);
+    if dc > d0 {
+        state = march(map, layer, x, r, d0, dc, state, !inner_start);
+        if state.bracket.found {
+            return state;
+        }
     }
-    let chord = length(p0 / l0 - e / l1);
-    let steps = clamp(u32(ceil(f32(params.knobs.x) * chord / 1.41421356)), 1u, 4u * params.knobs.x);
-    var under = false;
-    for (var i = 0u; i <= steps; i++) {
-        var t = f32(i) / f32(steps);
-        var d = 0.0;
-        if d1 >= 0.0 {
-            d = d0 + (d1 - d0) * t * l0 / ((1.0 - t) * l1 + t * l0);
-        } else {
-            t = min(t, 1.0 - 0.5 / f32(steps));
-            d = d0 + l0 * t / (1.0 - t);
-        }
-        let p = x + r * d;
-        let stored = dist(map, layer, p);
-        if stored <= 0.0 {
-            under = false;
-            continue;
-        }
-        let ratio = length(p) / stored;
-        // The start is on a surface when the ray leaves one; it is not a sample of what the
-        // ray passes in front of (a texel's error there would be a hit at the start).
-        if ratio < 0.999 && i > 0u {
-            under = true;
-            b.dl = d;
+    state = march(map, layer, x, r, dc, d1, state, dc <= d0 && !inner_start);
+    return state;
+}
+
+struct March {
+    under: bool,
+    bracket: Bracket,
+    // The refined hit (valid when bracket.found).
+    d: f32,
+}
+
+// |p| / |p'|: the point's distance over the stored one in its direction; 0 where the layer
+// has no surface in that direction (nothing there: as if infinitely far, so the point is in
+// front). Listing 17-1 restarts its search there instead, which loses hits next to the sky:
+// a step that lands in the sky just before a surface seen edge-on.
+fn ratio_at(map: u32, layer: u32, p: vec3<f32>) -> f32 {
+    let stored = dist(map, layer, p);
+    return select(0.0, length(p) / stored, stored > 0.0);
+}
+
+// Listing 17-2 on a bracket: secant steps keeping one undershooting and one overshooting
+// bound; returns (d, |ratio - 1| at d).
+fn secant(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b_in: Bracket) -> vec2<f32> {
+    var b = b_in;
+    var d = b.dp;
+    var miss = b.ppp - 1.0;
+    for (var i = 0u; i < params.knobs.y; i++) {
+        let dnew = b.dl + (b.dp - b.dl) * (1.0 - b.llp) / (b.ppp - b.llp);
+        let p = x + r * dnew;
+        // No surface in this direction: as if infinitely far (the point is in front).
+        let ratio = ratio_at(map, layer, p);
+        d = dnew;
+        miss = abs(ratio - 1.0);
+        if ratio < 0.9999 {
             b.llp = ratio;
-        } else if under && ratio > 1.0 {
-            b.found = true;
-            b.dp = d;
+            b.dl = dnew;
+        } else if ratio > 1.0001 {
             b.ppp = ratio;
-            return b;
+            b.dp = dnew;
+        } else {
+            break;
         }
     }
-    return b;
+    return vec2<f32>(d, miss);
+}
+
+// One monotonic segment [da, db] of the linear search, `steps` per quarter turn of its arc;
+// `skip_first`: its first sample is the ray's start on a surface, not a sample of what the
+// ray passes in front of. A bracket whose secant refinement does not land on the surface
+// (within 0.5%) straddles a silhouette seen from the reference point (the ray passed behind a
+// nearer surface, not through it): the march goes on past it.
+fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, state_in: March, skip_first: bool) -> March {
+    var st = state_in;
+    let eps = 1e-6 * params.background.w;
+    let pa = x + r * da;
+    let pb = x + r * db;
+    let la = max(length(pa), eps);
+    let lb = max(length(pb), eps);
+    let chord = length(pa / la - pb / lb);
+    let steps = clamp(u32(ceil(f32(params.knobs.x) * chord / 1.41421356)), 1u, 4u * params.knobs.x);
+    for (var i = 0u; i <= steps; i++) {
+        let t = f32(i) / f32(steps);
+        let d = da + (db - da) * t * la / ((1.0 - t) * lb + t * la);
+        let p = x + r * d;
+        let ratio = ratio_at(map, layer, p);
+        if ratio < 0.999 {
+            if !(skip_first && i == 0u) {
+                st.under = true;
+                st.bracket.dl = d;
+                st.bracket.llp = ratio;
+            }
+        } else if st.under && ratio > 1.0 {
+            st.bracket.dp = d;
+            st.bracket.ppp = ratio;
+            let refined = secant(map, layer, x, r, st.bracket);
+            if params.knobs.y == 0u || refined.y < 0.005 {
+                st.bracket.found = true;
+                st.d = refined.x;
+                return st;
+            }
+            st.under = false;
+        }
+    }
+    return st;
 }
 
 struct HitResult {
@@ -258,51 +322,31 @@ fn fetch(map: u32, layer: u32, l: vec3<f32>) -> HitResult {
     return h;
 }
 
-// The first hit of the ray x + R d in map `map`.
+// The first hit of the ray x + R d in map `map`: each layer's first hit, the nearest kept.
 fn hit(map: u32, x: vec3<f32>, r: vec3<f32>) -> HitResult {
     if params.flags.y == 1u {
         // Environment mapping: the direction alone, in the nearest layer of the rest.
-        let h = fetch(map, 2u, r);
-        var o = h;
+        var o = fetch(map, 2u, r);
         o.l = r * geometry(taps(map, 2u, r)).w;
         return o;
     }
-    var best: Bracket;
-    best.found = false;
+    var found = false;
+    var best = 0.0;
     var layer = 0u;
     for (var k = 0u; k < params.knobs.z; k++) {
-        let b = linear(map, k, x, r);
-        if b.found && (!best.found || b.dp < best.dp) {
-            best = b;
+        let m = linear(map, k, x, r);
+        if m.bracket.found && (!found || m.d < best) {
+            found = true;
+            best = m.d;
             layer = k;
         }
     }
-    var miss: HitResult;
-    miss.found = false;
-    if !best.found {
+    if !found {
+        var miss: HitResult;
+        miss.found = false;
         return miss;
     }
-    var d = best.dp;
-    for (var i = 0u; i < params.knobs.y; i++) {
-        let dnew = best.dl + (best.dp - best.dl) * (1.0 - best.llp) / (best.ppp - best.llp);
-        let p = x + r * dnew;
-        let stored = dist(map, layer, p);
-        if stored <= 0.0 {
-            break;
-        }
-        d = dnew;
-        let ratio = length(p) / stored;
-        if ratio < 0.9999 {
-            best.llp = ratio;
-            best.dl = dnew;
-        } else if ratio > 1.0001 {
-            best.ppp = ratio;
-            best.dp = dnew;
-        } else {
-            break;
-        }
-    }
-    return fetch(map, layer, x + r * d);
+    return fetch(map, layer, x + r * best);
 }
 
 // ---- Listing 17-5 ----
@@ -331,17 +375,24 @@ fn procedural(d: vec3<f32>) -> vec3<f32> {
     return c;
 }
 
+// Schlick's Fresnel with F0 (a mirror's, from n and k: §17.3).
 fn fresnel(f0: vec3<f32>, cos_v: f32) -> vec3<f32> {
     return f0 + (1.0 - f0) * pow(1.0 - min(abs(cos_v), 1.0), 5.0);
 }
 
-// F0 of a code: a mirror's rgb, or a dielectric's ((n - 1) / (n + 1))^2.
-fn f0_of(m: vec4<f32>) -> vec3<f32> {
-    if m.a > 0.0 {
-        let r = (m.a - 1.0) / (m.a + 1.0);
-        return vec3<f32>(r * r);
+// The exact dielectric Fresnel (unpolarized) at cos_i with eta = n1 / n2; 1 under total
+// internal reflection (pelt_scene::shading::fresnel_dielectric). Schlick's does not vanish
+// at IOR 1.
+fn fresnel_dielectric(cos_in: f32, eta: f32) -> f32 {
+    let cos_i = clamp(cos_in, 0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
     }
-    return m.rgb;
+    let cos_t = sqrt(1.0 - sin2_t);
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rs * rs + rp * rp);
 }
 
 fn path(map: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: vec4<f32>, reflect_first: bool) -> vec3<f32> {
@@ -351,17 +402,22 @@ fn path(map: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: vec4<
     var m = m_in;
     var throughput = vec3<f32>(1.0);
     for (var depth = 0u; depth < params.knobs.w; depth++) {
-        let f = fresnel(f0_of(m), dot(n, v));
         var r: vec3<f32>;
-        if m.a <= 0.0 || (reflect_first && depth == 0u) {
-            throughput *= f;
+        if m.a <= 0.0 {
+            // A mirror: m.rgb is its F0.
+            throughput *= fresnel(m.rgb, dot(n, v));
             r = reflect(v, n);
         } else {
+            // Glass: m.a is its IOR, m.rgb its tint.
             let entering = dot(v, n) <= 0.0;
             let nn = select(-n, n, entering);
             let eta = select(m.a, 1.0 / m.a, entering);
+            let f = fresnel_dielectric(-dot(v, nn), eta);
             let t = refract(v, nn, eta);
             if dot(t, t) == 0.0 {
+                r = reflect(v, nn);
+            } else if reflect_first && depth == 0u {
+                throughput *= f;
                 r = reflect(v, nn);
             } else {
                 throughput *= (1.0 - f) * select(vec3<f32>(1.0), m.rgb, entering);

@@ -6,6 +6,7 @@
 mod bake;
 mod demo;
 mod inspect;
+mod reflect_bench;
 mod render;
 mod textures;
 mod view;
@@ -410,6 +411,17 @@ pub struct RenderBenchArgs {
     /// The object every grid cell holds.
     #[arg(long, default_value = "builtin:sphere")]
     pub asset: String,
+    /// The reflections experiment's scene.
+    #[arg(long, default_value = "fixtures/scenes/mirrors.json")]
+    pub scene: PathBuf,
+    /// The reflections experiment's mode (forward: the same lighting as the ray tracer, so
+    /// the error is the reflections' alone).
+    #[arg(long, default_value = "forward")]
+    pub mode: pelt_preview::Mode,
+    /// Write the reflections experiment's pictures here: ours, the ray tracer's, the
+    /// environment map's and FLIP heat maps.
+    #[arg(long, value_name = "DIR")]
+    pub pictures: Option<PathBuf>,
 }
 
 /// The experiments of `pelt render-bench`.
@@ -421,6 +433,9 @@ pub enum Experiment {
     Lbuffer,
     /// The fur demo: shells 4 to 64, fins on and off, stipple against WBOIT, forward.
     Fur,
+    /// Mirrors and glass against the ray tracer: Figure 17-6's linear/secant steps,
+    /// min-max on and off, cube size, layers, bounces, the environment-map baseline.
+    Reflections,
     /// All of them.
     All,
 }

@@ -231,6 +231,15 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
     };
     if matches!(
         args.experiment,
+        crate::Experiment::Reflections | crate::Experiment::All
+    ) {
+        crate::reflect_bench::run(&mut preview, args)?;
+        if args.experiment == crate::Experiment::Reflections {
+            return Ok(ExitCode::SUCCESS);
+        }
+    }
+    if matches!(
+        args.experiment,
         crate::Experiment::Fur | crate::Experiment::All
     ) {
         v_fur(&mut preview, args)?;

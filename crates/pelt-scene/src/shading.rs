@@ -82,6 +82,22 @@ pub fn fresnel(f0: Vec3, cos: f32) -> Vec3 {
     f0 + (Vec3::ONE - f0) * m
 }
 
+/// The exact Fresnel reflectance of a dielectric boundary (unpolarized light) for a ray
+/// meeting it at `cos_i` (≥ 0) with `eta` = n₁/n₂; 1 under total internal reflection. Glass
+/// uses it rather than Schlick's approximation, which does not vanish at IOR 1 (a glass of air
+/// would keep a bright rim).
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
 /// A dielectric's F0 from its index of refraction: ((n − 1) / (n + 1))².
 pub fn dielectric_f0(ior: f32) -> f32 {
     let r = (ior - 1.0) / (ior + 1.0);
@@ -121,6 +137,12 @@ mod tests {
         assert!((fresnel(f0, 0.0) - Vec3::ONE).length() < 1e-6);
         assert!(crate::scene::fresnel_f0(0.15, 3.6) > 0.9);
         assert!((crate::scene::fresnel_f0(1.5, 0.0) - 0.04).abs() < 1e-6);
+        // The exact dielectric: F0 at normal incidence, 0 for a boundary of equal indices,
+        // 1 past the critical angle (41.8° from inside glass).
+        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        assert_eq!(fresnel_dielectric(0.3, 1.0), 0.0);
+        assert_eq!(fresnel_dielectric(0.5, 1.5), 1.0);
+        assert!(fresnel_dielectric(0.05, 1.0 / 1.5) > 0.7);
     }
 
     #[test]

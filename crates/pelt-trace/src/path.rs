@@ -1,10 +1,12 @@
 //! Specular paths, exactly as the GPU's Listing 17-5 loop (shaders/reflect.wgsl) follows
 //! them, with every next hit found by tracing the real triangles:
 //!
-//! - a mirror reflects, weighting the path by Schlick's Fresnel with its F0 (§17.3);
+//! - a mirror reflects, weighting the path by Schlick's Fresnel with its F0 (§17.3, F0 from
+//!   n and k for metals);
 //! - glass refracts with weight 1 − F (and its tint when the ray enters), or reflects totally
 //!   when no refracted direction exists; it flips its normal and inverts its index when the
-//!   ray leaves it;
+//!   ray leaves it (Listing 17-5); its F is the exact dielectric Fresnel, which vanishes at
+//!   IOR 1 as Schlick's does not;
 //! - at the surface the camera sees, glass both reflects (F) and refracts (1 − F): two paths;
 //! - a diffuse hit ends the path with its local lighting seen from the ray;
 //! - a ray that leaves the scene ends in the sky;
@@ -14,7 +16,7 @@
 use glam::Vec3;
 
 use pelt_scene::plan::Optics;
-use pelt_scene::shading::{self, dielectric_f0, fresnel};
+use pelt_scene::shading::{self, dielectric_f0, fresnel, fresnel_dielectric};
 
 use crate::world::{Hit, World};
 
@@ -104,18 +106,24 @@ impl Tracer<'_> {
         let w = self.world;
         let mut throughput = Vec3::ONE;
         for depth in 0..self.max_depth {
-            let f = fresnel(s.f0, n.dot(v));
-            let r = if s.n <= 0.0 || (reflect_first && depth == 0) {
-                throughput *= f;
+            let r = if s.n <= 0.0 {
+                throughput *= fresnel(s.f0, n.dot(v));
                 reflect(v, n)
             } else {
                 let entering = v.dot(n) <= 0.0;
                 let (nn, eta) = if entering { (n, 1.0 / s.n) } else { (-n, s.n) };
+                let f = fresnel_dielectric(-v.dot(nn), eta);
                 match refract(v, nn, eta) {
+                    Some(_) if reflect_first && depth == 0 => {
+                        throughput *= f;
+                        reflect(v, nn)
+                    }
                     Some(t) => {
-                        throughput *= (Vec3::ONE - f) * if entering { s.tint } else { Vec3::ONE };
+                        let tint = if entering { s.tint } else { Vec3::ONE };
+                        throughput *= (1.0 - f) * tint;
                         t.normalize()
                     }
+                    // Total internal reflection (F = 1).
                     None => reflect(v, nn),
                 }
             };

@@ -48,8 +48,10 @@ pub const MAX_MAPS: usize = 64;
 pub const MAX_MAP_LIGHTS: usize = 256;
 /// Format of the material target.
 pub const MATERIAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the normal and distance target (32-bit distances for the secant search).
-pub const GEOMETRY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the normal and distance target: an octahedral normal and the distance as an f16
+/// and its f16 remainder (about 22 bits, for the secant search), renderable on every back end
+/// (GL cannot render to Rgba32Float) at half its memory.
+pub const GEOMETRY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// One face of one layer. Keep in sync with `Face` in shaders/distance_map.wgsl.
 #[repr(C)]
@@ -77,7 +79,7 @@ pub struct ReflectUniforms {
     pub flags: [u32; 4],
     /// rgb background, w the scene's radius.
     pub background: [f32; 4],
-    /// Each map's reference point.
+    /// Each map's reference point, and the radius about it that holds the whole scene.
     pub maps: [[f32; 4]; MAX_MAPS],
 }
 
@@ -429,7 +431,8 @@ impl Maps {
         r.gpu.write_buffer(&self.lights, 0, &light_bytes);
         let mut refs = [[0.0f32; 4]; MAX_MAPS];
         for (slot, m) in refs.iter_mut().zip(&plan.maps) {
-            *slot = m.reference.extend(0.0).into();
+            let reach = (m.reference - centre).length() + radius;
+            *slot = m.reference.extend(reach * 1.01).into();
         }
         let params = ReflectUniforms {
             knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
@@ -550,11 +553,12 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                         Color {
                             view: geo,
                             format: GEOMETRY_FORMAT,
+                            // Distance -1 + 0: no surface.
                             load: wgpu::LoadOp::Clear(wgpu::Color {
                                 r: 0.0,
                                 g: 0.0,
-                                b: 0.0,
-                                a: -1.0,
+                                b: -1.0,
+                                a: 0.0,
                             }),
                         },
                     ],

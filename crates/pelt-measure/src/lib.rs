@@ -1,0 +1,10 @@
+//! Measuring pelt's trade of speed for accuracy: the FLIP error (Andersson et al., the
+//! image difference wgpu's own tests use) of an image against a reference, over the whole
+//! image or over a mask, with its heat map ([`flip`]); and the experiments that set a
+//! renderer's knobs against a converged reference and time them ([`reflections`]: mirrors
+//! and glass from distance maps against the CPU ray tracer).
+
+pub mod flip;
+pub mod reflections;
+
+pub use flip::Flip;
