@@ -98,7 +98,8 @@ mod tests {
             width: w,
             height: h,
             rgba: (0..h)
-                .flat_map(|y| (0..w).flat_map(move |x| f(x, y)))
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .flat_map(|(x, y)| f(x, y))
                 .collect(),
         }
     }
