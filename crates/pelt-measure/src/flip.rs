@@ -115,7 +115,7 @@ mod tests {
             |x, y| if x < 16 { base(x, y) } else { [255, 0, 0, 255] },
         );
         let f = Flip::new(&a, &b).expect("same size");
-        let left: Vec<bool> = (0..32 * 32).map(|i| i % 32 < 12).collect();
+        let left: Vec<bool> = (0..32 * 32).map(|i| i % 32 < 6).collect();
         let right: Vec<bool> = (0..32 * 32).map(|i| i % 32 >= 20).collect();
         assert!(f.masked_mean(&left) < 0.01, "{}", f.masked_mean(&left));
         assert!(f.masked_mean(&right) > 0.3, "{}", f.masked_mean(&right));
