@@ -2,7 +2,8 @@
 // (GPU Gems 3 ch. 17, §17.2.1). The scene is drawn from the reference point through a 90°
 // cube face; each texel keeps, in two targets, the material (rgb radiance lit by the scene's
 // lights with the same local lighting as the main view, seen from the reference point, a = 0;
-// or, for mirrors and glass, Listing 17-5's material: rgb F0 or tint, a = -1 or the IOR) and
+// (its view-independent part: the specular is added where a ray meets the texel); or, for
+// mirrors and glass, Listing 17-5's material: rgb F0 or tint, a = -1 or the IOR) and
 // the geometry (the unit outward normal and the distance from the reference point, packed by
 // common.wgsl's pack_geometry; the target is cleared to distance -1, so a texel with no
 // surface has a negative distance).
@@ -54,11 +55,12 @@ struct Texel {
     @location(1) geometry: vec4<f32>,
 }
 
-// The local lighting of the forward pass at `p` (relative to the reference point, which is
-// the viewer), with `n` facing it.
+// The view-independent part of the forward pass's lighting at `p` (relative to the reference
+// point) with `n` facing the reference point: ambient plus every light's diffuse, times the
+// albedo. The specular, which depends on where the surface is seen from, is added where a
+// ray finds the texel (reflect.wgsl), from the ray's own direction.
 fn radiance(albedo: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     var diffuse = face.ambient.rgb;
-    var specular = vec3<f32>(0.0);
     let count = min(face.ids.y, MAX_MAP_LIGHTS);
     for (var i = 0u; i < count; i++) {
         var light = lights[i];
@@ -66,13 +68,9 @@ fn radiance(albedo: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
             light.position_radius.xyz - face.reference.xyz,
             light.position_radius.w,
         );
-        let r = point_light(p, n, light, face.ambient.w);
-        diffuse += r.rgb;
-        if light.color.w > 0.0 {
-            specular += r.a * light.color.rgb / light.color.w;
-        }
+        diffuse += point_light(p, n, light, face.ambient.w).rgb;
     }
-    return albedo * diffuse + object.params.y * specular;
+    return albedo * diffuse;
 }
 
 @fragment

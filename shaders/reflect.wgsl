@@ -12,25 +12,32 @@
 // filtered bilinearly within a face unless the four texels straddle a silhouette or an empty
 // texel, where the nearest texel is taken. Technique 1 (environment mapping, the baseline)
 // looks the direction up in the nearest layer of the rest of the scene instead of searching.
-// At the surface the camera sees, glass both reflects and refracts (two paths); a path that
+// A path that reaches another mirror or glass object continues in that object's map (Listing
+// 17-5 stays in the first; the reached object's own layers see the scene from where the path
+// now is). At the surface the camera sees, glass both reflects and refracts (two paths); a path that
 // leaves the scene ends in the sky, and one still on a mirror after MAXDEPTH bounces ends in
 // the sky in its mirror direction (pelt-trace's path.rs follows the same rules).
 //
 // Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect.rs.
 
 const MAX_MAPS: u32 = 64u;
+const MAX_MAP_LIGHTS: u32 = 256u;
 
 struct Reflect {
     // x: linear steps per quarter turn; y: secant steps; z: layers; w: most bounces.
     knobs: vec4<u32>,
-    // x: min-max on; y: technique (0 distance maps, 1 environment map); z: sky (0 background,
+    // x: min-max on (bit 0), maps (bits 8..); y: technique (0 distance maps, 1 environment map); z: sky (0 background,
     // 1 procedural, 2 cube map); w: cube face size.
     flags: vec4<u32>,
     // rgb: the background (no sky); w: the scene's radius.
     background: vec4<f32>,
+    // x: specular strength; y: specular power; z: light count.
+    shading: vec4<f32>,
     // xyz: each map's reference point (world); w: the radius about it that holds the whole
     // scene.
     maps: array<vec4<f32>, MAX_MAPS>,
+    // xyz: each map's object's bounds centre (world); w: the radius of its bounds.
+    objects: array<vec4<f32>, MAX_MAPS>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -39,6 +46,7 @@ struct Reflect {
 @group(2) @binding(1) var geometry_maps: texture_2d_array<f32>;
 @group(2) @binding(2) var<storage, read> ranges: array<vec2<f32>>;
 @group(2) @binding(3) var<uniform> params: Reflect;
+@group(2) @binding(4) var<uniform> lights: array<Light, MAX_MAP_LIGHTS>;
 @group(3) @binding(0) var sky_cube: texture_cube<f32>;
 @group(3) @binding(1) var sky_sampler: sampler;
 
@@ -86,14 +94,18 @@ fn face_uv(d: vec3<f32>) -> vec3<f32> {
 }
 
 struct Taps {
-    // The four texels (or the nearest one four times) and their bilinear weights.
+    // The four texels (or the nearest one four times), their bilinear weights, and the
+    // geometry texels already read.
     at: array<vec2<i32>, 4>,
     w: vec4<f32>,
     layer: i32,
+    g: array<vec4<f32>, 4>,
 }
 
-// The texels to read for direction d in layer `layer` of map `map`: bilinear within the face
-// unless the taps straddle a silhouette or an empty texel (then the nearest).
+// The texels to read for direction d in layer `layer` of map `map`: bilinear within the face,
+// unless the taps straddle a silhouette (distances more than 10% apart and normals that
+// disagree: a plane seen edge-on from the reference point keeps its bilinear taps) or an
+// empty texel; then the nearest.
 fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     let fuv = face_uv(d);
     let size = i32(params.flags.w);
@@ -107,17 +119,23 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     let i1 = clamp(vec2<i32>(p0) + 1, vec2<i32>(0), hi);
     t.at = array<vec2<i32>, 4>(i0, vec2<i32>(i1.x, i0.y), vec2<i32>(i0.x, i1.y), i1);
     t.w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-    let d4 = vec4<f32>(
-        texel_distance(textureLoad(geometry_maps, t.at[0], t.layer, 0)),
-        texel_distance(textureLoad(geometry_maps, t.at[1], t.layer, 0)),
-        texel_distance(textureLoad(geometry_maps, t.at[2], t.layer, 0)),
-        texel_distance(textureLoad(geometry_maps, t.at[3], t.layer, 0)),
-    );
-    let lo = min(min(d4.x, d4.y), min(d4.z, d4.w));
-    let hi4 = max(max(d4.x, d4.y), max(d4.z, d4.w));
-    if lo <= 0.0 || hi4 - lo > 0.1 * lo {
+    var lo = 3.4e38;
+    var far = -3.4e38;
+    var agree = 1.0;
+    for (var i = 0; i < 4; i++) {
+        let g = textureLoad(geometry_maps, t.at[i], t.layer, 0);
+        let n = oct_decode(g.xy);
+        t.g[i] = vec4<f32>(n, texel_distance(g));
+        lo = min(lo, t.g[i].w);
+        far = max(far, t.g[i].w);
+        agree = min(agree, dot(n, t.g[0].xyz));
+    }
+    if lo <= 0.0 || (far - lo > 0.1 * lo && agree < 0.995) {
         let n = clamp(vec2<i32>(round(p)), vec2<i32>(0), hi);
+        let k = select(select(0, 1, n.x != i0.x), select(2, 3, n.x != i0.x), n.y != i0.y);
+        let g = t.g[k];
         t.at = array<vec2<i32>, 4>(n, n, n, n);
+        t.g = array<vec4<f32>, 4>(g, g, g, g);
         t.w = vec4<f32>(1.0, 0.0, 0.0, 0.0);
     }
     return t;
@@ -125,12 +143,7 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
 
 // The filtered normal (unnormalized) and distance.
 fn geometry(t: Taps) -> vec4<f32> {
-    var g = vec4<f32>(0.0);
-    for (var i = 0; i < 4; i++) {
-        let x = textureLoad(geometry_maps, t.at[i], t.layer, 0);
-        g += t.w[i] * vec4<f32>(oct_decode(x.xy), texel_distance(x));
-    }
-    return g;
+    return t.w[0] * t.g[0] + t.w[1] * t.g[1] + t.w[2] * t.g[2] + t.w[3] * t.g[3];
 }
 
 // The material; a mirror or glass code (a != 0) is never interpolated.
@@ -190,7 +203,7 @@ fn linear(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>) -> March {
     var d0 = 0.0;
     var d1 = 0.0;
     var inner_start = false;
-    if params.flags.x == 1u {
+    if (params.flags.x & 1u) == 1u {
         let mm = ranges[map * params.knobs.z + layer];
         if mm.y <= 0.0 {
             return none;
@@ -264,10 +277,10 @@ fn secant(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b_in: Bracket) -> ve
 }
 
 // One monotonic segment [da, db] of the linear search, `steps` per quarter turn of its arc;
-// `skip_first`: its first sample is the ray's start on a surface, not a sample of what the
-// ray passes in front of. A bracket whose secant refinement does not land on the surface
-// (within 0.5%) straddles a silhouette seen from the reference point (the ray passed behind a
-// nearer surface, not through it): the march goes on past it.
+// `skip_first`: its first sample is the ray's start. A bracket whose secant refinement does not come much closer to the
+// surface than its ends were (within a quarter of their gap, or 0.5%) straddles a silhouette
+// seen from the reference point (the ray passed behind a nearer surface, not through it): the
+// march goes on past it.
 fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, state_in: March, skip_first: bool) -> March {
     var st = state_in;
     let eps = 1e-6 * params.background.w;
@@ -282,8 +295,11 @@ fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, sta
         let d = da + (db - da) * t * la / ((1.0 - t) * lb + t * la);
         let p = x + r * d;
         let ratio = ratio_at(map, layer, p);
+        // A start on this layer's own surface (the ray leaving it) is not a sample of what
+        // the ray passes in front of: a texel's error there would be a hit at the start.
+        let on_surface = skip_first && i == 0u && ratio > 0.98;
         if ratio < 0.999 {
-            if !(skip_first && i == 0u) {
+            if !on_surface {
                 st.under = true;
                 st.bracket.dl = d;
                 st.bracket.llp = ratio;
@@ -292,7 +308,8 @@ fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, sta
             st.bracket.dp = d;
             st.bracket.ppp = ratio;
             let refined = secant(map, layer, x, r, st.bracket);
-            if params.knobs.y == 0u || refined.y < 0.005 {
+            let gap = min(1.0 - st.bracket.llp, ratio - 1.0);
+            if params.knobs.y == 0u || refined.y <= max(0.005, 0.25 * gap) {
                 st.bracket.found = true;
                 st.d = refined.x;
                 return st;
@@ -395,7 +412,50 @@ fn fresnel_dielectric(cos_in: f32, eta: f32) -> f32 {
     return 0.5 * (rs * rs + rp * rp);
 }
 
-fn path(map: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: vec4<f32>, reflect_first: bool) -> vec3<f32> {
+// The map of the mirror or glass object a specular hit at world point `w` lies on: the
+// smallest object bounds holding it (the current map when none does). A path continues in the
+// map of the object it reached, whose layers see the scene from that object.
+fn map_at(w: vec3<f32>, current: u32) -> u32 {
+    var best = current;
+    var radius = 3.4e38;
+    let count = params.flags.x >> 8u;
+    for (var j = 0u; j < count; j++) {
+        let o = params.objects[j];
+        if length(w - o.xyz) <= o.w * 1.001 && o.w < radius {
+            best = j;
+            radius = o.w;
+        }
+    }
+    return best;
+}
+
+// The specular of the local lighting at world point `w` with unit normal `n` seen along the
+// unit direction `d` (the part of the forward pass's lighting the maps leave out).
+fn specular(w: vec3<f32>, n_in: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let n = select(-n_in, n_in, dot(n_in, d) < 0.0);
+    var s = vec3<f32>(0.0);
+    let count = min(u32(params.shading.z), MAX_MAP_LIGHTS);
+    for (var i = 0u; i < count; i++) {
+        let light = lights[i];
+        let to_light = light.position_radius.xyz - w;
+        let dist = length(to_light);
+        let radius = light.position_radius.w;
+        if dist >= radius {
+            continue;
+        }
+        let l = to_light / max(dist, 1e-6);
+        let ndl = max(dot(n, l), 0.0);
+        let x = dist / radius;
+        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+        let atten = window * window / (1.0 + dist * dist);
+        let h = normalize(l - d);
+        s += pow(max(dot(n, h), 0.0), params.shading.y) * ndl * atten * light.color.rgb;
+    }
+    return params.shading.x * s;
+}
+
+fn path(map_in: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: vec4<f32>, reflect_first: bool) -> vec3<f32> {
+    var map = map_in;
     var x = x_in;
     var v = v_in;
     var n = n_in;
@@ -429,10 +489,13 @@ fn path(map: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: vec4<
             return throughput * sky(r);
         }
         if h.material.a == 0.0 {
-            return throughput * h.material.rgb;
+            let w = h.l + params.maps[map].xyz;
+            return throughput * (h.material.rgb + specular(w, h.normal, r));
         }
         m = h.material;
-        x = h.l;
+        let w = h.l + params.maps[map].xyz;
+        map = map_at(w, map);
+        x = w - params.maps[map].xyz;
         v = r;
         n = h.normal;
     }

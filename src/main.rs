@@ -294,7 +294,8 @@ pub struct KnobArgs {
     /// layers of the rest of the scene).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(3..=8))]
     pub layers: Option<u32>,
-    /// Cube-map face size, a power of two from 8 to 4096.
+    /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
+    /// limit).
     #[arg(long, value_name = "N", value_parser = cube_size)]
     pub cube_size: Option<u32>,
     /// Most specular bounces on a path, 1 to 16.
@@ -338,8 +339,8 @@ impl std::fmt::Display for RenderMode {
 
 fn cube_size(s: &str) -> Result<u32, String> {
     match s.parse::<u32>() {
-        Ok(v) if v.is_power_of_two() && (8..=4096).contains(&v) => Ok(v),
-        _ => Err(format!("{s:?} is not a power of two from 8 to 4096")),
+        Ok(v) if v.is_power_of_two() && (8..=65536).contains(&v) => Ok(v),
+        _ => Err(format!("{s:?} is not a power of two from 8 to 65536")),
     }
 }
 

@@ -37,7 +37,8 @@ pub fn run(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> 
     let input = knobs::load(&args.scene, &Knobs::default(), (640, 360))
         .with_context(|| format!("loading {}", args.scene.display()))?;
     let (scene, meshes, of) = (&input.scene, &input.meshes, &input.mesh_of);
-    let reference: Reference = reflections::reference(scene, meshes, of)?;
+    let base = scene.reflections;
+    let reference: Reference = reflections::reference(scene, meshes, of, base.max_depth)?;
     let frames = (args.warmup, args.frames);
     let (w, h) = (scene.output.width, scene.output.height);
     println!(
@@ -47,10 +48,17 @@ pub fn run(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> 
         reference.ms,
         rayon::current_num_threads()
     );
-    let base = scene.reflections;
     let shade_base = reflections::shade_without(preview, scene, meshes, of, args.mode, frames)?;
-    let mut measure = |k: Reflections| {
-        reflections::run(preview, scene, meshes, of, args.mode, k, &reference, frames)
+    let mut measure = |k: Reflections| -> anyhow::Result<Run> {
+        if k.max_depth == reference.max_depth {
+            return Ok(reflections::run(
+                preview, scene, meshes, of, args.mode, k, &reference, frames,
+            )?);
+        }
+        let r = reflections::reference(scene, meshes, of, k.max_depth)?;
+        Ok(reflections::run(
+            preview, scene, meshes, of, args.mode, k, &r, frames,
+        )?)
     };
     header("Defaults and the baseline");
     let default = measure(base)?;

@@ -25,6 +25,14 @@ pub enum MeasureError {
     /// The images differ in size.
     #[error(transparent)]
     Size(#[from] SizeMismatch),
+    /// The reference was traced with another bounce limit.
+    #[error("the reference has {reference} bounces, the run {run}")]
+    Depth {
+        /// The reference's.
+        reference: u32,
+        /// The run's.
+        run: u32,
+    },
 }
 
 /// The ray tracer's image of a scene: the reference.
@@ -36,16 +44,21 @@ pub struct Reference {
     pub mask: Vec<bool>,
     /// Its time (wall clock, every core).
     pub ms: f64,
+    /// The bounce limit it was traced with (a run must use the same).
+    pub max_depth: u32,
 }
 
-/// Traces the reference of `scene`.
+/// Traces the reference of `scene` with at most `max_depth` bounces.
 pub fn reference(
     scene: &Scene,
     meshes: &[MeshData],
     mesh_of: &[usize],
+    max_depth: u32,
 ) -> Result<Reference, MeasureError> {
+    let mut scene = scene.clone();
+    scene.reflections.max_depth = max_depth;
     let t = Instant::now();
-    let traced = pelt_trace::trace_scene(scene, meshes, mesh_of)?;
+    let traced = pelt_trace::trace_scene(&scene, meshes, mesh_of)?;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     Ok(Reference {
         image: Image {
@@ -55,6 +68,7 @@ pub fn reference(
         },
         mask: traced.reflective,
         ms,
+        max_depth,
     })
 }
 
@@ -105,6 +119,12 @@ pub fn run(
     reference: &Reference,
     (warmup, frames): (usize, usize),
 ) -> Result<Run, MeasureError> {
+    if knobs.max_depth != reference.max_depth {
+        return Err(MeasureError::Depth {
+            reference: reference.max_depth,
+            run: knobs.max_depth,
+        });
+    }
     let mut s = scene.clone();
     s.reflections = knobs;
     let view = preview.prepare_loaded(&s, meshes, mesh_of, mode)?;

@@ -64,6 +64,9 @@ pub enum RenderError {
     /// The device failed during the frame.
     #[error(transparent)]
     Frame(#[from] FrameError),
+    /// The distance maps cannot be made on this adapter.
+    #[error(transparent)]
+    Maps(#[from] features::reflect::MapError),
 }
 
 impl From<features::MissingInput> for RenderError {

@@ -277,6 +277,14 @@ impl LayoutId {
                         false,
                     )
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ..uniform_entry(
+                        size(crate::features::reflect::MAX_MAP_LIGHTS * size_of::<LightUniforms>()),
+                        false,
+                    )
+                },
             ],
             LayoutId::MinMax => vec![
                 wgpu::BindGroupLayoutEntry {

@@ -132,8 +132,10 @@ impl Optics {
 pub struct PlannedMap {
     /// The object's index in the scene.
     pub scene_index: usize,
-    /// The reference point: the centre of the object's world bounds.
+    /// The reference point: the material's, or the centre of the object's world bounds.
     pub reference: Vec3,
+    /// The centre of its world bounds.
+    pub centre: Vec3,
     /// Half the diagonal of its world bounds.
     pub radius: f32,
 }
@@ -394,13 +396,22 @@ impl ScenePlan {
                 }
                 Material::Mirror { .. } | Material::Glass { .. } => (0, 1.0),
             };
-            let optics = match o.material {
-                Material::Mirror { f0 } => Optics::Mirror { f0: Vec3::from(f0) },
-                Material::Glass { ior, tint } => Optics::Glass {
-                    ior: ior.0,
-                    tint: Vec3::from(tint),
-                },
-                _ => Optics::Diffuse,
+            let (optics, reference) = match o.material {
+                Material::Mirror { f0, reference } => {
+                    (Optics::Mirror { f0: Vec3::from(f0) }, reference)
+                }
+                Material::Glass {
+                    ior,
+                    tint,
+                    reference,
+                } => (
+                    Optics::Glass {
+                        ior: ior.0,
+                        tint: Vec3::from(tint),
+                    },
+                    reference,
+                ),
+                _ => (Optics::Diffuse, None),
             };
             let model = o.transform.matrix();
             let (wlo, whi) = world_box(model, info.bounds.0, info.bounds.1);
@@ -410,7 +421,8 @@ impl ScenePlan {
                 .then(|| {
                     maps.push(PlannedMap {
                         scene_index: i,
-                        reference: (wlo + whi) / 2.0,
+                        reference: reference.map_or((wlo + whi) / 2.0, Vec3::from),
+                        centre: (wlo + whi) / 2.0,
                         radius: (whi - wlo).length() / 2.0,
                     });
                     maps.len() as u32 - 1

@@ -28,6 +28,8 @@ pub enum Material {
         /// Fresnel reflectance at normal incidence per channel (§17.3), written as `f0` or
         /// derived from a refraction index `n` and extinction coefficient `k`.
         f0: [f32; 3],
+        /// Its distance map's reference point (world); the centre of its bounds when absent.
+        reference: Option<[f32; 3]>,
     },
     /// Glass with an index of refraction.
     Glass {
@@ -35,6 +37,8 @@ pub enum Material {
         ior: Ior,
         /// Colour multiplied into light each time it enters the glass (default white).
         tint: [f32; 3],
+        /// Its distance map's reference point (world); the centre of its bounds when absent.
+        reference: Option<[f32; 3]>,
     },
 }
 
@@ -234,6 +238,10 @@ pub struct MaterialSpec {
     /// Colour of the glass, 0 to 1 (glass only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tint: Option<Rgb>,
+    /// The distance map's reference point in world space (mirror and glass; default: the
+    /// centre of the object's bounds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference: Option<[f32; 3]>,
 }
 
 /// A mirror's F0 from `f0`, or `n` and `k`.
@@ -292,6 +300,14 @@ impl TryFrom<MaterialSpec> for Material {
         if m.kind != MaterialKind::Glass && m.tint.is_some() {
             return extra("tint");
         }
+        if !matches!(m.kind, MaterialKind::Mirror | MaterialKind::Glass) && m.reference.is_some() {
+            return extra("reference");
+        }
+        if let Some(r) = m.reference
+            && !r.iter().all(|v| v.is_finite())
+        {
+            return Err(format!("reference must be finite, got {r:?}"));
+        }
         if m.kind != MaterialKind::Fur {
             if m.shells.is_some() {
                 return extra("shells");
@@ -346,6 +362,7 @@ impl TryFrom<MaterialSpec> for Material {
                 Ok(Material::Glass {
                     ior: m.ior.unwrap_or(Ior(1.5)),
                     tint,
+                    reference: m.reference,
                 })
             }
             kind => {
@@ -356,7 +373,10 @@ impl TryFrom<MaterialSpec> for Material {
                     return extra("ior");
                 }
                 Ok(match kind {
-                    MaterialKind::Mirror => Material::Mirror { f0: mirror_f0(&m)? },
+                    MaterialKind::Mirror => Material::Mirror {
+                        f0: mirror_f0(&m)?,
+                        reference: m.reference,
+                    },
                     _ => Material::Opaque,
                 })
             }
@@ -377,6 +397,7 @@ impl From<Material> for MaterialSpec {
             n: None,
             k: None,
             tint: None,
+            reference: None,
         };
         match m {
             Material::Opaque => {}
@@ -390,14 +411,20 @@ impl From<Material> for MaterialSpec {
                 spec.fins = (!f.fins).then_some(false);
                 spec.length = f.length;
             }
-            Material::Mirror { f0 } => {
+            Material::Mirror { f0, reference } => {
                 spec.kind = MaterialKind::Mirror;
                 spec.f0 = (f0 != DEFAULT_MIRROR_F0).then_some(Rgb::Rgb(f0));
+                spec.reference = reference;
             }
-            Material::Glass { ior, tint } => {
+            Material::Glass {
+                ior,
+                tint,
+                reference,
+            } => {
                 spec.kind = MaterialKind::Glass;
                 spec.ior = Some(ior);
                 spec.tint = (tint != [1.0; 3]).then_some(Rgb::Rgb(tint));
+                spec.reference = reference;
             }
         }
         spec
@@ -713,7 +740,7 @@ pub mod reflection_limits {
     /// Layers.
     pub const LAYERS: std::ops::RangeInclusive<u32> = 3..=8;
     /// Cube size (also a power of two, and at most the adapter's texture limit).
-    pub const CUBE_SIZE: std::ops::RangeInclusive<u32> = 8..=4096;
+    pub const CUBE_SIZE: std::ops::RangeInclusive<u32> = 8..=65536;
     /// Bounces.
     pub const MAX_DEPTH: std::ops::RangeInclusive<u32> = 1..=16;
 }

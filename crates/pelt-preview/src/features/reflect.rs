@@ -74,13 +74,17 @@ pub struct FaceUniforms {
 pub struct ReflectUniforms {
     /// x linear steps, y secant steps, z layers, w most bounces.
     pub knobs: [u32; 4],
-    /// x min-max on, y technique (0 distance maps, 1 environment map), z sky (0 background,
-    /// 1 procedural, 2 cube map), w cube face size.
+    /// x: min-max on (bit 0) and the map count (bits 8..); y technique (0 distance maps, 1
+    /// environment map); z sky (0 background, 1 procedural, 2 cube map); w cube face size.
     pub flags: [u32; 4],
     /// rgb background, w the scene's radius.
     pub background: [f32; 4],
+    /// x specular strength, y specular power, z light count.
+    pub shading: [f32; 4],
     /// Each map's reference point, and the radius about it that holds the whole scene.
     pub maps: [[f32; 4]; MAX_MAPS],
+    /// Each map's object: its bounds' centre and radius.
+    pub objects: [[f32; 4]; MAX_MAPS],
 }
 
 /// What the maps' textures depend on.
@@ -92,6 +96,22 @@ pub struct MapSpec {
     pub layers: u32,
     /// Face size.
     pub cube: u32,
+}
+
+/// Distance maps this adapter cannot make.
+#[derive(Debug, thiserror::Error)]
+pub enum MapError {
+    /// The cube faces are larger than the adapter's textures can be.
+    #[error("reflections.cubeSize: {size} is above this adapter's texture limit of {limit}")]
+    CubeTooLarge {
+        /// Asked for.
+        size: u32,
+        /// The adapter's `max_texture_dimension_2d`.
+        limit: u32,
+    },
+    /// More mirror and glass objects than the search's uniforms hold.
+    #[error("at most {MAX_MAPS} mirror and glass objects have distance maps; the scene has {0}")]
+    TooMany(usize),
 }
 
 /// The six faces' view matrices about the origin: row 0 maps a direction to the face's
@@ -326,6 +346,7 @@ impl Maps {
                     tex(&geometry.sampled),
                     ranges.as_entire_binding(),
                     params.as_entire_binding(),
+                    sized(&lights, light_bytes),
                 ],
             ),
             minmax: group(
@@ -430,14 +451,16 @@ impl Maps {
         light_bytes[..lb.len()].copy_from_slice(lb);
         r.gpu.write_buffer(&self.lights, 0, &light_bytes);
         let mut refs = [[0.0f32; 4]; MAX_MAPS];
-        for (slot, m) in refs.iter_mut().zip(&plan.maps) {
+        let mut bounds = [[0.0f32; 4]; MAX_MAPS];
+        for ((slot, b), m) in refs.iter_mut().zip(bounds.iter_mut()).zip(&plan.maps) {
             let reach = (m.reference - centre).length() + radius;
             *slot = m.reference.extend(reach * 1.01).into();
+            *b = m.centre.extend(m.radius).into();
         }
         let params = ReflectUniforms {
             knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
             flags: [
-                u32::from(k.min_max),
+                u32::from(k.min_max) | (plan.maps.len() as u32) << 8,
                 u32::from(k.technique == Technique::Envmap),
                 match plan.sky {
                     Sky::None => 0,
@@ -449,7 +472,14 @@ impl Maps {
             background: Vec3::from(pelt_scene::shading::BACKGROUND)
                 .extend(radius.max(1e-3))
                 .into(),
+            shading: [
+                crate::frame_data::SPECULAR_STRENGTH,
+                crate::frame_data::SPECULAR_POWER,
+                lights.len() as f32,
+                0.0,
+            ],
             maps: refs,
+            objects: bounds,
         };
         r.gpu
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

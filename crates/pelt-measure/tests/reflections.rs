@@ -1,0 +1,438 @@
+//! Mirrors and glass from layered distance maps (GPU Gems 3 ch. 17) measured against the CPU
+//! ray tracer (`pelt-trace`), which shares the scene, the lighting, the Fresnel terms and the
+//! bounce rules, so the FLIP between the two is the distance-map search's own error. Images
+//! are 256×144, drawn in forward mode (the ray tracer's lighting, per pixel). A failed
+//! comparison leaves `-reference.png`, `-actual.png` and `-diff.png` in
+//! `target/render-tests/`. `PELT_BACKEND=gl|vulkan` picks the back end.
+
+use std::path::{Path, PathBuf};
+
+use pelt_measure::Flip;
+use pelt_measure::reflections::{self, Reference, Run};
+use pelt_preview::knobs::{self, Knobs};
+use pelt_preview::scene::{
+    Camera, Ior, Material, NonNegative, Object, PointLight, Positive, Reflections, Sky, Technique,
+    Transform,
+};
+use pelt_preview::{Backend, Image, Mode, Preview, Scene};
+
+const SIZE: (u32, u32) = (256, 144);
+
+fn preview() -> Preview {
+    let backend: Backend = std::env::var("PELT_BACKEND")
+        .ok()
+        .map(|b| b.parse().expect("PELT_BACKEND is vulkan, gl or auto"))
+        .unwrap_or_default();
+    let p = Preview::new(backend).expect("a wgpu adapter (Mesa's llvmpipe or lavapipe)");
+    eprintln!("adapter: {}", p.adapter());
+    p
+}
+
+fn out_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/render-tests");
+    std::fs::create_dir_all(&dir).expect("target/render-tests");
+    dir
+}
+
+fn save_failure(name: &str, reference: &Image, test: &Image) {
+    let dir = out_dir();
+    let f = Flip::new(reference, test).expect("same size");
+    reference
+        .save(&dir.join(format!("{name}-reference.png")))
+        .expect("write");
+    test.save(&dir.join(format!("{name}-actual.png")))
+        .expect("write");
+    f.heat_map()
+        .save(&dir.join(format!("{name}-diff.png")))
+        .expect("write");
+}
+
+/// A scene, its meshes and each object's mesh.
+struct Loaded {
+    scene: Scene,
+    meshes: Vec<pelt_preview::asset::MeshData>,
+    of: Vec<usize>,
+}
+
+fn load(scene: Scene) -> Loaded {
+    let (meshes, of) = pelt_preview::load_meshes(&scene).expect("builtin assets");
+    Loaded { scene, meshes, of }
+}
+
+/// The box of fixtures/scenes/mirrors.json: a mirror wall, a gold sphere, a glass sphere.
+fn box_scene() -> Loaded {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes/mirrors.json");
+    let k = Knobs {
+        size: Some(SIZE),
+        ..Knobs::default()
+    };
+    let i = knobs::load(&path, &k, SIZE).expect("mirrors.json");
+    Loaded {
+        scene: i.scene,
+        meshes: i.meshes,
+        of: i.mesh_of,
+    }
+}
+
+fn reference(l: &Loaded) -> Reference {
+    reflections::reference(&l.scene, &l.meshes, &l.of, l.scene.reflections.max_depth)
+        .expect("ray tracer")
+}
+
+fn run(p: &mut Preview, l: &Loaded, knobs: Reflections, r: &Reference) -> Run {
+    reflections::run(
+        p,
+        &l.scene,
+        &l.meshes,
+        &l.of,
+        Mode::Forward,
+        knobs,
+        r,
+        (0, 1),
+    )
+    .expect("render")
+}
+
+fn object(
+    asset: &str,
+    t: [f32; 3],
+    scale: [f32; 3],
+    material: Material,
+    color: [f32; 3],
+) -> Object {
+    Object {
+        asset: asset.into(),
+        transform: Transform {
+            translation: t,
+            scale,
+            ..Transform::default()
+        },
+        material,
+        color,
+    }
+}
+
+fn light(position: [f32; 3], intensity: f32, radius: f32) -> PointLight {
+    PointLight {
+        position,
+        color: [1.0, 0.95, 0.9],
+        intensity: NonNegative(intensity),
+        radius: Positive(radius),
+    }
+}
+
+const MIRROR: Material = Material::Mirror {
+    f0: [0.9, 0.9, 0.9],
+    reference: None,
+};
+
+/// A walled room with coloured walls, a floor and a ceiling, a flat mirror on its back wall (a
+/// quad: its reference point lies on its own surface), seen from `camera`: what the mirror
+/// shows is made of planes, where the secant search is exact (§17.2.2). With `blocks`, boxes and a
+/// ball stand in the room (their sides are seen from the mirror with parallax, which one
+/// layer of the rest of the scene cannot hold).
+fn mirror_room(camera: Camera, mirror: Object, blocks: bool) -> Loaded {
+    let mut s = Scene {
+        output: pelt_preview::scene::Size {
+            width: SIZE.0,
+            height: SIZE.1,
+        },
+        camera,
+        ambient: [0.08, 0.08, 0.09],
+        sky: Sky::Procedural,
+        ..Scene::default()
+    };
+    let cube = |t, scale, color| object("builtin:cube", t, scale, Material::Opaque, color);
+    s.objects = vec![
+        cube([0.0, -0.05, 1.0], [8.2, 0.1, 9.2], [0.7, 0.7, 0.65]),
+        cube([0.0, 3.05, 1.0], [8.2, 0.1, 9.2], [0.85, 0.85, 0.85]),
+        cube([0.0, 1.5, -3.55], [8.2, 3.0, 0.1], [0.75, 0.72, 0.6]),
+        cube([-4.05, 1.5, 1.0], [0.1, 3.0, 9.2], [0.8, 0.3, 0.25]),
+        cube([4.05, 1.5, 1.0], [0.1, 3.0, 9.2], [0.3, 0.7, 0.35]),
+        cube([0.0, 1.5, 5.55], [8.2, 3.0, 0.1], [0.35, 0.4, 0.8]),
+        cube([-1.5, 1.6, 5.49], [1.2, 0.8, 0.02], [0.95, 0.85, 0.2]),
+        cube([3.99, 1.2, 2.0], [0.02, 1.0, 1.4], [0.9, 0.9, 0.9]),
+        mirror,
+    ];
+    if blocks {
+        s.objects.extend([
+            cube([-0.9, 0.3, 0.9], [0.6, 0.6, 0.6], [0.85, 0.2, 0.15]),
+            cube([0.8, 0.4, 1.2], [0.5, 0.8, 0.5], [0.2, 0.6, 0.85]),
+            object(
+                "builtin:sphere",
+                [0.1, 0.35, 1.9],
+                [0.7, 0.7, 0.7],
+                Material::Opaque,
+                [0.9, 0.8, 0.2],
+            ),
+        ]);
+    }
+    s.lights = vec![
+        light([0.0, 2.5, 2.0], 5.0, 8.0),
+        light([-2.0, 1.5, 3.0], 2.0, 6.0),
+    ];
+    load(s)
+}
+
+fn front_camera() -> Camera {
+    Camera {
+        position: [0.9, 1.5, 0.6],
+        target: [0.0, 1.2, -3.45],
+        ..Camera::default()
+    }
+}
+
+fn flat_mirror() -> Object {
+    object(
+        "builtin:quad",
+        [0.0, 1.2, -3.45],
+        [3.0, 2.0, 1.0],
+        MIRROR,
+        [1.0; 3],
+    )
+}
+
+/// Pixels of `image` over `mask` that are black (every channel ≤ 1) or white (every channel
+/// ≥ 254) where the reference's are not (a NaN is written as black).
+fn holes(image: &Image, reference: &Reference) -> usize {
+    let mut n = 0;
+    for (i, m) in reference.mask.iter().enumerate() {
+        if !m {
+            continue;
+        }
+        let ours = &image.rgba[i * 4..i * 4 + 3];
+        let truth = &reference.image.rgba[i * 4..i * 4 + 3];
+        let black = |p: &[u8], at: u8| p.iter().all(|&c| c <= at);
+        let white = |p: &[u8], at: u8| p.iter().all(|&c| c >= at);
+        if (black(ours, 1) && !black(truth, 24)) || (white(ours, 254) && !white(truth, 230)) {
+            n += 1;
+        }
+    }
+    n
+}
+
+#[test]
+fn the_box_matches_the_ray_tracer_and_beats_the_environment_map() {
+    let mut p = preview();
+    let l = box_scene();
+    let r = reference(&l);
+    let base = l.scene.reflections;
+    assert_eq!(
+        base,
+        Reflections::default(),
+        "the fixture holds the defaults"
+    );
+    let ours = run(&mut p, &l, base, &r);
+    let env = run(
+        &mut p,
+        &l,
+        Reflections {
+            technique: Technique::Envmap,
+            ..base
+        },
+        &r,
+    );
+    let off = run(
+        &mut p,
+        &l,
+        Reflections {
+            technique: Technique::Off,
+            ..base
+        },
+        &r,
+    );
+    eprintln!(
+        "box: distance maps {:.4} whole, {:.4} mirror/glass; environment map {:.4}, {:.4}; opaque {:.4}, {:.4}",
+        ours.error,
+        ours.error_reflective,
+        env.error,
+        env.error_reflective,
+        off.error,
+        off.error_reflective
+    );
+    if ours.error > 0.05 || ours.error_reflective * 3.0 > env.error_reflective {
+        save_failure("reflections-box", &r.image, &ours.image);
+    }
+    assert!(ours.error <= 0.05, "whole image {:.4} > 0.05", ours.error);
+    assert!(
+        ours.error_reflective * 3.0 <= env.error_reflective,
+        "mirror/glass pixels {:.4}: not a third of the environment map's {:.4}",
+        ours.error_reflective,
+        env.error_reflective
+    );
+    // Negative control: the same measure sees opaque mirrors as far off.
+    assert!(off.error_reflective > 3.0 * ours.error_reflective);
+    assert!(
+        r.mask.iter().filter(|m| **m).count() > 2000,
+        "mirrors on screen"
+    );
+}
+
+#[test]
+fn error_falls_as_linear_and_secant_steps_rise() {
+    let mut p = preview();
+    let l = box_scene();
+    let r = reference(&l);
+    let at = |p: &mut Preview, linear_steps, secant_steps| {
+        let k = Reflections {
+            linear_steps,
+            secant_steps,
+            ..Reflections::default()
+        };
+        run(p, &l, k, &r).error_reflective
+    };
+    let linear: Vec<f32> = [2, 6, 24].iter().map(|&n| at(&mut p, n, 0)).collect();
+    let secant: Vec<f32> = [0, 1, 6].iter().map(|&n| at(&mut p, 8, n)).collect();
+    eprintln!("linear 2/6/24 (no secant): {linear:?}; secant 0/1/6 (8 linear): {secant:?}");
+    assert!(linear[0] > linear[1] && linear[1] > linear[2], "{linear:?}");
+    assert!(secant[0] > secant[1] && secant[1] > secant[2], "{secant:?}");
+}
+
+#[test]
+fn a_flat_mirror_matches_the_ray_tracer() {
+    let mut p = preview();
+    let l = mirror_room(front_camera(), flat_mirror(), false);
+    let r = reference(&l);
+    let ours = run(&mut p, &l, Reflections::default(), &r);
+    eprintln!(
+        "flat mirror: FLIP {:.5} whole, {:.5} mirror",
+        ours.error, ours.error_reflective
+    );
+    if ours.error > 0.0 {
+        save_failure("reflections-flat", &r.image, &ours.image);
+    }
+    assert!(ours.error <= 0.01, "FLIP {:.5} > 0.01", ours.error);
+    assert!(
+        r.mask.iter().filter(|m| **m).count() > 5000,
+        "the mirror fills the view"
+    );
+}
+
+/// Each extreme: rendered, compared, and checked for holes over the mirror/glass pixels.
+fn extreme(p: &mut Preview, name: &str, l: &Loaded, knobs: Reflections, max_flip: f32) {
+    let r =
+        reflections::reference(&l.scene, &l.meshes, &l.of, knobs.max_depth).expect("ray tracer");
+    let ours = run(p, l, knobs, &r);
+    let h = holes(&ours.image, &r);
+    let covered = r.mask.iter().filter(|m| **m).count();
+    eprintln!(
+        "{name}: {covered} mirror/glass pixels, {h} holes, FLIP {:.4} there",
+        ours.error_reflective
+    );
+    if h > 0 || ours.error_reflective > max_flip {
+        save_failure(&format!("reflections-{name}"), &r.image, &ours.image);
+    }
+    assert!(covered > 500, "{name}: the object shows");
+    assert_eq!(h, 0, "{name}: black or white holes");
+    assert!(
+        ours.error_reflective <= max_flip,
+        "{name}: FLIP {:.4} > {max_flip}",
+        ours.error_reflective
+    );
+}
+
+#[test]
+fn extremes_leave_no_holes() {
+    let mut p = preview();
+    let d = Reflections::default();
+    // Grazing incidence on a mirror whose reference point is on its own surface, and every
+    // ray from it starts parallel to cube faces (the quad is axis-aligned).
+    let grazing = Camera {
+        position: [3.6, 1.2, -2.9],
+        target: [0.0, 1.2, -3.45],
+        ..Camera::default()
+    };
+    extreme(
+        &mut p,
+        "grazing",
+        &mirror_room(grazing, flat_mirror(), true),
+        d,
+        0.15,
+    );
+    // Total internal reflection inside dense glass.
+    let mut dense = box_scene();
+    for o in &mut dense.scene.objects {
+        if let Material::Glass { ior, .. } = &mut o.material {
+            *ior = Ior(2.4);
+        }
+    }
+    extreme(&mut p, "tir", &dense, d, 0.2);
+    // A mirror alone under the sky: its rest-of-scene layer is empty, as are its front faces.
+    let mut alone = mirror_room(
+        front_camera(),
+        object(
+            "builtin:sphere",
+            [0.0, 1.0, 0.0],
+            [1.5; 3],
+            MIRROR,
+            [1.0; 3],
+        ),
+        false,
+    );
+    alone.scene.objects.retain(|o| o.material == MIRROR);
+    let alone = load(alone.scene);
+    extreme(&mut p, "empty-layers", &alone, d, 0.05);
+    // One bounce and eight.
+    let b = box_scene();
+    extreme(
+        &mut p,
+        "depth-1",
+        &b,
+        Reflections { max_depth: 1, ..d },
+        0.2,
+    );
+    extreme(
+        &mut p,
+        "depth-8",
+        &b,
+        Reflections { max_depth: 8, ..d },
+        0.2,
+    );
+}
+
+#[test]
+fn glass_of_index_one_disappears() {
+    let mut p = preview();
+    let mut with = box_scene();
+    for o in &mut with.scene.objects {
+        if let Material::Glass { ior, .. } = &mut o.material {
+            *ior = Ior(1.0);
+        }
+    }
+    let mut without = with.scene.clone();
+    without
+        .objects
+        .retain(|o| !matches!(o.material, Material::Glass { .. }));
+    let without = load(without);
+    let r = reference(&with);
+    let a = run(&mut p, &with, Reflections::default(), &r).image;
+    let b = run(&mut p, &without, Reflections::default(), &r).image;
+    let f = Flip::new(&b, &a).expect("same size").mean();
+    eprintln!("glass of IOR 1 against no glass: FLIP {f:.5}");
+    if f > 0.01 {
+        save_failure("reflections-ior1", &b, &a);
+    }
+    assert!(f <= 0.01, "FLIP {f:.5} > 0.01");
+    // Negative control: glass of IOR 1.5 does not disappear.
+    let mut real = with.scene.clone();
+    for o in &mut real.objects {
+        if let Material::Glass { ior, .. } = &mut o.material {
+            *ior = Ior(1.5);
+        }
+    }
+    let real = load(real);
+    let c = run(&mut p, &real, Reflections::default(), &r).image;
+    assert!(Flip::new(&b, &c).expect("same size").mean() > 2.0 * f.max(0.002));
+}
+
+#[test]
+fn a_cube_size_above_the_adapter_limit_is_an_error_naming_the_field() {
+    let mut p = preview();
+    let limit = p.renderer.gpu.device.limits().max_texture_dimension_2d;
+    let mut l = box_scene();
+    l.scene.reflections.cube_size = (limit + 1).next_power_of_two();
+    let e = p
+        .prepare_loaded(&l.scene, &l.meshes, &l.of, Mode::Forward)
+        .expect_err("too large");
+    assert!(e.to_string().contains("reflections.cubeSize"), "{e}");
+}
