@@ -125,6 +125,89 @@ fn explain_lists_the_passes_without_opening_a_device() {
         text.contains("forward") && !text.contains("geometry"),
         "{text}"
     );
+    // Distance maps appear only for scenes with mirrors or glass, with their cost drivers.
+    assert!(!text.contains("distance-maps"), "{text}");
+    let mirrors = fixture("scenes/mirrors.json");
+    let m = pelt(
+        &[
+            "render",
+            mirrors.to_str().expect("utf8"),
+            "--explain",
+            "--cube-size",
+            "128",
+            "--layers",
+            "4",
+        ],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&m.stdout);
+    for want in [
+        "distance-maps",
+        "3 maps × 6 faces × 4 layers",
+        "128² texels = 72 face renders",
+        "min-max",
+        "3 mirror/glass objects by ray tracing their distance maps",
+    ] {
+        assert!(text.contains(want), "{want:?} in {text}");
+    }
+    let off = pelt(
+        &[
+            "render",
+            mirrors.to_str().expect("utf8"),
+            "--explain",
+            "--reflections",
+            "off",
+        ],
+        &[],
+    );
+    assert!(!String::from_utf8_lossy(&off.stdout).contains("distance-maps"));
+}
+
+#[test]
+fn mirrors_render_on_the_gpu_and_in_the_ray_tracer_deterministically() {
+    let dir = scratch("render-mirrors");
+    let scene = fixture("scenes/mirrors.json");
+    let s = scene.to_str().expect("utf8");
+    let traced = |threads: &str, name: &str| {
+        let out = dir.join(name);
+        let r = pelt(
+            &[
+                "render",
+                s,
+                "--mode",
+                "raytrace",
+                "--size",
+                "160x90",
+                "-q",
+                "-o",
+                out.to_str().expect("utf8"),
+            ],
+            &[("RAYON_NUM_THREADS", threads)],
+        );
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        std::fs::read(&out).expect("png")
+    };
+    let one = traced("1", "rt1.png");
+    assert_eq!(one, traced("2", "rt2.png"), "the same at any thread count");
+    assert_eq!(png_size(&dir.join("rt1.png")), (160, 90));
+    for technique in ["distance-maps", "envmap", "off"] {
+        let out = dir.join(format!("{technique}.png"));
+        render_ok(&[
+            s,
+            "--size",
+            "160x90",
+            "--cube-size",
+            "64",
+            "--reflections",
+            technique,
+            "-q",
+            "-o",
+            out.to_str().expect("utf8"),
+        ]);
+        assert_eq!(png_size(&out), (160, 90));
+    }
+    let maps = std::fs::read(dir.join("distance-maps.png")).expect("png");
+    assert_ne!(maps, std::fs::read(dir.join("off.png")).expect("png"));
 }
 
 #[test]
@@ -193,6 +276,12 @@ fn bad_scenes_and_missing_assets_fail_cleanly_without_output() {
         ["--lbuffer-scale", "2"],
         ["--backend", "metal"],
         ["--mode", "raytraced"],
+        ["--linear-steps", "0"],
+        ["--cube-size", "100"],
+        ["--layers", "9"],
+        ["--max-depth", "0"],
+        ["--reflections", "mirrors"],
+        ["--min-max", "maybe"],
     ] {
         let mut a = vec![
             fixture("torus.glb").to_str().expect("utf8").to_owned(),
@@ -215,10 +304,33 @@ fn bad_scenes_and_missing_assets_fail_cleanly_without_output() {
             String::from_utf8_lossy(&r.stderr)
         );
     }
+    // Bad reflection values in a scene: exit 2 naming the field.
+    for (i, (json, field)) in [
+        (r#"{"reflections": {"linearSteps": -1}}"#, "reflections.linearSteps"),
+        (r#"{"reflections": {"cubeSize": 100}}"#, "reflections.cubeSize"),
+        (
+            r#"{"objects": [{"asset": "builtin:sphere", "material": {"kind": "glass", "ior": 0}}]}"#,
+            "objects[0].material.ior",
+        ),
+        (
+            r#"{"objects": [{"asset": "builtin:sphere", "material": {"kind": "mirror", "f0": 0.9, "n": 0.2}}]}"#,
+            "objects[0].material",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let path = dir.join(format!("reflect{i}.json"));
+        std::fs::write(&path, json).expect("write");
+        let r = render(&[path.to_str().expect("utf8"), "-o", o]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{json}: {err}");
+        assert!(err.contains(field), "{field} in {err}");
+    }
     assert!(!out.exists(), "nothing written");
     assert_eq!(
         std::fs::read_dir(&dir).expect("dir").count(),
-        3,
+        7,
         "only the test's own inputs"
     );
 }

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
 use pelt_preview::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use pelt_preview::shaders::{COMMON, FILES, Shader};
 use pelt_preview::uniforms::{
@@ -317,6 +318,21 @@ fn uniform_structs_match_the_rust_side() {
     assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4);
     assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
     assert_eq!(size_of::<FinInstance>(), 4 * 12 + 2 * 16 + 2 * 12 + 8 + 4);
+    // The distance maps' own uniforms (keep in sync with distance_map.wgsl and reflect.wgsl).
+    for (shader, name, size) in [
+        (Shader::DistanceMap, "Face", size_of::<FaceUniforms>()),
+        (Shader::Reflect, "Reflect", size_of::<ReflectUniforms>()),
+    ] {
+        let m = validate(shader.file(), &shader.source());
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(m.to_ctx()).expect("layout");
+        let (h, _) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name} in {}", shader.file()));
+        assert_eq!(layouter[h].size as usize, size, "{name}");
+    }
 }
 
 /// A broken shader is caught (the checker itself can fail).

@@ -1024,6 +1024,143 @@ mod tests {
     }
 
     #[test]
+    fn mirrors_and_glass_read_their_optics_and_reflection_knobs() {
+        let s = parse(
+            r#"{"objects": [
+                {"asset": "a.glb", "material": {"kind": "mirror"}},
+                {"asset": "a.glb", "material": {"kind": "mirror", "f0": [0.9, 0.8, 0.5], "reference": [0, 1, 0]}},
+                {"asset": "a.glb", "material": {"kind": "mirror", "n": 1.5}},
+                {"asset": "a.glb", "material": {"kind": "glass", "ior": 1.33, "tint": [0.8, 1, 0.9]}}
+              ],
+              "reflections": {"technique": "envmap", "linearSteps": 80, "secantSteps": 10, "layers": 4,
+                              "cubeSize": 512, "maxDepth": 8, "minMax": false}}"#,
+        )
+        .expect("valid");
+        let m: Vec<Material> = s.objects.iter().map(|o| o.material).collect();
+        assert_eq!(
+            m[0],
+            Material::Mirror {
+                f0: DEFAULT_MIRROR_F0,
+                reference: None
+            }
+        );
+        assert_eq!(
+            m[1],
+            Material::Mirror {
+                f0: [0.9, 0.8, 0.5],
+                reference: Some([0.0, 1.0, 0.0])
+            }
+        );
+        let Material::Mirror { f0, .. } = m[2] else {
+            panic!("mirror")
+        };
+        assert!((f0[0] - 0.04).abs() < 1e-6, "F0 of n = 1.5, k = 0: {f0:?}");
+        assert_eq!(
+            m[3],
+            Material::Glass {
+                ior: Ior(1.33),
+                tint: [0.8, 1.0, 0.9],
+                reference: None
+            }
+        );
+        let r = s.reflections;
+        assert_eq!(
+            (
+                r.technique,
+                r.linear_steps,
+                r.secant_steps,
+                r.layers,
+                r.cube_size,
+                r.max_depth,
+                r.min_max
+            ),
+            (Technique::Envmap, 80, 10, 4, 512, 8, false)
+        );
+        // Round trip through the written form.
+        let again = parse(&serde_json::to_string(&s).expect("serialize")).expect("reparse");
+        assert_eq!(again, s);
+    }
+
+    #[test]
+    fn bad_optics_and_reflection_knobs_name_the_field() {
+        for (json, field, words) in [
+            (
+                r#"{"reflections": {"linearSteps": -1}}"#,
+                "reflections.linearSteps",
+                "invalid value",
+            ),
+            (
+                r#"{"reflections": {"linearSteps": 0}}"#,
+                "reflections.linearSteps",
+                "1 to 1024",
+            ),
+            (
+                r#"{"reflections": {"cubeSize": 300}}"#,
+                "reflections.cubeSize",
+                "power of two",
+            ),
+            (
+                r#"{"reflections": {"layers": 2}}"#,
+                "reflections.layers",
+                "3 to 8",
+            ),
+            (
+                r#"{"reflections": {"maxDepth": 0}}"#,
+                "reflections.maxDepth",
+                "1 to 16",
+            ),
+            (
+                r#"{"reflections": {"technique": "rays"}}"#,
+                "reflections.technique",
+                "unknown variant",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "glass", "ior": 0}}]}"#,
+                "objects[0].material.ior",
+                "from 1 to 3",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "mirror", "f0": 0.5, "n": 1}}]}"#,
+                "objects[0].material",
+                "not both",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "mirror", "k": 3}}]}"#,
+                "objects[0].material",
+                "k needs n",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "mirror", "n": -1}}]}"#,
+                "objects[0].material",
+                "above 0",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "mirror", "f0": 2}}]}"#,
+                "objects[0].material",
+                "from 0 to 1",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "mirror", "tint": 1}}]}"#,
+                "objects[0].material",
+                "tint is not",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "opaque", "reference": [0, 0, 0]}}]}"#,
+                "objects[0].material",
+                "reference is not",
+            ),
+            (
+                r#"{"objects": [{"asset": "a", "material": {"kind": "glass", "f0": 0.5}}]}"#,
+                "objects[0].material",
+                "f0 is not",
+            ),
+        ] {
+            let e = parse(json).expect_err(json).to_string();
+            assert!(e.contains(field) && e.contains(words), "{json}: {e}");
+        }
+    }
+
+    #[test]
     fn errors_name_file_line_and_field() {
         let e = parse("{\n \"objects\": [\n  {\"asset\": \"a.glb\"},\n  {\"asset\": \"b.glb\", \"material\": {\"kind\": \"alpha\", \"opacity\": 1.5}}\n ]\n}")
             .unwrap_err()
