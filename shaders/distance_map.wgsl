@@ -44,7 +44,7 @@ fn vs_main(v: VertexIn) -> MapVertex {
     o.clip = face.view_proj * world;
     o.world = world.xyz;
     o.normal = (object.normal_model * vec4<f32>(v.normal, 0.0)).xyz;
-    // Fur objects show their base mesh in the fur's root colour.
+    // Fur objects show their base mesh in the fur's mean colour (fur_base here).
     let color = select(object.tint.rgb, object.fur_base.rgb, object.ids.w > 0u);
     o.albedo = v.albedo * vec4<f32>(color, 1.0);
     return o;

@@ -1,8 +1,9 @@
 //! `pelt demo`: the main job end to end on bundled data. Generates the fixture creature (a
 //! painted comb on a blobby body, `pelt-fixtures`), bakes it with fur textures exactly as
 //! `pelt bake --config` would, writes the `.glb`, reads it back and renders it as deferred fur
-//! (Revie) under the procedural sky: `demo.png`, and a turntable contact sheet of
-//! `--frames` views around it, `turntable.png`.
+//! (Revie) under the procedural sky: `demo.png`, a turntable contact sheet of `--frames` views
+//! around it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
+//! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`.
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -66,6 +67,24 @@ fn paste(sheet: &mut Image, tile: &Image, x: u32, y: u32) {
     }
 }
 
+/// fixtures/scenes/creature-mirror.json: the creature beside a mirror (layered distance maps,
+/// GPU Gems 3 ch. 17).
+const MIRROR_SCENE: &str = include_str!("../fixtures/scenes/creature-mirror.json");
+
+/// The creature (baked at `asset`) beside a mirror, rendered at `size`.
+fn mirror_scene(preview: &mut Preview, asset: &Path, (w, h): (u32, u32)) -> anyhow::Result<Image> {
+    let mut scene = pelt_preview::Scene::parse(Path::new("creature-mirror.json"), MIRROR_SCENE)?;
+    scene.output.width = w;
+    scene.output.height = h;
+    for o in &mut scene.objects {
+        if o.asset.ends_with("creature.glb") {
+            o.asset = asset.to_owned();
+        }
+    }
+    let d = preview.prepare(&scene, Mode::Inferred)?;
+    Ok(preview.render(&d)?)
+}
+
 /// Runs `pelt demo`.
 pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     std::fs::create_dir_all(&args.output)
@@ -108,13 +127,16 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     }
     let turntable = args.output.join("turntable.png");
     sheet.save(&turntable)?;
+    let mirror = args.output.join("mirror.png");
+    mirror_scene(&mut preview, &asset, (w, h))?.save(&mirror)?;
     if !args.quiet {
         eprintln!(
-            "wrote {} (baked fixture creature), {} ({w}×{h}), {} ({} views) in {:.1} s",
+            "wrote {} (baked fixture creature), {} ({w}×{h}), {} ({} views), {} (beside a mirror) in {:.1} s",
             asset.display(),
             demo.display(),
             turntable.display(),
             args.frames,
+            mirror.display(),
             t0.elapsed().as_secs_f64()
         );
     }

@@ -363,6 +363,8 @@ fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
     assert_eq!(png_size(&dir.join("demo.png")), (320, 180));
     // Six 80×45 views, four to a row.
     assert_eq!(png_size(&dir.join("turntable.png")), (320, 90));
+    // The creature beside a mirror (fixtures/scenes/creature-mirror.json).
+    assert_eq!(png_size(&dir.join("mirror.png")), (320, 180));
     // The baked creature carries the fur the renderer read.
     let glb = dir.join("creature.glb");
     let m = pelt_preview::asset::load(&glb).expect("baked creature loads");

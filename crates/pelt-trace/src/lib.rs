@@ -10,7 +10,7 @@
 //! rows run in parallel with rayon and the image is the same at any thread count.
 //!
 //! Left out: alpha objects (the rasterizer blends them over; here they are not hit) and fur,
-//! whose base mesh is drawn in the fur's root colour.
+//! whose base mesh is drawn in the fur's mean colour (as the distance maps hold it).
 
 pub mod path;
 pub mod world;

@@ -170,7 +170,9 @@ impl World {
             }
             let mesh = &meshes[o.mesh];
             let normal_model = o.model.inverse().transpose();
-            let color = o.fur.map_or(o.color, |f| f.base_color);
+            let color = o
+                .fur
+                .map_or(o.color, |f| (f.base_color + f.tip_color) / 2.0);
             let id = optics.len() as u32;
             optics.push(o.optics);
             push_mesh(&mut tris, mesh, o.model, normal_model, color, id);
