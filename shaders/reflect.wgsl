@@ -95,11 +95,19 @@ fn face_uv(d: vec3<f32>) -> vec3<f32> {
 
 struct Taps {
     // The four texels (or the nearest one four times), their bilinear weights, and the
-    // geometry texels already read.
+    // geometry texels already read (packed: decode with oct_decode and texel_distance).
     at: array<vec2<i32>, 4>,
     w: vec4<f32>,
     layer: i32,
     g: array<vec4<f32>, 4>,
+}
+
+// The array layer and texel coordinates (continuous, texel centres at .5) of direction d in
+// layer `layer` of map `map`.
+fn texel_of(map: u32, layer: u32, d: vec3<f32>) -> vec3<f32> {
+    let fuv = face_uv(d);
+    let l = f32((map * params.knobs.z + layer) * 6u) + fuv.x;
+    return vec3<f32>(fuv.yz * f32(params.flags.w), l);
 }
 
 // The texels to read for direction d in layer `layer` of map `map`: bilinear within the face,
@@ -107,11 +115,11 @@ struct Taps {
 // disagree: a plane seen edge-on from the reference point keeps its bilinear taps) or an
 // empty texel; then the nearest.
 fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
-    let fuv = face_uv(d);
+    let tc = texel_of(map, layer, d);
     let size = i32(params.flags.w);
     var t: Taps;
-    t.layer = i32((map * params.knobs.z + layer) * 6u) + i32(fuv.x);
-    let p = fuv.yz * f32(size) - 0.5;
+    t.layer = i32(tc.z);
+    let p = tc.xy - 0.5;
     let p0 = floor(p);
     let f = p - p0;
     let hi = vec2<i32>(size - 1);
@@ -121,16 +129,22 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     t.w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
     var lo = 3.4e38;
     var far = -3.4e38;
-    var agree = 1.0;
     for (var i = 0; i < 4; i++) {
-        let g = textureLoad(geometry_maps, t.at[i], t.layer, 0);
-        let n = oct_decode(g.xy);
-        t.g[i] = vec4<f32>(n, texel_distance(g));
-        lo = min(lo, t.g[i].w);
-        far = max(far, t.g[i].w);
-        agree = min(agree, dot(n, t.g[0].xyz));
+        t.g[i] = textureLoad(geometry_maps, t.at[i], t.layer, 0);
+        let d = texel_distance(t.g[i]);
+        lo = min(lo, d);
+        far = max(far, d);
     }
-    if lo <= 0.0 || (far - lo > 0.1 * lo && agree < 0.995) {
+    var nearest = lo <= 0.0;
+    if !nearest && far - lo > 0.1 * lo {
+        let n0 = oct_decode(t.g[0].xy);
+        var agree = 1.0;
+        for (var i = 1; i < 4; i++) {
+            agree = min(agree, dot(n0, oct_decode(t.g[i].xy)));
+        }
+        nearest = agree < 0.995;
+    }
+    if nearest {
         let n = clamp(vec2<i32>(round(p)), vec2<i32>(0), hi);
         let k = select(select(0, 1, n.x != i0.x), select(2, 3, n.x != i0.x), n.y != i0.y);
         let g = t.g[k];
@@ -141,9 +155,19 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     return t;
 }
 
-// The filtered normal (unnormalized) and distance.
-fn geometry(t: Taps) -> vec4<f32> {
-    return t.w[0] * t.g[0] + t.w[1] * t.g[1] + t.w[2] * t.g[2] + t.w[3] * t.g[3];
+// The filtered distance.
+fn tap_distance(t: Taps) -> f32 {
+    return t.w[0] * texel_distance(t.g[0]) + t.w[1] * texel_distance(t.g[1])
+        + t.w[2] * texel_distance(t.g[2]) + t.w[3] * texel_distance(t.g[3]);
+}
+
+// The filtered unit normal.
+fn tap_normal(t: Taps) -> vec3<f32> {
+    var n = vec3<f32>(0.0);
+    for (var i = 0; i < 4; i++) {
+        n += t.w[i] * oct_decode(t.g[i].xy);
+    }
+    return normalize(n);
 }
 
 // The material; a mirror or glass code (a != 0) is never interpolated.
@@ -162,7 +186,7 @@ fn material(t: Taps) -> vec4<f32> {
 
 // The stored distance in direction d (negative: no surface).
 fn dist(map: u32, layer: u32, d: vec3<f32>) -> f32 {
-    return geometry(taps(map, layer, d)).w;
+    return tap_distance(taps(map, layer, d));
 }
 
 // ---- Hit(): linear and secant search ----
@@ -250,6 +274,7 @@ fn ratio_at(map: u32, layer: u32, p: vec3<f32>) -> f32 {
     return select(0.0, length(p) / stored, stored > 0.0);
 }
 
+
 // Listing 17-2 on a bracket: secant steps keeping one undershooting and one overshooting
 // bound; returns (d, |ratio - 1| at d).
 fn secant(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b_in: Bracket) -> vec2<f32> {
@@ -277,8 +302,8 @@ fn secant(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b_in: Bracket) -> ve
 }
 
 // One monotonic segment [da, db] of the linear search, `steps` per quarter turn of its arc;
-// `skip_first`: its first sample is the ray's start. A bracket whose secant refinement does not come much closer to the
-// surface than its ends were (within a quarter of their gap, or 0.5%) straddles a silhouette
+// `skip_first`: its first sample is the ray's start. A bracket whose secant refinement does not
+// come much closer to the surface than its ends were (within a quarter of their gap, or 0.5%) straddles a silhouette
 // seen from the reference point (the ray passed behind a nearer surface, not through it): the
 // march goes on past it.
 fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, state_in: March, skip_first: bool) -> March {
@@ -331,11 +356,10 @@ struct HitResult {
 fn fetch(map: u32, layer: u32, l: vec3<f32>) -> HitResult {
     let t = taps(map, layer, l);
     var h: HitResult;
-    let g = geometry(t);
-    h.found = g.w > 0.0;
+    h.found = tap_distance(t) > 0.0;
     h.l = l;
     h.material = material(t);
-    h.normal = normalize(g.xyz);
+    h.normal = tap_normal(t);
     return h;
 }
 
@@ -344,7 +368,7 @@ fn hit(map: u32, x: vec3<f32>, r: vec3<f32>) -> HitResult {
     if params.flags.y == 1u {
         // Environment mapping: the direction alone, in the nearest layer of the rest.
         var o = fetch(map, 2u, r);
-        o.l = r * geometry(taps(map, 2u, r)).w;
+        o.l = r * dist(map, 2u, r);
         return o;
     }
     var found = false;

@@ -436,3 +436,41 @@ fn a_cube_size_above_the_adapter_limit_is_an_error_naming_the_field() {
         .expect_err("too large");
     assert!(e.to_string().contains("reflections.cubeSize"), "{e}");
 }
+
+#[test]
+fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
+    use pelt_preview::frame::{Maps, recipes};
+    use pelt_preview::plan::Pass;
+    let mut p = preview();
+    let l = box_scene();
+    let mut sv = p
+        .prepare_loaded(&l.scene, &l.meshes, &l.of, Mode::Forward)
+        .expect("prepare");
+    let faces = |sv: &pelt_preview::SceneView| {
+        recipes(&sv.own_frame().expect("frame"), Maps::IfStale)
+            .expect("recipes")
+            .iter()
+            .filter(|r| r.pass == Pass::DistanceMaps)
+            .count()
+    };
+    assert_eq!(faces(&sv), 3 * 3 * 6, "three maps, three layers, six faces");
+    p.render(&sv).expect("render");
+    assert_eq!(faces(&sv), 0, "rendered once");
+    // The camera moves: the maps stay, and the frame equals one made from scratch.
+    let mut camera = l.scene.camera;
+    camera.position[0] -= 0.6;
+    p.look(&mut sv, &camera).expect("look");
+    assert_eq!(faces(&sv), 0);
+    let cached = p.render(&sv).expect("render");
+    let mut moved = l.scene.clone();
+    moved.camera = camera;
+    let fresh = p
+        .prepare_loaded(&moved, &l.meshes, &l.of, Mode::Forward)
+        .expect("prepare");
+    assert_eq!(cached, p.render(&fresh).expect("render"));
+    // A knob changes: the maps are rendered again.
+    let mut knob = moved.clone();
+    knob.reflections.secant_steps = 2;
+    p.update(&mut sv, &knob, Mode::Forward).expect("update");
+    assert_eq!(faces(&sv), 3 * 3 * 6);
+}

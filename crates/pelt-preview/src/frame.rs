@@ -90,14 +90,35 @@ impl Image {
     }
 }
 
+/// Whether a frame renders the distance maps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Maps {
+    /// Only when they are stale (the first frame, or the scene or its knobs changed): they
+    /// depend on the scene, not on the camera.
+    IfStale,
+    /// Every frame (what a scene whose objects move would pay; the timing default).
+    Always,
+    /// Not in this frame (another view of the same frame renders them).
+    Never,
+}
+
 /// The frame's passes in the plan's order, as recipes (this is the frame's ordering: a new
 /// pass gets its place here).
-pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+pub fn recipes<'a>(f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let mut out = Vec::new();
+    let fresh = match maps {
+        Maps::IfStale => f.maps.is_some_and(|m| m.fresh()),
+        Maps::Always => false,
+        Maps::Never => true,
+    };
     for &p in &f.plan.passes {
-        if p == Pass::DistanceMaps {
-            out.extend(features::reflect::map_passes(f)?);
-            continue;
+        match p {
+            Pass::DistanceMaps | Pass::MinMax if fresh => continue,
+            Pass::DistanceMaps => {
+                out.extend(features::reflect::map_passes(f)?);
+                continue;
+            }
+            _ => {}
         }
         out.push(match p {
             Pass::Geometry => features::geometry::pass(f),
@@ -108,7 +129,10 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
             Pass::MinMax => features::reflect::minmax_pass(f),
-            Pass::DistanceMaps => unreachable!("expanded above"),
+            Pass::DistanceMaps => Err(MissingInput {
+                pass: p.name(),
+                what: "its own recipes (one per face and layer)".into(),
+            }),
             Pass::Upscale | Pass::Mips | Pass::Overlay => Err(MissingInput {
                 pass: p.name(),
                 what: "a source (upscaling and mips are drawn on request, never planned)".into(),
@@ -119,8 +143,8 @@ pub fn recipes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
 }
 
 /// Builds the frame's recipes and compiles the pipelines they use that are not cached yet.
-fn prepared<'a>(r: &Renderer, f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, FrameError> {
-    let recipes = recipes(f)?;
+fn prepared<'a>(r: &Renderer, f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, FrameError> {
+    let recipes = recipes(f, maps)?;
     r.prepare(recipes.iter().flat_map(Recipe::keys))?;
     Ok(recipes)
 }
@@ -165,12 +189,17 @@ fn submit_frame(r: &Renderer, recipes: &[Recipe<'_>]) -> Result<(), FrameError> 
 pub fn render_many(r: &Renderer, frames: &[Frame<'_>]) -> Result<Vec<Image>, FrameError> {
     let scope = r.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut all = Vec::new();
-    for f in frames {
-        all.extend(prepared(r, f)?);
+    for (i, f) in frames.iter().enumerate() {
+        // The views share the scene's maps: the first renders them if they are stale.
+        let maps = if i == 0 { Maps::IfStale } else { Maps::Never };
+        all.extend(prepared(r, f, maps)?);
     }
     submit_frame(r, &all)?;
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
+    }
+    if let Some(m) = frames.first().and_then(|f| f.maps) {
+        m.mark_fresh();
     }
     frames
         .iter()
@@ -188,10 +217,13 @@ pub fn render_many(r: &Renderer, frames: &[Frame<'_>]) -> Result<Vec<Image>, Fra
 /// target), with device errors checked.
 pub fn draw(r: &Renderer, f: &Frame<'_>) -> Result<(), FrameError> {
     let scope = r.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let recipes = prepared(r, f)?;
+    let recipes = prepared(r, f, Maps::IfStale)?;
     submit_frame(r, &recipes)?;
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
+    }
+    if let Some(m) = f.maps {
+        m.mark_fresh();
     }
     if let Some(e) = r.gpu.take_error() {
         return Err(FrameError::Device(e));
@@ -330,7 +362,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() { 0.0 } else { v[v.len() / 2] }
 }
 
-/// Times `frames` frames after `warmup` untimed ones.
+/// Times `frames` frames after `warmup` untimed ones (the distance maps are rendered in each).
 pub fn time(
     r: &Renderer,
     f: &Frame<'_>,
@@ -339,7 +371,8 @@ pub fn time(
 ) -> Result<Timings, FrameError> {
     let device = &r.gpu.device;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let recipes = prepared(r, f)?;
+    // Every timed frame renders the distance maps, as a scene whose objects move would.
+    let recipes = prepared(r, f, Maps::Always)?;
     for _ in 0..warmup {
         submit_frame(r, &recipes)?;
         wait(r)?;

@@ -162,6 +162,8 @@ pub struct Maps {
     sky: wgpu::BindGroup,
     /// What goes into the maps: (scene index, mesh index).
     draws: Vec<(usize, usize)>,
+    /// The maps hold the scene as last written (a frame has rendered them since).
+    fresh: std::sync::atomic::AtomicBool,
 }
 
 fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -369,6 +371,7 @@ impl Maps {
             ranges,
             params,
             draws: Vec::new(),
+            fresh: std::sync::atomic::AtomicBool::new(false),
         };
         let mut maps = maps;
         maps.write(r, plan);
@@ -377,8 +380,21 @@ impl Maps {
 }
 
 impl Maps {
-    /// Writes the faces, objects, lights and knobs of `plan` (its maps must fit the spec).
+    /// Whether a frame has rendered the maps since the scene was last written.
+    pub fn fresh(&self) -> bool {
+        self.fresh.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Records that a submitted frame rendered the maps.
+    pub fn mark_fresh(&self) {
+        self.fresh.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Writes the faces, objects, lights and knobs of `plan` (its maps must fit the spec);
+    /// the next frame renders the maps again.
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
+        self.fresh
+            .store(false, std::sync::atomic::Ordering::Relaxed);
         let k = plan.reflections;
         let (centre, radius) = plan.extent;
         let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
