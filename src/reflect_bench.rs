@@ -11,14 +11,19 @@ use pelt_preview::scene::{Reflections, Technique};
 
 use crate::RenderBenchArgs;
 
+/// A pass's time, or a dash when the frame did not run it.
+fn ms(v: Option<f64>) -> String {
+    v.map_or_else(|| "—".to_owned(), |v| format!("{v:.1}"))
+}
+
 fn row(what: &str, r: &Run, shade_base: f64) {
     println!(
-        "| {what} | {:.4} | {:.4} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
+        "| {what} | {:.4} | {:.4} | {:.1} | {} | {} | {:.1} | {:.1} |",
         r.error,
         r.error_reflective,
         r.frame_ms,
-        r.maps_ms,
-        r.minmax_ms,
+        ms(r.maps_ms),
+        ms(r.minmax_ms),
         r.shade_ms,
         (r.shade_ms - shade_base).max(0.0)
     );

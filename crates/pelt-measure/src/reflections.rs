@@ -87,20 +87,17 @@ pub struct Run {
     pub error_reflective: f32,
     /// Median frame time (ms).
     pub frame_ms: f64,
-    /// The distance maps' pass (ms).
-    pub maps_ms: f64,
-    /// The min-max pass (ms).
-    pub minmax_ms: f64,
+    /// The distance maps' pass (ms; None when the frame has none).
+    pub maps_ms: Option<f64>,
+    /// The min-max pass (ms; None when the frame has none).
+    pub minmax_ms: Option<f64>,
     /// The material (or forward) pass (ms).
     pub shade_ms: f64,
 }
 
-fn pass_ms(t: &pelt_preview::Timings, pass: Pass) -> f64 {
-    t.passes
-        .iter()
-        .filter(|(p, _)| *p == pass)
-        .map(|(_, ms)| ms)
-        .sum()
+/// The time of `pass` in `t` (the frame's timings sum a pass's recipes), if it ran.
+fn pass_ms(t: &pelt_preview::Timings, pass: Pass) -> Option<f64> {
+    t.passes.iter().find(|(p, _)| *p == pass).map(|(_, ms)| *ms)
 }
 
 /// Renders `scene` with `knobs` in `mode`, times `frames` frames after `warmup`, and
@@ -145,7 +142,7 @@ pub fn run(
         frame_ms: t.frame_ms,
         maps_ms: pass_ms(&t, Pass::DistanceMaps),
         minmax_ms: pass_ms(&t, Pass::MinMax),
-        shade_ms: pass_ms(&t, shade),
+        shade_ms: pass_ms(&t, shade).unwrap_or(0.0),
     })
 }
 
@@ -170,5 +167,6 @@ pub fn shade_without(
         } else {
             Pass::Material
         },
-    ))
+    )
+    .unwrap_or(0.0))
 }

@@ -468,9 +468,18 @@ fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
         .prepare_loaded(&moved, &l.meshes, &l.of, Mode::Forward)
         .expect("prepare");
     assert_eq!(cached, p.render(&fresh).expect("render"));
-    // A knob changes: the maps are rendered again.
+    // A search knob changes only how the maps are read: they stay.
     let mut knob = moved.clone();
     knob.reflections.secant_steps = 2;
+    p.update(&mut sv, &knob, Mode::Forward).expect("update");
+    assert_eq!(faces(&sv), 0);
+    // A light changes what they hold: they are rendered again.
+    knob.lights[0].intensity = NonNegative(1.0);
+    p.update(&mut sv, &knob, Mode::Forward).expect("update");
+    assert_eq!(faces(&sv), 3 * 3 * 6);
+    p.render(&sv).expect("render");
+    // So does the cube size (new maps).
+    knob.reflections.cube_size = 64;
     p.update(&mut sv, &knob, Mode::Forward).expect("update");
     assert_eq!(faces(&sv), 3 * 3 * 6);
 }

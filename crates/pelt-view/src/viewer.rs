@@ -225,12 +225,17 @@ impl Viewer {
                 mode == pelt_preview::Mode::Inferred
                     && matches!(p, Pass::Geometry | Pass::Light | Pass::Obliterate)
             };
-            passes.iter().fold(
-                (0.0, 0.0),
-                |(l, o), &(p, ms)| {
-                    if lres(p) { (l + ms, o) } else { (l, o + ms) }
-                },
-            )
+            // The distance maps do not depend on the camera: a moving frame reuses them.
+            let per_frame = |p: Pass| !matches!(p, Pass::DistanceMaps | Pass::MinMax);
+            passes
+                .iter()
+                .filter(|(p, _)| per_frame(*p))
+                .fold(
+                    (0.0, 0.0),
+                    |(l, o), &(p, ms)| {
+                        if lres(p) { (l + ms, o) } else { (l, o + ms) }
+                    },
+                )
         };
         let (lbuffer_ms, output_ms) = split(&t.passes);
         let shells = max_shells(&sv);

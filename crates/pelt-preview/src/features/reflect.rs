@@ -164,6 +164,10 @@ pub struct Maps {
     draws: Vec<(usize, usize)>,
     /// The maps hold the scene as last written (a frame has rendered them since).
     fresh: std::sync::atomic::AtomicBool,
+    /// The bytes the maps were last drawn from (faces, objects, lights, draws).
+    drawn: Vec<u8>,
+    /// The search's uniforms as last written.
+    params_written: Vec<u8>,
 }
 
 fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -372,6 +376,8 @@ impl Maps {
             params,
             draws: Vec::new(),
             fresh: std::sync::atomic::AtomicBool::new(false),
+            drawn: Vec::new(),
+            params_written: Vec::new(),
         };
         let mut maps = maps;
         maps.write(r, plan);
@@ -391,10 +397,8 @@ impl Maps {
     }
 
     /// Writes the faces, objects, lights and knobs of `plan` (its maps must fit the spec);
-    /// the next frame renders the maps again.
+    /// when what the maps are drawn from changed, the next frame renders them again.
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
-        self.fresh
-            .store(false, std::sync::atomic::Ordering::Relaxed);
         let k = plan.reflections;
         let (centre, radius) = plan.extent;
         let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
@@ -436,18 +440,18 @@ impl Maps {
                 }
             }
         }
-        r.gpu.write_buffer(&self.faces, 0, &faces);
         let mut objects = vec![0u8; plan.objects.len() * stride];
-        self.draws.clear();
+        let mut draws = Vec::new();
         for (i, (o, _)) in plan.objects.iter().enumerate() {
             let u = ObjectUniforms {
                 model: o.model.to_cols_array_2d(),
                 normal_model: o.model.inverse().transpose().to_cols_array_2d(),
                 tint: o.color.extend(1.0).into(),
                 params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
-                fur_base: o
-                    .fur
-                    .map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
+                // Fur shows in the maps as its base mesh in the fur's mean colour.
+                fur_base: o.fur.map_or([0.0; 4], |f| {
+                    ((f.base_color + f.tip_color) / 2.0).extend(f.length).into()
+                }),
                 fur_tip: [0.0; 4],
                 fur_params: [0.0; 4],
                 ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
@@ -456,16 +460,37 @@ impl Maps {
             objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
                 .copy_from_slice(bytemuck::bytes_of(&u));
             if o.pattern == 0 {
-                self.draws.push((i, o.mesh));
+                draws.push((i, o.mesh));
             }
-        }
-        if !objects.is_empty() {
-            r.gpu.write_buffer(&self.objects, 0, &objects);
         }
         let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
         let lb: &[u8] = bytemuck::cast_slice(&lights);
         light_bytes[..lb.len()].copy_from_slice(lb);
-        r.gpu.write_buffer(&self.lights, 0, &light_bytes);
+        // What the maps are drawn from; a change (not a camera move, an L-buffer scale, a
+        // search knob) makes them stale.
+        let drawn = [
+            faces.as_slice(),
+            &objects,
+            &light_bytes,
+            bytemuck::cast_slice(
+                &draws
+                    .iter()
+                    .map(|&(i, m)| [i as u32, m as u32])
+                    .collect::<Vec<_>>(),
+            ),
+        ]
+        .concat();
+        if drawn != self.drawn {
+            r.gpu.write_buffer(&self.faces, 0, &faces);
+            if !objects.is_empty() {
+                r.gpu.write_buffer(&self.objects, 0, &objects);
+            }
+            r.gpu.write_buffer(&self.lights, 0, &light_bytes);
+            self.draws = draws;
+            self.drawn = drawn;
+            self.fresh
+                .store(false, std::sync::atomic::Ordering::Relaxed);
+        }
         let mut refs = [[0.0f32; 4]; MAX_MAPS];
         let mut bounds = [[0.0f32; 4]; MAX_MAPS];
         for ((slot, b), m) in refs.iter_mut().zip(bounds.iter_mut()).zip(&plan.maps) {
@@ -497,8 +522,11 @@ impl Maps {
             maps: refs,
             objects: bounds,
         };
-        r.gpu
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        if bytemuck::bytes_of(&params) != self.params_written.as_slice() {
+            r.gpu
+                .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            self.params_written = bytemuck::bytes_of(&params).to_vec();
+        }
     }
 
     /// Whether these maps fit `plan`'s knobs and map count.
