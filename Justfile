@@ -62,6 +62,10 @@ render:
 bench-render backend="vulkan":
     cargo run --release -- render-bench --backend {{backend}}
 
+# Mirrors and glass against the ray tracer: steps, min-max, cube size, layers, bounces.
+bench-reflections backend="vulkan":
+    cargo run --release -- render-bench --experiment reflections --backend {{backend}} --frames 9 --warmup 2 --pictures docs/reflections
+
 # Frame time against shell count, fins, stipple against WBOIT, forward (demo scene).
 bench-fur backend="vulkan":
     cargo run --release -- render-bench --experiment fur --backend {{backend}}
