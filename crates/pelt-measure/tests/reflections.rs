@@ -483,3 +483,66 @@ fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
     p.update(&mut sv, &knob, Mode::Forward).expect("update");
     assert_eq!(faces(&sv), 3 * 3 * 6);
 }
+
+#[test]
+fn a_mirror_shows_the_cube_map_sky_as_the_ray_tracer_does() {
+    let mut p = preview();
+    // Six faces of one colour each (+X −X +Y −Y +Z −Z), with a bright band on +Z.
+    let dir = out_dir().join("reflections-cube-sky");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let colours = [
+        [200, 60, 60],
+        [60, 200, 60],
+        [70, 110, 230],
+        [90, 70, 50],
+        [230, 200, 80],
+        [120, 60, 160],
+    ];
+    let faces: [std::path::PathBuf; 6] = std::array::from_fn(|i| {
+        let path = dir.join(format!("face{i}.png"));
+        let c = colours[i];
+        let rgba = (0..32 * 32)
+            .flat_map(|k| {
+                let band = i == 4 && (k / 32) % 8 < 2;
+                if band {
+                    [255, 255, 255, 255]
+                } else {
+                    [c[0], c[1], c[2], 255]
+                }
+            })
+            .collect();
+        Image {
+            width: 32,
+            height: 32,
+            rgba,
+        }
+        .save(&path)
+        .expect("face");
+        path
+    });
+    let mut l = mirror_room(
+        front_camera(),
+        object(
+            "builtin:sphere",
+            [0.0, 1.2, 0.0],
+            [1.6; 3],
+            MIRROR,
+            [1.0; 3],
+        ),
+        false,
+    );
+    l.scene.objects.retain(|o| o.material == MIRROR);
+    l.scene.sky = Sky::Cubemap(faces);
+    let l = load(l.scene);
+    let r = reference(&l);
+    let ours = run(&mut p, &l, Reflections::default(), &r);
+    eprintln!(
+        "cube-map sky in a mirror: FLIP {:.4} whole, {:.4} mirror",
+        ours.error, ours.error_reflective
+    );
+    if ours.error_reflective > 0.05 {
+        save_failure("reflections-cube-sky", &r.image, &ours.image);
+    }
+    assert!(ours.error_reflective <= 0.05, "{}", ours.error_reflective);
+    assert_eq!(holes(&ours.image, &r), 0);
+}
