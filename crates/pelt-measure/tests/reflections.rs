@@ -498,7 +498,7 @@ fn a_mirror_shows_the_cube_map_sky_as_the_ray_tracer_does() {
         [230, 200, 80],
         [120, 60, 160],
     ];
-    let faces: [std::path::PathBuf; 6] = std::array::from_fn(|i| {
+    let faces: [PathBuf; 6] = std::array::from_fn(|i| {
         let path = dir.join(format!("face{i}.png"));
         let c = colours[i];
         let rgba = (0..32 * 32)
