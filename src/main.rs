@@ -320,10 +320,9 @@ impl std::str::FromStr for RenderMode {
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
             "raytrace" => Ok(RenderMode::Raytrace),
-            _ => s
-                .parse()
-                .map(RenderMode::Gpu)
-                .map_err(|e: String| e.replace("or forward)", "forward or raytrace)")),
+            _ => s.parse().map(RenderMode::Gpu).map_err(|e: String| {
+                e.replace("deferred or forward)", "deferred, forward or raytrace)")
+            }),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The scene file (JSON): objects (a baked asset, a transform, a material), point lights,
 //! ambient light, camera, output size, L-buffer scale and DSF switch — everything the inferred
-//! lighting renderer (Kircher & Lawrance) is run on. Every error names the file, the line and
+//! lighting renderer (Kircher & Lawrance) is run on — and the `reflections` block, the knobs
+//! of mirrors and glass (GPU Gems 3 ch. 17). Every error names the file, the line and
 //! column, and the field's path (`objects[3].material.opacity`); unknown keys are errors.
 //! Asset paths are relative to the scene file's folder.
 
