@@ -195,3 +195,21 @@ fn pack_geometry(n: vec3<f32>, d: f32) -> vec4<f32> {
 fn texel_distance(g: vec4<f32>) -> f32 {
     return g.z + g.w;
 }
+
+// The procedural sky in unit world direction d: a zenith-to-horizon gradient, a darker ground
+// and a soft sun glow (sky.wgsl draws it; reflect.wgsl looks it up where rays leave the scene;
+// pelt_scene::shading::procedural_sky is its CPU twin).
+const SUN: vec3<f32> = vec3<f32>(0.48, 0.62, 0.62);
+
+fn procedural(d: vec3<f32>) -> vec3<f32> {
+    let zenith = vec3<f32>(0.10, 0.22, 0.55);
+    let horizon = vec3<f32>(0.55, 0.63, 0.75);
+    let ground = vec3<f32>(0.09, 0.08, 0.07);
+    let up = d.y;
+    let sky = mix(horizon, zenith, pow(clamp(up, 0.0, 1.0), 0.6));
+    let below = mix(horizon * 0.6, ground, clamp(-up * 6.0, 0.0, 1.0));
+    var c = select(below, sky, up >= 0.0);
+    let s = max(dot(d, normalize(SUN)), 0.0);
+    c += vec3<f32>(1.0, 0.85, 0.6) * (0.6 * pow(s, 64.0) + 0.15 * pow(s, 6.0));
+    return c;
+}

@@ -400,22 +400,6 @@ fn sky(d: vec3<f32>) -> vec3<f32> {
     }
 }
 
-const SUN: vec3<f32> = vec3<f32>(0.48, 0.62, 0.62);
-
-// sky.wgsl's procedural sky (pelt_scene::shading::procedural_sky on the CPU).
-fn procedural(d: vec3<f32>) -> vec3<f32> {
-    let zenith = vec3<f32>(0.10, 0.22, 0.55);
-    let horizon = vec3<f32>(0.55, 0.63, 0.75);
-    let ground = vec3<f32>(0.09, 0.08, 0.07);
-    let up = d.y;
-    let s_ = mix(horizon, zenith, pow(clamp(up, 0.0, 1.0), 0.6));
-    let below = mix(horizon * 0.6, ground, clamp(-up * 6.0, 0.0, 1.0));
-    var c = select(below, s_, up >= 0.0);
-    let s = max(dot(d, normalize(SUN)), 0.0);
-    c += vec3<f32>(1.0, 0.85, 0.6) * (0.6 * pow(s, 64.0) + 0.15 * pow(s, 6.0));
-    return c;
-}
-
 // Schlick's Fresnel with F0 (a mirror's, from n and k: §17.3).
 fn fresnel(f0: vec3<f32>, cos_v: f32) -> vec3<f32> {
     return f0 + (1.0 - f0) * pow(1.0 - min(abs(cos_v), 1.0), 5.0);

@@ -1,8 +1,8 @@
 // sky.wgsl: the skybox at infinity (Frantzen's "skybox at infinity"): the full-screen
 // triangle of fullscreen.wgsl at the far plane (depth 1, drawn where nothing else is), looking up the world
 // direction through each pixel either in a cube map made from six images (fs_cube) or in a
-// procedural sky (fs_procedural): a zenith-to-horizon gradient, a darker ground, and a soft
-// sun glow.
+// procedural sky (fs_procedural, common.wgsl's `procedural`): a zenith-to-horizon gradient,
+// a darker ground, and a soft sun glow.
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var sky_cube: texture_cube<f32>;
@@ -20,21 +20,6 @@ fn world_dir(ndc: vec2<f32>) -> vec3<f32> {
     let v = normalize(vec3<f32>(ndc.x * frame.proj_params.x, ndc.y * frame.proj_params.y, -1.0));
     let r = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
     return normalize(transpose(r) * v);
-}
-
-const SUN: vec3<f32> = vec3<f32>(0.48, 0.62, 0.62);
-
-fn procedural(d: vec3<f32>) -> vec3<f32> {
-    let zenith = vec3<f32>(0.10, 0.22, 0.55);
-    let horizon = vec3<f32>(0.55, 0.63, 0.75);
-    let ground = vec3<f32>(0.09, 0.08, 0.07);
-    let up = d.y;
-    let sky = mix(horizon, zenith, pow(clamp(up, 0.0, 1.0), 0.6));
-    let below = mix(horizon * 0.6, ground, clamp(-up * 6.0, 0.0, 1.0));
-    var c = select(below, sky, up >= 0.0);
-    let s = max(dot(d, normalize(SUN)), 0.0);
-    c += vec3<f32>(1.0, 0.85, 0.6) * (0.6 * pow(s, 64.0) + 0.15 * pow(s, 6.0));
-    return c;
 }
 
 @fragment

@@ -340,22 +340,26 @@ fn shaders_reload_from_a_folder_and_a_broken_set_keeps_the_last_good_pipelines()
     // A broken file: naga's error names the module and the line; nothing changes.
     let sky = dir.join("sky.wgsl");
     let good = std::fs::read_to_string(&sky).expect("read");
-    std::fs::write(&sky, good.replace("fn procedural(", "fn procedural(((")).expect("write");
+    std::fs::write(&sky, good.replace("fn ndc_of(", "fn ndc_of(((")).expect("write");
     let e = p
         .renderer
         .load_shaders(&dir)
         .expect_err("broken sky")
         .to_string();
-    assert!(e.contains("sky.wgsl") && e.contains("procedural((("), "{e}");
+    assert!(e.contains("sky.wgsl") && e.contains("ndc_of((("), "{e}");
     assert_eq!(
         p.render(&sv).expect("render"),
         before,
         "the last good pipelines draw"
     );
-    // A valid edit takes effect on the next frame: a red zenith.
+    // A valid edit takes effect on the next frame: a red zenith (the procedural sky is in
+    // common.wgsl).
+    std::fs::write(&sky, &good).expect("write");
+    let common = dir.join("common.wgsl");
+    let shared = std::fs::read_to_string(&common).expect("read");
     std::fs::write(
-        &sky,
-        good.replace(
+        &common,
+        shared.replace(
             "let zenith = vec3<f32>(0.10, 0.22, 0.55);",
             "let zenith = vec3<f32>(0.90, 0.02, 0.02);",
         ),
