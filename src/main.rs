@@ -196,9 +196,23 @@ pub struct RenderArgs {
     /// uploaded (frame 0 includes the scene's meshes, textures and pipelines).
     #[arg(long, requires = "bench")]
     pub json: bool,
+    /// With --mode strands: accumulate jittered samples until two half-sample images differ
+    /// by at most this FLIP mean (0.0001 to 0.5).
+    #[arg(long, value_name = "FLIP", default_value_t = 0.005, value_parser = target_flip)]
+    pub target_flip: f32,
+    /// With --mode strands: give up (exit 1, nothing written) after this many samples.
+    #[arg(long, value_name = "N", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    pub max_samples: u32,
     /// Print nothing but errors and requested output.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+fn target_flip(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0001..=0.5).contains(&v) => Ok(v),
+        _ => Err(format!("{s:?} is not a FLIP mean from 0.0001 to 0.5")),
+    }
 }
 
 /// Arguments of `pelt view`.
@@ -254,8 +268,9 @@ fn positive_ms(s: &str) -> Result<f64, String> {
 #[derive(clap::Args)]
 pub struct KnobArgs {
     /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF),
-    /// forward (per-object light loop, the reference) or raytrace (`pelt render` only: the
-    /// CPU ray tracer, the ground truth of mirrors and glass).
+    /// forward (per-object light loop, the reference), strands (explicit strands with
+    /// Kajiya-Kay, accumulated until converged: the fur's reference) or raytrace (`pelt
+    /// render` only: the CPU ray tracer, the ground truth of mirrors and glass).
     #[arg(long, default_value = "inferred")]
     pub mode: RenderMode,
     /// wgpu back end: auto, vulkan or gl.
@@ -321,7 +336,7 @@ impl std::str::FromStr for RenderMode {
         match s {
             "raytrace" => Ok(RenderMode::Raytrace),
             _ => s.parse().map(RenderMode::Gpu).map_err(|e: String| {
-                e.replace("deferred or forward)", "deferred, forward or raytrace)")
+                e.replace("forward or strands)", "forward, strands or raytrace)")
             }),
         }
     }

@@ -86,6 +86,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
             },
         );
     }
+    if let (Mode::Strands, Some(out), None) = (mode, &args.output, args.bench) {
+        return Ok(strands(args, &mut preview, (&scene, &meshes, &of), out));
+    }
     let result = (|| -> Result<(), RenderError> {
         let d = preview.prepare_loaded(&scene, &meshes, &of, mode)?;
         for n in &d.plan.notes {
@@ -114,6 +117,46 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(e),
     })
+}
+
+/// `pelt render --mode strands -o`: the converged strand reference.
+fn strands(
+    args: &RenderArgs,
+    preview: &mut Preview,
+    (scene, meshes, of): (&Scene, &[pelt_preview::asset::MeshData], &[usize]),
+    out: &Path,
+) -> ExitCode {
+    let opts = pelt_measure::strands::Options {
+        target: args.target_flip,
+        max_samples: args.max_samples,
+        ..Default::default()
+    };
+    let r = match pelt_measure::strands::reference(preview, scene, meshes, of, opts) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    if !r.converged {
+        return fail(format!(
+            "the strand reference did not converge: after {} samples the two halves differ by FLIP {:.4} (target {}); raise --max-samples or --target-flip; nothing written",
+            r.samples, r.half_vs_half, opts.target
+        ));
+    }
+    if let Err(e) = r.image.save(out) {
+        return fail(e);
+    }
+    if !args.quiet {
+        eprintln!(
+            "wrote {} ({}×{}, strands mode: {} strands, {} samples, half-vs-half FLIP {:.4}, {:.1} ms per sample)",
+            out.display(),
+            r.image.width,
+            r.image.height,
+            r.strands,
+            r.samples,
+            r.half_vs_half,
+            r.ms_per_sample
+        );
+    }
+    ExitCode::SUCCESS
 }
 
 /// `pelt render --mode raytrace`: the CPU ray tracer's image of the scene.

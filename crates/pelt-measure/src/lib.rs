@@ -6,5 +6,6 @@
 
 pub mod flip;
 pub mod reflections;
+pub mod strands;
 
 pub use flip::Flip;

@@ -40,6 +40,15 @@ pub struct GpuFur {
     pub textures: wgpu::BindGroup,
 }
 
+/// A mesh's explicit strands on the GPU (the strand reference, [`crate::strands`]).
+#[derive(Debug)]
+pub struct GpuStrands {
+    /// One [`crate::uniforms::StrandRoot`] per strand (an instance buffer).
+    pub roots: wgpu::Buffer,
+    /// Strands.
+    pub count: u32,
+}
+
 /// A cube-map sky on the GPU.
 #[derive(Debug)]
 pub struct GpuSky {
@@ -54,6 +63,7 @@ type Key = [u8; 32];
 pub struct AssetCache {
     meshes: HashMap<Key, Arc<GpuMesh>>,
     skies: HashMap<Key, Arc<GpuSky>>,
+    strands: HashMap<Key, Arc<GpuStrands>>,
 }
 
 fn level_bytes<T: bytemuck::Pod>(h: &mut blake3::Hasher, levels: &[Level<T>]) {
@@ -101,6 +111,40 @@ impl AssetCache {
         }))
     }
 
+    /// The explicit strands `m`'s fur plants ([`crate::strands::plant`]), planted and
+    /// uploaded now unless they already are.
+    pub fn strands(
+        &mut self,
+        r: &Renderer,
+        m: &MeshData,
+    ) -> Result<Arc<GpuStrands>, crate::strands::StrandError> {
+        let mut h = blake3::Hasher::new();
+        h.update(b"strands");
+        h.update(&mesh_key(m, true));
+        if let Some(f) = &m.fur {
+            h.update(format!("{:?} {}", f.model, f.look.uv_scale).as_bytes());
+        }
+        let key = *h.finalize().as_bytes();
+        if let Some(s) = self.strands.get(&key) {
+            return Ok(Arc::clone(s));
+        }
+        let roots = crate::strands::plant(m)?;
+        // A buffer of zero bytes cannot be bound: an empty set keeps one unused record.
+        let bytes: &[u8] = if roots.is_empty() {
+            &[0; size_of::<crate::uniforms::StrandRoot>()]
+        } else {
+            bytemuck::cast_slice(&roots)
+        };
+        let s = Arc::new(GpuStrands {
+            roots: r
+                .gpu
+                .buffer_init("strand roots", bytes, wgpu::BufferUsages::VERTEX),
+            count: roots.len() as u32,
+        });
+        self.strands.insert(key, Arc::clone(&s));
+        Ok(s)
+    }
+
     /// The cube map of `cube`, uploaded now unless it already is.
     pub fn sky(&mut self, r: &Renderer, cube: &CubeImages) -> Arc<GpuSky> {
         let mut h = blake3::Hasher::new();
@@ -118,10 +162,11 @@ impl AssetCache {
 
     /// Drops the assets no scene holds any more; returns how many.
     pub fn sweep(&mut self) -> usize {
-        let before = self.meshes.len() + self.skies.len();
+        let before = self.meshes.len() + self.skies.len() + self.strands.len();
         self.meshes.retain(|_, m| Arc::strong_count(m) > 1);
         self.skies.retain(|_, s| Arc::strong_count(s) > 1);
-        before - self.meshes.len() - self.skies.len()
+        self.strands.retain(|_, s| Arc::strong_count(s) > 1);
+        before - self.meshes.len() - self.skies.len() - self.strands.len()
     }
 
     /// Meshes held.

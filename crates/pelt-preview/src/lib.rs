@@ -28,7 +28,7 @@ pub mod targets;
 pub mod uniforms;
 
 pub use pelt_scene::{
-    asset, budget, framing, fur, knobs, orbit, plan, procedural, scene, sky, view,
+    asset, budget, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands, view,
 };
 
 use std::sync::Arc;
@@ -67,6 +67,15 @@ pub enum RenderError {
     /// The distance maps cannot be made on this adapter.
     #[error(transparent)]
     Maps(#[from] features::reflect::MapError),
+    /// A fur object's strands cannot be planted (strands mode).
+    #[error("objects[{object}]: {source}")]
+    Strands {
+        /// The scene object.
+        object: usize,
+        /// Why.
+        #[source]
+        source: strands::StrandError,
+    },
 }
 
 impl From<features::MissingInput> for RenderError {
@@ -170,6 +179,21 @@ impl Preview {
                 gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, &meshes[k], fur));
             }
         }
+        let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];
+        if mode == Mode::Strands {
+            for (o, _) in &scene_plan.objects {
+                if o.fur.is_some() && gpu_strands[o.mesh].is_none() {
+                    let s = self
+                        .assets
+                        .strands(&self.renderer, &meshes[o.mesh])
+                        .map_err(|source| RenderError::Strands {
+                            object: o.scene_index,
+                            source,
+                        })?;
+                    gpu_strands[o.mesh] = Some(s);
+                }
+            }
+        }
         let sky = match &scene.sky {
             scene::Sky::Cubemap(faces) => {
                 let cube = sky::load_cube(faces)?;
@@ -201,6 +225,7 @@ impl Preview {
             data,
             extra: Vec::new(),
             maps,
+            strands: gpu_strands,
         };
         self.assets.sweep();
         match self.renderer.gpu.take_error() {
@@ -236,6 +261,22 @@ impl Preview {
         sv.look(camera)?;
         self.refresh(sv);
         Ok(())
+    }
+
+    /// Shifts the view's projection by `(dx, dy)` output pixels from `base` (the view without
+    /// jitter) and rewrites the uniforms: one sample of jittered supersampling.
+    pub fn jitter(&self, sv: &mut SceneView, base: &view::View, (dx, dy): (f32, f32)) {
+        let (w, h) = sv.plan.output;
+        let shift = glam::Mat4::from_translation(glam::Vec3::new(
+            2.0 * dx / w as f32,
+            -2.0 * dy / h as f32,
+            0.0,
+        ));
+        sv.plan.view = view::View {
+            proj: shift * base.proj,
+            ..*base
+        };
+        self.refresh(sv);
     }
 
     fn refresh(&self, sv: &mut SceneView) {

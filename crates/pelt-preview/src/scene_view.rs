@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use crate::assets::{GpuMesh, GpuSky};
+use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::features::{Frame, MissingInput, Output};
 use crate::frame_data::FrameData;
 use crate::plan::{MeshInfo, Mode, Plan, ScenePlan};
@@ -50,6 +50,8 @@ pub struct SceneView {
     pub extra: Vec<ExtraView>,
     /// The mirror and glass objects' distance maps (scene-wide: every view reads them).
     pub maps: Option<crate::features::reflect::Maps>,
+    /// Explicit strands by mesh index (strands mode only).
+    pub strands: Vec<Option<Arc<GpuStrands>>>,
 }
 
 impl SceneView {
@@ -64,6 +66,7 @@ impl SceneView {
             output,
             view: 0,
             maps: self.maps.as_ref(),
+            strands: &self.strands,
         }
     }
 
@@ -97,6 +100,7 @@ impl SceneView {
             },
             view: v,
             maps: self.maps.as_ref(),
+            strands: &self.strands,
         })
     }
 

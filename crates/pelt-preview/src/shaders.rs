@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 22] = [
+pub const FILES: [(&str, &str); 23] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -78,6 +78,10 @@ pub const FILES: [(&str, &str); 22] = [
     ),
     ("minmax.wgsl", include_str!("../../../shaders/minmax.wgsl")),
     (
+        "strands.wgsl",
+        include_str!("../../../shaders/strands.wgsl"),
+    ),
+    (
         "reflect.wgsl",
         include_str!("../../../shaders/reflect.wgsl"),
     ),
@@ -140,11 +144,13 @@ pub enum Shader {
     MinMax,
     /// Mirrors and glass through their distance maps (reflect.wgsl).
     Reflect,
+    /// Explicit strands, Kajiya-Kay per light (strands.wgsl): the converged fur reference.
+    Strands,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 21] = [
+    pub const ALL: [Shader; 22] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -166,6 +172,7 @@ impl Shader {
         Shader::DistanceMap,
         Shader::MinMax,
         Shader::Reflect,
+        Shader::Strands,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -188,6 +195,7 @@ impl Shader {
             Shader::DistanceMap => "distance_map.wgsl",
             Shader::MinMax => "minmax.wgsl",
             Shader::Reflect => "reflect.wgsl",
+            Shader::Strands => "strands.wgsl",
         }
     }
 
@@ -197,6 +205,10 @@ impl Shader {
         match self {
             Shader::FurBase | Shader::FurOuter | Shader::TangentFrames => {
                 p.push("fur_common.wgsl");
+            }
+            Shader::Strands => {
+                p.push("fur_common.wgsl");
+                p.push("fur_light_forward.wgsl");
             }
             Shader::Shells(l) | Shader::Fins(l) => {
                 p.push("fur_common.wgsl");

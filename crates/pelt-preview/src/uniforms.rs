@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-pub use pelt_scene::vertex::{FinInstance, FurVertex, MAX_FORWARD_LIGHTS, Vertex};
+pub use pelt_scene::vertex::{FinInstance, FurVertex, MAX_FORWARD_LIGHTS, StrandRoot, Vertex};
 
 /// Per-frame constants. Keep in sync with `Frame` in shaders/common.wgsl.
 #[repr(C)]

@@ -439,6 +439,9 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
             heightfield,
             fin,
             source,
+            model: manifest
+                .as_ref()
+                .map_or_else(fur::generated_model, |(m, _)| m.strands.clone()),
         });
     }
     Ok(out)

@@ -62,6 +62,9 @@ pub struct FurData {
     pub fin: Vec<Level<[u8; 4]>>,
     /// Where the textures came from.
     pub source: TextureSource,
+    /// The strand model the textures were made from (the manifest's, or the generated
+    /// defaults'): the explicit strands of the strand reference are planted from it.
+    pub model: StrandParams,
 }
 
 /// Heightfield and fin texture levels.
@@ -81,13 +84,18 @@ fn look_of(m: &FurManifest) -> FurLook {
     }
 }
 
+/// The strand model of assets without a manifest.
+pub fn generated_model() -> StrandParams {
+    StrandParams {
+        size: GENERATED_SIZE,
+        ..StrandParams::default()
+    }
+}
+
 /// The defaults' look and textures (generated: no manifest in the asset).
 pub fn generated() -> Result<(FurLook, Textures), IoError> {
     let config = FurConfig {
-        textures: StrandParams {
-            size: GENERATED_SIZE,
-            ..StrandParams::default()
-        },
+        textures: generated_model(),
         ..FurConfig::default()
     };
     let set = pelt_fur::generate(&config.textures).map_err(|e| IoError::Invalid {

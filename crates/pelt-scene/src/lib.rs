@@ -22,6 +22,7 @@ pub mod procedural;
 pub mod scene;
 pub mod shading;
 pub mod sky;
+pub mod strands;
 pub mod vertex;
 pub mod view;
 

@@ -26,6 +26,17 @@ pub enum Mode {
     Deferred,
     /// Forward: every object loops over every light, O(objects × lights).
     Forward,
+    /// The converged fur reference: forward, with each fur object's shells and fins replaced
+    /// by explicit strands (Kajiya-Kay per light), accumulated over jittered samples by the
+    /// caller (`pelt_measure::strands`).
+    Strands,
+}
+
+impl Mode {
+    /// Whether every object loops over every light (forward and strands).
+    pub fn is_forward(self) -> bool {
+        matches!(self, Mode::Forward | Mode::Strands)
+    }
 }
 
 impl std::str::FromStr for Mode {
@@ -35,8 +46,9 @@ impl std::str::FromStr for Mode {
             "inferred" => Ok(Mode::Inferred),
             "deferred" => Ok(Mode::Deferred),
             "forward" => Ok(Mode::Forward),
+            "strands" => Ok(Mode::Strands),
             _ => Err(format!(
-                "unknown mode {s:?} (expected inferred, deferred or forward)"
+                "unknown mode {s:?} (expected inferred, deferred, forward or strands)"
             )),
         }
     }
@@ -48,6 +60,7 @@ impl fmt::Display for Mode {
             Mode::Inferred => "inferred",
             Mode::Deferred => "deferred",
             Mode::Forward => "forward",
+            Mode::Strands => "strands",
         })
     }
 }
@@ -356,7 +369,7 @@ impl ScenePlan {
         let (lbuffer, dsf) = match mode {
             Mode::Inferred => (Some(scene.lbuffer_size()), scene.dsf),
             Mode::Deferred => (Some(output), false),
-            Mode::Forward => (None, false),
+            Mode::Forward | Mode::Strands => (None, false),
         };
         let mut objects = Vec::new();
         let mut notes = Vec::new();
@@ -379,7 +392,7 @@ impl ScenePlan {
                                     .shells
                                     .unwrap_or(look.shells)
                                     .clamp(1, crate::scene::MAX_SHELLS),
-                                fins: f.fins && *has_fins,
+                                fins: f.fins && *has_fins && mode != Mode::Strands,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
                                 length: f.length.unwrap_or(look.length),
                                 base_color: look.base_color * color,
@@ -461,7 +474,11 @@ impl ScenePlan {
             dsf,
             objects,
             lights,
-            fur_blend: scene.fur_blend,
+            fur_blend: if mode == Mode::Strands {
+                FurBlend::Stipple
+            } else {
+                scene.fur_blend
+            },
             sky: scene.sky.clone(),
             ambient: Vec3::from(scene.ambient),
             scene_lights: scene.lights.len(),
@@ -571,14 +588,14 @@ impl Plan {
             })
             .collect();
         let culled_lights = scene.scene_lights - lights.len();
-        if mode == Mode::Forward && lights.len() > MAX_FORWARD_LIGHTS {
+        if mode.is_forward() && lights.len() > MAX_FORWARD_LIGHTS {
             return Err(PlanError::TooManyLights {
                 count: lights.len(),
                 max: MAX_FORWARD_LIGHTS,
             });
         }
         let (mut passes, lbuffer) = match mode {
-            Mode::Forward => (vec![Pass::Forward], None),
+            Mode::Forward | Mode::Strands => (vec![Pass::Forward], None),
             _ if lights.is_empty() || objects.is_empty() => (vec![Pass::Material], None),
             _ if !fur.is_empty() => (
                 vec![
@@ -843,7 +860,13 @@ impl Plan {
         self.explain_reflective(s);
         for &k in &self.fur {
             let o = &self.objects[k];
-            if let Some(f) = o.fur {
+            if let (Some(_), Mode::Strands) = (o.fur, self.mode) {
+                let _ = write!(
+                    s,
+                    "; objects[{}] fur: base + explicit strands from the strand model (Kajiya-Kay per light, opaque, jittered samples accumulated)",
+                    o.scene_index
+                );
+            } else if let Some(f) = o.fur {
                 let _ = write!(
                     s,
                     "; objects[{}] fur: base + {} shells{}, {}",

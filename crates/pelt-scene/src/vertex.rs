@@ -71,3 +71,21 @@ pub struct FinInstance {
 /// The most lights the forward reference takes in one pass (`MAX_FORWARD_LIGHTS` in
 /// shaders/forward.wgsl).
 pub const MAX_FORWARD_LIGHTS: usize = 256;
+
+/// One explicit strand of the strand reference (an instance of shaders/strands.wgsl, whose
+/// vertex stage builds its segments). Keep in sync with `StrandIn` in shaders/strands.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct StrandRoot {
+    /// Root position in the asset's space; w = height, a fraction of the fur length.
+    pub root: [f32; 4],
+    /// Surface normal at the root; w = comb length (`_FUR_COMB`'s w).
+    pub normal: [f32; 4],
+    /// Object-space comb direction at the root; w = radius in the asset's units.
+    pub comb: [f32; 4],
+    /// Lean in the asset's units per unit of height (the model's lean through the UV
+    /// mapping); w = the strand's tint value.
+    pub lean: [f32; 4],
+    /// Linear base colour at the root.
+    pub albedo: [f32; 4],
+}

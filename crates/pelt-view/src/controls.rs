@@ -97,7 +97,7 @@ impl Settings {
                 self.mode = match self.mode {
                     Mode::Inferred => Mode::Deferred,
                     Mode::Deferred => Mode::Forward,
-                    Mode::Forward => Mode::Inferred,
+                    Mode::Forward | Mode::Strands => Mode::Inferred,
                 };
             }
             Action::LbufferScale(d) => {

@@ -8,7 +8,7 @@
 
 use crate::features::vertex_layout;
 use crate::features::{
-    Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot,
+    Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot, strands,
 };
 use crate::frame_data::Res;
 use crate::plan::Pass;
@@ -39,7 +39,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
 
 /// The shader ordinary objects are drawn with in `plan`'s mode.
 pub fn object_shader(plan: &crate::plan::Plan) -> Shader {
-    if plan.mode == crate::plan::Mode::Forward {
+    if plan.mode.is_forward() {
         Shader::Forward
     } else {
         Shader::Material
@@ -105,7 +105,10 @@ pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>
     }
     sky::draw(f, &mut r, pass.name())?;
     let wboit = has_fur && f.plan.fur_blend == FurBlend::Wboit;
-    if has_fur && !wboit {
+    if has_fur && f.plan.mode == crate::plan::Mode::Strands {
+        r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
+        strands::draw(f, &mut r, pass.name())?;
+    } else if has_fur && !wboit {
         r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
         fur::layers(f, &mut r, pass.name(), fur_lighting, Blend::Over)?;
     }

@@ -15,7 +15,8 @@
 //! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`);
 //! - [`mips`]: mip chains of layered targets (cube faces, arrays);
 //! - [`overlay`]: `pelt view`'s text overlay;
-//! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17).
+//! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17);
+//! - [`strands`]: explicit strands, the converged fur reference.
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -30,12 +31,13 @@ pub mod mips;
 pub mod overlay;
 pub mod reflect;
 pub mod sky;
+pub mod strands;
 pub mod upscale;
 pub mod wboit;
 
 use std::sync::Arc;
 
-use crate::assets::{GpuMesh, GpuSky};
+use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::frame_data::{FrameData, Res};
 use crate::plan::Plan;
 use crate::recipe::{Recipe, Step};
@@ -96,6 +98,8 @@ pub struct Frame<'a> {
     pub view: usize,
     /// The scene's distance maps, when it has mirrors or glass.
     pub maps: Option<&'a reflect::Maps>,
+    /// Explicit strands by mesh index (the strand reference; empty in other modes).
+    pub strands: &'a [Option<Arc<GpuStrands>>],
 }
 
 impl<'a> Frame<'a> {
@@ -204,6 +208,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Downsample => mips::spec(key),
         Shader::Overlay => overlay::spec(key),
         Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
+        Shader::Strands => strands::spec(key),
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),

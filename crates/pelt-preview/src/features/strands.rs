@@ -1,0 +1,62 @@
+//! Explicit strands, the converged fur reference (`--mode strands`): in the forward pass, in
+//! place of each fur object's shells and fins, its strands ([`crate::strands`]) drawn as
+//! capsules, opaque and depth tested, lit per light with Kajiya-Kay (Revie Listing 2.4,
+//! shaders/strands.wgsl). One frame is one sample: the caller jitters the projection and
+//! accumulates (`pelt_measure::strands`).
+
+use crate::features::{Frame, MissingInput, object_blends, object_depth};
+use crate::recipe::{Recipe, Step};
+use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::shaders::Shader;
+use crate::uniforms::StrandRoot;
+
+/// Segments per strand. Keep in sync with `SEGMENTS` in shaders/strands.wgsl.
+pub const STRAND_SEGMENTS: u32 = 4;
+
+const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+    0 => Float32x4, 1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
+];
+
+/// The strand instance buffer: one [`StrandRoot`] per strand (`StrandIn` in strands.wgsl).
+pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: size_of::<StrandRoot>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &ATTRIBUTES,
+    }
+}
+
+/// The pipeline of strands.wgsl.
+pub fn spec(key: &PipelineKey) -> PipelineSpec {
+    PipelineSpec {
+        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::LightArray],
+        vertex_buffers: vec![layout()],
+        blends: object_blends(key.blend),
+        depth: object_depth(key.blend),
+        cull: None,
+        constants: Vec::new(),
+    }
+}
+
+/// Every fur object's strands. The frame and forward light-array groups must be bound.
+pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
+    r.pipeline(Shader::Strands, Blend::None);
+    for &k in &f.plan.fur {
+        let o = &f.plan.objects[k];
+        let strands = f
+            .strands
+            .get(o.mesh)
+            .and_then(|s| s.as_deref())
+            .ok_or_else(|| MissingInput {
+                pass,
+                what: format!("the strands of objects[{}] on the GPU", o.scene_index),
+            })?;
+        if strands.count == 0 {
+            continue;
+        }
+        f.bind_object(r, k);
+        r.push(Step::Vertices(0, &strands.roots));
+        r.push(Step::Draw(0..3 * STRAND_SEGMENTS, 0..strands.count));
+    }
+    Ok(())
+}

@@ -1,0 +1,136 @@
+// strands.wgsl: the converged fur reference's explicit strands (see
+// crates/pelt-scene/src/strands.rs for how they are planted from the strand model). One
+// instance per strand; its vertex stage builds SEGMENTS segments along the shells' path
+// (Revie Listing 2.1: along the normal bent toward the comb, scaled by the fur length and the
+// comb length) plus the model's lean, each a screen-aligned quad around the segment's
+// capsule (a sphere swept along it: a cylinder of the strand's radius with round ends), one
+// triangle per segment. The
+// fragment stage keeps the pixels whose centre lies inside the projected capsule, so a
+// strand thinner than a pixel is exact under jittered supersampling, and shades them with
+// Kajiya-Kay per light (fur_light_forward.wgsl, Listing 2.4) about the segment's direction,
+// the albedo the shells use at that height (root-to-tip lerp). Opaque, depth tested.
+// Keep `StrandIn` in sync with `StrandRoot` in crates/pelt-scene/src/vertex.rs and SEGMENTS
+// with `STRAND_SEGMENTS` in crates/pelt-preview/src/features/strands.rs.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var<uniform> object: Object;
+
+const SEGMENTS: u32 = 4u;
+
+struct StrandIn {
+    // xyz: root (asset space); w: height (fraction of the fur length).
+    @location(0) root: vec4<f32>,
+    // xyz: surface normal; w: comb length.
+    @location(1) normal: vec4<f32>,
+    // xyz: object-space comb; w: radius (asset units).
+    @location(2) comb: vec4<f32>,
+    // xyz: lean per unit height (asset units); w: tint.
+    @location(3) lean: vec4<f32>,
+    @location(4) albedo: vec4<f32>,
+}
+
+struct StrandOut {
+    @builtin(position) clip: vec4<f32>,
+    // View-space ends of the segment.
+    @location(0) @interpolate(flat) v0: vec3<f32>,
+    @location(1) @interpolate(flat) v1: vec3<f32>,
+    // Pixel position and radius in pixels of each end.
+    @location(2) @interpolate(flat) s0: vec3<f32>,
+    @location(3) @interpolate(flat) s1: vec3<f32>,
+    // Heights of the ends (fraction of the fur length).
+    @location(4) @interpolate(flat) z: vec2<f32>,
+    @location(5) @interpolate(flat) albedo: vec3<f32>,
+}
+
+// The point at height `z` (fraction of the fur length) of strand `s`, in asset space.
+fn strand_point(s: StrandIn, z: f32) -> vec3<f32> {
+    let len = object.fur_base.w;
+    return s.root.xyz + s.lean.xyz * z + shell_offset(s.normal.xyz, s.comb.xyz, z, len, s.normal.w);
+}
+
+// Pixels per view-space unit at view depth `w` (vertical).
+fn pixels_per_unit(w: f32) -> f32 {
+    return frame.proj[1][1] * 0.5 * frame.target_size.y / max(w, 1e-6);
+}
+
+@vertex
+fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
+    var o: StrandOut;
+    let seg = vid / 3u;
+    let corner = vid % 3u;
+    let z0 = s.root.w * f32(seg) / f32(SEGMENTS);
+    let z1 = s.root.w * f32(seg + 1u) / f32(SEGMENTS);
+    let to_view = frame.view * object.model;
+    let v0 = (to_view * vec4<f32>(strand_point(s, z0), 1.0)).xyz;
+    let v1 = (to_view * vec4<f32>(strand_point(s, z1), 1.0)).xyz;
+    // The model's scale, for the radius (uniform scales exactly, others on average).
+    let scale = (length(to_view[0].xyz) + length(to_view[1].xyz) + length(to_view[2].xyz)) / 3.0;
+    let radius = s.comb.w * scale;
+    let c0 = frame.proj * vec4<f32>(v0, 1.0);
+    let c1 = frame.proj * vec4<f32>(v1, 1.0);
+    o.v0 = v0;
+    o.v1 = v1;
+    o.z = vec2<f32>(z0, z1);
+    o.albedo = s.albedo.rgb * object.tint.rgb;
+    let near = frame.proj_params.z;
+    if -v0.z < near || -v1.z < near {
+        // Crossing the near plane: dropped (a zero-area triangle).
+        o.clip = vec4<f32>(2.0, 2.0, 0.5, 1.0);
+        return o;
+    }
+    let p0 = clip_to_pixel(c0, frame);
+    let p1 = clip_to_pixel(c1, frame);
+    let r0 = radius * pixels_per_unit(c0.w);
+    let r1 = radius * pixels_per_unit(c1.w);
+    o.s0 = vec3<f32>(p0, r0);
+    o.s1 = vec3<f32>(p1, r1);
+    var d = p1 - p0;
+    let l = length(d);
+    d = select(vec2<f32>(1.0, 0.0), d / l, l > 1e-6);
+    let across = vec2<f32>(-d.y, d.x);
+    // One triangle around the rectangle that holds both end discs (a hundredth of a pixel
+    // wider, against rounding): the rectangle [0, W] × [0, H] lies in the triangle (0, 0), (2W, 0),
+    // (0, 2H). Twice the area of two triangles, half the vertices: the strand reference is
+    // bound by geometry work on a CPU rasterizer.
+    let r = max(r0, r1) + 0.01;
+    let origin = p0 - d * r - across * r;
+    var px = origin;
+    var along = -r;
+    if corner == 1u {
+        along = 2.0 * (l + 2.0 * r) - r;
+        px = origin + d * 2.0 * (l + 2.0 * r);
+    } else if corner == 2u {
+        px = origin + across * 4.0 * r;
+    }
+    // Depth linear in screen space along the segment, exact at both ends (no perspective
+    // division: w = 1), so early depth testing still works.
+    let d0 = c0.z / c0.w;
+    let d1 = c1.z / c1.w;
+    let z = select(d0, d0 + (d1 - d0) * along / l, l > 1e-6);
+    let ndc = vec2<f32>(px.x / frame.target_size.x * 2.0 - 1.0, 1.0 - px.y / frame.target_size.y * 2.0);
+    o.clip = vec4<f32>(ndc, clamp(z, 0.0, 1.0), 1.0);
+    return o;
+}
+
+@fragment
+fn fs_main(f: StrandOut) -> @location(0) vec4<f32> {
+    let p = f.clip.xy;
+    let a = f.s0.xy;
+    let ab = f.s1.xy - a;
+    let len2 = dot(ab, ab);
+    let t = select(0.0, clamp(dot(p - a, ab) / len2, 0.0, 1.0), len2 > 1e-12);
+    let r = mix(f.s0.z, f.s1.z, t);
+    if distance(p, a + ab * t) > r {
+        discard;
+    }
+    let view_pos = mix(f.v0, f.v1, t);
+    let seg = f.v1 - f.v0;
+    let dir = select(vec3<f32>(0.0, 1.0, 0.0), normalize(seg), length(seg) > 1e-9);
+    var q: FurQuery;
+    q.view_pos = view_pos;
+    q.strand = dir;
+    let l = fur_lighting(q);
+    let height = mix(f.z.x, f.z.y, t);
+    let albedo = f.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, height);
+    return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, 1.0);
+}
