@@ -73,8 +73,10 @@ fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
     o.z = vec2<f32>(z0, z1);
     o.albedo = s.albedo.rgb * object.tint.rgb;
     let near = frame.proj_params.z;
-    if -v0.z < near || -v1.z < near {
-        // Crossing the near plane: dropped (a zero-area triangle).
+    let reach = object.fur_base.w * s.normal.w * s.root.w;
+    if -v0.z < near || -v1.z < near || !(reach > 0.0) {
+        // Crossing the near plane, or no fur (length, comb length or height 0): dropped (a
+        // zero-area triangle).
         o.clip = vec4<f32>(2.0, 2.0, 0.5, 1.0);
         return o;
     }
@@ -106,7 +108,9 @@ fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
     // division: w = 1), so early depth testing still works.
     let d0 = c0.z / c0.w;
     let d1 = c1.z / c1.w;
-    let z = select(d0, d0 + (d1 - d0) * along / l, l > 1e-6);
+    // A segment seen end-on (shorter on screen than it is wide) shows its near end's cap.
+    let end_on = l < max(r0, r1);
+    let z = select(d0 + (d1 - d0) * along / l, min(d0, d1), end_on);
     let ndc = vec2<f32>(px.x / frame.target_size.x * 2.0 - 1.0, 1.0 - px.y / frame.target_size.y * 2.0);
     o.clip = vec4<f32>(ndc, clamp(z, 0.0, 1.0), 1.0);
     return o;
@@ -118,7 +122,10 @@ fn fs_main(f: StrandOut) -> @location(0) vec4<f32> {
     let a = f.s0.xy;
     let ab = f.s1.xy - a;
     let len2 = dot(ab, ab);
-    let t = select(0.0, clamp(dot(p - a, ab) / len2, 0.0, 1.0), len2 > 1e-12);
+    // Seen end-on, the visible point is the near end (the cap facing the eye).
+    let near_end = select(0.0, 1.0, f.v1.z > f.v0.z);
+    let end_on = len2 < max(f.s0.z, f.s1.z) * max(f.s0.z, f.s1.z);
+    let t = select(clamp(dot(p - a, ab) / max(len2, 1e-12), 0.0, 1.0), near_end, end_on);
     let r = mix(f.s0.z, f.s1.z, t);
     if distance(p, a + ab * t) > r {
         discard;

@@ -8,6 +8,7 @@ mod demo;
 mod inspect;
 mod reflect_bench;
 mod render;
+mod sweep;
 mod textures;
 mod view;
 
@@ -102,6 +103,63 @@ enum Command {
     /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
     #[command(after_help = INSPECT_EXAMPLES)]
     Inspect(InspectArgs),
+    /// Time every quality knob against its error: each value rendered and measured with FLIP
+    /// against the converged strand reference (fur knobs), full-resolution deferred
+    /// (lighting knobs) or the ray tracer (distance-map knobs); sweep.csv, sweep.json,
+    /// sweep.md, sweep.png (time against error, Pareto front) and contact.png.
+    #[command(after_help = SWEEP_EXAMPLES)]
+    Sweep(SweepArgs),
+}
+
+const SWEEP_EXAMPLES: &str = "\
+Knobs (values as for pelt render and pelt bake):
+  shells fins fur-blend mode texture-size height-bits quantize    (against the strand reference)
+  lbuffer-scale dsf size                                          (against full-resolution deferred)
+  reflections linear-steps secant-steps layers cube-size max-depth min-max   (against the ray tracer)
+
+Examples:
+  pelt sweep out/demo/creature.glb -o sweep
+  pelt sweep out/demo/creature.glb --knob shells=4,8,16,32,64 --knob fins=on,off -o sweep
+  pelt sweep scene.json --knob shells=8,16 --knob lbuffer-scale=0.5,1 --grid -o sweep";
+
+/// Arguments of `pelt sweep`.
+#[derive(clap::Args)]
+pub struct SweepArgs {
+    /// A scene file (.json) or an asset (.glb, .gltf, .obj).
+    pub input: PathBuf,
+    /// Output folder: images/, heat/, assets/ (re-baked), the references, sweep.csv,
+    /// sweep.json, sweep.md, sweep.png and contact.png.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// NAME=V1,V2,...: a knob and its values (repeatable). Without any, every knob that
+    /// applies to the scene, at values around its default.
+    #[arg(long, value_name = "NAME=V1,V2,...")]
+    pub knob: Vec<String>,
+    /// Every combination of the knobs' values instead of one knob at a time (at most 512).
+    #[arg(long)]
+    pub grid: bool,
+    /// wgpu back end: auto, vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    pub backend: pelt_preview::Backend,
+    /// Output size WxH (overrides the scene's; the references are made at it).
+    #[arg(long, value_parser = size)]
+    pub size: Option<(u32, u32)>,
+    /// Timed frames per setting (the median is reported).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(usize))]
+    pub frames: usize,
+    /// Untimed frames before them.
+    #[arg(long, default_value_t = 2)]
+    pub warmup: usize,
+    /// The strand reference accumulates until two half-sample images differ by at most this
+    /// FLIP mean (0.0001 to 0.5).
+    #[arg(long, value_name = "FLIP", default_value_t = 0.005, value_parser = target_flip)]
+    pub target_flip: f32,
+    /// The strand reference gives up (exit 1, nothing written) after this many samples.
+    #[arg(long, value_name = "N", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    pub max_samples: u32,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Arguments of `pelt bake`.
@@ -635,6 +693,7 @@ fn main() -> ExitCode {
         Command::RenderBench(args) => render::bench(&args),
         Command::View(args) => view::run(&args),
         Command::Demo(args) => demo::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -2,10 +2,13 @@
 //! image difference wgpu's own tests use) of an image against a reference, over the whole
 //! image or over a mask, with its heat map ([`flip`]); and the experiments that set a
 //! renderer's knobs against a converged reference and time them ([`reflections`]: mirrors
-//! and glass from distance maps against the CPU ray tracer).
+//! and glass from distance maps against the CPU ray tracer; [`sweep`]: every knob against
+//! its reference, `pelt sweep`). [`strands`] accumulates the converged strand reference of
+//! the fur.
 
 pub mod flip;
 pub mod reflections;
 pub mod strands;
+pub mod sweep;
 
 pub use flip::Flip;

@@ -453,7 +453,14 @@ impl ScenePlan {
                 optics,
                 map,
             };
-            objects.push((planned, info.bounds));
+            // Fur reaches out to its length (times a comb length of at most 1) beyond the
+            // mesh: an object whose base mesh is off screen can still show its fur.
+            let reach = planned.fur.map_or(0.0, |f| f.length.max(0.0) * 1.1);
+            let bounds = (
+                info.bounds.0 - Vec3::splat(reach),
+                info.bounds.1 + Vec3::splat(reach),
+            );
+            objects.push((planned, bounds));
         }
         let lights = scene
             .lights

@@ -1,0 +1,456 @@
+//! The converged strand reference (`--mode strands`) checked against itself and against
+//! theory: it converges as samples rise; one straight strand lit from the side shows
+//! Kajiya-Kay's diffuse, flat across its width; a flat patch seen from above is covered as
+//! the strand model predicts (pelt_fur::expect, as the texture tests check the textures);
+//! and the extremes (fur length 0 and 100× the object, 1 and 256 shells, comb along the
+//! normal and in the tangent plane, a grazing view) leave no NaN and no black or white
+//! holes, in the shells and in the strands. `PELT_BACKEND=gl|vulkan` picks the back end.
+//! Images are at most 128 × 128.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use pelt_bake::BakeOptions;
+use pelt_bake::fur::{FurAssets, bake_with_fur};
+use pelt_fixtures::build::{BuildOptions, ColorEncoding, document};
+use pelt_fur::{FurConfig, StrandParams};
+use pelt_measure::strands::{self, Options, Reference};
+use pelt_preview::asset::{MeshData, flatten};
+use pelt_preview::fur::{FurData, FurLook, Level, TextureSource};
+use pelt_preview::scene::{
+    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size, Transform,
+};
+use pelt_preview::uniforms::{FurVertex, Vertex};
+use pelt_preview::{Backend, Image, Mode, Preview, Scene};
+
+fn preview() -> Preview {
+    let backend: Backend = std::env::var("PELT_BACKEND")
+        .ok()
+        .map(|b| b.parse().expect("PELT_BACKEND is vulkan, gl or auto"))
+        .unwrap_or_default();
+    let p = Preview::new(backend).expect("a wgpu adapter (Mesa's llvmpipe or lavapipe)");
+    eprintln!("adapter: {}", p.adapter());
+    p
+}
+
+fn out_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/render-tests");
+    std::fs::create_dir_all(&dir).expect("target/render-tests");
+    dir
+}
+
+/// A flat unit square in the XY plane (normal +Z), UVs 0..1, with `model`'s fur: comb
+/// `comb` in tangent space (length 1), root and tip colours as given.
+fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) -> MeshData {
+    let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    MeshData {
+        vertices: corners
+            .iter()
+            .map(|&[x, y]| Vertex {
+                position: [x, y, 0.0],
+                normal: [0.0, 0.0, 1.0],
+                albedo: [1.0; 4],
+                group: 1,
+            })
+            .collect(),
+        indices: vec![0, 1, 2, 0, 2, 3],
+        fur: Some(FurData {
+            vertices: corners
+                .iter()
+                .map(|&uv| FurVertex {
+                    tangent: [1.0, 0.0, 0.0, 1.0],
+                    uv,
+                    comb: [comb[0], comb[1], comb[2], 1.0],
+                })
+                .collect(),
+            fins: Vec::new(),
+            look: FurLook {
+                length,
+                shells: 16,
+                uv_scale: 1.0,
+                base_color: Vec3::splat(base),
+                tip_color: Vec3::splat(tip),
+            },
+            // The shells' textures (unused by the strands): one texel each.
+            heightfield: vec![Level {
+                width: 1,
+                height: 1,
+                texels: vec![u16::MAX],
+            }],
+            fin: vec![Level {
+                width: 1,
+                height: 1,
+                texels: vec![[255; 4]],
+            }],
+            source: TextureSource::Generated,
+            model,
+        }),
+    }
+}
+
+/// The fixture sphere (radius 1) baked with fur exactly as `pelt bake --config` would.
+fn furry_sphere() -> MeshData {
+    let mut doc = document(
+        &pelt_fixtures::shapes::sphere(16, 32),
+        BuildOptions {
+            colors: ColorEncoding::U8x4,
+            ..BuildOptions::default()
+        },
+    );
+    let config = FurConfig {
+        length: 0.15,
+        uv_scale: 2.0,
+        textures: StrandParams {
+            size: 64,
+            strands: 1500,
+            radius: 0.006,
+            tilt: 1.0,
+            ..StrandParams::default()
+        },
+        ..FurConfig::default()
+    };
+    let assets = FurAssets::new(config).expect("textures");
+    bake_with_fur(&mut doc, &BakeOptions::default(), &assets).expect("bake");
+    flatten(&doc).expect("flatten")
+}
+
+fn light(position: Vec3, intensity: f32, radius: f32) -> PointLight {
+    PointLight {
+        position: position.into(),
+        color: [1.0; 3],
+        intensity: NonNegative(intensity),
+        radius: Positive(radius),
+    }
+}
+
+/// One fur object (mesh 0) seen from `position` looking at `target`.
+fn scene(
+    size: (u32, u32),
+    position: Vec3,
+    target: Vec3,
+    fov: f32,
+    (near, far): (f32, f32),
+) -> Scene {
+    Scene {
+        output: Size {
+            width: size.0,
+            height: size.1,
+        },
+        camera: Camera {
+            position: position.into(),
+            target: target.into(),
+            up: [0.0, 1.0, 0.0],
+            fov_y_deg: fov,
+            near,
+            far,
+        },
+        objects: vec![Object {
+            asset: "mesh.glb".into(),
+            transform: Transform::default(),
+            material: Material::Fur(FurSettings {
+                shells: None,
+                fins: true,
+                length: None,
+            }),
+            color: [1.0; 3],
+        }],
+        ..Scene::default()
+    }
+}
+
+fn reference(p: &mut Preview, s: &Scene, mesh: &MeshData, opts: Options) -> Reference {
+    strands::reference(p, s, std::slice::from_ref(mesh), &[0], opts).expect("strand reference")
+}
+
+#[test]
+fn the_reference_converges_as_samples_rise() {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let mut s = scene(
+        (128, 96),
+        Vec3::new(0.0, 0.8, 4.0),
+        Vec3::ZERO,
+        40.0,
+        (0.5, 20.0),
+    );
+    s.lights = vec![light(Vec3::new(2.5, 2.5, 3.0), 14.0, 12.0)];
+    s.ambient = [0.05; 3];
+    let opts = Options {
+        target: 0.005,
+        min_samples: 2,
+        max_samples: 1024,
+    };
+    let r = reference(&mut p, &s, &sphere, opts);
+    r.image
+        .save(&out_dir().join("strands-sphere.png"))
+        .expect("write");
+    eprintln!(
+        "{} strands: half-vs-half FLIP by samples {:?}; {:.1} ms per sample",
+        r.strands, r.history, r.ms_per_sample
+    );
+    assert!(r.strands > 1000, "{} strands planted", r.strands);
+    assert!(r.converged, "{:?}", r.history);
+    assert!(
+        r.history.len() >= 3,
+        "a few samples are not yet converged: {:?}",
+        r.history
+    );
+    for w in r.history.windows(2) {
+        assert!(w[1].1 < w[0].1, "half-vs-half must fall: {:?}", r.history);
+    }
+    assert!(r.linear.iter().flatten().all(|v| v.is_finite()));
+}
+
+/// Kajiya-Kay (fur_light_forward.wgsl): the light a strand reflects toward the viewer for a
+/// light at angle `theta` to the strand, with the viewer perpendicular to it.
+fn kajiya_kay(
+    albedo: f32,
+    ambient: f32,
+    intensity: f32,
+    dist: f32,
+    radius: f32,
+    theta: f32,
+) -> f32 {
+    let x = dist / radius;
+    let window = (1.0 - x.powi(4)).clamp(0.0, 1.0);
+    let atten = window * window / (1.0 + dist * dist);
+    let (sin_l, cos_l) = theta.sin_cos();
+    // V ⟂ T: sin_v = 1, V·T = 0.
+    let spec = (sin_l * 1.0 - cos_l * 0.0)
+        .max(0.0)
+        .powf(pelt_preview::frame_data::SPECULAR_POWER);
+    albedo * (ambient + intensity * sin_l * atten)
+        + pelt_preview::frame_data::SPECULAR_STRENGTH * intensity * spec * atten
+}
+
+/// Whether `row` is flat within `tol` (relative) over its pixels.
+fn flat(row: &[f32], tol: f32) -> bool {
+    let mean = row.iter().sum::<f32>() / row.len() as f32;
+    row.iter().all(|v| (v - mean).abs() <= tol * mean)
+}
+
+#[test]
+fn one_straight_strand_lit_from_the_side_shows_kajiya_kay_across_its_width() {
+    let mut p = preview();
+    let model = StrandParams {
+        strands: 1,
+        radius: 0.02,
+        radius_jitter: 0.0,
+        height_min: 1.0,
+        height_max: 1.0,
+        ..StrandParams::default()
+    };
+    let root = pelt_fur::strands::generate(&model)[0];
+    let mesh = patch(model, 1.0, [0.0, 0.0, 1.0], 0.5, 0.5);
+    let axis = Vec3::new(root.x as f32, root.y as f32, 0.5);
+    let size = 128;
+    let mut s = scene((size, size), axis - Vec3::Y * 3.0, axis, 10.0, (0.1, 20.0));
+    // Looking along +Y with +Z (the strand) up the image.
+    s.camera.up = [0.0, 0.0, 1.0];
+    let (ambient, intensity, radius, dist) = (0.05, 6.0, 10.0, 2.0);
+    s.ambient = [ambient; 3];
+    // Strand radius in pixels: 0.02 at distance 3 with a 10° field of view.
+    let r_px = 0.02 / (3.0 * 5f32.to_radians().tan()) * size as f32 / 2.0;
+    let opts = Options {
+        target: 0.002,
+        min_samples: 8,
+        max_samples: 256,
+    };
+    for theta_deg in [90.0f32, 30.0] {
+        let theta = theta_deg.to_radians();
+        // The light in the plane through the strand perpendicular to the view, at angle
+        // theta from the strand (which runs along +Z).
+        let at = axis + Vec3::new(theta.sin(), 0.0, theta.cos()) * dist;
+        s.lights = vec![light(at, intensity, radius)];
+        let r = reference(&mut p, &s, &mesh, opts);
+        let row = (size / 2) as usize;
+        let centre = size as f32 / 2.0;
+        let interior: Vec<f32> = (0..size)
+            .filter(|&c| (c as f32 + 0.5 - centre).abs() <= r_px - 1.0)
+            .map(|c| r.linear[row * size as usize + c as usize][1])
+            .collect();
+        let want = kajiya_kay(0.5, ambient, intensity, dist, radius, theta);
+        let mean = interior.iter().sum::<f32>() / interior.len() as f32;
+        eprintln!(
+            "theta {theta_deg}°: {} interior pixels, mean {mean:.4}, Kajiya-Kay {want:.4}, profile {interior:?}",
+            interior.len()
+        );
+        r.image
+            .save(&out_dir().join(format!("strands-one-{theta_deg}.png")))
+            .expect("write");
+        assert!(interior.len() >= 5, "the strand is {r_px:.1} px in radius");
+        assert!(
+            (mean - want).abs() <= 0.015 * want,
+            "theta {theta_deg}°: {mean:.4} against Kajiya-Kay {want:.4}"
+        );
+        assert!(
+            flat(&interior, 0.01),
+            "Kajiya-Kay is flat across the strand: {interior:?}"
+        );
+    }
+    // Negative control: a Lambertian cylinder lit from the side darkens toward its edges,
+    // which the flatness check catches.
+    let lambert: Vec<f32> = (0..6)
+        .map(|i| {
+            let u = (i as f32 - 2.5) / 3.5;
+            (1.0 - u * u).sqrt()
+        })
+        .collect();
+    assert!(!flat(&lambert, 0.01));
+}
+
+#[test]
+fn a_patch_seen_from_above_is_covered_as_the_strand_model_predicts() {
+    let mut p = preview();
+    let model = StrandParams {
+        strands: 6000,
+        radius: 0.003,
+        radius_jitter: 0.3,
+        height_min: 1.0,
+        height_max: 1.0,
+        ..StrandParams::default()
+    };
+    // Root colour black, tip white, ambient light only: a strand's top is 1, the skin 0, so
+    // the mean of the converged image is the covered fraction.
+    let mesh = patch(model.clone(), 0.002, [0.0, 0.0, 1.0], 0.0, 1.0);
+    let size = 128;
+    let d = 100.0;
+    let fov = 2.0 * (0.5f32 / d).atan().to_degrees();
+    let mut s = scene(
+        (size, size),
+        Vec3::new(0.5, 0.5, d),
+        Vec3::new(0.5, 0.5, 0.0),
+        fov,
+        (d - 10.0, d + 10.0),
+    );
+    s.ambient = [1.0; 3];
+    let opts = Options {
+        target: 0.003,
+        min_samples: 16,
+        max_samples: 1024,
+    };
+    let r = reference(&mut p, &s, &mesh, opts);
+    r.image
+        .save(&out_dir().join("strands-coverage.png"))
+        .expect("write");
+    let measured = r.linear.iter().map(|c| f64::from(c[1])).sum::<f64>() / r.linear.len() as f64;
+    let want = pelt_fur::expect::dot_coverage(&model);
+    eprintln!(
+        "patch from above: coverage {measured:.4} against the model's {want:.4} ({} samples, {} strands)",
+        r.samples, r.strands
+    );
+    assert_eq!(r.strands, 6000);
+    assert!(
+        (measured - want).abs() <= 0.01,
+        "{measured:.4} against {want:.4}"
+    );
+}
+
+/// Pixels exactly black or white (a NaN or an infinity written out), and whether anything
+/// but the background shows.
+fn holes(image: &Image) -> (usize, bool) {
+    let bg = image.pixel(0, 0);
+    let mut n = 0;
+    let mut drawn = false;
+    for px in image.rgba.chunks_exact(4) {
+        let rgb = [px[0], px[1], px[2]];
+        if rgb == [0, 0, 0] || rgb == [255, 255, 255] {
+            n += 1;
+        }
+        drawn |= px[..3] != bg[..3];
+    }
+    (n, drawn)
+}
+
+#[test]
+fn extremes_leave_no_nan_and_no_holes_in_shells_or_strands() {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let base = {
+        let mut s = scene(
+            (96, 72),
+            Vec3::new(0.0, 0.6, 4.2),
+            Vec3::ZERO,
+            40.0,
+            (0.5, 500.0),
+        );
+        s.lights = vec![light(Vec3::new(2.5, 2.5, 3.0), 10.0, 12.0)];
+        s.ambient = [0.05; 3];
+        s.sky = pelt_preview::scene::Sky::Procedural;
+        s
+    };
+    let with_fur = |f: FurSettings| {
+        let mut s = base.clone();
+        s.objects[0].material = Material::Fur(f);
+        s
+    };
+    let fur = |shells, length| FurSettings {
+        shells: Some(shells),
+        fins: true,
+        length,
+    };
+    let combed = |c: [f32; 3]| {
+        let mut m = sphere.clone();
+        for v in &mut m.fur.as_mut().expect("fur").vertices {
+            v.comb = [c[0], c[1], c[2], 1.0];
+        }
+        m
+    };
+    let mut grazing = base.clone();
+    // Looking along the top of the sphere, just above its surface.
+    grazing.camera.position = [0.0, 1.05, 4.0];
+    grazing.camera.target = [0.0, 1.05, 0.0];
+    let cases: Vec<(&str, Scene, MeshData)> = vec![
+        ("length 0", with_fur(fur(16, Some(0.0))), sphere.clone()),
+        (
+            "length 200 (100× the sphere)",
+            with_fur(fur(16, Some(200.0))),
+            sphere.clone(),
+        ),
+        ("1 shell", with_fur(fur(1, None)), sphere.clone()),
+        ("256 shells", with_fur(fur(256, None)), sphere.clone()),
+        (
+            "comb along the normal",
+            base.clone(),
+            combed([0.0, 0.0, 1.0]),
+        ),
+        (
+            "comb in the tangent plane",
+            base.clone(),
+            combed([1.0, 0.0, 0.0]),
+        ),
+        ("grazing view", grazing, sphere.clone()),
+    ];
+    let few = Options {
+        target: 0.5,
+        min_samples: 4,
+        max_samples: 4,
+    };
+    let mut failures = Vec::new();
+    for (name, s, mesh) in &cases {
+        let meshes = std::slice::from_ref(mesh);
+        let sv = p
+            .prepare_loaded(s, meshes, &[0], Mode::Inferred)
+            .expect("prepare");
+        let shells = p.render(&sv).expect("render");
+        let r = strands::reference(&mut p, s, meshes, &[0], few).expect("strands");
+        let finite = r.linear.iter().flatten().all(|v| v.is_finite());
+        let (hs, drawn_s) = holes(&shells);
+        let (hr, drawn_r) = holes(&r.image);
+        eprintln!("{name}: shells {hs} holes, strands {hr} holes, strands finite {finite}");
+        let stem = name.replace([' ', '(', ')', '×'], "-");
+        shells
+            .save(&out_dir().join(format!("extreme-{stem}-shells.png")))
+            .expect("write");
+        r.image
+            .save(&out_dir().join(format!("extreme-{stem}-strands.png")))
+            .expect("write");
+        if hs > 0 || hr > 0 || !finite || !drawn_s || !drawn_r {
+            failures.push(*name);
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "holes, NaN or nothing drawn: {failures:?}"
+    );
+}

@@ -1,0 +1,127 @@
+//! `pelt sweep`: every quality knob's time against its error on this machine's adapter
+//! (the logic, the tables and the plots are `pelt_measure::sweep`'s). Everything is written
+//! into a staging folder inside the output folder and moved into place only when the whole
+//! sweep succeeded, so a failed sweep leaves no partial output.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use pelt_measure::sweep::knob::Knob;
+use pelt_measure::sweep::{self, Row, SweepError, report};
+use pelt_preview::Preview;
+use pelt_preview::knobs::InputError;
+
+use crate::SweepArgs;
+
+/// Moves every entry of `from` into `to` (replacing same-named ones), then removes `from`.
+fn publish(from: &Path, to: &Path) -> std::io::Result<()> {
+    for e in std::fs::read_dir(from)? {
+        let e = e?;
+        let dst = to.join(e.file_name());
+        if dst.is_dir() {
+            std::fs::remove_dir_all(&dst)?;
+        }
+        std::fs::rename(e.path(), dst)?;
+    }
+    std::fs::remove_dir(from)
+}
+
+/// Runs `pelt sweep`.
+pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+    let knobs = args
+        .knob
+        .iter()
+        .map(|k| Knob::parse_list(k))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut preview = match Preview::new(args.backend) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("pelt: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    if !args.quiet {
+        eprintln!("adapter: {}", preview.adapter());
+    }
+    let staging = args.output.join(".sweep-partial");
+    if staging.exists() {
+        std::fs::remove_dir_all(&staging)?;
+    }
+    let opts = sweep::Options {
+        knobs,
+        grid: args.grid,
+        frames: args.frames,
+        warmup: args.warmup,
+        reference: pelt_measure::strands::Options {
+            target: args.target_flip,
+            max_samples: args.max_samples,
+            ..Default::default()
+        },
+        out: staging.clone(),
+    };
+    let base = pelt_preview::knobs::Knobs {
+        size: args.size,
+        ..Default::default()
+    };
+    let quiet = args.quiet;
+    let mut progress = |r: &Row| {
+        if !quiet {
+            eprintln!(
+                "{}={}: {:.1} ms, FLIP {:.4} against {}",
+                r.knob,
+                r.value,
+                r.ms,
+                r.error,
+                r.truth.name()
+            );
+        }
+    };
+    let result = sweep::run(
+        &mut preview,
+        &args.input,
+        &base,
+        crate::render::DEFAULT_SIZE,
+        &opts,
+        &mut progress,
+    )
+    .and_then(|s| report::write_all(&s, &staging).map(|()| s));
+    let s = match result {
+        Ok(s) => s,
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&staging);
+            return match e {
+                SweepError::Knob(_)
+                | SweepError::TooMany(_)
+                | SweepError::Input(InputError::Scene(_)) => Err(e.into()),
+                e => {
+                    eprintln!("pelt: {}: {e}", args.input.display());
+                    Ok(ExitCode::from(1))
+                }
+            };
+        }
+    };
+    publish(&staging, &args.output)?;
+    if !quiet {
+        for r in &s.references {
+            if let Some(f) = r.half_vs_half_flip {
+                eprintln!(
+                    "strand reference: {} strands, {} samples, half-vs-half FLIP {f:.4}, {:.0} ms per sample",
+                    r.strands, r.samples, r.ms_per_sample
+                );
+            }
+        }
+        if let Some(b) = s.best_under(0.1) {
+            eprintln!(
+                "best under a tenth of the strand reference's time: {}={} ({:.0} ms, FLIP {:.4})",
+                b.knob, b.value, b.ms, b.error
+            );
+        }
+        eprintln!(
+            "wrote {} settings to {} (sweep.csv, sweep.json, sweep.md, sweep.png, contact.png) in {:.1} s",
+            s.rows.len(),
+            args.output.display(),
+            s.total_ms / 1000.0
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
