@@ -78,3 +78,11 @@ view: demo
 # pelt view's frame budget: orbit frame times at 66, 100 and 200 ms budgets under Xvfb.
 bench-view frames="30":
     bash bench/view.sh {{frames}}
+
+# The speed/accuracy trade on the demo scene (640×360, Vulkan): every knob against its
+# reference, then the tables and pictures the README quotes copied into docs/sweep.
+sweep-demo backend="vulkan":
+    cargo run --release -- demo --size 640x360 -q
+    cargo run --release -- sweep out/demo/scene.json --backend {{backend}} -o out/sweep
+    mkdir -p docs/sweep
+    cp out/sweep/sweep.md out/sweep/sweep.csv out/sweep/sweep.json out/sweep/sweep.png out/sweep/contact.png out/sweep/reference-strands.png docs/sweep/

@@ -3,7 +3,8 @@
 //! `pelt bake --config` would, writes the `.glb`, reads it back and renders it as deferred fur
 //! (Revie) under the procedural sky: `demo.png`, a turntable contact sheet of `--frames` views
 //! around it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
-//! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`.
+//! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the demo's scene as a scene
+//! file, `scene.json` (what `pelt sweep` measures in the README).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -85,6 +86,25 @@ fn mirror_scene(preview: &mut Preview, asset: &Path, (w, h): (u32, u32)) -> anyh
     Ok(preview.render(&d)?)
 }
 
+/// Writes the demo's scene as a scene file beside the creature (its asset named relative to
+/// it, so the folder can move), for `pelt render` and `pelt sweep`.
+fn write_scene(scene: &pelt_preview::Scene, path: &Path) -> anyhow::Result<()> {
+    let mut s = scene.clone();
+    for o in &mut s.objects {
+        if let Some(name) = o
+            .asset
+            .file_name()
+            .filter(|_| o.asset.extension().is_some())
+        {
+            o.asset = name.into();
+        }
+    }
+    let json = serde_json::to_string_pretty(&s)?;
+    pelt_io::glb::write_atomic(path, json.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
 /// Runs `pelt demo`.
 pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     std::fs::create_dir_all(&args.output)
@@ -111,6 +131,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let image = preview.render(&d)?;
     let demo = args.output.join("demo.png");
     image.save(&demo)?;
+    write_scene(&scene_at(w, h, 0.0), &args.output.join("scene.json"))?;
     let (tw, th) = ((w / 4).max(1), (h / 4).max(1));
     let cols = args.frames.min(4);
     let rows = args.frames.div_ceil(4);

@@ -146,14 +146,17 @@ fn strands(
     }
     if !args.quiet {
         eprintln!(
-            "wrote {} ({}×{}, strands mode: {} strands, {} samples, half-vs-half FLIP {:.4}, {:.1} ms per sample)",
+            "wrote {} ({}×{}, strands mode: {} strands, {} samples per pixel in {} frames of {}×{}, half-vs-half FLIP {:.4}, {:.0} ms per frame)",
             out.display(),
             r.image.width,
             r.image.height,
             r.strands,
             r.samples,
+            r.frames,
+            r.grid,
+            r.grid,
             r.half_vs_half,
-            r.ms_per_sample
+            r.ms_per_frame
         );
     }
     ExitCode::SUCCESS

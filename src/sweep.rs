@@ -105,8 +105,8 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         for r in &s.references {
             if let Some(f) = r.half_vs_half_flip {
                 eprintln!(
-                    "strand reference: {} strands, {} samples, half-vs-half FLIP {f:.4}, {:.0} ms per sample",
-                    r.strands, r.samples, r.ms_per_sample
+                    "strand reference: {} strands, {} samples per pixel in {} frames, half-vs-half FLIP {f:.4}, {:.0} ms per frame",
+                    r.strands, r.samples, r.frames, r.ms_per_frame
                 );
             }
         }

@@ -1,10 +1,12 @@
 //! The converged fur reference: a scene prepared in [`Mode::Strands`] (explicit strands
 //! from the strand model, Kajiya-Kay per light: `pelt_preview::features::strands`) rendered
-//! again and again with the projection jittered within the pixel, the samples averaged in
-//! linear light. Samples alternate between two halves; at every doubling of the count the two
-//! half-sample means are compared with FLIP, and accumulation stops once they differ by at
-//! most the target (0.005 by default): the figure is reported with the image, so a user can
-//! see how converged the reference is.
+//! again and again at `k`× the output resolution (a stratified k × k grid of samples per
+//! output pixel in one frame: the strands cost geometry, not fill, on a CPU rasterizer), the
+//! grid jittered within its cell from frame to frame, every sample averaged in linear
+//! light. Frames alternate between two halves; at every doubling of the frame count the two
+//! half means are compared with FLIP, and accumulation stops once they differ by at most the
+//! target (0.005 by default): the figure is reported with the image, so a user can see how
+//! converged the reference is.
 
 use std::time::Instant;
 
@@ -20,10 +22,13 @@ use crate::Flip;
 pub struct Options {
     /// Stop once the two halves differ by at most this FLIP mean.
     pub target: f32,
-    /// Samples before the first check (a power of two, at least 2).
+    /// Samples per pixel before the first check.
     pub min_samples: u32,
-    /// Give up (not converged) after this many.
+    /// Give up (not converged) after this many samples per pixel.
     pub max_samples: u32,
+    /// Samples per pixel side in one frame (None: the most, up to 4, that keeps the frame
+    /// within 2048 pixels a side).
+    pub supersample: Option<u32>,
 }
 
 impl Default for Options {
@@ -32,7 +37,17 @@ impl Default for Options {
             target: 0.005,
             min_samples: 16,
             max_samples: 4096,
+            supersample: None,
         }
+    }
+}
+
+impl Options {
+    /// The grid side `k` for an output of `size`.
+    pub fn grid(&self, (w, h): (u32, u32)) -> u32 {
+        self.supersample
+            .unwrap_or_else(|| (2048 / w.max(h).max(1)).clamp(1, 4))
+            .max(1)
     }
 }
 
@@ -43,16 +58,23 @@ pub struct Reference {
     pub image: Image,
     /// The mean in linear light, RGB per pixel.
     pub linear: Vec<[f32; 3]>,
-    /// Samples taken.
+    /// Samples taken per pixel (frames × k²).
     pub samples: u32,
+    /// Frames rendered.
+    pub frames: u32,
+    /// Samples per pixel side in one frame.
+    pub grid: u32,
     /// FLIP mean between the two half-sample images at the end.
     pub half_vs_half: f32,
     /// Whether `half_vs_half` reached the target.
     pub converged: bool,
-    /// (samples, half-vs-half FLIP) at every check.
+    /// (samples per pixel, half-vs-half FLIP) at every check.
     pub history: Vec<(u32, f32)>,
-    /// Wall time per sample (render and readback), milliseconds.
+    /// Wall time per sample per pixel (a frame's render and readback over k²),
+    /// milliseconds.
     pub ms_per_sample: f64,
+    /// Wall time per frame, milliseconds.
+    pub ms_per_frame: f64,
     /// Strands drawn (every fur object's).
     pub strands: u64,
 }
@@ -113,7 +135,8 @@ fn mean_image(w: u32, h: u32, sum: &[[f64; 3]], n: u32) -> (Image, Vec<[f32; 3]>
     )
 }
 
-/// Prepares `scene` in strands mode and accumulates it until converged ([`accumulate`]).
+/// Prepares `scene` in strands mode at k× its output size and accumulates it until
+/// converged ([`accumulate`]).
 pub fn reference(
     preview: &mut Preview,
     scene: &Scene,
@@ -121,43 +144,66 @@ pub fn reference(
     mesh_of: &[usize],
     opts: Options,
 ) -> Result<Reference, RenderError> {
-    let mut sv = preview.prepare_loaded(scene, meshes, mesh_of, Mode::Strands)?;
-    accumulate(preview, &mut sv, opts)
+    let size = (scene.output.width, scene.output.height);
+    let k = opts.grid(size);
+    let mut fine = scene.clone();
+    fine.output.width = size.0 * k;
+    fine.output.height = size.1 * k;
+    let mut sv = preview.prepare_loaded(&fine, meshes, mesh_of, Mode::Strands)?;
+    accumulate(preview, &mut sv, k, opts)
 }
 
-/// Accumulates jittered samples of `sv` (prepared in strands mode) until the two halves
-/// differ by at most `opts.target`, or `opts.max_samples`.
+/// Adds frame `img` (k× the output size) into `sum`: each output pixel takes its k × k
+/// block.
+fn add_blocks(sum: &mut [[f64; 3]], img: &Image, k: u32, table: &[f32; 256]) {
+    let w = img.width / k;
+    for y in 0..img.height {
+        let row = (y / k * w) as usize;
+        for x in 0..img.width {
+            let p = img.pixel(x, y);
+            let acc = &mut sum[row + (x / k) as usize];
+            for c in 0..3 {
+                acc[c] += f64::from(table[p[c] as usize]);
+            }
+        }
+    }
+}
+
+/// Accumulates jittered frames of `sv` (prepared in strands mode at `k`× the output size)
+/// until the two halves differ by at most `opts.target`, or `opts.max_samples` samples per
+/// pixel.
 pub fn accumulate(
     preview: &Preview,
     sv: &mut SceneView,
+    k: u32,
     opts: Options,
 ) -> Result<Reference, RenderError> {
-    let (w, h) = sv.plan.output;
+    let k = k.max(1);
+    let (w, h) = (sv.plan.output.0 / k, sv.plan.output.1 / k);
     let base: View = sv.plan.view;
     let table = srgb_to_linear_table();
     let px = (w * h) as usize;
     let mut halves = [vec![[0.0f64; 3]; px], vec![[0.0f64; 3]; px]];
     let mut history = Vec::new();
-    let mut next_check = opts.min_samples.max(2).next_power_of_two();
-    let max = opts.max_samples.max(next_check);
+    let per_frame = k * k;
+    // Frames come in pairs (one per half); checks at every doubling.
+    let mut next_check = (opts.min_samples.div_ceil(per_frame))
+        .max(2)
+        .next_power_of_two();
+    let max_frames = opts.max_samples.div_ceil(per_frame).max(next_check);
     let started = Instant::now();
     let mut n = 0;
     let mut last = f32::INFINITY;
-    while n < max {
+    while n < max_frames {
         preview.jitter(sv, &base, jitter(n));
         let img = preview.render(sv)?;
-        let half = &mut halves[(n % 2) as usize];
-        for (acc, p) in half.iter_mut().zip(img.rgba.chunks_exact(4)) {
-            for c in 0..3 {
-                acc[c] += f64::from(table[p[c] as usize]);
-            }
-        }
+        add_blocks(&mut halves[(n % 2) as usize], &img, k, &table);
         n += 1;
         if n == next_check {
-            let (a, _) = mean_image(w, h, &halves[0], n / 2);
-            let (b, _) = mean_image(w, h, &halves[1], n / 2);
+            let (a, _) = mean_image(w, h, &halves[0], n / 2 * per_frame);
+            let (b, _) = mean_image(w, h, &halves[1], n / 2 * per_frame);
             last = Flip::new(&a, &b).map_or(f32::INFINITY, |f| f.mean());
-            history.push((n, last));
+            history.push((n * per_frame, last));
             if last <= opts.target {
                 break;
             }
@@ -171,7 +217,8 @@ pub fn accumulate(
         .zip(&halves[1])
         .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2]])
         .collect();
-    let (image, linear) = mean_image(w, h, &total, n);
+    let samples = n * per_frame;
+    let (image, linear) = mean_image(w, h, &total, samples);
     let strands = sv
         .strands
         .iter()
@@ -181,11 +228,14 @@ pub fn accumulate(
     Ok(Reference {
         image,
         linear,
-        samples: n,
+        samples,
+        frames: n,
+        grid: k,
         half_vs_half: last,
         converged: last <= opts.target,
         history,
-        ms_per_sample: elapsed / f64::from(n.max(1)),
+        ms_per_sample: elapsed / f64::from(samples.max(1)),
+        ms_per_frame: elapsed / f64::from(n.max(1)),
         strands,
     })
 }

@@ -129,8 +129,14 @@ pub struct ReferenceInfo {
     pub half_vs_half_flip: Option<f32>,
     /// Its time, milliseconds (every sample).
     pub ms: f64,
-    /// Time per sample, milliseconds.
+    /// Time per sample per pixel, milliseconds.
     pub ms_per_sample: f64,
+    /// Frames rendered (each k × k samples per pixel).
+    pub frames: u32,
+    /// Samples per pixel side in a frame.
+    pub grid: u32,
+    /// Time per frame, milliseconds.
+    pub ms_per_frame: f64,
     /// Its image, relative to the output folder.
     pub image: String,
     /// Strands drawn (the strand reference).
@@ -367,7 +373,7 @@ fn references(
     };
     for t in truths {
         let started = Instant::now();
-        let (image, samples, half, per_sample, strands) = match t {
+        let (image, samples, half, per_sample, strands, frames) = match t {
             Truth::Strands => {
                 let r = crate::strands::reference(preview, scene, meshes, of, opts.reference)?;
                 if !r.converged {
@@ -383,13 +389,15 @@ fn references(
                     Some(r.half_vs_half),
                     r.ms_per_sample,
                     r.strands,
+                    (r.frames, r.grid, r.ms_per_frame),
                 )
             }
             Truth::Deferred => {
                 let sv = preview.prepare_loaded(scene, meshes, of, Mode::Deferred)?;
                 let started = Instant::now();
                 let image = preview.render(&sv)?;
-                (image, 1, None, started.elapsed().as_secs_f64() * 1e3, 0)
+                let ms = started.elapsed().as_secs_f64() * 1e3;
+                (image, 1, None, ms, 0, (1, 1, ms))
             }
             Truth::RayTracer => {
                 let depth = planned
@@ -400,7 +408,7 @@ fn references(
                     .unwrap_or(scene.reflections.max_depth);
                 let r = crate::reflections::reference(scene, meshes, of, depth)?;
                 let ms = r.ms;
-                (r.image, 1, None, ms, 0)
+                (r.image, 1, None, ms, 0, (1, 1, ms))
             }
         };
         let rel = format!("reference-{}.png", t.name());
@@ -411,6 +419,9 @@ fn references(
             half_vs_half_flip: half,
             ms: started.elapsed().as_secs_f64() * 1e3,
             ms_per_sample: per_sample,
+            frames: frames.0,
+            grid: frames.1,
+            ms_per_frame: frames.2,
             image: rel,
             strands,
         });

@@ -61,19 +61,24 @@ fn panel<DB: DrawingBackend>(
     rows: &[&Row],
 ) -> Result<(), String> {
     let xmax = rows.iter().map(|r| r.ms).fold(0.0, f64::max).max(1e-3) * 1.15;
-    let ymax = rows
-        .iter()
-        .map(|r| f64::from(r.error))
-        .fold(0.0, f64::max)
-        .max(1e-4)
-        * 1.2;
+    // The error axis spans the knob's errors with a margin (from 0 when they reach near it),
+    // so a knob whose settings differ by little still shows its order.
+    let emax = rows.iter().map(|r| f64::from(r.error)).fold(0.0, f64::max);
+    let emin = rows.iter().map(|r| f64::from(r.error)).fold(emax, f64::min);
+    let span = (emax - emin).max(emax * 0.02).max(1e-4);
+    let ylo = if emin < 2.0 * span {
+        0.0
+    } else {
+        emin - 0.4 * span
+    };
+    let yhi = emax + 0.4 * span;
     let against = rows.first().map_or("", |r| r.truth.name());
     let mut chart = ChartBuilder::on(area)
         .caption(format!("{knob} (against {against})"), (FONT, 15))
         .margin(8)
         .x_label_area_size(30)
         .y_label_area_size(48)
-        .build_cartesian_2d(0.0..xmax, 0.0..ymax)
+        .build_cartesian_2d(0.0..xmax, ylo..yhi)
         .map_err(|e| e.to_string())?;
     chart
         .configure_mesh()

@@ -85,6 +85,9 @@ pub fn json(s: &Sweep) -> serde_json::Value {
                 "half_vs_half_flip": r.half_vs_half_flip,
                 "ms": r.ms,
                 "ms_per_sample": r.ms_per_sample,
+                "frames": r.frames,
+                "grid": r.grid,
+                "ms_per_frame": r.ms_per_frame,
                 "strands": r.strands,
                 "image": r.image,
             })
@@ -128,9 +131,13 @@ pub fn markdown(s: &Sweep) -> String {
             Some(f) => {
                 let _ = writeln!(
                     out,
-                    "{} strands, {} samples, half-vs-half FLIP {f:.4}, {:.0} ms per sample, {:.1} s in all",
+                    "{} strands, {} samples per pixel ({} frames of {}×{}), half-vs-half FLIP {f:.4}, {:.0} ms per frame ({:.1} ms per sample), {:.1} s in all",
                     r.strands,
                     r.samples,
+                    r.frames,
+                    r.grid,
+                    r.grid,
+                    r.ms_per_frame,
                     r.ms_per_sample,
                     r.ms / 1000.0
                 );

@@ -1,0 +1,233 @@
+//! `pelt sweep` and `pelt render --mode strands` as a user runs them: the demo's scene
+//! (written by `pelt demo`) swept over shells and the L-buffer scale against the converged
+//! strand reference and full-resolution deferred; bad knobs as usage errors; a strand
+//! reference that cannot converge in the samples allowed writes nothing.
+//! `PELT_BACKEND=gl|vulkan` picks the back end.
+
+mod common;
+
+use std::path::Path;
+
+use common::{pelt, scratch};
+
+fn backend() -> String {
+    std::env::var("PELT_BACKEND").unwrap_or_else(|_| "auto".into())
+}
+
+fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let bytes = std::fs::read(path).expect("png written");
+    let mut d = png::Decoder::new(std::io::Cursor::new(bytes));
+    d.set_transformations(png::Transformations::EXPAND);
+    let mut r = d.read_info().expect("valid png");
+    let mut buf = vec![0; r.output_buffer_size().expect("size")];
+    let info = r.next_frame(&mut buf).expect("frame");
+    buf.truncate(info.buffer_size());
+    let rgba = match info.color_type {
+        png::ColorType::Rgb => buf
+            .chunks_exact(3)
+            .flat_map(|p| [p[0], p[1], p[2], 255])
+            .collect(),
+        _ => buf,
+    };
+    (info.width, info.height, rgba)
+}
+
+/// The demo's scene at 160×90, baked and written by `pelt demo` into `dir`.
+fn demo_scene(dir: &Path) -> std::path::PathBuf {
+    let b = backend();
+    let d = dir.to_str().expect("utf8");
+    let out = pelt(
+        &[
+            "demo",
+            "-o",
+            d,
+            "--backend",
+            &b,
+            "--size",
+            "160x90",
+            "--frames",
+            "1",
+            "-q",
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "pelt demo: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("scene.json")
+}
+
+#[test]
+fn the_demo_scene_sweep_measures_shells_against_the_strand_reference() {
+    let dir = scratch("sweep-demo");
+    let scene = demo_scene(&dir);
+    let out_dir = dir.join("sweep");
+    let b = backend();
+    let out = pelt(
+        &[
+            "sweep",
+            scene.to_str().expect("utf8"),
+            "--knob",
+            "shells=4,16,64",
+            "--knob",
+            "lbuffer-scale=0.5,1",
+            "--frames",
+            "2",
+            "--warmup",
+            "1",
+            "--backend",
+            &b,
+            "-o",
+            out_dir.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "pelt sweep: {stderr}");
+    eprintln!("{stderr}");
+
+    // sweep.csv: a row per setting, with time and error.
+    let csv = std::fs::read_to_string(out_dir.join("sweep.csv")).expect("sweep.csv");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(header[..4], ["knob", "value", "ms", "error"]);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 5, "{csv}");
+    let error = |knob: &str, value: &str| -> f64 {
+        let r = rows
+            .iter()
+            .find(|r| r[0] == knob && r[1] == value)
+            .unwrap_or_else(|| panic!("a row for {knob}={value}: {csv}"));
+        let (ms, e): (f64, f64) = (r[2].parse().expect("ms"), r[3].parse().expect("error"));
+        assert!(ms > 0.0 && e.is_finite() && e >= 0.0, "{r:?}");
+        e
+    };
+    let (e4, e16, e64) = (
+        error("shells", "4"),
+        error("shells", "16"),
+        error("shells", "64"),
+    );
+    assert!(
+        e4 > e64,
+        "against the strand reference 64 shells must beat 4: {e4} vs {e64}"
+    );
+    eprintln!("shells 4/16/64 against strands: {e4:.4} {e16:.4} {e64:.4}");
+    assert!(error("lbuffer-scale", "0.5") >= error("lbuffer-scale", "1"));
+    for r in &rows {
+        let want = if r[0] == "shells" {
+            "strands"
+        } else {
+            "deferred"
+        };
+        assert_eq!(r[4], want, "{r:?}");
+        assert!(out_dir.join(r[8]).is_file() && out_dir.join(r[9]).is_file());
+    }
+
+    // sweep.json: the same rows, the reference's convergence, the adapter.
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join("sweep.json")).expect("sweep.json"),
+    )
+    .expect("valid json");
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(5));
+    assert_eq!(json["reference"]["kind"], "strands");
+    let half = json["reference"]["half_vs_half_flip"]
+        .as_f64()
+        .expect("half-vs-half figure");
+    assert!(half <= 0.005, "{half}");
+    assert!(json["reference"]["samples"].as_u64().expect("samples") >= 16);
+    assert!(!json["adapter"].as_str().expect("adapter").is_empty());
+
+    // sweep.png: drawn, with the Pareto front in red and dark text and axes.
+    let (w, h, px) = read_png(&out_dir.join("sweep.png"));
+    let pixels = (w * h) as usize;
+    let red = px
+        .chunks_exact(4)
+        .filter(|p| p[0] > 200 && p[1] < 60 && p[2] < 60)
+        .count();
+    let dark = px
+        .chunks_exact(4)
+        .filter(|p| p[0] < 80 && p[1] < 80 && p[2] < 80)
+        .count();
+    assert!(red > 50, "{red} Pareto-front pixels");
+    assert!(
+        dark > pixels / 500,
+        "{dark} text and axis pixels of {pixels}"
+    );
+    let (cw, ch, _) = read_png(&out_dir.join("contact.png"));
+    assert!(cw > 0 && ch > 0);
+    assert!(out_dir.join("reference-strands.png").is_file());
+    assert!(out_dir.join("sweep.md").is_file());
+    assert!(!out_dir.join(".sweep-partial").exists());
+}
+
+#[test]
+fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
+    let dir = scratch("sweep-bad");
+    let out_dir = dir.join("out");
+    let o = out_dir.to_str().expect("utf8");
+    let asset = common::fixture("creature.glb");
+    let a = asset.to_str().expect("utf8");
+    let b = backend();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--knob", "shells=0"],
+            "knob shells: \"0\" is not allowed (1 to 256)",
+        ),
+        (
+            &["--knob", "lbuffer-scale=2"],
+            "knob lbuffer-scale: \"2\" is not allowed (0.1 to 1)",
+        ),
+        (
+            &["--knob", "hairs=4"],
+            "unknown knob \"hairs\" (knobs: shells, fins,",
+        ),
+        (&["--knob", "shells"], "expected NAME=V1,V2,..."),
+        (
+            &["--knob", "linear-steps=4"],
+            "knob linear-steps: the scene has no mirror or glass object",
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["sweep", a, "-o", o, "--backend", &b];
+        args.extend_from_slice(extra);
+        let out = pelt(&args, &[]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(want), "{extra:?}: {stderr}");
+        assert!(!out_dir.exists(), "{extra:?} wrote output");
+    }
+}
+
+#[test]
+fn a_strand_reference_that_cannot_converge_writes_nothing() {
+    let dir = scratch("strands-unconverged");
+    let png = dir.join("strands.png");
+    let b = backend();
+    let out = pelt(
+        &[
+            "render",
+            common::fixture("scenes/showcase.json")
+                .to_str()
+                .expect("utf8"),
+            "--mode",
+            "strands",
+            "--size",
+            "64x36",
+            "--max-samples",
+            "2",
+            "--target-flip",
+            "0.0001",
+            "--backend",
+            &b,
+            "-o",
+            png.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("did not converge"), "{stderr}");
+    assert!(!png.exists());
+}
