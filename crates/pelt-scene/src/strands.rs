@@ -14,8 +14,9 @@ use crate::asset::MeshData;
 use crate::fur::comb_object;
 use crate::vertex::StrandRoot;
 
-/// Most strands one mesh may plant (80 bytes each on the GPU).
-pub const MAX_STRANDS: u64 = 6_000_000;
+/// Most strands one mesh may plant (80 bytes each on the GPU: 240 MB, under wgpu's default
+/// 256 MiB buffer limit).
+pub const MAX_STRANDS: u64 = 3_000_000;
 /// Most tiles the UV boxes of a mesh's triangles may span together.
 const MAX_TILE_VISITS: u64 = 50_000_000;
 

@@ -386,7 +386,9 @@ impl Viewer {
                 if s.dsf { "on" } else { "off" }
             );
         }
-        if let Some(n) = shells {
+        if self.settings.mode == pelt_preview::Mode::Strands {
+            first += ", explicit strands (one sample a frame)";
+        } else if let Some(n) = shells {
             let fins = s
                 .objects
                 .iter()
