@@ -8,10 +8,12 @@
 @group(1) @binding(0) var sky_cube: texture_cube<f32>;
 @group(1) @binding(1) var sky_sampler: sampler;
 
-// The pixel's normalized device coordinates.
+// The pixel's normalized device coordinates without the projection's jitter (a shift of
+// the whole image by t puts −t in the projection's third column; zero unless a caller
+// supersamples, as the strand reference does), so the sky is sampled where the geometry is.
 fn ndc_of(pos: vec4<f32>) -> vec2<f32> {
     let uv = pos.xy * frame.target_size.zw;
-    return vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    return vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0) + frame.proj[2].xy;
 }
 
 // The world direction through a pixel (the view matrix is a rotation and a translation, so
