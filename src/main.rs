@@ -150,13 +150,9 @@ pub struct SweepArgs {
     /// Untimed frames before them.
     #[arg(long, default_value_t = 2)]
     pub warmup: usize,
-    /// The strand reference accumulates until two half-sample images differ by at most this
-    /// FLIP mean (0.0001 to 0.5).
-    #[arg(long, value_name = "FLIP", default_value_t = 0.005, value_parser = target_flip)]
-    pub target_flip: f32,
-    /// The strand reference gives up (exit 1, nothing written) after this many samples.
-    #[arg(long, value_name = "N", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
-    pub max_samples: u32,
+    /// How far the strand reference converges.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
@@ -254,16 +250,35 @@ pub struct RenderArgs {
     /// uploaded (frame 0 includes the scene's meshes, textures and pipelines).
     #[arg(long, requires = "bench")]
     pub json: bool,
-    /// With --mode strands: accumulate jittered samples until two half-sample images differ
-    /// by at most this FLIP mean (0.0001 to 0.5).
-    #[arg(long, value_name = "FLIP", default_value_t = 0.005, value_parser = target_flip)]
-    pub target_flip: f32,
-    /// With --mode strands: give up (exit 1, nothing written) after this many samples.
-    #[arg(long, value_name = "N", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
-    pub max_samples: u32,
+    /// With --mode strands: how far the reference converges.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
     /// Print nothing but errors and requested output.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// How far the strand reference (`--mode strands`, `pelt sweep`) accumulates.
+#[derive(clap::Args)]
+pub struct ReferenceArgs {
+    /// Accumulate jittered samples until two half-sample images differ by at most this FLIP
+    /// mean (0.0001 to 0.5).
+    #[arg(long, value_name = "FLIP", default_value_t = 0.005, value_parser = target_flip)]
+    pub target_flip: f32,
+    /// Give up (exit 1, nothing written) after this many samples per pixel.
+    #[arg(long, value_name = "N", default_value_t = 4096, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    pub max_samples: u32,
+}
+
+impl ReferenceArgs {
+    /// The accumulation options.
+    pub fn options(&self) -> pelt_measure::strands::Options {
+        pelt_measure::strands::Options {
+            target: self.target_flip,
+            max_samples: self.max_samples,
+            ..Default::default()
+        }
+    }
 }
 
 fn target_flip(s: &str) -> Result<f32, String> {

@@ -126,11 +126,7 @@ fn strands(
     (scene, meshes, of): (&Scene, &[pelt_preview::asset::MeshData], &[usize]),
     out: &Path,
 ) -> ExitCode {
-    let opts = pelt_measure::strands::Options {
-        target: args.target_flip,
-        max_samples: args.max_samples,
-        ..Default::default()
-    };
+    let opts = args.reference.options();
     let r = match pelt_measure::strands::reference(preview, scene, meshes, of, opts) {
         Ok(r) => r,
         Err(e) => return fail(e),

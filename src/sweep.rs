@@ -52,11 +52,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         grid: args.grid,
         frames: args.frames,
         warmup: args.warmup,
-        reference: pelt_measure::strands::Options {
-            target: args.target_flip,
-            max_samples: args.max_samples,
-            ..Default::default()
-        },
+        reference: args.reference.options(),
         out: staging.clone(),
     };
     let base = pelt_preview::knobs::Knobs {
