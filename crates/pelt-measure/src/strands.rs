@@ -14,6 +14,7 @@ use pelt_preview::view::View;
 use pelt_preview::{Image, Mode, Preview, RenderError, SceneView};
 use pelt_scene::asset::MeshData;
 use pelt_scene::scene::Scene;
+use pelt_scene::shading::{linear_of_srgb8, srgb8};
 
 use crate::Flip;
 
@@ -89,27 +90,9 @@ pub fn jitter(i: u32) -> (f32, f32) {
     (f(A1), f(A2))
 }
 
-/// sRGB 8-bit to linear, per value.
+/// sRGB 8-bit to linear, per value ([`pelt_scene::shading::linear_of_srgb8`] tabulated).
 fn srgb_to_linear_table() -> [f32; 256] {
-    std::array::from_fn(|i| {
-        let c = i as f32 / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    })
-}
-
-/// Linear to sRGB 8-bit.
-fn linear_to_srgb8(v: f32) -> u8 {
-    let v = v.clamp(0.0, 1.0);
-    let s = if v <= 0.003_130_8 {
-        v * 12.92
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5).floor() as u8
+    std::array::from_fn(|i| linear_of_srgb8(i as u8))
 }
 
 /// An image of `sum / n` (linear RGB sums).
@@ -118,12 +101,7 @@ fn mean_image(w: u32, h: u32, sum: &[[f64; 3]], n: u32) -> (Image, Vec<[f32; 3]>
     let linear: Vec<[f32; 3]> = sum.iter().map(|s| s.map(|v| (v / n) as f32)).collect();
     let rgba = linear
         .iter()
-        .flat_map(|p| {
-            [p[0], p[1], p[2]]
-                .map(linear_to_srgb8)
-                .into_iter()
-                .chain([255])
-        })
+        .flat_map(|p| [p[0], p[1], p[2]].map(srgb8).into_iter().chain([255]))
         .collect();
     (
         Image {
@@ -261,7 +239,7 @@ mod tests {
     fn srgb_round_trips() {
         let t = srgb_to_linear_table();
         for (i, &v) in t.iter().enumerate() {
-            assert_eq!(linear_to_srgb8(v) as usize, i);
+            assert_eq!(srgb8(v) as usize, i);
         }
     }
 }

@@ -5,8 +5,11 @@
 //! comparison leaves `-reference.png`, `-actual.png` and `-diff.png` in
 //! `target/render-tests/`. `PELT_BACKEND=gl|vulkan` picks the back end.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
+use common::{out_dir, preview};
 use pelt_measure::Flip;
 use pelt_measure::reflections::{self, Reference, Run};
 use pelt_preview::knobs::{self, Knobs};
@@ -14,25 +17,9 @@ use pelt_preview::scene::{
     Camera, Ior, Material, NonNegative, Object, PointLight, Positive, Reflections, Sky, Technique,
     Transform,
 };
-use pelt_preview::{Backend, Image, Mode, Preview, Scene};
+use pelt_preview::{Image, Mode, Preview, Scene};
 
 const SIZE: (u32, u32) = (256, 144);
-
-fn preview() -> Preview {
-    let backend: Backend = std::env::var("PELT_BACKEND")
-        .ok()
-        .map(|b| b.parse().expect("PELT_BACKEND is vulkan, gl or auto"))
-        .unwrap_or_default();
-    let p = Preview::new(backend).expect("a wgpu adapter (Mesa's llvmpipe or lavapipe)");
-    eprintln!("adapter: {}", p.adapter());
-    p
-}
-
-fn out_dir() -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/render-tests");
-    std::fs::create_dir_all(&dir).expect("target/render-tests");
-    dir
-}
 
 fn save_failure(name: &str, reference: &Image, test: &Image) {
     let dir = out_dir();

@@ -7,8 +7,9 @@
 //! holes, in the shells and in the strands. `PELT_BACKEND=gl|vulkan` picks the back end.
 //! Images are at most 128 × 128.
 
-use std::path::PathBuf;
+mod common;
 
+use common::{out_dir, preview};
 use glam::Vec3;
 use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, bake_with_fur};
@@ -21,23 +22,7 @@ use pelt_preview::scene::{
     Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size, Transform,
 };
 use pelt_preview::uniforms::{FurVertex, Vertex};
-use pelt_preview::{Backend, Image, Mode, Preview, Scene};
-
-fn preview() -> Preview {
-    let backend: Backend = std::env::var("PELT_BACKEND")
-        .ok()
-        .map(|b| b.parse().expect("PELT_BACKEND is vulkan, gl or auto"))
-        .unwrap_or_default();
-    let p = Preview::new(backend).expect("a wgpu adapter (Mesa's llvmpipe or lavapipe)");
-    eprintln!("adapter: {}", p.adapter());
-    p
-}
-
-fn out_dir() -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/render-tests");
-    std::fs::create_dir_all(&dir).expect("target/render-tests");
-    dir
-}
+use pelt_preview::{Image, Mode, Preview, Scene};
 
 /// A flat unit square in the XY plane (normal +Z), UVs 0..1, with `model`'s fur: comb
 /// `comb` in tangent space (length 1), root and tip colours as given.
