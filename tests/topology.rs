@@ -8,8 +8,8 @@ use std::path::Path;
 
 use common::*;
 use glam::Vec3;
-use pelt_geom::octahedral;
-use pelt_geom::topology::NO_FACE;
+use pelt_geom::topology::{NO_CORNER, next_corner};
+use pelt_io::topology::fin_geometry;
 use pelt_io::{Document, PrimitiveRef, accessor};
 use serde_json::Value;
 
@@ -151,7 +151,8 @@ fn uv_sphere_seam_is_one_group_with_no_duplicated_fin_edges() {
     // The seam column is duplicated in the file, but each welded edge appears once.
     let mut seen = BTreeSet::new();
     for f in &fins {
-        let (a, b) = (r.key(f.vertices[0]), r.key(f.vertices[1]));
+        let [v0, v1] = fin_geometry(f, &r.indices, &r.positions).vertices;
+        let (a, b) = (r.key(v0), r.key(v1));
         assert!(seen.insert((a.min(b), a.max(b))), "edge {a:?}-{b:?} twice");
     }
     // The sphere's file really has a seam: more vertices than welded positions.
@@ -185,26 +186,29 @@ fn closed_manifold_has_3f_over_2_fin_edges_each_with_both_faces() {
     let faces = r.indices.len() / 3;
     assert_eq!(fins.len(), 3 * faces / 2);
     for f in &fins {
-        assert_eq!(f.face_count, 2);
-        assert_ne!(f.faces[1], NO_FACE);
-        // Both faces hold the edge's two positions, and the stored normals are theirs.
-        let ends = [r.key(f.vertices[0]), r.key(f.vertices[1])];
-        for (k, &face) in f.faces.iter().enumerate() {
-            let t = &r.indices[3 * face as usize..3 * face as usize + 3];
-            let keys: Vec<[u32; 3]> = t.iter().map(|&v| r.key(v)).collect();
-            assert!(ends.iter().all(|e| keys.contains(e)), "face {face}");
+        assert_ne!(f.second_corner, NO_CORNER);
+        // Both corners' edges join the same two positions, in opposite directions (the torus
+        // is consistently wound).
+        let end = |c: u32| r.key(r.indices[c as usize]);
+        let (c0, c1) = (f.corner, f.second_corner);
+        assert_ne!(c0 / 3, c1 / 3, "one face twice");
+        assert_eq!(
+            (end(c0), end(next_corner(c0))),
+            (end(next_corner(c1)), end(c1))
+        );
+        // The decoded face normals are the faces' own.
+        let g = fin_geometry(f, &r.indices, &r.positions);
+        for (k, c) in [c0, c1].into_iter().enumerate() {
+            let face = (c / 3) as usize;
+            let t = &r.indices[3 * face..3 * face + 3];
             let p = |i: usize| r.positions[t[i] as usize];
             let n = (p(1) - p(0)).cross(p(2) - p(0)).normalize();
-            let stored = octahedral::decode(f.normals[k]);
-            assert!(n.dot(stored) > 0.9999, "face {face} normal {stored} vs {n}");
+            assert!(n.dot(g.face_normals[k]) > 0.9999, "face {face}");
         }
-        // The first face's vertices, in its winding order.
-        let t0 = &r.indices[3 * f.faces[0] as usize..3 * f.faces[0] as usize + 3];
-        let i = t0
-            .iter()
-            .position(|&v| v == f.vertices[0])
-            .expect("v0 in f0");
-        assert_eq!(t0[(i + 1) % 3], f.vertices[1]);
+        assert_eq!(
+            g.vertices,
+            [r.indices[c0 as usize], r.indices[next_corner(c0) as usize]]
+        );
     }
 }
 
@@ -396,15 +400,15 @@ fn edges_without_fur_are_left_out_of_the_fins() {
     .expect("comb");
     let m = pelt_io::mesh::read_primitive(&doc, PRIM).expect("prim");
     let fins = doc.read_fins(PRIM).expect("fins").expect("stored");
+    // Every stored fin has fur at an end of its edge, in one of its faces.
+    let ends = |c: u32| [c, next_corner(c)].map(|k| m.mesh.indices[k as usize]);
     for f in &fins {
-        let around: Vec<u32> = f
-            .faces
-            .iter()
-            .filter(|&&x| x != NO_FACE)
-            .flat_map(|&x| m.mesh.indices[3 * x as usize..3 * x as usize + 3].to_vec())
-            .collect();
+        let mut at_ends = ends(f.corner).to_vec();
+        if f.second_corner != NO_CORNER {
+            at_ends.extend(ends(f.second_corner));
+        }
         assert!(
-            around.iter().any(|&v| comb[v as usize][3] > 0.0),
+            at_ends.iter().any(|&v| comb[v as usize][3] > 0.0),
             "fin {f:?} has no fur"
         );
     }

@@ -291,7 +291,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
 
     // Topology over the normals as written: groups, their IDs.
     let t_topology = Instant::now();
-    let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
+    let mut topo = (opts.topology_mode != TopologyMode::Off).then(|| {
         let t = topology::build(
             &mesh.positions,
             idx,
@@ -442,7 +442,7 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     }
     // Fin edges over the output vertices, where there is fur.
     let t_fins = Instant::now();
-    let fins = match &topo {
+    let fins = match &mut topo {
         Some((t, _)) if opts.topology_mode == TopologyMode::Full => {
             let out_indices = remap.as_ref().map_or(idx.as_slice(), |(_, i)| i.as_slice());
             let lengths: Vec<f32> = comb.par_iter().with_min_len(CHUNK).map(|c| c[3]).collect();
@@ -451,9 +451,11 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
             } else {
                 fins::Fur::Lengths(&lengths)
             };
-            let fins = fins::build(t, out_indices, fur);
+            let edges = t.take_edges();
+            let all = edges.len();
+            let fins = fins::build(edges, out_indices, fur);
             stats.topology.fin_edges = fins.len();
-            stats.topology.bare_edges = t.edges.len() - fins.len();
+            stats.topology.bare_edges = all - fins.len();
             Some(fins)
         }
         _ => None,

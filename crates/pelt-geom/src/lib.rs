@@ -19,7 +19,6 @@ pub mod group_ids;
 pub mod mesh;
 pub mod mikktspace;
 pub mod normals;
-pub mod octahedral;
 pub mod topology;
 pub mod union_find;
 pub mod weld;

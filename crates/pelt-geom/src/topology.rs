@@ -18,31 +18,41 @@
 //! emitted once, by its lowest face, so the edge list is in order of (lowest face, corner) and
 //! does not depend on the thread count.
 
+use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::normals::face_normal;
-use crate::octahedral;
 use crate::union_find::AtomicUnionFind;
 use crate::weld::weld_positions;
 
-/// "No face": the second face of a boundary edge.
-pub const NO_FACE: u32 = u32::MAX;
+/// "No corner": the second corner of a boundary edge.
+pub const NO_CORNER: u32 = u32::MAX;
 
-/// The [`Topology::face_normal`] of a degenerate face (an octahedral code the encoder never
-/// makes: both halves are -32768).
-pub const DEGENERATE: u32 = 0x8000_8000;
+/// The corner after `c` in its face.
+#[inline]
+pub fn next_corner(c: u32) -> u32 {
+    c - c % 3 + (c + 1) % 3
+}
 
-/// One unique welded edge and the faces around it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The corner before `c` in its face.
+#[inline]
+pub fn prev_corner(c: u32) -> u32 {
+    c - c % 3 + (c + 2) % 3
+}
+
+/// One unique welded edge, as the corners where it starts in the windings of its two lowest
+/// faces. A corner `c` is element `c` of the index list: its face is `c / 3`, and the face's
+/// edge from `c` runs to [`next_corner`]`(c)`. This is also the fin record a bake stores
+/// (`docs/format.md`, format version 2), so the fins are this list, not a copy of it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
 pub struct Edge {
-    /// The corner where the edge starts in its lowest face's winding (the edge runs from it to
-    /// the next corner of that face, `corner / 3`).
+    /// Where the edge starts in its lowest face's winding.
     pub corner: u32,
-    /// The second-lowest face using the edge, or [`NO_FACE`] on a boundary.
-    pub second_face: u32,
-    /// Number of faces using the edge: 1 on a boundary, 2 on a manifold edge, more otherwise.
-    pub face_count: u32,
+    /// Where it starts in the second-lowest face's winding ([`NO_CORNER`] on a boundary).
+    /// On a consistently wound surface this face runs the edge the other way.
+    pub second_corner: u32,
 }
 
 impl Edge {
@@ -51,10 +61,19 @@ impl Edge {
         self.corner / 3
     }
 
+    /// The second-lowest face using the edge (None on a boundary).
+    pub fn second_face(&self) -> Option<u32> {
+        (self.second_corner != NO_CORNER).then_some(self.second_corner / 3)
+    }
+
     /// The corner after `corner` in its face (where the edge ends).
     pub fn end_corner(&self) -> u32 {
-        let c = self.corner;
-        c - c % 3 + (c + 1) % 3
+        next_corner(self.corner)
+    }
+
+    /// Whether the edge has one face.
+    pub fn is_boundary(&self) -> bool {
+        self.second_corner == NO_CORNER
     }
 }
 
@@ -89,16 +108,16 @@ pub struct Topology {
     /// Welded position id per corner.
     pub corner_pid: Vec<u32>,
     /// Corners at each welded position: those of position `p` are
-    /// `star[star_start[p]..star_start[p + 1]]`, in corner order.
+    /// `star[star_start[p]..star_start[p + 1]]`, ascending.
     star_start: Vec<u32>,
-    /// Per corner around a position: [corner, position of the next corner of its face,
-    /// position of the previous one].
-    star: Vec<[u32; 3]>,
-    /// Geometric normal per face (counter-clockwise winding), octahedral-encoded
-    /// ([`crate::octahedral`]); [`DEGENERATE`] for a face with no area or collapsed by welding.
-    pub face_normal: Vec<u32>,
+    /// Corners grouped by welded position (see `star_start`).
+    star: Vec<u32>,
+    /// Per face: no area, or two corners welded into one position.
+    degenerate: Vec<bool>,
     /// Unique edges of the proper faces, in order of (lowest face, corner).
     pub edges: Vec<Edge>,
+    /// Edges with three or more faces.
+    nonmanifold: usize,
     /// Normal group per face, numbered in order of each group's first face.
     pub face_group: Vec<u32>,
     /// Number of groups.
@@ -117,25 +136,22 @@ impl Topology {
 
     /// Edges with one face.
     pub fn boundary_edges(&self) -> usize {
-        self.edges.iter().filter(|e| e.face_count == 1).count()
+        self.edges.iter().filter(|e| e.is_boundary()).count()
     }
 
-    /// Edges with three or more faces.
+    /// Edges with three or more faces (counted as they were found).
     pub fn nonmanifold_edges(&self) -> usize {
-        self.edges.iter().filter(|e| e.face_count > 2).count()
+        self.nonmanifold
     }
 
     /// Whether face `f` is degenerate.
     pub fn is_degenerate(&self, f: u32) -> bool {
-        self.face_normal[f as usize] == DEGENERATE
+        self.degenerate[f as usize]
     }
 
     /// Number of degenerate faces.
     pub fn degenerate_faces(&self) -> usize {
-        self.face_normal
-            .iter()
-            .filter(|&&n| n == DEGENERATE)
-            .count()
+        self.degenerate.iter().filter(|&&d| d).count()
     }
 
     /// The faces around welded position `p`, ascending (a face that collapses two corners into
@@ -144,7 +160,12 @@ impl Topology {
         let p = p as usize;
         self.star[self.star_start[p] as usize..self.star_start[p + 1] as usize]
             .iter()
-            .map(|e| e[0] / 3)
+            .map(|c| c / 3)
+    }
+
+    /// Takes the edge list out (for the fins, which are the same records), leaving it empty.
+    pub fn take_edges(&mut self) -> Vec<Edge> {
+        std::mem::take(&mut self.edges)
     }
 }
 
@@ -172,6 +193,28 @@ pub enum CornerNormals<'a> {
     Corner(&'a [Vec3]),
 }
 
+/// The corners of each welded position, ascending: a counting sort of the corners by
+/// position. Returns (`star_start`, `star`).
+fn stars(corner_pid: &[u32], n_pos: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut star_start = vec![0u32; n_pos + 1];
+    for &p in corner_pid {
+        star_start[p as usize + 1] += 1;
+    }
+    for p in 0..n_pos {
+        star_start[p + 1] += star_start[p];
+    }
+    let mut star = vec![0u32; corner_pid.len()];
+    // Each position's next free slot, kept in `star_start[p + 1]` shifted down by one position
+    // (so no second array): after the fill, `star_start[p + 1]` is back at its end.
+    star_start.copy_within(0..n_pos, 1);
+    for (c, &p) in corner_pid.iter().enumerate() {
+        let slot = &mut star_start[p as usize + 1];
+        star[*slot as usize] = c as u32;
+        *slot += 1;
+    }
+    (star_start, star)
+}
+
 /// Builds the topology of the triangles `indices` over `positions`.
 pub fn build(
     positions: &[Vec3],
@@ -186,86 +229,75 @@ pub fn build(
         .with_min_len(CHUNK)
         .map(|&v| position_id[v as usize])
         .collect();
-    let pid = |c: usize| corner_pid[c];
-    let face_normal: Vec<u32> = (0..nf)
+    let pid = |c: u32| corner_pid[c as usize];
+    let degenerate: Vec<bool> = (0..nf)
         .into_par_iter()
         .with_min_len(CHUNK)
         .map(|f| {
-            let [a, b, c] = [pid(3 * f), pid(3 * f + 1), pid(3 * f + 2)];
+            let [a, b, c] = [0, 1, 2].map(|k| corner_pid[3 * f + k]);
             let p = |k: usize| positions[indices[3 * f + k] as usize];
-            if a == b || b == c || a == c {
-                return DEGENERATE;
-            }
-            face_normal(p(0), p(1), p(2)).map_or(DEGENERATE, |n| octahedral::encode(n.as_vec3()))
+            a == b || b == c || a == c || face_normal(p(0), p(1), p(2)).is_none()
         })
         .collect();
-    let degenerate = |f: u32| face_normal[f as usize] == DEGENERATE;
-
-    // Corners around each position (a counting sort by position, so corners ascend in each
-    // run), with the positions of their neighbours in their face.
-    let mut star_start = vec![0u32; n_pos + 1];
-    for &p in &corner_pid {
-        star_start[p as usize + 1] += 1;
-    }
-    for p in 0..n_pos {
-        star_start[p + 1] += star_start[p];
-    }
-    let mut fill = star_start.clone();
-    let mut star = vec![[0u32; 3]; corner_pid.len()];
-    for (t, tri) in corner_pid.chunks_exact(3).enumerate() {
-        for k in 0..3 {
-            let slot = &mut fill[tri[k] as usize];
-            star[*slot as usize] = [(3 * t + k) as u32, tri[(k + 1) % 3], tri[(k + 2) % 3]];
-            *slot += 1;
-        }
-    }
-    drop(fill);
+    let is_degenerate = |f: u32| degenerate[f as usize];
+    let (star_start, star) = stars(&corner_pid, n_pos);
     let star_at =
         |p: u32| &star[star_start[p as usize] as usize..star_start[p as usize + 1] as usize];
     let cos_tol = f64::from(opts.normal_tolerance.clamp(0.0, std::f32::consts::PI)).cos();
-    let corners_agree = |c: usize, d: usize| match normals {
+    let corners_agree = |c: u32, d: u32| match normals {
         CornerNormals::Vertex(n) => {
-            let (v, w) = (indices[c] as usize, indices[d] as usize);
+            let (v, w) = (indices[c as usize] as usize, indices[d as usize] as usize);
             v == w || agree(n[v], n[w], cos_tol)
         }
-        CornerNormals::Corner(n) => agree(n[c], n[d], cos_tol),
+        CornerNormals::Corner(n) => agree(n[c as usize], n[d as usize], cos_tol),
     };
     // Two faces given by their corners at the edge's two ends.
     let same_group =
-        |x: [usize; 2], y: [usize; 2]| corners_agree(x[0], y[0]) && corners_agree(x[1], y[1]);
-    // The corner after / before corner d in its face.
-    let next_of = |d: u32| (d - d % 3 + (d + 1) % 3) as usize;
-    let prev_of = |d: u32| (d - d % 3 + (d + 2) % 3) as usize;
+        |x: [u32; 2], y: [u32; 2]| corners_agree(x[0], y[0]) && corners_agree(x[1], y[1]);
+    // Face g's corner d sits at one end of the edge (a, b); its corner at b, if g uses the
+    // edge (and is proper).
+    let other_end = |d: u32, b: u32| {
+        let (next, prev) = (next_corner(d), prev_corner(d));
+        if pid(next) == b {
+            Some(next)
+        } else if pid(prev) == b {
+            Some(prev)
+        } else {
+            None
+        }
+    };
 
     // Edges, each emitted by its lowest face; faces joined across them as they are found.
     let sets = AtomicUnionFind::new(nf);
-    let parts: Vec<Vec<Edge>> = (0..nf.div_ceil(CHUNK))
+    let parts: Vec<(Vec<Edge>, usize)> = (0..nf.div_ceil(CHUNK))
         .into_par_iter()
         .map(|task| {
             let mut edges = Vec::with_capacity(CHUNK * 3 / 2 + 16);
+            let mut nonmanifold = 0;
             // Faces on the edge, with their corners at its two ends.
-            let mut around: Vec<(u32, [usize; 2])> = Vec::new();
+            let mut around: Vec<(u32, [u32; 2])> = Vec::new();
             for f in (task * CHUNK..((task + 1) * CHUNK).min(nf)).map(|f| f as u32) {
-                if degenerate(f) {
+                if is_degenerate(f) {
                     continue;
                 }
-                for k in 0..3 {
-                    let c = 3 * f + k;
-                    let (a, b) = (pid(c as usize), pid(next_of(c)));
+                for c in 3 * f..3 * f + 3 {
+                    let (a, b) = (pid(c), pid(next_corner(c)));
                     around.clear();
-                    around.push((f, [c as usize, next_of(c)]));
+                    around.push((f, [c, next_corner(c)]));
                     let mut owner = true;
-                    for &[d, next, prev] in star_at(a) {
+                    for &d in star_at(a) {
                         let g = d / 3;
-                        if g == f || (next != b && prev != b) || degenerate(g) {
+                        if g == f || is_degenerate(g) {
                             continue;
                         }
+                        let Some(at_b) = other_end(d, b) else {
+                            continue;
+                        };
                         if g < f {
                             owner = false;
                             break;
                         }
-                        let at_b = if next == b { next_of(d) } else { prev_of(d) };
-                        around.push((g, [d as usize, at_b]));
+                        around.push((g, [d, at_b]));
                     }
                     if !owner {
                         continue;
@@ -277,31 +309,38 @@ pub fn build(
                             }
                         }
                     }
+                    // The second face's edge starts where its winding leaves the edge's first
+                    // end: at its corner at a when it runs a to b, else at its corner at b.
+                    let second_corner = around.get(1).map_or(NO_CORNER, |&(_, [d, at_b])| {
+                        if next_corner(d) == at_b { d } else { at_b }
+                    });
+                    nonmanifold += usize::from(around.len() > 2);
                     edges.push(Edge {
                         corner: c,
-                        second_face: around.get(1).map_or(NO_FACE, |&(g, _)| g),
-                        face_count: around.len() as u32,
+                        second_corner,
                     });
                 }
             }
-            edges
+            (edges, nonmanifold)
         })
         .collect();
-    let edges = parts.concat();
+    let nonmanifold = parts.iter().map(|p| p.1).sum();
+    let edges = concat(parts.into_iter().map(|p| p.0).collect());
     // Degenerate faces join proper neighbours across their edges by the same rule.
-    for f in (0..nf as u32).filter(|&f| degenerate(f)) {
+    for f in (0..nf as u32).filter(|&f| is_degenerate(f)) {
         for c in 3 * f..3 * f + 3 {
-            let (a, b) = (pid(c as usize), pid(next_of(c)));
+            let (a, b) = (pid(c), pid(next_corner(c)));
             if a == b {
                 continue;
             }
-            for &[d, next, prev] in star_at(a) {
+            for &d in star_at(a) {
                 let g = d / 3;
-                if (next != b && prev != b) || degenerate(g) {
+                if is_degenerate(g) {
                     continue;
                 }
-                let at_b = if next == b { next_of(d) } else { prev_of(d) };
-                if same_group([c as usize, next_of(c)], [d as usize, at_b]) {
+                if let Some(at_b) = other_end(d, b)
+                    && same_group([c, next_corner(c)], [d, at_b])
+                {
                     sets.join(f, g);
                 }
             }
@@ -314,11 +353,30 @@ pub fn build(
         corner_pid,
         star_start,
         star,
-        face_normal,
+        degenerate,
         edges,
+        nonmanifold,
         face_group,
         groups,
     }
+}
+
+/// The parts' edges in order, in one exact allocation filled in parallel.
+fn concat(parts: Vec<Vec<Edge>>) -> Vec<Edge> {
+    let total = parts.iter().map(Vec::len).sum();
+    let mut out = bytemuck::zeroed_vec::<Edge>(total);
+    let mut slots = Vec::with_capacity(parts.len());
+    let mut rest = out.as_mut_slice();
+    for p in &parts {
+        let (slot, tail) = rest.split_at_mut(p.len());
+        slots.push(slot);
+        rest = tail;
+    }
+    parts
+        .par_iter()
+        .zip(slots)
+        .for_each(|(p, slot)| slot.copy_from_slice(p));
+    out
 }
 
 #[cfg(test)]
@@ -427,8 +485,10 @@ mod tests {
             &TopologyOptions::default(),
         );
         assert_eq!(t.nonmanifold_edges(), 1);
-        let e = t.edges.iter().find(|e| e.face_count == 3).unwrap();
-        assert_eq!((t.ends(e), e.first_face(), e.second_face), ([0, 1], 0, 1));
+        let e = t.edges.iter().find(|e| t.ends(e) == [0, 1]).unwrap();
+        // The two lowest faces: face 0 runs 0 to 1 from its corner 0; face 1 runs 1 to 0 from
+        // its corner 3.
+        assert_eq!((e.first_face(), e.second_face(), e.corner, e.second_corner), (0, Some(1), 0, 3));
         assert_eq!(t.face_group, vec![0, 0, 1]);
         assert_eq!(t.boundary_edges(), 6);
     }

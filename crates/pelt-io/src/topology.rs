@@ -4,14 +4,19 @@
 //! sync.
 //!
 //! - `_NORMAL_GROUP`: SCALAR unsigned short, not normalized, one 8-bit ID per vertex (0 = none).
-//! - `extras.pelt.fins`: `{ "bufferView", "count", "byteStride": 28, ... }`, records of
-//!   [`FIN_RECORD_SIZE`] little-endian bytes: `v0 u32, v1 u32, f0 u32, f1 u32, n0 u32, n1 u32,
-//!   faceCount u32` ([`FinEdge`]), where n0 and n1 are the face normals in octahedral encoding
-//!   ([`pelt_geom::octahedral`]: two snorm16, x in the low half; WGSL's `unpack2x16snorm`). A
-//!   boundary edge has `f1 = 0xFFFFFFFF` and `n1 = 0`. A bufferView holds bytes only, so it needs no accessor (glTF forbids 32-bit
-//!   unsigned accessors outside indices) and validators accept it.
+//! - `extras.pelt.version`: [`FORMAT_VERSION`] (2). Version 1 stored 28-byte fin records
+//!   (vertices, faces, octahedral face normals, face count); this reader refuses it by name.
+//! - `extras.pelt.fins`: `{ "bufferView", "count", "byteStride": 8, ... }`, records of
+//!   [`FIN_RECORD_SIZE`] little-endian bytes: `c0 u32, c1 u32` ([`FinEdge`]), the corners
+//!   (elements of the primitive's index list) where the edge starts in the windings of its two
+//!   lowest faces; `c1 = 0xFFFFFFFF` on a boundary. A renderer gets the edge's vertices and both
+//!   faces' normals through the index list ([`fin_geometry`]; `shaders/fin_record.wgsl` is the
+//!   same decode in WGSL). A bufferView holds bytes only, so it needs no accessor (glTF forbids
+//!   32-bit unsigned accessors outside indices) and validators accept it.
 
+use glam::Vec3;
 use pelt_geom::fins::FinEdge;
+use pelt_geom::topology::{NO_CORNER, next_corner, prev_corner};
 use serde_json::{Map, Value, json};
 
 use crate::accessor::view_bytes;
@@ -24,8 +29,8 @@ pub const NORMAL_GROUP_ATTRIBUTE: &str = "_NORMAL_GROUP";
 /// Bytes per fin record.
 pub const FIN_RECORD_SIZE: usize = size_of::<FinEdge>();
 
-/// Version of the `extras.pelt` layout.
-pub const FORMAT_VERSION: u64 = 1;
+/// Version of the `extras.pelt` layout: 2 since fin records became corner pairs.
+pub const FORMAT_VERSION: u64 = 2;
 
 /// The fin records as a bufferView's data: the edges' own memory, as little-endian words.
 pub fn fins_view(edges: Vec<FinEdge>) -> ViewData {
@@ -44,13 +49,46 @@ pub fn decode_fins(bytes: &[u8]) -> Vec<FinEdge> {
             let w =
                 |k: usize| u32::from_le_bytes([r[4 * k], r[4 * k + 1], r[4 * k + 2], r[4 * k + 3]]);
             FinEdge {
-                vertices: [w(0), w(1)],
-                faces: [w(2), w(3)],
-                normals: [w(4), w(5)],
-                face_count: w(6),
+                corner: w(0),
+                second_corner: w(1),
             }
         })
         .collect()
+}
+
+/// What a renderer needs of one fin, decoded through the index list.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinGeometry {
+    /// The edge's vertices, in its first face's winding.
+    pub vertices: [u32; 2],
+    /// The two faces' geometric normals (counter-clockwise winding, unit; zero for a face with
+    /// no area); the second is the first's on a boundary.
+    pub face_normals: [Vec3; 2],
+}
+
+/// The unit geometric normal of the face holding corner `c` (counter-clockwise, as glTF
+/// fronts faces), from the positions it is drawn with.
+pub fn face_normal_at(c: u32, indices: &[u32], positions: &[Vec3]) -> Vec3 {
+    let p = |k: u32| positions[indices[k as usize] as usize];
+    let (a, b, d) = (p(c), p(next_corner(c)), p(prev_corner(c)));
+    (b - a).cross(d - a).normalize_or_zero()
+}
+
+/// Decodes a fin record checked by [`Document::read_fins`] (corners in range of `indices`,
+/// vertices in range of `positions`).
+pub fn fin_geometry(e: &FinEdge, indices: &[u32], positions: &[Vec3]) -> FinGeometry {
+    let n0 = face_normal_at(e.corner, indices, positions);
+    let n1 = match e.second_face() {
+        Some(_) => face_normal_at(e.second_corner, indices, positions),
+        None => n0,
+    };
+    FinGeometry {
+        vertices: [
+            indices[e.corner as usize],
+            indices[next_corner(e.corner) as usize],
+        ],
+        face_normals: [n0, n1],
+    }
 }
 
 impl Document {
@@ -104,16 +142,30 @@ impl Document {
     }
 
     /// The fin edges stored for the primitive (None when it has none), checked against the
-    /// bytes: the bufferView must exist and hold exactly `count` records.
+    /// bytes (the bufferView must exist and hold exactly `count` records) and against the
+    /// primitive (every corner names an element of its index list, or the end of a boundary).
+    /// A file of another format version is refused with its version named.
     pub fn read_fins(&self, r: PrimitiveRef) -> Result<Option<Vec<FinEdge>>> {
         let place = format!("{} extras.pelt.fins", self.place(r));
-        let Some(fins) = self.pelt_extras(r)?.and_then(|p| p.get("fins")) else {
+        let Some(pelt) = self.pelt_extras(r)? else {
             return Ok(None);
         };
+        let Some(fins) = pelt.get("fins") else {
+            return Ok(None);
+        };
+        self.check_format_version(r, pelt)?;
         let count = fins
             .get("count")
             .and_then(Value::as_u64)
             .ok_or_else(|| self.invalid(&place, "count is missing or not an integer"))?;
+        if let Some(stride) = fins.get("byteStride")
+            && stride.as_u64() != Some(FIN_RECORD_SIZE as u64)
+        {
+            return Err(self.invalid(
+                &place,
+                format!("byteStride is {stride}; version {FORMAT_VERSION} records are {FIN_RECORD_SIZE} bytes"),
+            ));
+        }
         let Some(view) = fins.get("bufferView") else {
             return if count == 0 {
                 Ok(Some(Vec::new()))
@@ -138,6 +190,55 @@ impl Document {
                 ),
             ));
         }
-        Ok(Some(decode_fins(bytes)))
+        let edges = decode_fins(bytes);
+        let corners = self.corner_count(r)?;
+        // The corner's whole face must exist, so its next and previous corners do too.
+        let out_of_range = |c: u32| u64::from(c) / 3 * 3 + 2 >= corners;
+        if let Some((k, e)) = edges.iter().enumerate().find(|(_, e)| {
+            out_of_range(e.corner) || (e.second_corner != NO_CORNER && out_of_range(e.second_corner))
+        }) {
+            return Err(self.invalid(
+                format!("{place} record {k}"),
+                format!(
+                    "corners ({}, {}) are not both in the primitive's {} triangles",
+                    e.corner,
+                    e.second_corner,
+                    corners / 3
+                ),
+            ));
+        }
+        Ok(Some(edges))
+    }
+
+    /// Checks `extras.pelt.version`: only [`FORMAT_VERSION`] is read.
+    fn check_format_version(&self, r: PrimitiveRef, pelt: &Map<String, Value>) -> Result<()> {
+        let place = format!("{} extras.pelt.version", self.place(r));
+        match pelt.get("version").and_then(Value::as_u64) {
+            Some(FORMAT_VERSION) => Ok(()),
+            Some(1) => Err(self.invalid(
+                place,
+                "format version 1 (28-byte fin records) is no longer read; this pelt reads \
+                 version 2 (8-byte corner pairs): bake the source again",
+            )),
+            Some(v) => Err(self.invalid(
+                place,
+                format!("format version {v} is unknown; this pelt reads version {FORMAT_VERSION}"),
+            )),
+            None => Err(self.invalid(place, "missing or not an integer")),
+        }
+    }
+
+    /// Elements of the primitive's index list (its vertex count when it has none).
+    fn corner_count(&self, r: PrimitiveRef) -> Result<u64> {
+        let prim = self.primitive(r)?;
+        let accessor = match prim.get("indices").and_then(Value::as_u64) {
+            Some(i) => Some(i),
+            None => self.attribute(r, "POSITION")?.map(|i| i as u64),
+        };
+        Ok(accessor
+            .and_then(|i| self.array("accessors").get(i as usize))
+            .and_then(|a| a.get("count"))
+            .and_then(Value::as_u64)
+            .unwrap_or(0))
     }
 }

@@ -393,6 +393,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                         fins.extend(fur::fin_instances(
                             doc,
                             r,
+                            m,
                             &out.vertices,
                             &fur_vertices,
                             base as usize,

@@ -315,10 +315,12 @@ fn edge_offset(a: u32, b: u32) -> f32 {
 }
 
 /// The primitive's fin edges as instances, in the asset's space. `base` is the index of the
-/// primitive's first vertex in `verts` (already in the asset's space).
+/// primitive's first vertex in `verts` (already in the asset's space); `mesh` is the primitive
+/// as read, whose index list the fin records' corners refer to.
 pub fn fin_instances(
     doc: &Document,
     r: PrimitiveRef,
+    mesh: &pelt_geom::Mesh,
     verts: &[crate::vertex::Vertex],
     fur: &[FurVertex],
     base: usize,
@@ -330,24 +332,15 @@ pub fn fin_instances(
     let n = verts.len() - base;
     let normal_world = Mat3::from_mat4(world).inverse().transpose();
     let mut out = Vec::with_capacity(edges.len());
-    for (k, e) in edges.iter().enumerate() {
-        let [a, b] = e.vertices;
-        if a as usize >= n || b as usize >= n {
-            return Err(doc.invalid(
-                format!("{} extras.pelt.fins record {k}", doc.place(r)),
-                format!("vertex {} is out of range ({n} vertices)", a.max(b)),
-            ));
-        }
+    for e in &edges {
+        // read_fins checked the corners against the index list, and read_primitive the
+        // indices against the vertices.
+        let g = pelt_io::topology::fin_geometry(e, &mesh.indices, &mesh.positions);
+        let [a, b] = g.vertices;
+        debug_assert!((a as usize) < n && (b as usize) < n);
         let (va, vb) = (&verts[base + a as usize], &verts[base + b as usize]);
         let (fa, fb) = (&fur[base + a as usize], &fur[base + b as usize]);
-        let face =
-            |bits: u32| (normal_world * pelt_geom::octahedral::decode(bits)).normalize_or_zero();
-        let f0 = face(e.normals[0]);
-        let f1 = if e.faces[1] == pelt_geom::topology::NO_FACE {
-            f0
-        } else {
-            face(e.normals[1])
-        };
+        let [f0, f1] = g.face_normals.map(|f| (normal_world * f).normalize_or_zero());
         let comb = |v: &crate::vertex::Vertex, f: &FurVertex| {
             let c = Vec4::from(f.comb);
             comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(c.w)
