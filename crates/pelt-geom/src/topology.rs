@@ -14,9 +14,11 @@
 //! split of their own: a degenerate triangle joins every proper triangle across its edges whose
 //! normals meet the rule, and is a group of its own when none does.
 //!
-//! Edges are found per face through the faces around its corners, in parallel; each edge is
-//! emitted once, by its lowest face, so the edge list is in order of (lowest face, corner) and
-//! does not depend on the thread count.
+//! Edges are found per welded position, in parallel: the faces around position `a` name every
+//! edge from `a`, and each edge is emitted once, at its lower end, with the faces around it in
+//! ascending order. So the edge list is in order of (lower end, higher end) and does not depend
+//! on the thread count. Each face's sides are looked at twice (once per end), not once per
+//! corner of every face around a position.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -114,7 +116,8 @@ pub struct Topology {
     star: Vec<u32>,
     /// Per face: no area, or two corners welded into one position.
     degenerate: Vec<bool>,
-    /// Unique edges of the proper faces, in order of (lowest face, corner).
+    /// Unique edges of the proper faces, in order of their ends' welded positions (lower,
+    /// then higher).
     pub edges: Vec<Edge>,
     /// Edges with three or more faces.
     nonmanifold: usize,
@@ -169,7 +172,7 @@ impl Topology {
     }
 }
 
-/// Faces handled by one parallel task.
+/// Faces (or welded positions) handled by one parallel task.
 const CHUNK: usize = 8192;
 
 /// Two corner normals agree: bit-equal, or both non-zero within the angle whose cosine is
@@ -213,6 +216,49 @@ fn stars(corner_pid: &[u32], n_pos: usize) -> (Vec<u32>, Vec<u32>) {
         *slot += 1;
     }
     (star_start, star)
+}
+
+/// One proper face's side of an edge from welded position `a` to a higher one `b`.
+#[derive(Clone, Copy)]
+struct Side {
+    /// The other end's welded position.
+    b: u32,
+    /// The face.
+    face: u32,
+    /// Where the edge starts in the face's winding.
+    start: u32,
+    /// The face's corners at `a` and at `b`.
+    ends: [u32; 2],
+}
+
+/// The sides of every edge from `a` to a higher position, by the faces around `a` (`star`,
+/// ascending), sorted by the other end and then by face.
+fn sides_at(
+    a: u32,
+    star: &[u32],
+    pid: &impl Fn(u32) -> u32,
+    is_degenerate: &impl Fn(u32) -> bool,
+    out: &mut Vec<Side>,
+) {
+    out.clear();
+    for &d in star {
+        let face = d / 3;
+        if is_degenerate(face) {
+            continue;
+        }
+        let (next, prev) = (next_corner(d), prev_corner(d));
+        // The face runs a to pid(next) from d, and pid(prev) to a from prev.
+        let b = pid(next);
+        if b > a {
+            out.push(Side { b, face, start: d, ends: [d, next] });
+        }
+        let b = pid(prev);
+        if b > a {
+            out.push(Side { b, face, start: prev, ends: [d, prev] });
+        }
+    }
+    // Faces already ascend (the star does); a stable sort by the other end keeps that.
+    out.sort_by_key(|s| s.b);
 }
 
 /// Builds the topology of the triangles `indices` over `positions`.
@@ -267,57 +313,28 @@ pub fn build(
         }
     };
 
-    // Edges, each emitted by its lowest face; faces joined across them as they are found.
+    // Edges, each found at its lower welded position; faces joined across them as they are.
     let sets = AtomicUnionFind::new(nf);
-    let parts: Vec<(Vec<Edge>, usize)> = (0..nf.div_ceil(CHUNK))
+    let parts: Vec<(Vec<Edge>, usize)> = (0..n_pos.div_ceil(CHUNK))
         .into_par_iter()
         .map(|task| {
-            let mut edges = Vec::with_capacity(CHUNK * 3 / 2 + 16);
+            let mut edges = Vec::with_capacity(CHUNK * 3 + 16);
             let mut nonmanifold = 0;
-            // Faces on the edge, with their corners at its two ends.
-            let mut around: Vec<(u32, [u32; 2])> = Vec::new();
-            for f in (task * CHUNK..((task + 1) * CHUNK).min(nf)).map(|f| f as u32) {
-                if is_degenerate(f) {
-                    continue;
-                }
-                for c in 3 * f..3 * f + 3 {
-                    let (a, b) = (pid(c), pid(next_corner(c)));
-                    around.clear();
-                    around.push((f, [c, next_corner(c)]));
-                    let mut owner = true;
-                    for &d in star_at(a) {
-                        let g = d / 3;
-                        if g == f || is_degenerate(g) {
-                            continue;
-                        }
-                        let Some(at_b) = other_end(d, b) else {
-                            continue;
-                        };
-                        if g < f {
-                            owner = false;
-                            break;
-                        }
-                        around.push((g, [d, at_b]));
-                    }
-                    if !owner {
-                        continue;
-                    }
-                    for (i, &(x, cx)) in around.iter().enumerate() {
-                        for &(y, cy) in &around[i + 1..] {
-                            if same_group(cx, cy) {
-                                sets.join(x, y);
+            let mut around: Vec<Side> = Vec::new();
+            for a in (task * CHUNK..((task + 1) * CHUNK).min(n_pos)).map(|a| a as u32) {
+                sides_at(a, star_at(a), &pid, &is_degenerate, &mut around);
+                for run in around.chunk_by(|x, y| x.b == y.b) {
+                    for (i, x) in run.iter().enumerate() {
+                        for y in &run[i + 1..] {
+                            if same_group(x.ends, y.ends) {
+                                sets.join(x.face, y.face);
                             }
                         }
                     }
-                    // The second face's edge starts where its winding leaves the edge's first
-                    // end: at its corner at a when it runs a to b, else at its corner at b.
-                    let second_corner = around.get(1).map_or(NO_CORNER, |&(_, [d, at_b])| {
-                        if next_corner(d) == at_b { d } else { at_b }
-                    });
-                    nonmanifold += usize::from(around.len() > 2);
+                    nonmanifold += usize::from(run.len() > 2);
                     edges.push(Edge {
-                        corner: c,
-                        second_corner,
+                        corner: run[0].start,
+                        second_corner: run.get(1).map_or(NO_CORNER, |s| s.start),
                     });
                 }
             }

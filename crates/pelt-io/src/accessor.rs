@@ -2,6 +2,7 @@
 //! strides, accessors without a bufferView and sparse substitution. Every range is checked in
 //! u64 against the buffer's real bytes before anything is allocated.
 
+use rayon::prelude::*;
 use std::borrow::Cow;
 
 use serde_json::Value;
@@ -130,35 +131,47 @@ impl Elements<'_> {
 
     /// Elements as `[f32; N]` (N must equal the component count).
     pub fn to_f32<const N: usize>(&self) -> Vec<[f32; N]> {
+        self.to_vec::<N, [f32; N]>()
+    }
+
+    /// Elements as `T` made from `[f32; N]` (N must equal the component count), decoded in
+    /// parallel straight into their final vector.
+    pub fn to_vec<const N: usize, T: From<[f32; N]> + Send>(&self) -> Vec<T> {
         debug_assert_eq!(N, self.components);
         let (c, n, b) = (self.component, self.normalized, &*self.bytes);
         match c {
-            ComponentType::F32 => map_elements::<N, 4>(b, f32::from_le_bytes),
-            ComponentType::U8 => map_elements::<N, 1>(b, |x| normalize(c, n, f64::from(x[0]))),
+            ComponentType::F32 => map_elements::<N, 4, T>(b, f32::from_le_bytes),
+            ComponentType::U8 => {
+                map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0])))
+            }
             ComponentType::I8 => {
-                map_elements::<N, 1>(b, |x| normalize(c, n, f64::from(x[0] as i8)))
+                map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0] as i8)))
             }
-            ComponentType::U16 => {
-                map_elements::<N, 2>(b, |x| normalize(c, n, f64::from(u16::from_le_bytes(x))))
-            }
-            ComponentType::I16 => {
-                map_elements::<N, 2>(b, |x| normalize(c, n, f64::from(i16::from_le_bytes(x))))
-            }
-            ComponentType::U32 => {
-                map_elements::<N, 4>(b, |x| normalize(c, n, f64::from(u32::from_le_bytes(x))))
-            }
+            ComponentType::U16 => map_elements::<N, 2, T>(b, |x| {
+                normalize(c, n, f64::from(u16::from_le_bytes(x)))
+            }),
+            ComponentType::I16 => map_elements::<N, 2, T>(b, |x| {
+                normalize(c, n, f64::from(i16::from_le_bytes(x)))
+            }),
+            ComponentType::U32 => map_elements::<N, 4, T>(b, |x| {
+                normalize(c, n, f64::from(u32::from_le_bytes(x)))
+            }),
         }
     }
 }
 
-/// Decodes packed elements of `N` components of `S` bytes each with `f`.
+/// Elements per parallel task when decoding.
+const DECODE_CHUNK: usize = 16384;
+
+/// Decodes packed elements of `N` components of `S` bytes each with `f`, in parallel.
 #[inline]
-fn map_elements<const N: usize, const S: usize>(
+fn map_elements<const N: usize, const S: usize, T: From<[f32; N]> + Send>(
     b: &[u8],
-    f: impl Fn([u8; S]) -> f32,
-) -> Vec<[f32; N]> {
-    b.chunks_exact(N * S)
-        .map(|e| std::array::from_fn(|k| f(std::array::from_fn(|j| e[k * S + j]))))
+    f: impl Fn([u8; S]) -> f32 + Sync,
+) -> Vec<T> {
+    b.par_chunks_exact(N * S)
+        .with_min_len(DECODE_CHUNK)
+        .map(|e| T::from(std::array::from_fn(|k| f(std::array::from_fn(|j| e[k * S + j])))))
         .collect()
 }
 
@@ -497,6 +510,15 @@ pub fn read_vec<const N: usize>(
     index: usize,
     place: &str,
 ) -> Result<Vec<[f32; N]>> {
+    read_vec_as::<N, [f32; N]>(doc, index, place)
+}
+
+/// Reads a float vector attribute with `N` components as `T` (see [`read_vec`]).
+pub fn read_vec_as<const N: usize, T: From<[f32; N]> + Send>(
+    doc: &Document,
+    index: usize,
+    place: &str,
+) -> Result<Vec<T>> {
     let e = read(doc, index, place)?;
     if e.components != N {
         return Err(doc.invalid(
@@ -504,7 +526,7 @@ pub fn read_vec<const N: usize>(
             format!("type is {}, expected {}", e.ty, type_of(N)),
         ));
     }
-    Ok(e.to_f32::<N>())
+    Ok(e.to_vec::<N, T>())
 }
 
 /// Reads an index accessor (SCALAR unsigned byte, short or int, not normalized).
@@ -528,13 +550,19 @@ pub fn read_indices(doc: &Document, index: usize, place: &str) -> Result<Vec<u32
     }
     let b = &*e.bytes;
     Ok(match e.component {
-        ComponentType::U8 => b.iter().map(|&i| u32::from(i)).collect(),
+        ComponentType::U8 => b
+            .par_iter()
+            .with_min_len(DECODE_CHUNK)
+            .map(|&i| u32::from(i))
+            .collect(),
         ComponentType::U16 => b
-            .chunks_exact(2)
+            .par_chunks_exact(2)
+            .with_min_len(DECODE_CHUNK)
             .map(|i| u32::from(u16::from_le_bytes([i[0], i[1]])))
             .collect(),
         _ => b
-            .chunks_exact(4)
+            .par_chunks_exact(4)
+            .with_min_len(DECODE_CHUNK)
             .map(|i| u32::from_le_bytes([i[0], i[1], i[2], i[3]]))
             .collect(),
     })

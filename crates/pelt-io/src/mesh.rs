@@ -67,6 +67,15 @@ pub fn encoding(doc: &Document, index: usize) -> Option<Encoding> {
     })
 }
 
+/// A VEC3 color decoded straight to RGBA with alpha 1.
+struct Rgb(Vec4);
+
+impl From<[f32; 3]> for Rgb {
+    fn from([r, g, b]: [f32; 3]) -> Self {
+        Rgb(Vec4::new(r, g, b, 1.0))
+    }
+}
+
 /// Reads primitive `r` (which must be TRIANGLES) into a [`PrimitiveMesh`].
 pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> {
     let place = doc.place(r);
@@ -75,10 +84,7 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
 
     let pos_i =
         attr("POSITION")?.ok_or_else(|| doc.invalid(&place, "has no POSITION attribute"))?;
-    let positions: Vec<Vec3> = accessor::read_vec::<3>(doc, pos_i, &at("POSITION"))?
-        .into_iter()
-        .map(Vec3::from)
-        .collect();
+    let positions: Vec<Vec3> = accessor::read_vec_as::<3, Vec3>(doc, pos_i, &at("POSITION"))?;
     let n = positions.len();
     let checked_len = |name: &str, len: usize| -> Result<()> {
         if len == n {
@@ -89,16 +95,16 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
     };
 
     // An optional float vector attribute, with its length checked against POSITION.
-    fn optional<const N: usize, T: From<[f32; N]>>(
+    fn optional<const N: usize, T: From<[f32; N]> + Send>(
         doc: &Document,
         index: Option<usize>,
         place: &str,
         checked_len: &dyn Fn(usize) -> Result<()>,
     ) -> Result<Option<Vec<T>>> {
         let Some(i) = index else { return Ok(None) };
-        let v = accessor::read_vec::<N>(doc, i, place)?;
+        let v = accessor::read_vec_as::<N, T>(doc, i, place)?;
         checked_len(v.len())?;
-        Ok(Some(v.into_iter().map(T::from).collect()))
+        Ok(Some(v))
     }
     let normals: Option<Vec<Vec3>> = optional(doc, attr("NORMAL")?, &at("NORMAL"), &|l| {
         checked_len("NORMAL", l)
@@ -122,12 +128,9 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
             }
             checked_len("COLOR_0", e.count)?;
             let c: Vec<Vec4> = if e.components == 4 {
-                e.to_f32::<4>().into_iter().map(Vec4::from).collect()
+                e.to_vec::<4, Vec4>()
             } else {
-                e.to_f32::<3>()
-                    .into_iter()
-                    .map(|[r, g, b]| Vec4::new(r, g, b, 1.0))
-                    .collect()
+                e.to_vec::<3, Rgb>().into_iter().map(|c| c.0).collect()
             };
             (Some(c), encoding(doc, i))
         }
