@@ -197,24 +197,52 @@ pub enum CornerNormals<'a> {
 }
 
 /// The corners of each welded position, ascending: a counting sort of the corners by
-/// position. Returns (`star_start`, `star`).
+/// position, in parallel over ranges of positions. Each task scans every corner (a cheap,
+/// sequential read) but counts and places only those in its range, so it writes one
+/// contiguous part of the output, and corners ascend within each position.
+/// Returns (`star_start`, `star`).
 fn stars(corner_pid: &[u32], n_pos: usize) -> (Vec<u32>, Vec<u32>) {
-    let mut star_start = vec![0u32; n_pos + 1];
-    for &p in corner_pid {
-        star_start[p as usize + 1] += 1;
+    let tasks = rayon::current_num_threads().clamp(1, 8);
+    let span = n_pos.div_ceil(tasks).max(1);
+    // count[p]: corners at p.
+    let mut count = vec![0u32; n_pos];
+    count.par_chunks_mut(span).enumerate().for_each(|(t, c)| {
+        let lo = t * span;
+        for &p in corner_pid {
+            if let Some(n) = c.get_mut((p as usize).wrapping_sub(lo)) {
+                *n += 1;
+            }
+        }
+    });
+    let mut star_start = Vec::with_capacity(n_pos + 1);
+    let mut at = 0u32;
+    for &n in &count {
+        star_start.push(at);
+        at += n;
     }
-    for p in 0..n_pos {
-        star_start[p + 1] += star_start[p];
-    }
+    star_start.push(at);
+    drop(count);
+    // Each task's part of the star, and its positions' next free slots (relative to it).
     let mut star = vec![0u32; corner_pid.len()];
-    // Each position's next free slot, kept in `star_start[p + 1]` shifted down by one position
-    // (so no second array): after the fill, `star_start[p + 1]` is back at its end.
-    star_start.copy_within(0..n_pos, 1);
-    for (c, &p) in corner_pid.iter().enumerate() {
-        let slot = &mut star_start[p as usize + 1];
-        star[*slot as usize] = c as u32;
-        *slot += 1;
+    let mut parts = Vec::with_capacity(tasks);
+    let mut rest = star.as_mut_slice();
+    for t in 0..n_pos.div_ceil(span) {
+        let (lo, hi) = (t * span, ((t + 1) * span).min(n_pos));
+        let (part, tail) = rest.split_at_mut((star_start[hi] - star_start[lo]) as usize);
+        parts.push((lo, part));
+        rest = tail;
     }
+    parts.into_par_iter().for_each(|(lo, part)| {
+        let hi = (lo + span).min(n_pos);
+        let base = star_start[lo];
+        let mut next: Vec<u32> = star_start[lo..hi].iter().map(|&s| s - base).collect();
+        for (c, &p) in corner_pid.iter().enumerate() {
+            if let Some(slot) = next.get_mut((p as usize).wrapping_sub(lo)) {
+                part[*slot as usize] = c as u32;
+                *slot += 1;
+            }
+        }
+    });
     (star_start, star)
 }
 

@@ -5,6 +5,8 @@
 
 use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
+use rayon::prelude::*;
+
 /// Disjoint sets over `0..n`.
 #[derive(Debug, Clone)]
 pub struct UnionFind(Vec<u32>);
@@ -36,28 +38,74 @@ impl UnionFind {
 
     /// Dense labels numbered in order of each set's smallest member (its first element), and
     /// the number of sets.
-    pub fn labels(mut self) -> (Vec<u32>, usize) {
-        let n = self.0.len();
+    pub fn labels(self) -> (Vec<u32>, usize) {
+        // Every join is done: a find that does not halve paths can run in parallel.
+        let parent = &self.0;
+        let root = |mut x: u32| {
+            while parent[x as usize] != x {
+                x = parent[x as usize];
+            }
+            x
+        };
+        let roots: Vec<u32> = (0..parent.len() as u32)
+            .into_par_iter()
+            .with_min_len(LABEL_CHUNK)
+            .map(root)
+            .collect();
         // The root is the smallest member, so it is labelled before any other member.
-        let roots: Vec<u32> = (0..n as u32).map(|x| self.find(x)).collect();
-        first_seen_labels(&roots)
+        first_seen_labels(roots)
     }
 }
 
+/// Elements per parallel task when labelling.
+const LABEL_CHUNK: usize = 1 << 16;
+
 /// Dense labels for elements given their representatives (`rep[i] <= i`, and a
 /// representative is its own): numbered in order of the representatives; and the count.
-pub(crate) fn first_seen_labels(rep: &[u32]) -> (Vec<u32>, usize) {
-    let mut label = vec![0u32; rep.len()];
-    let mut count = 0u32;
-    for (i, &r) in rep.iter().enumerate() {
-        label[i] = if r as usize == i {
-            count += 1;
-            count - 1
-        } else {
-            label[r as usize]
-        };
-    }
-    (label, count as usize)
+/// Computed in place over `rep`, in parallel: each representative's rank among the
+/// representatives (a prefix count by chunks), then every element takes its
+/// representative's rank.
+pub(crate) fn first_seen_labels(mut rep: Vec<u32>) -> (Vec<u32>, usize) {
+    let n = rep.len();
+    let is_rep = |i: usize, r: u32| r as usize == i;
+    let counts: Vec<u32> = rep
+        .par_chunks(LABEL_CHUNK)
+        .enumerate()
+        .map(|(k, ch)| {
+            let base = k * LABEL_CHUNK;
+            ch.iter()
+                .enumerate()
+                .filter(|&(j, &r)| is_rep(base + j, r))
+                .count() as u32
+        })
+        .collect();
+    let offsets: Vec<u32> = counts
+        .iter()
+        .scan(0u32, |acc, &c| {
+            let o = *acc;
+            *acc += c;
+            Some(o)
+        })
+        .collect();
+    let total = counts.iter().sum::<u32>() as usize;
+    // rank[i] for representatives i (other entries unused).
+    let mut rank = vec![0u32; n];
+    rank.par_chunks_mut(LABEL_CHUNK)
+        .zip(rep.par_chunks(LABEL_CHUNK))
+        .enumerate()
+        .for_each(|(k, (out, ch))| {
+            let (base, mut next) = (k * LABEL_CHUNK, offsets[k]);
+            for (j, &r) in ch.iter().enumerate() {
+                if is_rep(base + j, r) {
+                    out[j] = next;
+                    next += 1;
+                }
+            }
+        });
+    rep.par_iter_mut()
+        .with_min_len(LABEL_CHUNK)
+        .for_each(|r| *r = rank[*r as usize]);
+    (rep, total)
 }
 
 /// [`UnionFind`] that many threads can join into at once (lock-free). Parents only ever point
@@ -135,6 +183,30 @@ mod tests {
         let expected = (vec![0, 1, 2, 1, 3, 2, 0, 2], 4);
         assert_eq!(a.labels(), expected);
         assert_eq!(b.labels(), expected);
+    }
+
+    #[test]
+    fn parallel_labels_match_a_sequential_count_across_chunks() {
+        // Representatives spread over several label chunks, some pointing back many chunks.
+        let n = 5 * LABEL_CHUNK + 123;
+        let rep: Vec<u32> = (0..n as u32)
+            .map(|i| match i % 7 {
+                0 | 3 => i,
+                1 => i - 1,
+                _ => (i.wrapping_mul(2_654_435_761) % (i + 1)) / 7 * 7,
+            })
+            .collect();
+        let mut expected = vec![0u32; n];
+        let mut count = 0;
+        for (i, &r) in rep.iter().enumerate() {
+            expected[i] = if r as usize == i {
+                count += 1;
+                count - 1
+            } else {
+                expected[r as usize]
+            };
+        }
+        assert_eq!(first_seen_labels(rep), (expected, count as usize));
     }
 
     #[test]

@@ -62,7 +62,7 @@ fn weld_by<const N: usize>(
     }
     drop(order);
 
-    first_seen_labels(&rep)
+    first_seen_labels(rep)
 }
 
 /// Welds positions: bit-equal ones when `epsilon` is 0 (or not positive), otherwise every pair
