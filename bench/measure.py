@@ -1,9 +1,14 @@
 #!/usr/bin/env python3
-"""Runs a command N times (after one warm-up run) and prints its wall-time percentiles and peak
-memory as one Markdown table row: label | p10 | p50 | p90 | p90/p50 | peak RSS.
+"""Times commands side by side: every round runs each command once, in turn, so a slow spell
+of the machine falls on all of them alike. Prints a Markdown table (p10, p50, p90 of the wall
+time, p90/p50, peak RSS) and, for each --vs pair, the speed and memory ratios.
 
-Usage: measure.py N LABEL -- COMMAND...   (wall time per run from perf_counter around
-fork/exec/wait; peak RSS is the largest ru_maxrss of the runs, from wait4).
+Usage: measure.py ROUNDS SPEC_FILE [--vs SLOW_LABEL FAST_LABEL]...
+SPEC_FILE: one command per line, `LABEL<TAB>COMMAND...` (COMMAND split on spaces), or
+`LABEL<TAB>MAX_ROUNDS<TAB>COMMAND...` for a slow tool timed in the first MAX_ROUNDS rounds only.
+Wall time: perf_counter around posix_spawn and wait4; peak RSS: the largest ru_maxrss of the
+runs (wait4). One untimed warm-up run per command first (page cache, outputs present, as in a
+rebuild).
 """
 import os
 import sys
@@ -11,7 +16,6 @@ import time
 
 
 def run_once(cmd):
-    # posix_spawn (vfork-like): little start-up cost of its own, unlike fork() of Python.
     err_path = "/tmp/pelt-measure-stderr.txt"
     actions = [
         (os.POSIX_SPAWN_OPEN, 1, os.devnull, os.O_WRONLY, 0),
@@ -28,25 +32,53 @@ def run_once(cmd):
     return wall, usage.ru_maxrss  # KiB on Linux
 
 
-def percentile(sorted_values, q):
-    # Nearest rank: the smallest value with at least q of the runs at or below it.
-    k = max(0, min(len(sorted_values) - 1, int(-(-q * len(sorted_values) // 1)) - 1))
-    return sorted_values[k]
+def percentile(values, q):
+    """Nearest rank: the smallest value with at least a fraction q of the runs at or below."""
+    s = sorted(values)
+    k = max(0, min(len(s) - 1, -(-int(q * 100) * len(s) // 100) - 1))
+    return s[k]
 
 
 def main():
-    n, label = int(sys.argv[1]), sys.argv[2]
-    cmd = sys.argv[sys.argv.index("--") + 1:]
-    run_once(cmd)  # warm-up: page cache, output file present as in a rebuild
-    walls, peak = [], 0
-    for _ in range(n):
-        w, rss = run_once(cmd)
-        walls.append(w)
-        peak = max(peak, rss)
-    walls.sort()
-    p10, p50, p90 = (percentile(walls, q) for q in (0.1, 0.5, 0.9))
-    print(f"| {label} | {p10:.3f} s | {p50:.3f} s | {p90:.3f} s | {p90 / p50:.2f} | {peak // 1024} MiB |",
-          flush=True)
+    rounds, spec = int(sys.argv[1]), sys.argv[2]
+    vs, rest = [], sys.argv[3:]
+    while rest:
+        if rest[0] != "--vs" or len(rest) < 3:
+            sys.exit(__doc__)
+        vs.append((rest[1], rest[2]))
+        rest = rest[3:]
+    cmds = []
+    with open(spec) as f:
+        for line in f:
+            if line.strip() and not line.startswith("#"):
+                fields = line.rstrip("\n").split("\t")
+                label, cmd = fields[0], fields[-1]
+                limit = int(fields[1]) if len(fields) == 3 else rounds
+                cmds.append((label, limit, cmd.split()))
+    for _, _, cmd in cmds:
+        run_once(cmd)
+    walls = {label: [] for label, _, _ in cmds}
+    peak = {label: 0 for label, _, _ in cmds}
+    for r in range(rounds):
+        for label, limit, cmd in cmds:
+            if r >= limit:
+                continue
+            w, rss = run_once(cmd)
+            walls[label].append(w)
+            peak[label] = max(peak[label], rss)
+    print("| command | runs | p10 | p50 | p90 | p90/p50 | peak RSS |")
+    print("|---|---|---|---|---|---|---|")
+    p50 = {}
+    for label, _, _ in cmds:
+        w = walls[label]
+        a, b, c = (percentile(w, q) for q in (0.1, 0.5, 0.9))
+        p50[label] = b
+        print(f"| {label} | {len(w)} | {a:.3f} s | {b:.3f} s | {c:.3f} s | {c / b:.2f} | "
+              f"{peak[label] // 1024} MiB |")
+    print()
+    for slow, fast in vs:
+        print(f"- {fast}: **{p50[slow] / p50[fast]:.1f}×** faster than {slow} (p50), "
+              f"peak memory {peak[fast] / peak[slow]:.2f}× its")
 
 
 if __name__ == "__main__":

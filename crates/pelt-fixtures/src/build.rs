@@ -74,25 +74,34 @@ pub fn color_accessor(colors: &[[f32; 4]], enc: ColorEncoding) -> NewAccessor {
     }
 }
 
+/// How the vertex attributes lie in the buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Layout {
+    /// One bufferView per attribute, as Blender's glTF exporter writes them.
+    #[default]
+    Separate,
+    /// One interleaved bufferView with a byteStride, as gltfpack and glTF-Transform write them.
+    Interleaved,
+}
+
 /// Adds `shape` as a mesh (on a child node of a named parent) to `doc`.
 pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
-    let mut attrs = Map::new();
+    add_shape_laid_out(doc, shape, opts, Layout::Separate);
+}
+
+/// [`add_shape`] with the vertex attributes in `layout`.
+pub fn add_shape_laid_out(doc: &mut Document, shape: &Shape, opts: BuildOptions, layout: Layout) {
+    let mut list: Vec<(&str, NewAccessor)> = Vec::new();
     let pos: Vec<[f32; 3]> = shape.positions.iter().map(|p| p.to_array()).collect();
     let mut p = NewAccessor::f32(&pos);
     p.min_max = true;
-    attrs.insert("POSITION".into(), json!(doc.push_accessor(p)));
+    list.push(("POSITION", p));
     if opts.normals {
         let n: Vec<[f32; 3]> = shape.normals.iter().map(|p| p.to_array()).collect();
-        attrs.insert(
-            "NORMAL".into(),
-            json!(doc.push_accessor(NewAccessor::f32(&n))),
-        );
+        list.push(("NORMAL", NewAccessor::f32(&n)));
     }
     let uv: Vec<[f32; 2]> = shape.uvs.iter().map(|p| p.to_array()).collect();
-    attrs.insert(
-        "TEXCOORD_0".into(),
-        json!(doc.push_accessor(NewAccessor::f32(&uv))),
-    );
+    list.push(("TEXCOORD_0", NewAccessor::f32(&uv)));
     if opts.tangents {
         // Per-corner MikkTSpace; the parametric shapes' corners of one vertex agree, so the
         // first corner of each vertex stands for it.
@@ -101,18 +110,83 @@ pub fn add_shape(doc: &mut Document, shape: &Shape, opts: BuildOptions) {
         for (c, &v) in shape.indices.iter().enumerate().rev() {
             per_vertex[v as usize] = t.corners[c].to_array();
         }
-        attrs.insert(
-            "TANGENT".into(),
-            json!(doc.push_accessor(NewAccessor::f32(&per_vertex))),
-        );
+        list.push(("TANGENT", NewAccessor::f32(&per_vertex)));
     }
-    attrs.insert(
-        "COLOR_0".into(),
-        json!(doc.push_accessor(color_accessor(&shape.colors, opts.colors))),
-    );
+    list.push(("COLOR_0", color_accessor(&shape.colors, opts.colors)));
+    let mut attrs = Map::new();
+    match layout {
+        Layout::Separate => {
+            for (name, a) in list {
+                attrs.insert(name.into(), json!(doc.push_accessor(a)));
+            }
+        }
+        Layout::Interleaved => {
+            for (name, a) in push_interleaved(doc, &list, &pos) {
+                attrs.insert(name.into(), json!(a));
+            }
+        }
+    }
     let idx = doc.push_accessor(NewAccessor::indices(&shape.indices, shape.positions.len()));
     let mesh = doc.add_mesh_node(&shape.name, attrs, idx);
     decorate(doc, mesh, &shape.name);
+}
+
+/// The attributes (all with the same count) in one interleaved bufferView, each element
+/// padded to 4 bytes; returns (name, accessor index) pairs. `pos` gives POSITION's bounds.
+fn push_interleaved<'a>(
+    doc: &mut Document,
+    list: &[(&'a str, NewAccessor)],
+    pos: &[[f32; 3]],
+) -> Vec<(&'a str, usize)> {
+    let count = pos.len();
+    let sizes: Vec<usize> = list.iter().map(|(_, a)| a.element_size()).collect();
+    let offsets: Vec<usize> = sizes
+        .iter()
+        .scan(0, |at, &s| {
+            let o = *at;
+            *at += s.next_multiple_of(4);
+            Some(o)
+        })
+        .collect();
+    let stride: usize = sizes.iter().map(|s| s.next_multiple_of(4)).sum();
+    let mut bytes = vec![0u8; stride * count];
+    for (((_, a), &size), &off) in list.iter().zip(&sizes).zip(&offsets) {
+        for (i, e) in a.bytes.chunks_exact(size).enumerate() {
+            bytes[i * stride + off..i * stride + off + size].copy_from_slice(e);
+        }
+    }
+    let view = doc.push_view(bytes, Some(34962));
+    if let Some(v) = doc
+        .json
+        .get_mut("bufferViews")
+        .and_then(|v| v.get_mut(view))
+        .and_then(Value::as_object_mut)
+    {
+        v.insert("byteStride".into(), json!(stride));
+    }
+    let bound = |f: fn(f32, f32) -> f32, init: f32| {
+        pos.iter().fold([init; 3], |m, p| std::array::from_fn(|k| f(m[k], p[k])))
+    };
+    list.iter()
+        .zip(&offsets)
+        .map(|((name, a), &off)| {
+            let mut acc = json!({
+                "bufferView": view,
+                "byteOffset": off,
+                "componentType": a.component.gl(),
+                "count": count,
+                "type": pelt_io::accessor::type_of(a.components),
+            });
+            if a.normalized {
+                acc["normalized"] = json!(true);
+            }
+            if *name == "POSITION" {
+                acc["min"] = json!(bound(f32::min, f32::INFINITY));
+                acc["max"] = json!(bound(f32::max, f32::NEG_INFINITY));
+            }
+            (*name, doc.push_accessor_json(acc))
+        })
+        .collect()
 }
 
 /// Adds a material to the mesh's primitives and re-parents its node under a "root" node with
@@ -161,7 +235,12 @@ fn decorate(doc: &mut Document, mesh: usize, name: &str) {
 
 /// A document holding one shape.
 pub fn document(shape: &Shape, opts: BuildOptions) -> Document {
+    document_laid_out(shape, opts, Layout::Separate)
+}
+
+/// [`document`] with the vertex attributes in `layout`.
+pub fn document_laid_out(shape: &Shape, opts: BuildOptions, layout: Layout) -> Document {
     let mut doc = Document::empty(Path::new(&format!("{}.glb", shape.name)));
-    add_shape(&mut doc, shape, opts);
+    add_shape_laid_out(&mut doc, shape, opts, layout);
     doc
 }

@@ -72,13 +72,32 @@ pub fn write_all(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
     Ok(())
 }
 
-/// Writes the ~1.3 M-triangle benchmark creature (570 × 1140 grid, float colors, MikkTSpace
-/// tangents present), about 58 MB.
-pub fn write_big(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
-    let shape = shapes::creature(570, 1140);
-    let opts = build::BuildOptions {
+/// Writes the ~1.3 M-triangle benchmark creature (570 × 1140 grid, float colors) twice into
+/// `dir`: `creature-1m3.glb` with MikkTSpace tangents and one bufferView per attribute, as
+/// Blender's exporter lays it out (about 58 MB), and `creature-1m3-notan.glb` without
+/// tangents, interleaved in one bufferView as gltfpack and glTF-Transform write (about 48 MB).
+pub fn write_big(dir: &std::path::Path) -> Result<(), pelt_io::IoError> {
+    write_creature(dir, 570, 1140)
+}
+
+/// Writes the benchmark creature at `rings` × `segments` (about 2 × rings × segments
+/// triangles) into `dir`, as [`write_big`] does, named `creature-{triangles}.glb` and
+/// `creature-{triangles}-notan.glb` (the 1.3 M one keeps its historical name `creature-1m3`).
+pub fn write_creature(dir: &std::path::Path, rings: u32, segments: u32) -> Result<(), pelt_io::IoError> {
+    let shape = shapes::creature(rings, segments);
+    let name = if (rings, segments) == (570, 1140) {
+        "creature-1m3".to_owned()
+    } else {
+        format!("creature-{}", shape.indices.len() / 3)
+    };
+    let with = build::BuildOptions {
         tangents: true,
         ..build::BuildOptions::default()
     };
-    pelt_io::glb::write_glb(&build::document(&shape, opts), out).map(|_| ())
+    let doc = build::document_laid_out(&shape, with, build::Layout::Separate);
+    pelt_io::glb::write_glb(&doc, &dir.join(format!("{name}.glb")))?;
+    let without = build::BuildOptions::default();
+    let doc = build::document_laid_out(&shape, without, build::Layout::Interleaved);
+    pelt_io::glb::write_glb(&doc, &dir.join(format!("{name}-notan.glb")))?;
+    Ok(())
 }

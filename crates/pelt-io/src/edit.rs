@@ -126,7 +126,8 @@ impl NewAccessor {
         }
     }
 
-    fn element_size(&self) -> usize {
+    /// Bytes per element.
+    pub fn element_size(&self) -> usize {
         self.components * self.component.size()
     }
 
