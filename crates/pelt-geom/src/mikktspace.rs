@@ -169,7 +169,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     if ordered.iter().any(|&o| o) {
         ordered_groups(&ctx, &mut faces, &ordered, &fan_pos, &mut fan_space);
     }
-    let faces = &faces;
+    let faces_ref = &faces;
     let mut blocks = Vec::new();
     let mut rest = fan_space.as_mut_slice();
     for w0 in (0..welded).step_by(4096) {
@@ -185,10 +185,10 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         let base = fan_start[range.start] as usize;
         for w in range.filter(|&w| !ordered[w]) {
             let at = fan_start[w] as usize - base;
-            walk.groups(&ctx, faces, w as u32);
+            walk.groups(&ctx, faces_ref, w as u32);
             for g in 0..walk.count() {
                 let (members, places, orient) = walk.group(g);
-                ctx.evaluate(w as u32, members, faces, &mut scratch);
+                ctx.evaluate(w as u32, members, faces_ref, &mut scratch);
                 let sign = if orient { 1.0 } else { -1.0 };
                 for (&q, s) in places.iter().zip(&scratch.result) {
                     run[at + q as usize] = [s.x, s.y, s.z, sign];
@@ -197,10 +197,18 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         }
     });
 
+    // What the gather below needs of the faces; the rest is freed first, so the per-corner
+    // result does not add to the walk's peak memory.
+    let degenerate: Vec<bool> = faces.par_iter().map(|f| f.degenerate).collect();
+    let degenerate_triangles = degenerate.iter().filter(|&&d| d).count();
+    let degenerate_uv_triangles = faces.iter().filter(|f| !f.degenerate && f.any).count();
+    drop(ctx);
+    drop((faces, neighbours, fan));
+
     // Each corner's space: its own, or for a degenerate triangle the space of the first proper
     // corner at the same welded vertex; corners no group reached get the reference default.
     let source = |c: usize| -> Option<[f32; 4]> {
-        let q = if faces[c / 3].degenerate {
+        let q = if degenerate[c / 3] {
             let w = wid[c] as usize;
             (fan_start[w] < fan_start[w + 1]).then_some(fan_start[w])?
         } else {
@@ -217,7 +225,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     // Proper corners and fan entries correspond one to one; degenerate corners are few.
     let unreached = fan_space.par_iter().filter(|s| s[3] == 0.0).count();
     let degenerate_unreached = (0..nf)
-        .filter(|&f| faces[f].degenerate)
+        .filter(|&f| degenerate[f])
         .flat_map(|f| 3 * f..3 * f + 3)
         .filter(|&c| source(c).is_none())
         .count();
@@ -225,8 +233,8 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     Tangents {
         corners,
         stats: TangentStats {
-            degenerate_triangles: faces.iter().filter(|f| f.degenerate).count(),
-            degenerate_uv_triangles: faces.iter().filter(|f| !f.degenerate && f.any).count(),
+            degenerate_triangles,
+            degenerate_uv_triangles,
             default_corners,
         },
     }
