@@ -25,8 +25,8 @@ validate:
 fixtures:
     cargo run --release -p pelt-fixtures --bin gen-fixtures -- fixtures
 
-# Benchmark the 1.3 M-triangle bake against gltfpack and glTF-Transform (5 runs each).
-bench runs="5":
+# Benchmark the 1.3 M-triangle bakes against gltfpack and glTF-Transform (20 interleaved rounds).
+bench runs="20":
     bash bench/compare.sh {{runs}}
 
 # Batch bake: 64 files at --jobs 1 and 2, --incremental, one process per file.

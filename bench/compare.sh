@@ -1,41 +1,47 @@
 #!/usr/bin/env bash
-# Full bake of the ~1.3 M-triangle creature, side by side with gltfpack -kv and glTF-Transform.
-# Wall time (median of N runs) and peak memory (max RSS, GNU time). Usage: bench/compare.sh [N]
-# Needs: cargo, node/npm (installs bench/node_modules), GNU time (/usr/bin/time).
+# pelt's bake side by side with gltfpack -kv and glTF-Transform, in one run, on the fixture
+# generator's two ~1.3 M-triangle creatures (`gen-fixtures bench-out --big`):
+#   creature-1m3.glb        tangents present, one bufferView per attribute (Blender's layout)
+#   creature-1m3-notan.glb  no tangents, interleaved in one bufferView (gltfpack's layout)
+# Every round runs each command once, in turn (bench/measure.py), so a slow spell of this
+# shared machine falls on all tools alike; p10/p50/p90 of the wall time and peak RSS (wait4).
+# gltf-transform's tangent runs take about a minute each: they are timed in the first 3 rounds.
+# Usage: bench/compare.sh [ROUNDS]   (default 20)
+# Needs: cargo, node/npm (installs bench/node_modules), python3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-runs=${1:-5}
+rounds=${1:-20}
 out=bench-out
 mkdir -p "$out"
 [ -d bench/node_modules ] || npm ci --prefix bench --no-audit --no-fund >/dev/null
 cargo build --release -q -p pelt -p pelt-fixtures
-[ -f "$out/creature-1m3.glb" ] || ./target/release/gen-fixtures "$out" --big
-in="$out/creature-1m3.glb"
-# The same mesh without TANGENT, for the generate-tangents comparison.
-[ -f "$out/creature-1m3-notan.glb" ] || node bench/strip-tangents.mjs "$in" "$out/creature-1m3-notan.glb"
+if [ ! -f "$out/creature-1m3.glb" ] || [ ! -f "$out/creature-1m3-notan.glb" ]; then
+  ./target/release/gen-fixtures "$out" --big
+fi
+tan=$out/creature-1m3.glb
+notan=$out/creature-1m3-notan.glb
+pelt=./target/release/pelt
 bin=bench/node_modules/.bin
-
-measure() { # label, command...
-  local label=$1; shift
-  local times=() peak=0
-  for _ in $(seq "$runs"); do
-    /usr/bin/time -f '%e %M' -o "$out/time.txt" "$@" >/dev/null 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
-    read -r t m < "$out/time.txt"
-    times+=("$t"); [ "$m" -gt "$peak" ] && peak=$m
-  done
-  local med
-  med=$(printf '%s\n' "${times[@]}" | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
-  printf '| %-52s | %6.2f s | %5d MiB |\n' "$label" "$med" $((peak / 1024))
-}
-
-echo "| command (1.3 M triangles, $(du -m "$in" | cut -f1) MB .glb, median of $runs) | wall | peak RSS |"
-echo "|---|---|---|"
-measure "cp" cp "$in" "$out/cp.glb"
-measure "pelt bake (TANGENT kept; groups and fins)" ./target/release/pelt bake -q "$in" -o "$out/pelt.glb"
-measure "pelt bake --topology groups (TANGENT kept)" ./target/release/pelt bake -q "$in" -o "$out/pelt-groups.glb" --topology groups
-measure "pelt bake --topology off (TANGENT kept)" ./target/release/pelt bake -q "$in" -o "$out/pelt-off.glb" --topology off
-measure "gltfpack -kv" "$bin/gltfpack" -kv -i "$in" -o "$out/gltfpack.glb"
-measure "gltf-transform copy" "$bin/gltf-transform" copy "$in" "$out/gt-copy.glb"
-measure "pelt bake (no TANGENT: MikkTSpace generated)" ./target/release/pelt bake -q "$out/creature-1m3-notan.glb" -o "$out/pelt-gen.glb"
-measure "pelt bake --tangents regenerate" ./target/release/pelt bake -q "$in" -o "$out/pelt-regen.glb" --tangents regenerate
-measure "gltf-transform tangents" "$bin/gltf-transform" tangents "$out/creature-1m3-notan.glb" "$out/gt-tangents.glb"
+spec=$out/compare.tsv
+tab=$'\t'
+cat > "$spec" <<SPEC
+cp (tangents)${tab}cp $tan $out/cp.glb
+pelt bake (tangents kept; groups and fins)${tab}$pelt bake -q $tan -o $out/pelt.glb
+gltfpack -kv (tangents)${tab}$bin/gltfpack -kv -i $tan -o $out/gltfpack.glb
+pelt bake --topology off (tangents kept)${tab}$pelt bake -q $tan -o $out/pelt-off.glb --topology off
+pelt bake (no tangents: MikkTSpace generated)${tab}$pelt bake -q $notan -o $out/pelt-gen.glb
+gltfpack -kv (no tangents)${tab}$bin/gltfpack -kv -i $notan -o $out/gltfpack-notan.glb
+pelt bake --tangents regenerate${tab}$pelt bake -q $tan -o $out/pelt-regen.glb --tangents regenerate
+gltf-transform tangents --overwrite${tab}3${tab}$bin/gltf-transform tangents $tan $out/gt-regen.glb --overwrite
+gltf-transform tangents (no tangents)${tab}3${tab}$bin/gltf-transform tangents $notan $out/gt-gen.glb
+SPEC
+echo "$(du -m "$tan" | cut -f1) MB with tangents, $(du -m "$notan" | cut -f1) MB without;" \
+  "$(nproc) cores; gltfpack $(node -p "require('./bench/node_modules/gltfpack/package.json').version")," \
+  "glTF-Transform $(node -p "require('./bench/node_modules/@gltf-transform/cli/package.json').version")"
+echo
+python3 bench/measure.py "$rounds" "$spec" \
+  --vs "gltfpack -kv (tangents)" "pelt bake (tangents kept; groups and fins)" \
+  --vs "gltfpack -kv (no tangents)" "pelt bake (no tangents: MikkTSpace generated)" \
+  --vs "gltf-transform tangents --overwrite" "pelt bake --tangents regenerate" \
+  --vs "gltf-transform tangents (no tangents)" "pelt bake (no tangents: MikkTSpace generated)" \
+  --vs "gltfpack -kv (tangents)" "pelt bake --tangents regenerate"
