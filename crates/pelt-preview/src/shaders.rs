@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 23] = [
+pub const FILES: [(&str, &str); 24] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -85,6 +85,10 @@ pub const FILES: [(&str, &str); 23] = [
         "reflect.wgsl",
         include_str!("../../../shaders/reflect.wgsl"),
     ),
+    (
+        "fin_records.wgsl",
+        include_str!("../../../shaders/fin_records.wgsl"),
+    ),
 ];
 
 fn file(name: &str) -> &'static str {
@@ -146,11 +150,14 @@ pub enum Shader {
     Reflect,
     /// Explicit strands, Kajiya-Kay per light (strands.wgsl): the converged fur reference.
     Strands,
+    /// Compute: fin records decoded through the index list (the GPU half of
+    /// `pelt_io::topology::fin_geometry`).
+    FinRecords,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 22] = [
+    pub const ALL: [Shader; 23] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -173,6 +180,7 @@ impl Shader {
         Shader::MinMax,
         Shader::Reflect,
         Shader::Strands,
+        Shader::FinRecords,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -196,6 +204,7 @@ impl Shader {
             Shader::MinMax => "minmax.wgsl",
             Shader::Reflect => "reflect.wgsl",
             Shader::Strands => "strands.wgsl",
+            Shader::FinRecords => "fin_records.wgsl",
         }
     }
 
@@ -247,7 +256,10 @@ impl Shader {
 
     /// Whether the module is a compute shader (its one entry point is `cs_main`).
     pub fn is_compute(self) -> bool {
-        matches!(self, Shader::TangentFrames | Shader::MinMax)
+        matches!(
+            self,
+            Shader::TangentFrames | Shader::MinMax | Shader::FinRecords
+        )
     }
 
     /// Whether the pass draws fullscreen.wgsl's triangle.

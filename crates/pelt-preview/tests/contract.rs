@@ -160,3 +160,92 @@ fn the_shaders_comb_directions_are_pelt_geoms() {
     let d = DVec3::new(0.6, 0.0, 0.8);
     assert!((f.comb_direction(f.to_tangent(d)) - d).length() < 1e-12);
 }
+
+/// Fin records (docs/format.md, version 2) of an open sphere (poles degenerate, a UV seam, a
+/// hole cut for boundary edges), decoded by fin_records.wgsl on the GPU and by
+/// `pelt_io::topology::fin_geometry` on the CPU.
+#[test]
+fn the_shaders_fin_decode_is_pelt_ios() {
+    use pelt_geom::topology::{self, CornerNormals, TopologyOptions};
+    let shape = pelt_fixtures::shapes::sphere(12, 24);
+    // Cut a hole: drop 20 triangles, so some edges have one face.
+    let indices: Vec<u32> = shape.indices[60..].to_vec();
+    let mut t = topology::build(
+        &shape.positions,
+        &indices,
+        CornerNormals::Vertex(&shape.normals),
+        &TopologyOptions::default(),
+    );
+    let edges = t.take_edges();
+    // Through the file's encoding and back.
+    let view = pelt_io::topology::fins_view(edges);
+    let records = pelt_io::topology::decode_fins(view.bytes());
+    assert!(records.iter().any(|e| e.second_face().is_none()), "no boundary");
+    assert!(records.len() > 500);
+
+    let p = preview();
+    let r = &p.renderer;
+    let pipeline = r.compute(Shader::FinRecords).expect("compute pipeline");
+    let storage = |label: &str, bytes: &[u8], extra: wgpu::BufferUsages| {
+        r.gpu
+            .buffer_init(label, bytes, wgpu::BufferUsages::STORAGE | extra)
+    };
+    let fins = storage("fins", view.bytes(), wgpu::BufferUsages::empty());
+    let idx = storage("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::empty());
+    let pos: Vec<f32> = shape.positions.iter().flat_map(|p| p.to_array()).collect();
+    let positions = storage("positions", bytemuck::cast_slice(&pos), wgpu::BufferUsages::empty());
+    let output = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("decoded"),
+        size: (records.len() * 48) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = |a: &wgpu::Buffer, b: &wgpu::Buffer| {
+        r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &r.layouts.storage,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: a.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: b.as_entire_binding(),
+                },
+            ],
+        })
+    };
+    let (g0, g1) = (group(&fins, &output), group(&idx, &positions));
+    let mut enc = r
+        .gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &g0, &[]);
+        pass.set_bind_group(1, &g1, &[]);
+        pass.dispatch_workgroups((records.len() as u32).div_ceil(64), 1, 1);
+    }
+    r.gpu.queue.submit([enc.finish()]);
+    let bytes = pelt_preview::frame::read_buffer(r, &output).expect("read back");
+    let words: &[u32] = bytemuck::cast_slice(&bytes);
+    let mut worst = 0.0_f32;
+    for (k, (e, w)) in records.iter().zip(words.chunks_exact(12)).enumerate() {
+        let cpu = pelt_io::topology::fin_geometry(e, &indices, &shape.positions);
+        assert_eq!([w[0], w[1]], cpu.vertices, "record {k} {e:?}: vertices");
+        assert_eq!(w[2] == 1, e.second_face().is_none(), "record {k}: boundary flag");
+        for (n, at) in cpu.face_normals.iter().zip([4, 8]) {
+            let g = Vec3::new(
+                f32::from_bits(w[at]),
+                f32::from_bits(w[at + 1]),
+                f32::from_bits(w[at + 2]),
+            );
+            let err = (g - *n).length();
+            worst = worst.max(err);
+            assert!(err < 1e-5, "record {k} {e:?}: GPU normal {g}, CPU {n}");
+        }
+    }
+    eprintln!("{} fin records: worst normal difference {worst:e}", records.len());
+}

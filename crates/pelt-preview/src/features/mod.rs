@@ -209,6 +209,17 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Overlay => overlay::spec(key),
         Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
         Shader::Strands => strands::spec(key),
+        Shader::FinRecords => PipelineSpec {
+            groups: vec![
+                crate::renderer::LayoutId::Storage,
+                crate::renderer::LayoutId::Storage,
+            ],
+            vertex_buffers: Vec::new(),
+            blends: Vec::new(),
+            depth: None,
+            cull: None,
+            constants: Vec::new(),
+        },
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),
