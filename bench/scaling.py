@@ -2,7 +2,7 @@
 """Per-triangle cost of the default bake from 10 k to 1.3 M triangles: the fixture creature
 (tangents present, Blender's layout) at five sizes, each baked RUNS times in turn. Prints the
 median wall time, the median in-process time (the report's read + decode + bake + encode +
-write, without process start and exit) and both per thousand triangles, relative to 1.3 M.
+write, without process start and exit) and both per triangle, relative to 1.3 M.
 
 Usage: bench/scaling.py [RUNS]   (default 15; run from the repository root after
 `cargo build --release -p pelt -p pelt-fixtures`)
@@ -49,14 +49,14 @@ def main():
             results[n][1].append(inproc)
     big = name(*SIZES[-1])
     ref = statistics.median(results[big][1]) / tris[big]
-    print(f"| triangles | wall (p50 of {runs}) | in-process (p50) | in-process per 1 k triangles "
-          "| relative to 1.3 M | wall per 1 k triangles |")
+    print(f"| triangles | wall (p50 of {runs}) | in-process (p50) | in-process per triangle "
+          "| relative to 1.3 M | wall per triangle |")
     print("|---|---|---|---|---|---|")
     for n, (walls, inp) in results.items():
         w, i = statistics.median(walls), statistics.median(inp)
         per = i / tris[n]
-        print(f"| {tris[n]:,} | {w * 1000:.1f} ms | {i * 1000:.1f} ms | {per * 1e6:.1f} µs "
-              f"| {per / ref:.2f} | {w / tris[n] * 1e6:.1f} µs |".replace(",", " "))
+        print(f"| {tris[n]:,} | {w * 1000:.1f} ms | {i * 1000:.1f} ms | {per * 1e9:.0f} ns "
+              f"| {per / ref:.2f} | {w / tris[n] * 1e9:.0f} ns |".replace(",", " "))
 
 
 if __name__ == "__main__":

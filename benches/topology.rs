@@ -21,7 +21,7 @@ fn measure(rings: u32, segs: u32) {
     let shape = pelt_fixtures::shapes::creature(rings, segs);
     let (p, n, idx) = (&shape.positions, &shape.normals, &shape.indices);
     let t0 = Instant::now();
-    let t = build(
+    let mut t = build(
         p,
         idx,
         CornerNormals::Vertex(n),
@@ -31,7 +31,7 @@ fn measure(rings: u32, segs: u32) {
     let ids = group_ids::assign(&t);
     let t2 = Instant::now();
     let lengths: Vec<f32> = shape.colors.iter().map(|c| c[3]).collect();
-    let f = fins::build(&t, idx, fins::Fur::Lengths(&lengths));
+    let f = fins::build(t.take_edges(), idx, fins::Fur::Lengths(&lengths));
     let t3 = Instant::now();
     std::hint::black_box((&ids, &f));
     let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1e3;

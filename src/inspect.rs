@@ -177,6 +177,7 @@ fn topology(
     let fins = doc.read_fins(r)?.map(|f| f.len());
     Ok(Some(Topology {
         fields: json!({
+            "format_version": num(&pelt["version"]),
             "normal_groups": num(&groups["groups"]),
             "ids_used": ids.len(),
             "split_vertices": num(&groups["splitVertices"]),

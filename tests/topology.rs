@@ -510,3 +510,50 @@ fn weld_epsilon_and_normal_tolerance_reach_the_bake() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("0 to 180"));
 }
+
+/// Rewrites the baked file's `extras.pelt` with `edit` and writes it to `to`.
+fn with_pelt_extras(from: &Path, to: &Path, edit: impl FnOnce(&mut Value)) {
+    let mut doc = Document::load(from).expect("load");
+    let pelt = doc.json["meshes"][0]["primitives"][0]["extras"]
+        .get_mut("pelt")
+        .expect("extras.pelt");
+    edit(pelt);
+    pelt_io::glb::write_glb(&doc, to).expect("write");
+}
+
+#[test]
+fn readers_refuse_other_format_versions_and_corners_out_of_range() {
+    let dir = scratch("versions");
+    let out = bake(&fixture("torus.glb"), &dir, &[]);
+    let info = inspect(&out);
+    assert!(info["fin_edges"].as_u64().is_some_and(|n| n > 0), "{info}");
+    assert_eq!(info["primitive"][0]["topology"]["format_version"], 2, "{info}");
+    // A version-1 file: refused, naming the version and what to do.
+    let v1 = dir.join("v1.glb");
+    with_pelt_extras(&out, &v1, |p| p["version"] = 1.into());
+    let r = pelt(&["inspect", v1.to_str().unwrap_or_default()], &[]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success());
+    assert!(
+        err.contains("extras.pelt.version") && err.contains("format version 1") && err.contains("bake the source again"),
+        "{err}"
+    );
+    // A record whose corner lies past the index list: an error naming the record, no panic.
+    let doc = Document::load(&out).expect("load");
+    let view = doc.json["meshes"][0]["primitives"][0]["extras"]["pelt"]["fins"]["bufferView"]
+        .as_u64()
+        .expect("fins view") as usize;
+    let mut bad = doc.clone();
+    let (offset, buffer) = (
+        bad.json["bufferViews"][view]["byteOffset"].as_u64().unwrap_or(0) as usize,
+        bad.json["bufferViews"][view]["buffer"].as_u64().expect("buffer") as usize,
+    );
+    bad.buffers[buffer][offset + 8..offset + 12].copy_from_slice(&u32::MAX.to_le_bytes());
+    let broken = dir.join("broken.glb");
+    pelt_io::glb::write_glb(&bad, &broken).expect("write");
+    let r = pelt(&["inspect", broken.to_str().unwrap_or_default()], &[]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success());
+    assert!(err.contains("extras.pelt.fins record 1") && err.contains("corners"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -300,13 +300,13 @@ pub fn build(
     let nf = indices.len() / 3;
     let corner_pid: Vec<u32> = indices
         .par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(crate::task_len(indices.len(), CHUNK))
         .map(|&v| position_id[v as usize])
         .collect();
     let pid = |c: u32| corner_pid[c as usize];
     let degenerate: Vec<bool> = (0..nf)
         .into_par_iter()
-        .with_min_len(CHUNK)
+        .with_min_len(crate::task_len(nf, CHUNK))
         .map(|f| {
             let [a, b, c] = [0, 1, 2].map(|k| corner_pid[3 * f + k]);
             let p = |k: usize| positions[indices[3 * f + k] as usize];
@@ -343,13 +343,14 @@ pub fn build(
 
     // Edges, each found at its lower welded position; faces joined across them as they are.
     let sets = AtomicUnionFind::new(nf);
-    let parts: Vec<(Vec<Edge>, usize)> = (0..n_pos.div_ceil(CHUNK))
+    let chunk = crate::task_len(n_pos, CHUNK);
+    let parts: Vec<(Vec<Edge>, usize)> = (0..n_pos.div_ceil(chunk))
         .into_par_iter()
         .map(|task| {
-            let mut edges = Vec::with_capacity(CHUNK * 3 + 16);
+            let mut edges = Vec::with_capacity(chunk * 3 + 16);
             let mut nonmanifold = 0;
             let mut around: Vec<Side> = Vec::new();
-            for a in (task * CHUNK..((task + 1) * CHUNK).min(n_pos)).map(|a| a as u32) {
+            for a in (task * chunk..((task + 1) * chunk).min(n_pos)).map(|a| a as u32) {
                 sides_at(a, star_at(a), &pid, &is_degenerate, &mut around);
                 for run in around.chunk_by(|x, y| x.b == y.b) {
                     for (i, x) in run.iter().enumerate() {

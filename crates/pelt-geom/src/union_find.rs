@@ -49,7 +49,7 @@ impl UnionFind {
         };
         let roots: Vec<u32> = (0..parent.len() as u32)
             .into_par_iter()
-            .with_min_len(LABEL_CHUNK)
+            .with_min_len(crate::task_len(parent.len(), LABEL_CHUNK))
             .map(root)
             .collect();
         // The root is the smallest member, so it is labelled before any other member.
@@ -67,12 +67,13 @@ const LABEL_CHUNK: usize = 1 << 16;
 /// representative's rank.
 pub(crate) fn first_seen_labels(mut rep: Vec<u32>) -> (Vec<u32>, usize) {
     let n = rep.len();
+    let chunk = crate::task_len(n, LABEL_CHUNK);
     let is_rep = |i: usize, r: u32| r as usize == i;
     let counts: Vec<u32> = rep
-        .par_chunks(LABEL_CHUNK)
+        .par_chunks(chunk)
         .enumerate()
         .map(|(k, ch)| {
-            let base = k * LABEL_CHUNK;
+            let base = k * chunk;
             ch.iter()
                 .enumerate()
                 .filter(|&(j, &r)| is_rep(base + j, r))
@@ -90,11 +91,11 @@ pub(crate) fn first_seen_labels(mut rep: Vec<u32>) -> (Vec<u32>, usize) {
     let total = counts.iter().sum::<u32>() as usize;
     // rank[i] for representatives i (other entries unused).
     let mut rank = vec![0u32; n];
-    rank.par_chunks_mut(LABEL_CHUNK)
-        .zip(rep.par_chunks(LABEL_CHUNK))
+    rank.par_chunks_mut(chunk)
+        .zip(rep.par_chunks(chunk))
         .enumerate()
         .for_each(|(k, (out, ch))| {
-            let (base, mut next) = (k * LABEL_CHUNK, offsets[k]);
+            let (base, mut next) = (k * chunk, offsets[k]);
             for (j, &r) in ch.iter().enumerate() {
                 if is_rep(base + j, r) {
                     out[j] = next;
@@ -103,7 +104,7 @@ pub(crate) fn first_seen_labels(mut rep: Vec<u32>) -> (Vec<u32>, usize) {
             }
         });
     rep.par_iter_mut()
-        .with_min_len(LABEL_CHUNK)
+        .with_min_len(chunk)
         .for_each(|r| *r = rank[*r as usize]);
     (rep, total)
 }

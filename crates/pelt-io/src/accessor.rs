@@ -170,7 +170,7 @@ fn map_elements<const N: usize, const S: usize, T: From<[f32; N]> + Send>(
     f: impl Fn([u8; S]) -> f32 + Sync,
 ) -> Vec<T> {
     b.par_chunks_exact(N * S)
-        .with_min_len(DECODE_CHUNK)
+        .with_min_len(pelt_geom::task_len(b.len() / (N * S), DECODE_CHUNK))
         .map(|e| T::from(std::array::from_fn(|k| f(std::array::from_fn(|j| e[k * S + j])))))
         .collect()
 }
@@ -552,17 +552,17 @@ pub fn read_indices(doc: &Document, index: usize, place: &str) -> Result<Vec<u32
     Ok(match e.component {
         ComponentType::U8 => b
             .par_iter()
-            .with_min_len(DECODE_CHUNK)
+            .with_min_len(pelt_geom::task_len(e.count, DECODE_CHUNK))
             .map(|&i| u32::from(i))
             .collect(),
         ComponentType::U16 => b
             .par_chunks_exact(2)
-            .with_min_len(DECODE_CHUNK)
+            .with_min_len(pelt_geom::task_len(e.count, DECODE_CHUNK))
             .map(|i| u32::from(u16::from_le_bytes([i[0], i[1]])))
             .collect(),
         _ => b
             .par_chunks_exact(4)
-            .with_min_len(DECODE_CHUNK)
+            .with_min_len(pelt_geom::task_len(e.count, DECODE_CHUNK))
             .map(|i| u32::from_le_bytes([i[0], i[1], i[2], i[3]]))
             .collect(),
     })
