@@ -29,6 +29,11 @@ fixtures:
 bench runs="20":
     bash bench/compare.sh {{runs}}
 
+# Per-triangle cost of the default bake at 10 k to 1.3 M triangles.
+bench-scaling runs="15":
+    cargo build --release -q -p pelt -p pelt-fixtures
+    python3 bench/scaling.py {{runs}}
+
 # Batch bake: 64 files at --jobs 1 and 2, --incremental, one process per file.
 bench-batch runs="5":
     bash bench/batch.sh {{runs}}

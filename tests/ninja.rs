@@ -26,7 +26,10 @@ fn external(dir: &Path, name: &str, fixture_rel: &str) {
     let mut json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(fixture(fixture_rel)).expect("read fixture"))
             .expect("fixture JSON");
-    let uri = json["buffers"][0]["uri"].as_str().expect("data URI").to_owned();
+    let uri = json["buffers"][0]["uri"]
+        .as_str()
+        .expect("data URI")
+        .to_owned();
     let payload = uri.split_once(',').expect("data URI payload").1;
     let bin = base64::engine::general_purpose::STANDARD
         .decode(payload)
@@ -98,11 +101,18 @@ fn ninja_rebuilds_exactly_the_output_whose_bin_changed() {
     assert_eq!(first, ["out/cube.glb", "out/grid.glb", "out/torus.glb"]);
     for (name, _) in INPUTS {
         let out = dir.join(format!("out/{name}.glb"));
-        assert!(pelt_io::Document::load(&out).is_ok(), "{} unreadable", out.display());
+        assert!(
+            pelt_io::Document::load(&out).is_ok(),
+            "{} unreadable",
+            out.display()
+        );
     }
     // Nothing changed: nothing to do.
     let again = ninja(&dir);
-    assert!(again.contains("no work to do"), "second run did work:\n{again}");
+    assert!(
+        again.contains("no work to do"),
+        "second run did work:\n{again}"
+    );
 
     // Touch one input's .bin (the .gltf is untouched): only its output is rebuilt, which
     // ninja can only know from the depfile.
@@ -121,8 +131,16 @@ fn ninja_rebuilds_exactly_the_output_whose_bin_changed() {
     assert_eq!(built(&ninja(&dir)), ["out/torus.glb"]);
     for ((name, _), old) in INPUTS.iter().zip(before) {
         let now = mtime(&dir.join(format!("out/{name}.glb")));
-        assert_eq!(now != old, *name == "torus", "{name}: rebuilt = {}", now != old);
+        assert_eq!(
+            now != old,
+            *name == "torus",
+            "{name}: rebuilt = {}",
+            now != old
+        );
     }
     let last = ninja(&dir);
-    assert!(last.contains("no work to do"), "run after the rebuild did work:\n{last}");
+    assert!(
+        last.contains("no work to do"),
+        "run after the rebuild did work:\n{last}"
+    );
 }

@@ -527,7 +527,10 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let out = bake(&fixture("torus.glb"), &dir, &[]);
     let info = inspect(&out);
     assert!(info["fin_edges"].as_u64().is_some_and(|n| n > 0), "{info}");
-    assert_eq!(info["primitive"][0]["topology"]["format_version"], 2, "{info}");
+    assert_eq!(
+        info["primitive"][0]["topology"]["format_version"], 2,
+        "{info}"
+    );
     // A version-1 file: refused, naming the version and what to do.
     let v1 = dir.join("v1.glb");
     with_pelt_extras(&out, &v1, |p| p["version"] = 1.into());
@@ -535,7 +538,9 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success());
     assert!(
-        err.contains("extras.pelt.version") && err.contains("format version 1") && err.contains("bake the source again"),
+        err.contains("extras.pelt.version")
+            && err.contains("format version 1")
+            && err.contains("bake the source again"),
         "{err}"
     );
     // A record whose corner lies past the index list: an error naming the record, no panic.
@@ -545,8 +550,12 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
         .expect("fins view") as usize;
     let mut bad = doc.clone();
     let (offset, buffer) = (
-        bad.json["bufferViews"][view]["byteOffset"].as_u64().unwrap_or(0) as usize,
-        bad.json["bufferViews"][view]["buffer"].as_u64().expect("buffer") as usize,
+        bad.json["bufferViews"][view]["byteOffset"]
+            .as_u64()
+            .unwrap_or(0) as usize,
+        bad.json["bufferViews"][view]["buffer"]
+            .as_u64()
+            .expect("buffer") as usize,
     );
     bad.buffers[buffer][offset + 8..offset + 12].copy_from_slice(&u32::MAX.to_le_bytes());
     let broken = dir.join("broken.glb");
@@ -554,6 +563,9 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let r = pelt(&["inspect", broken.to_str().unwrap_or_default()], &[]);
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success());
-    assert!(err.contains("extras.pelt.fins record 1") && err.contains("corners"), "{err}");
+    assert!(
+        err.contains("extras.pelt.fins record 1") && err.contains("corners"),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
 }

@@ -165,7 +165,8 @@ fn push_interleaved<'a>(
         v.insert("byteStride".into(), json!(stride));
     }
     let bound = |f: fn(f32, f32) -> f32, init: f32| {
-        pos.iter().fold([init; 3], |m, p| std::array::from_fn(|k| f(m[k], p[k])))
+        pos.iter()
+            .fold([init; 3], |m, p| std::array::from_fn(|k| f(m[k], p[k])))
     };
     list.iter()
         .zip(&offsets)

@@ -83,7 +83,11 @@ pub fn write_big(dir: &std::path::Path) -> Result<(), pelt_io::IoError> {
 /// Writes the benchmark creature at `rings` × `segments` (about 2 × rings × segments
 /// triangles) into `dir`, as [`write_big`] does, named `creature-{triangles}.glb` and
 /// `creature-{triangles}-notan.glb` (the 1.3 M one keeps its historical name `creature-1m3`).
-pub fn write_creature(dir: &std::path::Path, rings: u32, segments: u32) -> Result<(), pelt_io::IoError> {
+pub fn write_creature(
+    dir: &std::path::Path,
+    rings: u32,
+    segments: u32,
+) -> Result<(), pelt_io::IoError> {
     let shape = shapes::creature(rings, segments);
     let name = if (rings, segments) == (570, 1140) {
         "creature-1m3".to_owned()

@@ -69,11 +69,26 @@ mod tests {
         // Two triangles (0 1 2) and (2 1 3) sharing edge 1-2; fur only at vertex 3.
         let indices = [0, 1, 2, 2, 1, 3];
         let edges = vec![
-            Edge { corner: 0, second_corner: NO_CORNER },
-            Edge { corner: 1, second_corner: 3 },
-            Edge { corner: 2, second_corner: NO_CORNER },
-            Edge { corner: 4, second_corner: NO_CORNER },
-            Edge { corner: 5, second_corner: NO_CORNER },
+            Edge {
+                corner: 0,
+                second_corner: NO_CORNER,
+            },
+            Edge {
+                corner: 1,
+                second_corner: 3,
+            },
+            Edge {
+                corner: 2,
+                second_corner: NO_CORNER,
+            },
+            Edge {
+                corner: 4,
+                second_corner: NO_CORNER,
+            },
+            Edge {
+                corner: 5,
+                second_corner: NO_CORNER,
+            },
         ];
         let lengths = [0.0, 0.0, 0.0, 0.5];
         let fins = build(edges.clone(), &indices, Fur::Lengths(&lengths));

@@ -202,7 +202,6 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     let degenerate: Vec<bool> = faces.par_iter().map(|f| f.degenerate).collect();
     let degenerate_triangles = degenerate.iter().filter(|&&d| d).count();
     let degenerate_uv_triangles = faces.iter().filter(|f| !f.degenerate && f.any).count();
-    drop(ctx);
     drop((faces, neighbours, fan));
 
     // Each corner's space: its own, or for a degenerate triangle the space of the first proper

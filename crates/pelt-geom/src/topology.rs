@@ -278,11 +278,21 @@ fn sides_at(
         // The face runs a to pid(next) from d, and pid(prev) to a from prev.
         let b = pid(next);
         if b > a {
-            out.push(Side { b, face, start: d, ends: [d, next] });
+            out.push(Side {
+                b,
+                face,
+                start: d,
+                ends: [d, next],
+            });
         }
         let b = pid(prev);
         if b > a {
-            out.push(Side { b, face, start: prev, ends: [d, prev] });
+            out.push(Side {
+                b,
+                face,
+                start: prev,
+                ends: [d, prev],
+            });
         }
     }
     // Faces already ascend (the star does); a stable sort by the other end keeps that.
@@ -534,7 +544,10 @@ mod tests {
         let e = t.edges.iter().find(|e| t.ends(e) == [0, 1]).unwrap();
         // The two lowest faces: face 0 runs 0 to 1 from its corner 0; face 1 runs 1 to 0 from
         // its corner 3.
-        assert_eq!((e.first_face(), e.second_face(), e.corner, e.second_corner), (0, Some(1), 0, 3));
+        assert_eq!(
+            (e.first_face(), e.second_face(), e.corner, e.second_corner),
+            (0, Some(1), 0, 3)
+        );
         assert_eq!(t.face_group, vec![0, 0, 1]);
         assert_eq!(t.boundary_edges(), 6);
     }

@@ -141,21 +141,19 @@ impl Elements<'_> {
         let (c, n, b) = (self.component, self.normalized, &*self.bytes);
         match c {
             ComponentType::F32 => map_elements::<N, 4, T>(b, f32::from_le_bytes),
-            ComponentType::U8 => {
-                map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0])))
-            }
+            ComponentType::U8 => map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0]))),
             ComponentType::I8 => {
                 map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0] as i8)))
             }
-            ComponentType::U16 => map_elements::<N, 2, T>(b, |x| {
-                normalize(c, n, f64::from(u16::from_le_bytes(x)))
-            }),
-            ComponentType::I16 => map_elements::<N, 2, T>(b, |x| {
-                normalize(c, n, f64::from(i16::from_le_bytes(x)))
-            }),
-            ComponentType::U32 => map_elements::<N, 4, T>(b, |x| {
-                normalize(c, n, f64::from(u32::from_le_bytes(x)))
-            }),
+            ComponentType::U16 => {
+                map_elements::<N, 2, T>(b, |x| normalize(c, n, f64::from(u16::from_le_bytes(x))))
+            }
+            ComponentType::I16 => {
+                map_elements::<N, 2, T>(b, |x| normalize(c, n, f64::from(i16::from_le_bytes(x))))
+            }
+            ComponentType::U32 => {
+                map_elements::<N, 4, T>(b, |x| normalize(c, n, f64::from(u32::from_le_bytes(x))))
+            }
         }
     }
 }
@@ -171,7 +169,11 @@ fn map_elements<const N: usize, const S: usize, T: From<[f32; N]> + Send>(
 ) -> Vec<T> {
     b.par_chunks_exact(N * S)
         .with_min_len(pelt_geom::task_len(b.len() / (N * S), DECODE_CHUNK))
-        .map(|e| T::from(std::array::from_fn(|k| f(std::array::from_fn(|j| e[k * S + j])))))
+        .map(|e| {
+            T::from(std::array::from_fn(|k| {
+                f(std::array::from_fn(|j| e[k * S + j]))
+            }))
+        })
         .collect()
 }
 

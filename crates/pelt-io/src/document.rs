@@ -512,7 +512,8 @@ fn read_file(path: &Path) -> std::io::Result<FileBytes> {
     {
         let len = file.metadata()?.len();
         let map_ok = std::env::var_os("PELT_MMAP").is_none_or(|v| v != "0");
-        if len >= MAP_FROM && map_ok
+        if len >= MAP_FROM
+            && map_ok
             && let Some(map) = map_file(&file, len)
         {
             return Ok(FileBytes::Mapped(map));

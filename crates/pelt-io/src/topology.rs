@@ -195,7 +195,8 @@ impl Document {
         // The corner's whole face must exist, so its next and previous corners do too.
         let out_of_range = |c: u32| u64::from(c) / 3 * 3 + 2 >= corners;
         if let Some((k, e)) = edges.iter().enumerate().find(|(_, e)| {
-            out_of_range(e.corner) || (e.second_corner != NO_CORNER && out_of_range(e.second_corner))
+            out_of_range(e.corner)
+                || (e.second_corner != NO_CORNER && out_of_range(e.second_corner))
         }) {
             return Err(self.invalid(
                 format!("{place} record {k}"),

@@ -180,7 +180,10 @@ fn the_shaders_fin_decode_is_pelt_ios() {
     // Through the file's encoding and back.
     let view = pelt_io::topology::fins_view(edges);
     let records = pelt_io::topology::decode_fins(view.bytes());
-    assert!(records.iter().any(|e| e.second_face().is_none()), "no boundary");
+    assert!(
+        records.iter().any(|e| e.second_face().is_none()),
+        "no boundary"
+    );
     assert!(records.len() > 500);
 
     let p = preview();
@@ -191,9 +194,17 @@ fn the_shaders_fin_decode_is_pelt_ios() {
             .buffer_init(label, bytes, wgpu::BufferUsages::STORAGE | extra)
     };
     let fins = storage("fins", view.bytes(), wgpu::BufferUsages::empty());
-    let idx = storage("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::empty());
+    let idx = storage(
+        "indices",
+        bytemuck::cast_slice(&indices),
+        wgpu::BufferUsages::empty(),
+    );
     let pos: Vec<f32> = shape.positions.iter().flat_map(|p| p.to_array()).collect();
-    let positions = storage("positions", bytemuck::cast_slice(&pos), wgpu::BufferUsages::empty());
+    let positions = storage(
+        "positions",
+        bytemuck::cast_slice(&pos),
+        wgpu::BufferUsages::empty(),
+    );
     let output = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("decoded"),
         size: (records.len() * 48) as u64,
@@ -235,7 +246,11 @@ fn the_shaders_fin_decode_is_pelt_ios() {
     for (k, (e, w)) in records.iter().zip(words.chunks_exact(12)).enumerate() {
         let cpu = pelt_io::topology::fin_geometry(e, &indices, &shape.positions);
         assert_eq!([w[0], w[1]], cpu.vertices, "record {k} {e:?}: vertices");
-        assert_eq!(w[2] == 1, e.second_face().is_none(), "record {k}: boundary flag");
+        assert_eq!(
+            w[2] == 1,
+            e.second_face().is_none(),
+            "record {k}: boundary flag"
+        );
         for (n, at) in cpu.face_normals.iter().zip([4, 8]) {
             let g = Vec3::new(
                 f32::from_bits(w[at]),
@@ -247,5 +262,8 @@ fn the_shaders_fin_decode_is_pelt_ios() {
             assert!(err < 1e-5, "record {k} {e:?}: GPU normal {g}, CPU {n}");
         }
     }
-    eprintln!("{} fin records: worst normal difference {worst:e}", records.len());
+    eprintln!(
+        "{} fin records: worst normal difference {worst:e}",
+        records.len()
+    );
 }

@@ -340,7 +340,9 @@ pub fn fin_instances(
         debug_assert!((a as usize) < n && (b as usize) < n);
         let (va, vb) = (&verts[base + a as usize], &verts[base + b as usize]);
         let (fa, fb) = (&fur[base + a as usize], &fur[base + b as usize]);
-        let [f0, f1] = g.face_normals.map(|f| (normal_world * f).normalize_or_zero());
+        let [f0, f1] = g
+            .face_normals
+            .map(|f| (normal_world * f).normalize_or_zero());
         let comb = |v: &crate::vertex::Vertex, f: &FurVertex| {
             let c = Vec4::from(f.comb);
             comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(c.w)
