@@ -243,22 +243,9 @@ fn outputs_are_byte_identical_across_runs_and_job_counts() {
 
 /// A .gltf with an external buffer and an image whose name needs escaping, and its files.
 fn external_asset(dir: &Path) -> PathBuf {
-    use base64::Engine as _;
-    let mut json: Value =
-        serde_json::from_slice(&std::fs::read(fixture("edge/flat-cube.gltf")).expect("read"))
-            .expect("json");
-    let uri = json["buffers"][0]["uri"]
-        .as_str()
-        .expect("data uri")
-        .to_owned();
-    let payload = uri.split_once(',').expect("comma").1;
-    let bin = base64::engine::general_purpose::STANDARD
-        .decode(payload)
-        .expect("base64");
     std::fs::create_dir_all(dir.join("tex")).expect("mkdir");
-    std::fs::write(dir.join("cube.bin"), bin).expect("write");
+    let mut json = with_external_buffer("edge/flat-cube.gltf", dir, "cube.bin");
     std::fs::write(dir.join("tex/fur dots.png"), tiny_png()).expect("write");
-    json["buffers"][0]["uri"] = "cube.bin".into();
     json["images"] = serde_json::json!([{"uri": "tex/fur%20dots.png"}]);
     let path = dir.join("cube.gltf");
     std::fs::write(&path, serde_json::to_vec_pretty(&json).expect("json")).expect("write");

@@ -22,20 +22,7 @@ const INPUTS: [(&str, &str); 3] = [
 
 /// Writes `dir/NAME.gltf` with its buffer in `dir/NAME.bin`.
 fn external(dir: &Path, name: &str, fixture_rel: &str) {
-    use base64::Engine as _;
-    let mut json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(fixture(fixture_rel)).expect("read fixture"))
-            .expect("fixture JSON");
-    let uri = json["buffers"][0]["uri"]
-        .as_str()
-        .expect("data URI")
-        .to_owned();
-    let payload = uri.split_once(',').expect("data URI payload").1;
-    let bin = base64::engine::general_purpose::STANDARD
-        .decode(payload)
-        .expect("base64");
-    std::fs::write(dir.join(format!("{name}.bin")), bin).expect("write .bin");
-    json["buffers"][0]["uri"] = format!("{name}.bin").into();
+    let json = with_external_buffer(fixture_rel, dir, &format!("{name}.bin"));
     std::fs::write(
         dir.join(format!("{name}.gltf")),
         serde_json::to_vec_pretty(&json).expect("JSON"),

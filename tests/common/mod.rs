@@ -159,3 +159,24 @@ impl Baked {
 pub fn angle(a: DVec3, b: DVec3) -> f64 {
     a.normalize().dot(b.normalize()).clamp(-1.0, 1.0).acos()
 }
+
+/// A fixture `.gltf`'s JSON with its embedded buffer moved out: writes the buffer to
+/// `dir/bin_name`, points `buffers[0].uri` at it and returns the JSON (for the caller to
+/// adjust and write).
+pub fn with_external_buffer(fixture_rel: &str, dir: &Path, bin_name: &str) -> serde_json::Value {
+    use base64::Engine as _;
+    let mut json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(fixture(fixture_rel)).expect("read fixture"))
+            .expect("fixture JSON");
+    let uri = json["buffers"][0]["uri"]
+        .as_str()
+        .expect("data URI")
+        .to_owned();
+    let payload = uri.split_once(',').expect("data URI payload").1;
+    let bin = base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .expect("base64");
+    std::fs::write(dir.join(bin_name), bin).expect("write .bin");
+    json["buffers"][0]["uri"] = bin_name.into();
+    json
+}

@@ -13,6 +13,64 @@ use pelt_preview::shaders::Shader;
 
 use common::preview;
 
+/// A bind group of the Storage layout: `read` at binding 0, `written` at binding 1.
+fn storage_group(
+    r: &pelt_preview::renderer::Renderer,
+    read: &wgpu::Buffer,
+    written: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &r.layouts.storage,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: read.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: written.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+/// Runs `shader` over `n` items (64 a workgroup) with `groups` bound in order, and reads
+/// `output` back.
+fn run_compute(
+    r: &pelt_preview::renderer::Renderer,
+    shader: Shader,
+    groups: &[&wgpu::BindGroup],
+    n: usize,
+    output: &wgpu::Buffer,
+) -> Vec<u8> {
+    let pipeline = r.compute(shader).expect("compute pipeline");
+    let mut enc = r
+        .gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(&pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, *g, &[]);
+        }
+        pass.dispatch_workgroups((n as u32).div_ceil(64), 1, 1);
+    }
+    r.gpu.queue.submit([enc.finish()]);
+    pelt_preview::frame::read_buffer(r, output).expect("read back")
+}
+
+/// A storage buffer the shader writes and the test reads back.
+fn output_buffer(r: &pelt_preview::renderer::Renderer, label: &str, size: usize) -> wgpu::Buffer {
+    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
 /// (normal, tangent, comb) records: every case the fallback handles, and a spread of
 /// ordinary ones.
 fn records() -> Vec<[Vec4; 3]> {
@@ -92,7 +150,6 @@ fn cpu(r: &[Vec4; 3]) -> Vec3 {
 fn gpu(records: &[[Vec4; 3]]) -> Vec<Vec3> {
     let p = preview();
     let r = &p.renderer;
-    let pipeline = r.compute(Shader::TangentFrames).expect("compute pipeline");
     let flat: Vec<[f32; 4]> = records
         .iter()
         .flat_map(|r| r.map(|v| v.to_array()))
@@ -102,38 +159,9 @@ fn gpu(records: &[[Vec4; 3]]) -> Vec<Vec3> {
         bytemuck::cast_slice(&flat),
         wgpu::BufferUsages::STORAGE,
     );
-    let output = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("directions"),
-        size: (records.len() * 16) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &r.layouts.storage,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = r
-        .gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((records.len() as u32).div_ceil(64), 1, 1);
-    }
-    r.gpu.queue.submit([enc.finish()]);
-    let bytes = pelt_preview::frame::read_buffer(r, &output).expect("read back");
+    let output = output_buffer(r, "directions", records.len() * 16);
+    let group = storage_group(r, &input, &output);
+    let bytes = run_compute(r, Shader::TangentFrames, &[&group], records.len(), &output);
     let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     out.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect()
 }
@@ -188,59 +216,18 @@ fn the_shaders_fin_decode_is_pelt_ios() {
 
     let p = preview();
     let r = &p.renderer;
-    let pipeline = r.compute(Shader::FinRecords).expect("compute pipeline");
-    let storage = |label: &str, bytes: &[u8], extra: wgpu::BufferUsages| {
-        r.gpu
-            .buffer_init(label, bytes, wgpu::BufferUsages::STORAGE | extra)
-    };
-    let fins = storage("fins", view.bytes(), wgpu::BufferUsages::empty());
-    let idx = storage(
-        "indices",
-        bytemuck::cast_slice(&indices),
-        wgpu::BufferUsages::empty(),
-    );
+    let storage =
+        |label: &str, bytes: &[u8]| r.gpu.buffer_init(label, bytes, wgpu::BufferUsages::STORAGE);
+    let fins = storage("fins", view.bytes());
+    let idx = storage("indices", bytemuck::cast_slice(&indices));
     let pos: Vec<f32> = shape.positions.iter().flat_map(|p| p.to_array()).collect();
-    let positions = storage(
-        "positions",
-        bytemuck::cast_slice(&pos),
-        wgpu::BufferUsages::empty(),
+    let positions = storage("positions", bytemuck::cast_slice(&pos));
+    let output = output_buffer(r, "decoded", records.len() * 48);
+    let (g0, g1) = (
+        storage_group(r, &fins, &output),
+        storage_group(r, &idx, &positions),
     );
-    let output = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("decoded"),
-        size: (records.len() * 48) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = |a: &wgpu::Buffer, b: &wgpu::Buffer| {
-        r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &r.layouts.storage,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: a.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: b.as_entire_binding(),
-                },
-            ],
-        })
-    };
-    let (g0, g1) = (group(&fins, &output), group(&idx, &positions));
-    let mut enc = r
-        .gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &g0, &[]);
-        pass.set_bind_group(1, &g1, &[]);
-        pass.dispatch_workgroups((records.len() as u32).div_ceil(64), 1, 1);
-    }
-    r.gpu.queue.submit([enc.finish()]);
-    let bytes = pelt_preview::frame::read_buffer(r, &output).expect("read back");
+    let bytes = run_compute(r, Shader::FinRecords, &[&g0, &g1], records.len(), &output);
     let words: &[u32] = bytemuck::cast_slice(&bytes);
     let mut worst = 0.0_f32;
     for (k, (e, w)) in records.iter().zip(words.chunks_exact(12)).enumerate() {
