@@ -498,7 +498,10 @@ impl Document {
 }
 
 /// Files at least this large are mapped instead of read (see [`read_file`]).
-const MAP_FROM: u64 = 16 << 20;
+const MAP_FROM: u64 = 256 << 10;
+
+/// Files at least this large are read by several threads where they cannot be mapped.
+const PARALLEL_FROM: u64 = 16 << 20;
 
 /// Reads a whole file. Large files are mapped read-only (`PELT_MMAP=0` reads them instead):
 /// their pages are already in the page cache, so the map costs neither a copy nor fresh
@@ -519,7 +522,7 @@ fn read_file(path: &Path) -> std::io::Result<FileBytes> {
             return Ok(FileBytes::Mapped(map));
         }
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
-        if len >= MAP_FROM && threads >= 2 {
+        if len >= PARALLEL_FROM && threads >= 2 {
             return read_parallel(&file, len, threads).map(FileBytes::Owned);
         }
     }

@@ -170,7 +170,8 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
     let tmp = temp_path(out);
     let result = (|| -> std::io::Result<()> {
         let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
+        // Small pieces (headers, JSON, padding) are gathered; large views go straight out.
+        let mut w = std::io::BufWriter::with_capacity(64 << 10, file);
         plan.write(&mut w)?;
         let file = w
             .into_inner()
