@@ -7,7 +7,7 @@
 //! each block of at least [`THRESHOLD`] bytes lets the kernel back it with 2 MiB pages: 512
 //! times fewer faults. The hint is off by default (`PELT_HUGE_PAGES=1` turns it on): on the
 //! project's 2-core VM it made the median bake about 10 % faster but the slow runs much
-//! slower (p90/p50 of 20 runs 1.2 to 1.7 against 1.04 to 1.2 without), because each huge page
+//! slower (p90/p50 of 20 runs 1.13 to 1.67 against 1.04 to 1.24 without), because each huge page
 //! is memory the kernel (and the hypervisor under it) must find and zero in one piece. The
 //! steadier choice is the default; the fresh memory a bake touches was cut instead (fins are
 //! the topology's own edge list, large inputs are mapped, not read).
