@@ -180,3 +180,17 @@ pub fn with_external_buffer(fixture_rel: &str, dir: &Path, bin_name: &str) -> se
     json["buffers"][0]["uri"] = bin_name.into();
     json
 }
+
+/// Whether a tool a test needs is here. When it is not, the test is skipped with `hint` (how
+/// to install it), unless `require_env` is set (CI sets it), which turns the absence into a
+/// failure.
+pub fn tool_available(found: bool, require_env: &str, what: &str, hint: &str) -> bool {
+    if !found {
+        assert!(
+            std::env::var_os(require_env).is_none(),
+            "{require_env} is set but {what} is missing ({hint})"
+        );
+        eprintln!("skipped: {what} not found ({hint})");
+    }
+    found
+}

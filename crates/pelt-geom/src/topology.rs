@@ -276,23 +276,16 @@ fn sides_at(
         }
         let (next, prev) = (next_corner(d), prev_corner(d));
         // The face runs a to pid(next) from d, and pid(prev) to a from prev.
-        let b = pid(next);
-        if b > a {
-            out.push(Side {
-                b,
-                face,
-                start: d,
-                ends: [d, next],
-            });
-        }
-        let b = pid(prev);
-        if b > a {
-            out.push(Side {
-                b,
-                face,
-                start: prev,
-                ends: [d, prev],
-            });
+        for (at_b, start) in [(next, d), (prev, prev)] {
+            let b = pid(at_b);
+            if b > a {
+                out.push(Side {
+                    b,
+                    face,
+                    start,
+                    ends: [d, at_b],
+                });
+            }
         }
     }
     // Faces already ascend (the star does); a stable sort by the other end keeps that.
