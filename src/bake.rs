@@ -10,7 +10,10 @@ use std::time::Instant;
 use anyhow::Context;
 use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::{FurAssets, FurReport};
-use pelt_bake::options::{ColorSpace, Quantize, TangentMode, TopologyMode, TopologyOptions};
+use pelt_bake::options::{
+    ColorSpace, CombSource, DEFAULT_CREASE_ANGLE_DEG, Quantize, TangentMode, TopologyMode,
+    TopologyOptions,
+};
 use pelt_bake::{AssetReport, BakeOptions};
 use pelt_batch::{Job, Outcome, Settings, Status};
 use rayon::prelude::*;
@@ -59,6 +62,12 @@ struct OptionsReport {
     topology: &'static str,
     weld_epsilon: f32,
     normal_tolerance_deg: f32,
+    comb: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    comb_length: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    comb_smoothing: Option<u32>,
+    crease_angle_deg: f32,
 }
 
 #[derive(Serialize)]
@@ -83,8 +92,17 @@ struct InputReport {
     output_bytes: Option<u64>,
 }
 
-fn options(args: &BakeArgs) -> BakeOptions {
-    BakeOptions {
+fn options(args: &BakeArgs, config: Option<&BakeConfig>) -> anyhow::Result<BakeOptions> {
+    let comb_config = config.and_then(|c| c.comb.clone()).unwrap_or_default();
+    let comb = comb_config
+        .source(args.comb)
+        .map_err(|e| anyhow::anyhow!("comb.source: {e}"))?;
+    let crease_deg = args.crease_angle.unwrap_or_else(|| {
+        config
+            .and_then(|c| c.normals.as_ref())
+            .map_or(DEFAULT_CREASE_ANGLE_DEG, |n| n.crease_angle)
+    });
+    Ok(BakeOptions {
         tangents: match args.tangents {
             Tangents::Keep => TangentMode::Keep,
             Tangents::Regenerate => TangentMode::Regenerate,
@@ -108,13 +126,14 @@ fn options(args: &BakeArgs) -> BakeOptions {
             weld_epsilon: args.weld_epsilon,
             normal_tolerance: args.normal_tolerance.to_radians(),
         },
-    }
+        comb,
+        crease_angle: crease_deg.to_radians(),
+    })
 }
 
 /// Runs `pelt bake`.
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
-    let opts = options(args);
     let jobs = pelt_batch::plan(&args.inputs, &args.output)?;
     let config_bytes = match &args.config {
         Some(path) => {
@@ -122,18 +141,19 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let fur = match (&args.config, &config_bytes) {
+    let config = match (&args.config, &config_bytes) {
         (Some(path), Some(bytes)) => {
             let text = std::str::from_utf8(bytes)
                 .with_context(|| format!("{} is not UTF-8 text", path.display()))?;
-            match BakeConfig::parse(path, text)?.fur {
-                Some(config) => Some(
-                    FurAssets::new(config)
-                        .with_context(|| format!("fur textures of {}", path.display()))?,
-                ),
-                None => None,
-            }
+            Some(BakeConfig::parse(path, text)?)
         }
+        _ => None,
+    };
+    let opts = options(args, config.as_ref())?;
+    let fur = match (&args.config, config.as_ref().and_then(|c| c.fur.clone())) {
+        (Some(path), Some(fur)) => Some(
+            FurAssets::new(fur).with_context(|| format!("fur textures of {}", path.display()))?,
+        ),
         _ => None,
     };
     let options_report = options_report(args, &opts);
@@ -291,6 +311,16 @@ fn options_report(args: &BakeArgs, opts: &BakeOptions) -> OptionsReport {
         },
         weld_epsilon: args.weld_epsilon,
         normal_tolerance_deg: args.normal_tolerance,
+        comb: opts.comb.to_string(),
+        comb_length: match opts.comb {
+            CombSource::Generate(g) => Some(g.length),
+            CombSource::Painted => None,
+        },
+        comb_smoothing: match opts.comb {
+            CombSource::Generate(g) => Some(g.smoothing),
+            CombSource::Painted => None,
+        },
+        crease_angle_deg: opts.crease_angle.to_degrees(),
     }
 }
 

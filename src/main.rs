@@ -209,8 +209,20 @@ pub struct BakeArgs {
     /// in one normal group; larger differences are creases.
     #[arg(long, value_name = "DEG", default_value_t = pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG, value_parser = degrees)]
     pub normal_tolerance: f32,
+    /// Where the comb comes from: painted (COLOR_0; primitives without it get normal groups
+    /// only) or generate[:AXIS], fur flowing along an object-space axis projected on the
+    /// surface (x, y, z with an optional sign, or three numbers; default -z, toward the back
+    /// in glTF axes). Overrides the config's comb.source.
+    #[arg(long, value_name = "SOURCE")]
+    pub comb: Option<pelt_bake::options::CombSource>,
+    /// Crease angle (degrees) of the smooth normals made for meshes without NORMAL: faces
+    /// whose normals differ by more keep a hard edge; 0 gives flat normals, as glTF clients
+    /// assume (default 60, or the config's normals.creaseAngle).
+    #[arg(long, value_name = "DEG", value_parser = degrees)]
+    pub crease_angle: Option<f32>,
     /// Bake config (JSON). Its `fur` section makes the bake generate fur textures and embed
-    /// them, with the fur manifest, in each output (see docs/format.md).
+    /// them, with the fur manifest, in each output; `comb` and `normals` set the generated
+    /// comb and normals (see docs/format.md).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Print nothing but errors (listed at the end).

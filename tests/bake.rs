@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use serde_json::Value;
 
 /// Max angle between the decoded comb and the Gram-Schmidt'd input over a fixture.
@@ -172,7 +172,12 @@ fn missing_normals_become_flat_and_split() {
     let out = bake(
         &fixture("edge/no-normals.gltf"),
         &dir,
-        &["--report", rep.to_str().unwrap_or_default()],
+        &[
+            "--report",
+            rep.to_str().unwrap_or_default(),
+            "--crease-angle",
+            "0",
+        ],
     );
     let b = read_baked(&out, 0, 0);
     assert_eq!(b.positions.len(), 24, "8 corners × 3 faces each");
@@ -186,6 +191,55 @@ fn missing_normals_become_flat_and_split() {
     let report: Value =
         serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
     assert_eq!(report["inputs"][0]["primitives"][0]["flat_normals"], true);
+}
+
+#[test]
+fn missing_normals_are_smooth_within_the_crease_angle() {
+    // The cube without NORMAL: its edges are 90° creases, so at the default 60° every corner
+    // keeps its face's normal; at 180° the three faces at a corner average to the diagonal.
+    for (crease, smooth) in [("60", false), ("180", true)] {
+        let dir = scratch(&format!("smooth-{crease}"));
+        let rep = dir.join("r.json");
+        let out = bake(
+            &fixture("edge/no-normals.gltf"),
+            &dir,
+            &[
+                "--report",
+                rep.to_str().unwrap_or_default(),
+                "--crease-angle",
+                crease,
+            ],
+        );
+        let b = read_baked(&out, 0, 0);
+        let (lo, hi) = b.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        let centre = (lo + hi) / 2.0;
+        for tri in b.indices.chunks(3) {
+            let p = |k: usize| b.positions[tri[k] as usize].as_dvec3();
+            let flat = (p(1) - p(0)).cross(p(2) - p(0)).normalize().as_vec3();
+            for &v in tri {
+                let n = b.normals[v as usize];
+                let expect = if smooth {
+                    (b.positions[v as usize] - centre).normalize()
+                } else {
+                    flat
+                };
+                assert!(
+                    (n - expect).length() < 1e-5,
+                    "crease {crease}: {n} against {expect}"
+                );
+            }
+        }
+        let report: Value =
+            serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+        let prim = &report["inputs"][0]["primitives"][0];
+        assert_eq!(prim["smooth_normals"], true, "{prim}");
+        assert_eq!(prim["flat_normals"], false, "{prim}");
+        let warnings = report["inputs"][0]["warnings"].to_string();
+        assert!(warnings.contains("smooth normals generated"), "{warnings}");
+    }
 }
 
 #[test]
@@ -499,4 +553,103 @@ fn inspect_reports_attributes_and_comb() {
     assert!(p["comb"]["max_abs_z"].as_f64().unwrap_or(1.0) < 1e-3);
     let text = pelt_ok(&["inspect", out.to_str().unwrap_or_default()]);
     assert!(String::from_utf8_lossy(&text.stdout).contains("_FUR_COMB"));
+}
+
+#[test]
+fn generated_comb_is_the_axis_projected_on_the_surface() {
+    // The sphere fixture (COLOR_0 painted, ignored here) baked with a comb generated toward
+    // -Z, no smoothing, half length: in object space (T, B, N from the baked frame) the comb
+    // is the axis projected on the tangent plane, wherever the axis is not along the normal.
+    let dir = scratch("gen-comb");
+    let config = dir.join("comb.json");
+    std::fs::write(
+        &config,
+        r#"{"comb": {"source": "generate", "length": 0.5, "smoothing": 0}}"#,
+    )
+    .expect("config");
+    let rep = dir.join("r.json");
+    let out = bake(
+        &fixture("sphere.glb"),
+        &dir,
+        &[
+            "--config",
+            config.to_str().unwrap_or_default(),
+            "--report",
+            rep.to_str().unwrap_or_default(),
+        ],
+    );
+    let b = read_baked(&out, 0, 0);
+    let axis = Vec3::NEG_Z;
+    let mut checked = 0;
+    for v in 0..b.positions.len() {
+        let n = b.normals[v];
+        assert!(
+            (b.comb[v][3] - 0.5).abs() < 1e-6,
+            "vertex {v}: length {}",
+            b.comb[v][3]
+        );
+        let object = b.object_comb(v).as_vec3();
+        if n.dot(axis).abs() > 0.9 {
+            continue;
+        }
+        let expect = (axis - n * n.dot(axis)).normalize();
+        assert!(
+            object.normalize().dot(expect) > 0.995,
+            "vertex {v}: comb {object} against {expect}"
+        );
+        checked += 1;
+    }
+    assert!(
+        checked > b.positions.len() / 2,
+        "only {checked} vertices checked"
+    );
+    let report: Value =
+        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    assert_eq!(report["options"]["comb"], "generate:0,0,-1");
+    assert_eq!(report["inputs"][0]["primitives"][0]["generated_comb"], true);
+    let warnings = report["inputs"][0]["warnings"].to_string();
+    assert!(warnings.contains("COLOR_0 not read"), "{warnings}");
+}
+
+#[test]
+fn the_fox_bakes_with_a_generated_comb_and_keeps_its_skin() {
+    // No COLOR_0 and no NORMAL: painted, it gets nothing; generated, every vertex is combed
+    // and JOINTS_0/WEIGHTS_0 follow the vertex split.
+    let dir = scratch("fox");
+    let plain = pelt(
+        &[
+            "bake",
+            fixture("fox/Fox.glb").to_str().unwrap_or_default(),
+            "-o",
+            dir.join("plain.glb").to_str().unwrap_or_default(),
+        ],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&plain.stderr).to_string()
+        + &String::from_utf8_lossy(&plain.stdout);
+    assert!(err.contains("--comb generate"), "{err}");
+    let out = bake(&fixture("fox/Fox.glb"), &dir, &["--comb", "generate"]);
+    let b = read_baked(&out, 0, 0);
+    assert_eq!(b.indices.len(), 576 * 3);
+    assert!(b.comb.iter().all(|c| c[3] == 1.0));
+    let doc = pelt_io::Document::load(&out).expect("load");
+    let r = pelt_io::PrimitiveRef {
+        mesh: 0,
+        primitive: 0,
+    };
+    for name in [
+        "JOINTS_0",
+        "WEIGHTS_0",
+        "TEXCOORD_0",
+        "NORMAL",
+        "TANGENT",
+        "_FUR_COMB",
+    ] {
+        let a = doc
+            .attribute(r, name)
+            .expect("attribute")
+            .unwrap_or_else(|| panic!("{name} missing"));
+        let count = doc.array("accessors")[a]["count"].as_u64();
+        assert_eq!(count, Some(b.positions.len() as u64), "{name}");
+    }
 }

@@ -278,8 +278,8 @@ fn a_vertex_shared_by_two_groups_is_duplicated() {
 
 #[test]
 fn many_groups_get_ids_no_neighbours_share_and_the_report_compares_random_ids() {
-    // A sphere without NORMAL: flat normals per face, so nearly every face is its own group,
-    // far beyond 255.
+    // A sphere without NORMAL, baked with flat normals (crease angle 0): nearly every face is
+    // its own group, far beyond 255.
     let dir = scratch("flat-sphere");
     let shape = pelt_fixtures::shapes::sphere(24, 48);
     let doc = pelt_fixtures::build::document(
@@ -295,7 +295,12 @@ fn many_groups_get_ids_no_neighbours_share_and_the_report_compares_random_ids() 
     let out = bake(
         &input,
         &dir,
-        &["--report", rep.to_str().unwrap_or_default()],
+        &[
+            "--report",
+            rep.to_str().unwrap_or_default(),
+            "--crease-angle",
+            "0",
+        ],
     );
     let report: Value =
         serde_json::from_slice(&std::fs::read(&rep).expect("report")).expect("json");

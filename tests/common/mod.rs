@@ -122,7 +122,8 @@ pub fn read_baked(path: &Path, mesh: usize, prim: usize) -> Baked {
         positions: m.mesh.positions.clone(),
         normals: m.mesh.normals.clone().expect("NORMAL present"),
         tangents: m.mesh.tangents.clone().expect("TANGENT present"),
-        colors: m.mesh.colors.clone().expect("COLOR_0 kept"),
+        // Empty for a primitive without COLOR_0 (a generated comb).
+        colors: m.mesh.colors.clone().unwrap_or_default(),
         comb: e.to_f32::<4>(),
         comb_normalized: e.normalized,
         indices: m.mesh.indices,

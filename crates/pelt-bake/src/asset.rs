@@ -15,7 +15,7 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use crate::comb;
-use crate::options::{BakeOptions, Quantize, TopologyMode};
+use crate::options::{BakeOptions, CombSource, Quantize, TopologyMode};
 use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive, group_primitive};
 
 /// The attribute pelt writes.
@@ -106,7 +106,13 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         let prim = read_primitive(doc, r)?;
         report.timings.decode_ms += ms(t0);
         entry.color_0 = prim.color.as_ref().map(pelt_io::mesh::Encoding::describe);
-        if prim.mesh.colors.is_none() {
+        let generate = matches!(opts.comb, CombSource::Generate(_));
+        if generate && prim.mesh.colors.is_some() {
+            report.warnings.push(format!(
+                "{place}: COLOR_0 not read: the comb is generated (--comb generate)"
+            ));
+        }
+        if prim.mesh.colors.is_none() && !generate {
             let t1 = Instant::now();
             let grouped = (opts.topology_mode != TopologyMode::Off)
                 .then(|| group_primitive(&prim.mesh, opts))
@@ -134,9 +140,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                     entry.status = "skipped: no COLOR_0 (no comb painted)".to_owned();
                 }
                 None => {
-                    entry.status =
-                        "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat shaded)"
-                            .to_owned();
+                    entry.status = "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat \
+                                    shaded); --comb generate grows fur on it"
+                        .to_owned();
                 }
             }
             report.warnings.push(format!("{place}: {}", entry.status));

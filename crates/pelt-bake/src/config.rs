@@ -1,12 +1,19 @@
-//! The bake config file (JSON): today one section, `fur`, which makes `pelt bake` generate fur
-//! textures from a seeded strand model and embed them with the fur manifest (see
-//! [`pelt_fur::FurConfig`] and docs/format.md). Unknown keys are errors; every error names the
-//! file, and the line and column or the field.
+//! The bake config file (JSON). Sections:
+//! - `fur` makes `pelt bake` generate fur textures from a seeded strand model and embed them
+//!   with the fur manifest (see [`pelt_fur::FurConfig`] and docs/format.md);
+//! - `comb` generates the comb of unpainted meshes (`source`, `length`, `smoothing`; the
+//!   `--comb` flag overrides `source`);
+//! - `normals` sets the crease angle of the smooth normals made for meshes without NORMAL
+//!   (`creaseAngle`, degrees; the `--crease-angle` flag overrides it).
+//!
+//! Unknown keys are errors; every error names the file, and the line and column or the field.
 
 use std::path::{Path, PathBuf};
 
 use pelt_fur::FurConfig;
 use serde::{Deserialize, Serialize};
+
+use crate::options::{CombSource, GeneratedComb};
 
 /// A bake config.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -15,6 +22,68 @@ pub struct BakeConfig {
     /// Fur textures and parameters to embed; absent = none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fur: Option<FurConfig>,
+    /// Where the comb comes from; absent = painted (COLOR_0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comb: Option<CombConfig>,
+    /// Normals made for meshes without NORMAL; absent = defaults.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normals: Option<NormalsConfig>,
+}
+
+/// The `comb` section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct CombConfig {
+    /// `painted`, `generate` or `generate:AXIS`, as the `--comb` flag.
+    pub source: String,
+    /// Length of a generated comb, 0 to 1 of the fur's length.
+    pub length: f32,
+    /// Smoothing steps of a generated comb over the welded mesh (0 to 1000).
+    pub smoothing: u32,
+}
+
+impl Default for CombConfig {
+    fn default() -> Self {
+        CombConfig {
+            source: "painted".to_owned(),
+            length: 1.0,
+            smoothing: GeneratedComb::DEFAULT_SMOOTHING,
+        }
+    }
+}
+
+impl CombConfig {
+    /// The comb this section asks for, with `source` replaced by `flag` when given.
+    pub fn source(&self, flag: Option<CombSource>) -> Result<CombSource, String> {
+        let source = match flag {
+            Some(f) => f,
+            None => self.source.parse().map_err(|e| format!("{e}"))?,
+        };
+        Ok(match source {
+            CombSource::Generate(g) => CombSource::Generate(GeneratedComb {
+                length: self.length,
+                smoothing: self.smoothing,
+                ..g
+            }),
+            painted => painted,
+        })
+    }
+}
+
+/// The `normals` section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct NormalsConfig {
+    /// Crease angle in degrees, 0 to 180.
+    pub crease_angle: f32,
+}
+
+impl Default for NormalsConfig {
+    fn default() -> Self {
+        NormalsConfig {
+            crease_angle: crate::options::DEFAULT_CREASE_ANGLE_DEG,
+        }
+    }
 }
 
 /// A config that could not be used.
@@ -41,11 +110,11 @@ pub enum ConfigError {
         message: String,
     },
     /// A value out of range.
-    #[error("{}: fur.{field}: {why}", path.display())]
+    #[error("{}: {field}: {why}", path.display())]
     Invalid {
         /// The file.
         path: PathBuf,
-        /// The field (under `fur`).
+        /// The field, from the root (`fur.shells`).
         field: String,
         /// What is wrong.
         why: String,
@@ -81,9 +150,37 @@ impl BakeConfig {
         if let Some(fur) = &config.fur {
             fur.validate().map_err(|e| ConfigError::Invalid {
                 path: path.to_owned(),
-                field: e.field,
+                field: format!("fur.{}", e.field),
                 why: e.why,
             })?;
+        }
+        let invalid = |field: &str, why: String| ConfigError::Invalid {
+            path: path.to_owned(),
+            field: field.to_owned(),
+            why,
+        };
+        if let Some(comb) = &config.comb {
+            comb.source(None).map_err(|e| invalid("comb.source", e))?;
+            if !(0.0..=1.0).contains(&comb.length) {
+                return Err(invalid(
+                    "comb.length",
+                    format!("must be from 0 to 1, got {}", comb.length),
+                ));
+            }
+            if comb.smoothing > 1000 {
+                return Err(invalid(
+                    "comb.smoothing",
+                    format!("must be at most 1000, got {}", comb.smoothing),
+                ));
+            }
+        }
+        if let Some(n) = &config.normals {
+            if !(0.0..=180.0).contains(&n.crease_angle) {
+                return Err(invalid(
+                    "normals.creaseAngle",
+                    format!("must be from 0 to 180 degrees, got {}", n.crease_angle),
+                ));
+            }
         }
         Ok(config)
     }
@@ -120,5 +217,39 @@ mod tests {
         assert_eq!(fur.length, 0.1);
         assert_eq!(fur.shells, FurConfig::default().shells);
         assert_eq!(BakeConfig::parse(p, "{}").unwrap(), BakeConfig::default());
+    }
+
+    #[test]
+    fn comb_and_normals_sections_parse_and_check() {
+        let p = Path::new("pelt.json");
+        let c = BakeConfig::parse(
+            p,
+            r#"{"comb": {"source": "generate:-y", "length": 0.5, "smoothing": 2},
+                "normals": {"creaseAngle": 30}}"#,
+        )
+        .unwrap();
+        let comb = c.comb.unwrap();
+        let CombSource::Generate(g) = comb.source(None).unwrap() else {
+            panic!("generate")
+        };
+        assert_eq!((g.axis, g.length, g.smoothing), ([0.0, -1.0, 0.0], 0.5, 2));
+        // The flag replaces the source, not the length.
+        let CombSource::Generate(g) = comb.source(Some("generate:x".parse().unwrap())).unwrap()
+        else {
+            panic!("flag")
+        };
+        assert_eq!((g.axis, g.length), ([1.0, 0.0, 0.0], 0.5));
+        assert_eq!(c.normals.unwrap().crease_angle, 30.0);
+        for (text, field) in [
+            (r#"{"comb": {"source": "generate:q"}}"#, "comb.source"),
+            (r#"{"comb": {"length": 2}}"#, "comb.length"),
+            (r#"{"comb": {"smoothing": 5000}}"#, "comb.smoothing"),
+            (r#"{"normals": {"creaseAngle": -1}}"#, "normals.creaseAngle"),
+        ] {
+            let e = BakeConfig::parse(p, text).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("pelt.json: {field}: ")), "{e}");
+        }
+        let e = BakeConfig::parse(p, r#"{"comb": {"axis": "x"}}"#).unwrap_err();
+        assert!(e.to_string().contains("axis"), "{e}");
     }
 }

@@ -127,8 +127,112 @@ impl fmt::Display for AxisMap {
     }
 }
 
-/// Everything a bake can be told.
+/// Where the comb comes from.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum CombSource {
+    /// COLOR_0, as painted (primitives without it get normal groups only).
+    #[default]
+    Painted,
+    /// Generated along an axis for every triangle primitive (COLOR_0 is not read).
+    Generate(GeneratedComb),
+}
+
+/// A generated comb: the axis projected on the surface and smoothed (see
+/// `pelt_geom::flow`), at one length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GeneratedComb {
+    /// Object-space direction the fur flows toward (glTF axes: +Y up, +Z front).
+    pub axis: [f32; 3],
+    /// Comb length (the painted alpha): 0 to 1 of the fur's length.
+    pub length: f32,
+    /// Smoothing steps over the welded mesh.
+    pub smoothing: u32,
+}
+
+impl GeneratedComb {
+    /// Default axis: toward the back (−Z in glTF axes), so fur lies from head to tail.
+    pub const DEFAULT_AXIS: [f32; 3] = [0.0, 0.0, -1.0];
+    /// Default smoothing steps.
+    pub const DEFAULT_SMOOTHING: u32 = 8;
+}
+
+impl Default for GeneratedComb {
+    fn default() -> Self {
+        GeneratedComb {
+            axis: Self::DEFAULT_AXIS,
+            length: 1.0,
+            smoothing: Self::DEFAULT_SMOOTHING,
+        }
+    }
+}
+
+/// Error parsing a [`CombSource`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "invalid comb {0:?}: expected painted, generate, or generate:AXIS with AXIS one of x, y, z \
+     (optionally negated, e.g. -z) or three numbers (e.g. 0,-0.5,-1)"
+)]
+pub struct CombSourceError(String);
+
+/// Parses an axis: `x`, `-y`, `+z`, or three comma-separated numbers (not all zero).
+pub fn parse_axis(s: &str) -> Option<[f32; 3]> {
+    let t = s.trim();
+    let (sign, name) = match t.strip_prefix('-') {
+        Some(n) => (-1.0, n),
+        None => (1.0, t.strip_prefix('+').unwrap_or(t)),
+    };
+    let named = match name.to_ascii_lowercase().as_str() {
+        "x" => Some([sign, 0.0, 0.0]),
+        "y" => Some([0.0, sign, 0.0]),
+        "z" => Some([0.0, 0.0, sign]),
+        _ => None,
+    };
+    if named.is_some() {
+        return named;
+    }
+    let v: Vec<f32> = t
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .ok()?;
+    let v: [f32; 3] = v.try_into().ok()?;
+    let len = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+    (len.is_finite() && len > 0.0).then(|| v.map(|x| x / len))
+}
+
+impl FromStr for CombSource {
+    type Err = CombSourceError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let err = || CombSourceError(s.to_owned());
+        match s.split_once(':') {
+            None if s == "painted" => Ok(CombSource::Painted),
+            None if s == "generate" => Ok(CombSource::Generate(GeneratedComb::default())),
+            Some(("generate", axis)) => Ok(CombSource::Generate(GeneratedComb {
+                axis: parse_axis(axis).ok_or_else(err)?,
+                ..GeneratedComb::default()
+            })),
+            _ => Err(err()),
+        }
+    }
+}
+
+impl fmt::Display for CombSource {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CombSource::Painted => write!(f, "painted"),
+            CombSource::Generate(g) => {
+                let [x, y, z] = g.axis;
+                write!(f, "generate:{x},{y},{z}")
+            }
+        }
+    }
+}
+
+/// Default crease angle (degrees) of the smooth normals made for meshes without NORMAL.
+pub const DEFAULT_CREASE_ANGLE_DEG: f32 = 60.0;
+
+/// Everything a bake can be told.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BakeOptions {
     /// Keep or regenerate tangents.
     pub tangents: TangentMode,
@@ -142,6 +246,26 @@ pub struct BakeOptions {
     pub topology: TopologyOptions,
     /// How much topology to write.
     pub topology_mode: TopologyMode,
+    /// Where the comb comes from.
+    pub comb: CombSource,
+    /// Crease angle (radians) of the smooth normals made for meshes without NORMAL: faces
+    /// whose normals differ by more stay apart (0 gives flat normals, as glTF clients would).
+    pub crease_angle: f32,
+}
+
+impl Default for BakeOptions {
+    fn default() -> Self {
+        BakeOptions {
+            tangents: TangentMode::default(),
+            color_space: ColorSpace::default(),
+            axes: AxisMap::default(),
+            quantize: Quantize::default(),
+            topology: TopologyOptions::default(),
+            topology_mode: TopologyMode::default(),
+            comb: CombSource::default(),
+            crease_angle: DEFAULT_CREASE_ANGLE_DEG.to_radians(),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -157,5 +281,36 @@ mod tests {
         assert!("x,x,z".parse::<AxisMap>().is_err());
         assert!("x,y,w".parse::<AxisMap>().is_err());
         assert!(AxisMap::default().is_identity());
+    }
+
+    #[test]
+    fn comb_sources_parse() {
+        assert_eq!("painted".parse(), Ok(CombSource::Painted));
+        let CombSource::Generate(g) = "generate".parse().unwrap() else {
+            panic!("generate")
+        };
+        assert_eq!(g.axis, [0.0, 0.0, -1.0]);
+        let CombSource::Generate(g) = "generate:+y".parse().unwrap() else {
+            panic!("generate:+y")
+        };
+        assert_eq!(g.axis, [0.0, 1.0, 0.0]);
+        let CombSource::Generate(g) = "generate:0,-3,4".parse().unwrap() else {
+            panic!("numbers")
+        };
+        assert_eq!(g.axis, [0.0, -0.6, 0.8]);
+        assert_eq!(
+            "generate:0,-3,4".parse::<CombSource>().unwrap().to_string(),
+            "generate:0,-0.6,0.8"
+        );
+        for bad in [
+            "generate:",
+            "generate:w",
+            "generate:0,0,0",
+            "generate:1,2",
+            "paint",
+            "",
+        ] {
+            assert!(bad.parse::<CombSource>().is_err(), "{bad}");
+        }
     }
 }

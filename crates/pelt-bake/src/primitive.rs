@@ -14,9 +14,11 @@ use std::time::Instant;
 use glam::{Vec2, Vec3, Vec4};
 use pelt_geom::Mesh;
 use pelt_geom::fins::{self, FinEdge};
+use pelt_geom::flow::comb_flow;
 use pelt_geom::group_ids::{self, GroupIds};
 use pelt_geom::mikktspace;
 use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, face_normal, normalize_f64};
+use pelt_geom::smooth::smooth_corner_normals;
 use pelt_geom::topology::{self, CornerNormals, Topology};
 use pelt_geom::weld::{key_bits, weld};
 use rayon::prelude::*;
@@ -24,7 +26,7 @@ use serde::Serialize;
 
 use crate::comb::{self, CombCase};
 use crate::frame::Frame;
-use crate::options::{BakeOptions, TangentMode, TopologyMode};
+use crate::options::{BakeOptions, CombSource, TangentMode, TopologyMode};
 
 /// Where the output tangents came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -117,8 +119,12 @@ pub struct PrimitiveStats {
     pub degenerate_triangles: usize,
     /// Triangles with zero UV area or derivatives (MikkTSpace's fallback applies).
     pub degenerate_uv_triangles: usize,
-    /// The source had no NORMAL: flat normals were generated.
+    /// The source had no NORMAL: flat normals were generated (`--crease-angle 0`).
     pub flat_normals: bool,
+    /// The source had no NORMAL: smooth normals were generated (crease angle above 0).
+    pub smooth_normals: bool,
+    /// The comb was generated along an axis (`--comb generate`), not read from COLOR_0.
+    pub generated_comb: bool,
     /// Vertices whose normal was zero and was replaced by flat normals.
     pub zero_normals: usize,
     /// Vertices whose normal was not unit length and was renormalized.
@@ -212,7 +218,8 @@ fn chunks_or_none<T>(v: Option<&mut Vec<T>>, n: usize) -> Vec<Option<&mut [T]>> 
     }
 }
 
-/// Bakes one primitive. The mesh must have passed [`Mesh::validate`] and carry COLOR_0.
+/// Bakes one primitive. The mesh must have passed [`Mesh::validate`] and carry COLOR_0 unless
+/// the comb is generated.
 pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
     let mut stats = PrimitiveStats {
         vertices_in: mesh.vertex_count(),
@@ -255,11 +262,27 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                 (Attr::Vertex(Cow::Borrowed(ns.as_slice())), false)
             }
         }
-        None => {
+        None if opts.crease_angle <= 0.0 => {
             stats.flat_normals = true;
             warnings.push("no NORMAL: flat normals generated and written".to_owned());
             (
                 Attr::Corner(corner_normals(&mesh.positions, None, idx).0),
+                true,
+            )
+        }
+        None => {
+            stats.smooth_normals = true;
+            warnings.push(format!(
+                "no NORMAL: smooth normals generated (angle-weighted, crease angle {:.0}°) and \
+                 written; glTF clients would shade it flat (--crease-angle 0 does that)",
+                opts.crease_angle.to_degrees()
+            ));
+            (
+                Attr::Corner(smooth_corner_normals(
+                    &mesh.positions,
+                    idx,
+                    opts.crease_angle,
+                )),
                 true,
             )
         }
@@ -363,6 +386,18 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
         }
     };
 
+    // The comb's object-space direction and length per source vertex: painted, or generated.
+    let flow = match opts.comb {
+        CombSource::Generate(g) => {
+            stats.generated_comb = true;
+            Some((
+                comb_flow(&mesh.positions, idx, Vec3::from(g.axis), g.smoothing),
+                f64::from(g.length),
+            ))
+        }
+        CombSource::Painted => None,
+    };
+
     // One parallel pass over the output vertices writes the comb and whatever else is needed.
     let colors = mesh.colors.as_deref().unwrap_or_default();
     let tasks = out_count.div_ceil(CHUNK);
@@ -395,11 +430,14 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                     }
                     let (v, n, t) = inputs(o);
                     let (frame, degenerate) = Frame::new(n, t);
-                    let (d, len) = comb::decode_color(
-                        colors.get(v).copied().unwrap_or(Vec4::ONE),
-                        opts.color_space,
-                        &opts.axes,
-                    );
+                    let (d, len) = match &flow {
+                        Some((dirs, len)) => (dirs[v].as_dvec3(), *len),
+                        None => comb::decode_color(
+                            colors.get(v).copied().unwrap_or(Vec4::ONE),
+                            opts.color_space,
+                            &opts.axes,
+                        ),
+                    };
                     let (combed, case) = comb::bake(d, len, &frame);
                     *slot = combed;
                     if let Some(out) = normals_out.as_deref_mut() {

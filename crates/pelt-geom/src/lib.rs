@@ -5,6 +5,8 @@
 //! - [`normals`]: per-corner unit normals in f64, flat normals where a file has none (glTF 2.0
 //!   §3.7.2.1), repair of zero and non-unit normals.
 //! - [`weld`]: exact-bit welding of vertex tables.
+//! - [`smooth`]: smooth normals (angle-weighted, with a crease angle) for meshes without NORMAL.
+//! - [`flow`]: a comb direction field along an axis, for meshes nobody painted.
 //! - [`mikktspace`]: a parallel MikkTSpace tangent generator that matches the reference
 //!   implementation (tested against `bevy_mikktspace`).
 //! - [`topology`]: welded positions, unique edges with their faces, and normal groups (the
@@ -14,11 +16,13 @@
 
 pub mod fastmath;
 pub mod fins;
+pub mod flow;
 pub mod frame;
 pub mod group_ids;
 pub mod mesh;
 pub mod mikktspace;
 pub mod normals;
+pub mod smooth;
 pub mod topology;
 pub mod union_find;
 pub mod weld;

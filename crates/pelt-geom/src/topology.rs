@@ -201,7 +201,7 @@ pub enum CornerNormals<'a> {
 /// sequential read) but counts and places only those in its range, so it writes one
 /// contiguous part of the output, and corners ascend within each position.
 /// Returns (`star_start`, `star`).
-fn stars(corner_pid: &[u32], n_pos: usize) -> (Vec<u32>, Vec<u32>) {
+pub(crate) fn stars(corner_pid: &[u32], n_pos: usize) -> (Vec<u32>, Vec<u32>) {
     let tasks = rayon::current_num_threads().clamp(1, 8);
     let span = n_pos.div_ceil(tasks).max(1);
     // count[p]: corners at p.
