@@ -124,11 +124,20 @@ fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
         }
         prims.push(entry);
     }
+    let rig = if doc.array("skins").is_empty() && doc.array("animations").is_empty() {
+        None
+    } else {
+        Some(pelt_anim::Rig::load(doc)?.summary())
+    };
     let mut info = json!({
         "file": doc.path, "meshes": doc.array("meshes").len(), "primitives": prims.len(),
         "vertices": vertices, "triangles": triangles, "nodes": doc.array("nodes").len(),
         "materials": doc.array("materials").len(), "images": doc.array("images").len(),
     });
+    if let Some(r) = rig {
+        info["skins"] = json!(r.skins);
+        info["animations"] = json!(r.animations);
+    }
     // Topology totals: null when no primitive has any (not baked, or --topology off).
     for (k, v) in totals {
         info[k] = json!(v);
@@ -237,6 +246,33 @@ fn print_text(v: &Value) {
             v["fin_edges"],
             v["boundary_edges"],
             v["nonmanifold_edges"]
+        );
+    }
+    for s in v["skins"].as_array().into_iter().flatten() {
+        let names: Vec<&str> = s["joint_names"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(Value::as_str)
+            .collect();
+        println!(
+            "skin{}: {} joints ({})",
+            s["name"]
+                .as_str()
+                .map(|n| format!(" {n:?}"))
+                .unwrap_or_default(),
+            s["joints"],
+            names.join(", ")
+        );
+    }
+    for a in v["animations"].as_array().into_iter().flatten() {
+        println!(
+            "animation {:?}: {:.3} s ({:.3} to {:.3} s), {} channels",
+            a["name"].as_str().unwrap_or("?"),
+            a["duration"].as_f64().unwrap_or(0.0),
+            a["start"].as_f64().unwrap_or(0.0),
+            a["end"].as_f64().unwrap_or(0.0),
+            a["channels"]
         );
     }
     for p in v["primitive"].as_array().into_iter().flatten() {

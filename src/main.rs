@@ -6,6 +6,7 @@
 mod bake;
 mod demo;
 mod inspect;
+mod pose;
 mod reflect_bench;
 mod render;
 mod sweep;
@@ -67,7 +68,14 @@ Examples:
 const INSPECT_EXAMPLES: &str = "\
 Examples:
   pelt inspect out/creature.glb
-  pelt inspect out/creature.glb --json";
+  pelt inspect out/creature.glb --json
+  pelt inspect fixtures/fox/Fox.glb        (skins, joints and animations with durations)";
+
+const POSE_EXAMPLES: &str = "\
+Examples:
+  pelt pose fox.glb --animation Walk --time 0.4 -o fox-walk.glb
+  pelt pose fox.glb -o fox-rest.glb        (the rest pose: skin and animations removed)
+  pelt inspect fox.glb                     (lists the animations and their durations)";
 
 #[derive(Parser)]
 #[command(name = "pelt", version, about = "Prepare vertex-painted meshes for real-time fur.", long_about = None)]
@@ -100,9 +108,15 @@ enum Command {
     /// contact sheet on the default adapter.
     #[command(after_help = DEMO_EXAMPLES)]
     Demo(DemoArgs),
-    /// Show a file's meshes, attributes (with encodings), bounds and comb statistics.
+    /// Show a file's meshes, attributes (with encodings), bounds and comb statistics, and its
+    /// skins and animations.
     #[command(after_help = INSPECT_EXAMPLES)]
     Inspect(InspectArgs),
+    /// Write a skinned or morphed asset as a static mesh in one pose of one animation
+    /// (positions, normals, tangents posed on the CPU; _FUR_COMB kept in tangent space; skin
+    /// and animations removed).
+    #[command(after_help = POSE_EXAMPLES)]
+    Pose(PoseArgs),
     /// Time every quality knob against its error: each value rendered and measured with FLIP
     /// against the converged strand reference (fur knobs), full-resolution deferred
     /// (lighting knobs) or the ray tracer (distance-map knobs); sweep.csv, sweep.json,
@@ -639,6 +653,34 @@ pub struct InspectArgs {
     pub json: bool,
 }
 
+/// Arguments of `pelt pose`.
+#[derive(clap::Args)]
+pub struct PoseArgs {
+    /// The asset: .gltf or .glb.
+    pub input: PathBuf,
+    /// The posed .glb to write.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The animation to sample (by name; `pelt inspect` lists them). Without it, the rest
+    /// pose.
+    #[arg(long, value_name = "NAME")]
+    pub animation: Option<String>,
+    /// Time in seconds (clamped to the clip's keys).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true)]
+    pub time: f32,
+    /// Write a JSON report to FILE ("-" for standard output).
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+}
+
+/// A finite number.
+fn finite(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("{s:?} is not a finite number")),
+    }
+}
+
 /// `--tangents`.
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Tangents {
@@ -715,6 +757,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bake(args) => bake::run(&args),
         Command::Inspect(args) => inspect::run(&args),
+        Command::Pose(args) => pose::run(&args),
         Command::Textures(args) => textures::run(&args),
         Command::Render(args) => render::run(&args),
         Command::RenderBench(args) => render::bench(&args),

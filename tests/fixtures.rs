@@ -89,6 +89,20 @@ fn every_baked_fixture_passes_the_khronos_validator() {
     }
     // The Fox: skinned, textured, no COLOR_0 and no NORMAL; its comb is generated.
     bake_all("fox/Fox.glb", &["--comb", "generate"]);
+    // The baked Fox posed mid-walk: a static mesh, skin and animations removed.
+    let posed = dir.join("fox-walk.glb");
+    let baked = outputs[outputs.len() - 3].clone();
+    pelt_ok(&[
+        "pose",
+        baked.to_str().unwrap_or_default(),
+        "--animation",
+        "Walk",
+        "--time",
+        "0.4",
+        "-o",
+        posed.to_str().unwrap_or_default(),
+    ]);
+    outputs.push(posed);
     let out = Command::new("node")
         .arg(&script)
         .args(&outputs)

@@ -17,6 +17,7 @@ pub mod build;
 pub mod edge;
 pub mod mutate;
 pub mod shapes;
+pub mod skinned;
 
 use glam::Vec3;
 

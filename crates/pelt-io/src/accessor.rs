@@ -340,6 +340,21 @@ fn gather<'d>(
 
 /// Reads accessor `index` into packed elements. `place` prefixes errors (e.g. the attribute).
 pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
+    read_with(doc, index, place, false)
+}
+
+/// [`read`] that also takes float `MAT4` accessors (inverse bind matrices); used to check an
+/// accessor's bounds before the `gltf` crate's readers walk it.
+pub fn read_any<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
+    read_with(doc, index, place, true)
+}
+
+fn read_with<'d>(
+    doc: &'d Document,
+    index: usize,
+    place: &str,
+    float_mat4: bool,
+) -> Result<Elements<'d>> {
     let accessors = doc.array("accessors");
     let place = format!("{place} (accessor {index})");
     let a = accessors.get(index).ok_or_else(|| {
@@ -361,7 +376,7 @@ pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements
         .to_owned();
     let components =
         components_of(&ty).ok_or_else(|| doc.invalid(&place, format!("type {ty:?} is invalid")))?;
-    if ty.starts_with("MAT") {
+    if ty.starts_with("MAT") && !(float_mat4 && ty == "MAT4" && component == ComponentType::F32) {
         return Err(doc.invalid(
             &place,
             format!("matrix accessors ({ty}) are not vertex data pelt reads"),

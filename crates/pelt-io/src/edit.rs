@@ -261,6 +261,26 @@ impl Document {
         }
     }
 
+    /// Removes attribute `name` of the primitive (its accessor becomes a candidate for
+    /// [`Document::prune_detached`]); returns the accessor it named.
+    pub fn remove_attribute(&mut self, r: PrimitiveRef, name: &str) -> Result<Option<usize>> {
+        let place = self.place(r);
+        let prim = self.primitive_checked(r)?;
+        let old = match prim.get_mut("attributes").and_then(Value::as_object_mut) {
+            Some(a) => a.shift_remove(name),
+            None => return Err(self.invalid(place, "attributes is not an object")),
+        };
+        let old = old.as_ref().and_then(Value::as_u64).map(|i| i as usize);
+        self.detached.extend(old);
+        Ok(old)
+    }
+
+    /// Marks accessors as no longer used by an edit (skins, animations, morph targets an edit
+    /// removed): [`Document::prune_detached`] drops those nothing refers to any more.
+    pub fn detach_accessors(&mut self, indices: impl IntoIterator<Item = usize>) {
+        self.detached.extend(indices);
+    }
+
     /// Re-indexes a primitive after a vertex split: new vertex i copies old vertex `map[i]` in
     /// every attribute and morph target, and `indices` (into the new vertices) replace the old.
     /// Attributes named in `replaced` are dropped, not gathered: the caller sets them anew.

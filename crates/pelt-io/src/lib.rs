@@ -14,6 +14,8 @@
 //! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
 //!   `extras.pelt`, the fin-record bufferView).
 //! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
+//! - [`typed`]: the `gltf` crate's typed view (skins, animations, materials) over the same
+//!   buffers, with pelt-io's bounds check before its readers run.
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -27,6 +29,7 @@ pub mod obj;
 pub mod prune;
 pub mod texture;
 pub mod topology;
+pub mod typed;
 
 pub use document::{Buffer, Document, PrimitiveRef, ViewData};
 pub use error::IoError;

@@ -1,0 +1,51 @@
+//! The `gltf` crate's typed view of a [`Document`]: skins, animations, nodes, materials and
+//! textures are read through `gltf::Document` and its accessor readers, over the buffers the
+//! document already holds (no second load, no copy).
+//!
+//! pelt-io keeps the JSON and the bytes (it edits and writes them); this module only lends
+//! them to `gltf`. Before one of `gltf`'s readers walks an accessor, [`check`] runs pelt-io's
+//! own bounds check on it: `gltf` 1.4's readers slice without checking `count` against the
+//! bufferView and unwrap sparse values, so a malformed file could make them panic, and pelt
+//! answers bad input with an error naming the place, never a panic.
+
+use serde_json::Value;
+
+use crate::Document;
+use crate::accessor;
+use crate::error::{IoError, Result};
+
+/// The typed document of `doc` (validated by `gltf`: every index in range, required fields
+/// present). A validation failure is an error naming the first place `gltf` reports.
+pub fn document(doc: &Document) -> Result<gltf::Document> {
+    let root: gltf::json::Root = serde_json::from_value(Value::Object(doc.json.clone()))
+        .map_err(|e| doc.invalid("JSON", format!("not a glTF 2.0 document: {e}")))?;
+    gltf::Document::from_json(root).map_err(|e| match e {
+        gltf::Error::Validation(list) => {
+            let n = list.len();
+            let (path, error) = &list[0];
+            let more = if n > 1 {
+                format!(" (and {} more)", n - 1)
+            } else {
+                String::new()
+            };
+            doc.invalid(path.as_str(), format!("{error}{more}"))
+        }
+        other => doc.invalid("JSON", other.to_string()),
+    })
+}
+
+/// The buffer data `gltf`'s readers ask for.
+pub fn buffers<'d>(doc: &'d Document) -> impl Fn(gltf::Buffer<'_>) -> Option<&'d [u8]> + Clone {
+    move |b| doc.buffers.get(b.index()).map(|d| &d[..])
+}
+
+/// Checks accessor `a` against the real bytes (bounds, strides, sparse parts) before a `gltf`
+/// reader walks it; `place` names it in the error.
+pub fn check(doc: &Document, a: &gltf::Accessor<'_>, place: &str) -> Result<()> {
+    accessor::read_any(doc, a.index(), place).map(|_| ())
+}
+
+/// An error at `place` of `doc`.
+pub fn invalid(doc: &Document, place: impl Into<String>, message: impl Into<String>) -> IoError {
+    doc.invalid(place, message)
+}
