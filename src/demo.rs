@@ -4,7 +4,10 @@
 //! (Revie) under the procedural sky: `demo.png`, a turntable contact sheet of `--frames` views
 //! around it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
 //! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the demo's scene as a scene
-//! file, `scene.json` (what `pelt sweep` measures in the README).
+//! file, `scene.json` (what `pelt sweep` measures in the README). Then the Khronos Fox
+//! (bundled from fixtures/fox, CC0 mesh, CC BY 4.0 rig and animations): baked with a
+//! generated comb (no one painted it) and the demo's fur, `fox.glb`; rendered furred mid-walk,
+//! `fox.png`, and over its walk cycle, `fox-walk.png`.
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -56,6 +59,78 @@ pub fn bake_creature(path: &Path) -> anyhow::Result<()> {
     bake_with_fur(&mut doc, &BakeOptions::default(), &assets).context("baking the creature")?;
     pelt_io::glb::write_glb(&doc, path)?;
     Ok(())
+}
+
+/// The bundled Fox (fixtures/fox/Fox.glb, unchanged; licences in fixtures/fox/README.md).
+const FOX: &[u8] = include_bytes!("../fixtures/fox/Fox.glb");
+
+/// The Fox's fur: the demo's strands, length scaled to its size (about 150 units nose to
+/// tail), colours of a red fox.
+fn fox_fur() -> FurConfig {
+    FurConfig {
+        length: 3.0,
+        base_color: [0.10, 0.04, 0.02],
+        tip_color: [0.78, 0.42, 0.16],
+        ..demo_fur()
+    }
+}
+
+/// Bakes the bundled Fox with a generated comb (toward its tail) and the fox fur into `path`.
+fn bake_fox(path: &Path) -> anyhow::Result<()> {
+    let mut doc = pelt_io::Document::from_bytes(Path::new("Fox.glb"), FOX.to_vec())?;
+    let opts = BakeOptions {
+        comb: "generate".parse()?,
+        ..BakeOptions::default()
+    };
+    let assets = FurAssets::new(fox_fur()).context("generating the fox's fur textures")?;
+    bake_with_fur(&mut doc, &opts, &assets).context("baking the Fox")?;
+    pelt_io::glb::write_glb(&doc, path)?;
+    Ok(())
+}
+
+/// The Fox furred at `time` s of its walk, and the walk cycle as a contact sheet.
+fn fox_renders(
+    preview: &mut Preview,
+    asset: &Path,
+    (w, h): (u32, u32),
+    frames: u32,
+    shells: Option<u32>,
+) -> anyhow::Result<(Image, Image)> {
+    use pelt_preview::asset::{PoseAt, load_at};
+    let walk = |time: f32| PoseAt {
+        animation: "Walk".to_owned(),
+        time,
+    };
+    let mid = load_at(asset, Some(&walk(0.35)))?;
+    let (lo, hi) = mid.bounds();
+    let quad = pelt_preview::asset::builtin("quad").context("built-in quad")?;
+    // Three-quarter view from the front left.
+    let scene_at = |w, h| {
+        let mut s = fur_scene(asset, lo, hi, w, h, 35.0);
+        crate::render::override_fur(&mut s, shells, None);
+        s
+    };
+    let d = preview.prepare_loaded(
+        &scene_at(w, h),
+        &[mid, quad.clone()],
+        &[0, 1],
+        Mode::Inferred,
+    )?;
+    let still = preview.render(&d)?;
+    let (tw, th) = ((w / 4).max(1), (h / 4).max(1));
+    let mut tiles = Vec::new();
+    for k in 0..frames {
+        // Walk: 0 to 0.708 s; frames evenly over one cycle.
+        let m = load_at(asset, Some(&walk(0.708 * k as f32 / frames as f32)))?;
+        let d = preview.prepare_loaded(
+            &scene_at(tw, th),
+            &[m, quad.clone()],
+            &[0, 1],
+            Mode::Inferred,
+        )?;
+        tiles.push(preview.render(&d)?);
+    }
+    Ok((still, Image::contact_sheet(&tiles, 4)))
 }
 
 /// Copies `tile` into `sheet` at (x, y).
@@ -150,14 +225,21 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     sheet.save(&turntable)?;
     let mirror = args.output.join("mirror.png");
     mirror_scene(&mut preview, &asset, (w, h))?.save(&mirror)?;
+    let fox = args.output.join("fox.glb");
+    bake_fox(&fox)?;
+    let (still, walk) = fox_renders(&mut preview, &fox, (w, h), args.frames, args.shells)?;
+    still.save(&args.output.join("fox.png"))?;
+    walk.save(&args.output.join("fox-walk.png"))?;
     if !args.quiet {
         eprintln!(
-            "wrote {} (baked fixture creature), {} ({w}×{h}), {} ({} views), {} (beside a mirror) in {:.1} s",
+            "wrote {} (baked fixture creature), {} ({w}×{h}), {} ({} views), {} (beside a mirror), {} (the Fox, generated comb), fox.png (mid-walk), fox-walk.png ({} frames of its walk) in {:.1} s",
             asset.display(),
             demo.display(),
             turntable.display(),
             args.frames,
             mirror.display(),
+            fox.display(),
+            args.frames,
             t0.elapsed().as_secs_f64()
         );
     }

@@ -255,6 +255,17 @@ pub struct RenderArgs {
     /// Mode, back end, size and the knobs.
     #[command(flatten)]
     pub knobs: KnobArgs,
+    /// Pose animated assets at --time seconds of this animation (`pelt inspect` lists them),
+    /// skinned on the CPU as `pelt pose` does.
+    #[arg(long, value_name = "NAME")]
+    pub animation: Option<String>,
+    /// Seconds into --animation (clamped to its keys).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true, requires = "animation")]
+    pub time: f32,
+    /// With --animation and an asset: a contact sheet of N frames evenly over the clip (4 to a
+    /// row, each tile half the --size, the camera framed on the first).
+    #[arg(long, value_name = "N", requires = "animation", conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub frames: Option<u32>,
     /// Print the passes this scene needs (no GPU is opened unless -o or --bench is given).
     #[arg(long)]
     pub explain: bool,

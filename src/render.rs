@@ -6,6 +6,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
+use pelt_preview::asset::PoseAt;
 use pelt_preview::knobs::{self, InputError, Knobs};
 use pelt_preview::procedural::{paper_lbuffer_scale, paper_objects_and_lights};
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
@@ -35,7 +36,19 @@ fn fail(e: impl std::fmt::Display) -> ExitCode {
 
 /// Runs `pelt render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
-    let input = match knobs::load(&args.input, &args.knobs.knobs(), DEFAULT_SIZE) {
+    if let (Some(frames), Some(animation)) = (args.frames, &args.animation) {
+        return contact_sheet(args, animation, frames);
+    }
+    let pose = args.animation.as_ref().map(|a| PoseAt {
+        animation: a.clone(),
+        time: args.time,
+    });
+    let input = match knobs::load_at(
+        &args.input,
+        &args.knobs.knobs(),
+        DEFAULT_SIZE,
+        pose.as_ref(),
+    ) {
         Ok(i) => i,
         // A scene file's own errors are usage errors (2); an asset that cannot load fails (1).
         Err(InputError::Scene(e)) => return Err(e.into()),
@@ -367,4 +380,73 @@ fn v_fur(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> {
         println!("| {what} | {:.1} | {} |", t.frame_ms, passes.join(", "));
     }
     Ok(())
+}
+
+/// `--frames N`: N frames evenly over the clip (from its first key, not repeating the last),
+/// the camera framed on the first, as one contact sheet.
+fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Result<ExitCode> {
+    let Some(out) = &args.output else {
+        anyhow::bail!("--frames needs -o FILE.png");
+    };
+    if knobs::is_scene(&args.input) {
+        anyhow::bail!("--frames takes an asset (.glb, .gltf), not a scene file");
+    }
+    let clip = match pelt_io::load(&args.input).and_then(|d| {
+        let rig = pelt_anim::Rig::load(&d)?;
+        rig.clip(&d, animation).map(|c| (c.start, c.end))
+    }) {
+        Ok(c) => c,
+        Err(e) => return Ok(fail(e)),
+    };
+    let mode = match args.knobs.mode {
+        crate::RenderMode::Gpu(m) => m,
+        crate::RenderMode::Raytrace => anyhow::bail!("--frames renders with the GPU modes"),
+    };
+    let mut k = args.knobs.knobs();
+    let (w, h) = k.size.unwrap_or(DEFAULT_SIZE);
+    k.size = Some(((w / 2).max(1), (h / 2).max(1)));
+    let at = |i: u32| PoseAt {
+        animation: animation.to_owned(),
+        time: clip.0 + (clip.1 - clip.0) * i as f32 / frames as f32,
+    };
+    let first = match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(0))) {
+        Ok(i) => i,
+        Err(e) => return Ok(fail(e)),
+    };
+    let mut preview = match Preview::new(args.knobs.backend) {
+        Ok(p) => p,
+        Err(e) => return Ok(fail(e)),
+    };
+    let mut tiles = Vec::new();
+    for i in 0..frames {
+        let meshes = if i == 0 {
+            first.meshes.clone()
+        } else {
+            match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(i))) {
+                Ok(inp) => inp.meshes,
+                Err(e) => return Ok(fail(e)),
+            }
+        };
+        let d = match preview.prepare_loaded(&first.scene, &meshes, &first.mesh_of, mode) {
+            Ok(d) => d,
+            Err(e) => return Ok(fail(e)),
+        };
+        match preview.render(&d) {
+            Ok(t) => tiles.push(t),
+            Err(e) => return Ok(fail(e)),
+        }
+    }
+    let sheet = pelt_preview::Image::contact_sheet(&tiles, 4);
+    sheet.save(out).map_err(RenderError::Frame)?;
+    if !args.quiet {
+        eprintln!(
+            "wrote {} ({frames} frames of {animation:?} from {:.3} to {:.3} s, {}×{})",
+            out.display(),
+            clip.0,
+            clip.1,
+            sheet.width,
+            sheet.height
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

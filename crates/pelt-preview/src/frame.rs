@@ -49,6 +49,29 @@ pub struct Image {
 }
 
 impl Image {
+    /// Tiles of one size laid out `cols` to a row, left to right, top to bottom (black where a
+    /// row is short). Empty when there are no tiles.
+    pub fn contact_sheet(tiles: &[Image], cols: u32) -> Image {
+        let (tw, th) = tiles.first().map_or((0, 0), |t| (t.width, t.height));
+        let cols = cols.clamp(1, tiles.len().max(1) as u32);
+        let rows = (tiles.len() as u32).div_ceil(cols);
+        let mut sheet = Image {
+            width: tw * cols,
+            height: th * rows,
+            rgba: vec![0; (tw * cols * th * rows * 4) as usize],
+        };
+        for (k, tile) in tiles.iter().enumerate() {
+            let (x, y) = ((k as u32 % cols) * tw, (k as u32 / cols) * th);
+            for row in 0..tile.height.min(th) {
+                let src = (row * tile.width * 4) as usize;
+                let dst = (((y + row) * sheet.width + x) * 4) as usize;
+                let n = (tile.width.min(tw) * 4) as usize;
+                sheet.rgba[dst..dst + n].copy_from_slice(&tile.rgba[src..src + n]);
+            }
+        }
+        sheet
+    }
+
     /// Pixel (x, y).
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
         let i = ((y * self.width + x) * 4) as usize;

@@ -68,10 +68,28 @@ pub struct ObjectAssetError {
     pub source: AssetError,
 }
 
+/// A moment of an animation: assets are loaded posed there (`pelt render --animation`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseAt {
+    /// The clip's name.
+    pub animation: String,
+    /// Seconds (clamped to the clip's keys).
+    pub time: f32,
+}
+
 /// Loads each distinct asset of `scene` once; returns the meshes and each object's index
 /// into them. Objects are tinted by their scene colour in the shader, not here.
 pub fn load_scene(
     scene: &crate::scene::Scene,
+) -> Result<(Vec<MeshData>, Vec<usize>), ObjectAssetError> {
+    load_scene_at(scene, None)
+}
+
+/// [`load_scene`] with every animated asset posed at `pose` (assets without animations are
+/// drawn as they are; an animated asset without the clip is an error listing its clips).
+pub fn load_scene_at(
+    scene: &crate::scene::Scene,
+    pose: Option<&PoseAt>,
 ) -> Result<(Vec<MeshData>, Vec<usize>), ObjectAssetError> {
     let mut paths: Vec<&Path> = Vec::new();
     let mut meshes = Vec::new();
@@ -80,7 +98,7 @@ pub fn load_scene(
         match paths.iter().position(|p| *p == o.asset.as_path()) {
             Some(k) => of.push(k),
             None => {
-                let m = load(&o.asset).map_err(|source| ObjectAssetError {
+                let m = load_at(&o.asset, pose).map_err(|source| ObjectAssetError {
                     object: i,
                     path: o.asset.clone(),
                     source,
@@ -106,6 +124,19 @@ pub fn load(path: &Path) -> Result<MeshData, AssetError> {
         });
     }
     flatten(&pelt_io::load(path)?)
+}
+
+/// [`load`], posed at `pose` when the asset has animations (on the CPU, `pelt_anim::posed`:
+/// the same skinning `pelt pose` writes).
+pub fn load_at(path: &Path, pose: Option<&PoseAt>) -> Result<MeshData, AssetError> {
+    let Some(pose) = pose.filter(|_| !path.to_string_lossy().starts_with(BUILTIN)) else {
+        return load(path);
+    };
+    let mut doc = pelt_io::load(path)?;
+    if !doc.array("animations").is_empty() {
+        pelt_anim::posed::pose_document(&mut doc, Some(&pose.animation), pose.time)?;
+    }
+    flatten(&doc)
 }
 
 /// A built-in shape by name (`cube`, `sphere`, `quad`), white.

@@ -131,12 +131,22 @@ pub fn is_scene(path: &Path) -> bool {
 /// Loads `path`: a scene file with its assets, or one asset in the default scene
 /// ([`crate::framing::asset_scene`]) at `default_size` unless `knobs.size` says otherwise.
 pub fn load(path: &Path, knobs: &Knobs, default_size: (u32, u32)) -> Result<Input, InputError> {
+    load_at(path, knobs, default_size, None)
+}
+
+/// [`load`] with animated assets posed at `pose`.
+pub fn load_at(
+    path: &Path,
+    knobs: &Knobs,
+    default_size: (u32, u32),
+    pose: Option<&asset::PoseAt>,
+) -> Result<Input, InputError> {
     let (mut scene, meshes, mesh_of) = if is_scene(path) {
         let scene = Scene::load(path)?;
-        let (meshes, of) = asset::load_scene(&scene)?;
+        let (meshes, of) = asset::load_scene_at(&scene, pose)?;
         (scene, meshes, of)
     } else {
-        let mesh = asset::load(path)?;
+        let mesh = asset::load_at(path, pose)?;
         let (w, h) = knobs.size.unwrap_or(default_size);
         let scene = crate::framing::asset_scene(path, &mesh, w, h);
         (scene, vec![mesh], vec![0])
