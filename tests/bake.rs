@@ -653,3 +653,67 @@ fn the_fox_bakes_with_a_generated_comb_and_keeps_its_skin() {
         assert_eq!(count, Some(b.positions.len() as u64), "{name}");
     }
 }
+
+#[test]
+fn generated_comb_length_follows_a_texture_channel() {
+    // The sphere fixture given a base colour texture whose red channel steps 0, 85, 170, 255
+    // across u (4×1 texels, REPEAT): baked with lengthTexture baseColor.r, every vertex's comb
+    // length is 0.8 × the bilinear red value at its UV.
+    let dir = scratch("len-tex");
+    let mut doc = pelt_io::Document::load(&fixture("sphere.glb")).expect("load");
+    let reds = [0u8, 85, 170, 255];
+    let mut png_bytes = Vec::new();
+    {
+        let mut e = png::Encoder::new(&mut png_bytes, 4, 1);
+        e.set_color(png::ColorType::Rgba);
+        e.set_depth(png::BitDepth::Eight);
+        let mut w = e.write_header().expect("header");
+        let px: Vec<u8> = reds.iter().flat_map(|&r| [r, 10, 20, 255]).collect();
+        w.write_image_data(&px).expect("data");
+    }
+    let image = doc.push_image(png_bytes, "image/png", "steps");
+    let sampler = doc.push_sampler(9729, 9729, 10497, 10497);
+    let texture = doc.push_texture(image, sampler, "steps");
+    doc.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] =
+        serde_json::json!({"index": texture});
+    let input = dir.join("textured.glb");
+    pelt_io::glb::write_glb(&doc, &input).expect("write");
+    let config = dir.join("c.json");
+    std::fs::write(
+        &config,
+        r#"{"comb": {"source": "generate", "length": 0.8,
+            "lengthTexture": {"texture": "baseColor", "channel": "r"}}}"#,
+    )
+    .expect("config");
+    let out_dir = dir.join("out");
+    let out = bake(
+        &input,
+        &out_dir,
+        &["--config", config.to_str().unwrap_or_default()],
+    );
+    let b = read_baked(&out, 0, 0);
+    let m = pelt_io::mesh::read_primitive(
+        &pelt_io::Document::load(&out).expect("load"),
+        pelt_io::PrimitiveRef {
+            mesh: 0,
+            primitive: 0,
+        },
+    )
+    .expect("read");
+    let uvs = m.mesh.uvs.expect("uvs");
+    let red = |k: i64| f32::from(reds[k.rem_euclid(4) as usize]) / 255.0;
+    let mut seen = [false; 2];
+    for (v, uv) in uvs.iter().enumerate() {
+        let x = f64::from(uv.x) * 4.0 - 0.5;
+        let (x0, f) = (x.floor(), (x - x.floor()) as f32);
+        let expect = 0.8 * (red(x0 as i64) * (1.0 - f) + red(x0 as i64 + 1) * f);
+        let got = b.comb[v][3];
+        assert!(
+            (got - expect).abs() < 1e-5,
+            "vertex {v} at u {}: {got} against {expect}",
+            uv.x
+        );
+        seen[usize::from(expect > 0.4)] = true;
+    }
+    assert_eq!(seen, [true, true], "both short and long fur sampled");
+}

@@ -9,14 +9,17 @@ use std::time::Instant;
 
 use pelt_io::edit::NewAccessor;
 use pelt_io::mesh::read_primitive;
+use pelt_io::picture::{self, Rgba8};
 use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, fins_view};
 use pelt_io::{Document, IoError, PrimitiveRef, ViewData};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use crate::comb;
-use crate::options::{BakeOptions, CombSource, Quantize, TopologyMode};
-use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive, group_primitive};
+use crate::options::{
+    BakeOptions, CombSource, GeneratedComb, LengthTexture, Quantize, TopologyMode,
+};
+use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive_with, group_primitive};
 
 /// The attribute pelt writes.
 pub use pelt_io::contract::COMB_ATTRIBUTE;
@@ -84,6 +87,8 @@ pub struct AssetReport {
 /// primitive is an error ("nothing to bake"): the output would be the input.
 pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetReport, IoError> {
     let mut report = AssetReport::default();
+    // Texture images decoded for comb lengths, once each.
+    let mut images: Vec<(usize, Rgba8)> = Vec::new();
     for r in doc.primitives() {
         let place = doc.place(r);
         let mut entry = PrimitiveReport {
@@ -151,7 +156,14 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         }
 
         let t1 = Instant::now();
-        let mut baked = bake_primitive(&prim.mesh, opts);
+        let lengths = match opts.comb {
+            CombSource::Generate(GeneratedComb {
+                length_texture: Some(lt),
+                ..
+            }) => texture_lengths(doc, r, &prim.mesh, lt, &mut images, &mut report.warnings)?,
+            _ => None,
+        };
+        let mut baked = bake_primitive_with(&prim.mesh, opts, lengths.as_deref());
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
@@ -308,4 +320,66 @@ fn round6(v: f64) -> Value {
 
 fn ms(t: Instant) -> f64 {
     (t.elapsed().as_secs_f64() * 1e5).round() / 100.0
+}
+
+/// A generated comb's length factor per vertex: channel `lt.channel` of the primitive's
+/// material texture `lt.slot`, sampled at each vertex's TEXCOORD. None (with a warning) when
+/// the primitive has no such texture.
+fn texture_lengths(
+    doc: &Document,
+    r: PrimitiveRef,
+    mesh: &pelt_geom::Mesh,
+    lt: LengthTexture,
+    images: &mut Vec<(usize, Rgba8)>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<Vec<f32>>, IoError> {
+    let place = doc.place(r);
+    let found = match doc.primitive_material(r)? {
+        Some(m) => picture::material_texture(doc, m, lt.slot)?,
+        None => None,
+    };
+    let Some(tex) = found else {
+        warnings.push(format!(
+            "{place}: comb.lengthTexture: no {:?} texture on this primitive's material; the \
+             constant length is used",
+            lt.slot
+        ));
+        return Ok(None);
+    };
+    let uvs: Vec<glam::Vec2> = if tex.tex_coord == 0 {
+        mesh.uvs.clone().unwrap_or_default()
+    } else {
+        let name = format!("TEXCOORD_{}", tex.tex_coord);
+        match doc.attribute(r, &name)? {
+            Some(a) => {
+                pelt_io::accessor::read_vec::<2>(doc, a, &format!("{place} attribute {name}"))?
+                    .iter()
+                    .map(|&[u, v]| glam::Vec2::new(u, v))
+                    .collect()
+            }
+            None => Vec::new(),
+        }
+    };
+    if uvs.len() != mesh.vertex_count() {
+        return Err(doc.invalid(
+            &place,
+            format!(
+                "comb.lengthTexture reads TEXCOORD_{}, which this primitive lacks",
+                tex.tex_coord
+            ),
+        ));
+    }
+    if !images.iter().any(|(i, _)| *i == tex.image) {
+        images.push((tex.image, picture::decode(doc, tex.image)?));
+    }
+    let img = images
+        .iter()
+        .find(|(i, _)| *i == tex.image)
+        .map(|(_, img)| img)
+        .ok_or_else(|| doc.invalid(&place, "texture image missing"))?;
+    Ok(Some(
+        uvs.iter()
+            .map(|uv| img.sample(uv.x, uv.y, usize::from(lt.channel), tex.wrap))
+            .collect(),
+    ))
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use pelt_fur::FurConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::options::{CombSource, GeneratedComb};
+use crate::options::{CombSource, GeneratedComb, LengthTexture};
 
 /// A bake config.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -40,6 +40,47 @@ pub struct CombConfig {
     pub length: f32,
     /// Smoothing steps of a generated comb over the welded mesh (0 to 1000).
     pub smoothing: u32,
+    /// Scale `length` by a channel of a material texture (`{"texture": "baseColor",
+    /// "channel": "a"}`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length_texture: Option<LengthTextureConfig>,
+}
+
+/// `comb.lengthTexture`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "camelCase")]
+pub struct LengthTextureConfig {
+    /// `baseColor`, `metallicRoughness`, `normal`, `occlusion` or `emissive`.
+    pub texture: String,
+    /// `r`, `g`, `b` or `a`.
+    pub channel: String,
+}
+
+impl LengthTextureConfig {
+    fn parse(&self) -> Result<LengthTexture, (String, String)> {
+        let slot = pelt_io::picture::Slot::parse(&self.texture).ok_or_else(|| {
+            (
+                "comb.lengthTexture.texture".to_owned(),
+                format!(
+                    "{:?} is not baseColor, metallicRoughness, normal, occlusion or emissive",
+                    self.texture
+                ),
+            )
+        })?;
+        let channel = ["r", "g", "b", "a"]
+            .iter()
+            .position(|c| *c == self.channel)
+            .ok_or_else(|| {
+                (
+                    "comb.lengthTexture.channel".to_owned(),
+                    format!("{:?} is not r, g, b or a", self.channel),
+                )
+            })?;
+        Ok(LengthTexture {
+            slot,
+            channel: channel as u8,
+        })
+    }
 }
 
 impl Default for CombConfig {
@@ -48,6 +89,7 @@ impl Default for CombConfig {
             source: "painted".to_owned(),
             length: 1.0,
             smoothing: GeneratedComb::DEFAULT_SMOOTHING,
+            length_texture: None,
         }
     }
 }
@@ -59,10 +101,17 @@ impl CombConfig {
             Some(f) => f,
             None => self.source.parse().map_err(|e| format!("{e}"))?,
         };
+        let length_texture = self
+            .length_texture
+            .as_ref()
+            .map(LengthTextureConfig::parse)
+            .transpose()
+            .map_err(|(_, why)| why)?;
         Ok(match source {
             CombSource::Generate(g) => CombSource::Generate(GeneratedComb {
                 length: self.length,
                 smoothing: self.smoothing,
+                length_texture,
                 ..g
             }),
             painted => painted,
@@ -160,6 +209,9 @@ impl BakeConfig {
             why,
         };
         if let Some(comb) = &config.comb {
+            if let Some(t) = &comb.length_texture {
+                t.parse().map_err(|(field, why)| invalid(&field, why))?;
+            }
             comb.source(None).map_err(|e| invalid("comb.source", e))?;
             if !(0.0..=1.0).contains(&comb.length) {
                 return Err(invalid(
@@ -245,6 +297,14 @@ mod tests {
             (r#"{"comb": {"length": 2}}"#, "comb.length"),
             (r#"{"comb": {"smoothing": 5000}}"#, "comb.smoothing"),
             (r#"{"normals": {"creaseAngle": -1}}"#, "normals.creaseAngle"),
+            (
+                r#"{"comb": {"lengthTexture": {"texture": "albedo", "channel": "a"}}}"#,
+                "comb.lengthTexture.texture",
+            ),
+            (
+                r#"{"comb": {"lengthTexture": {"texture": "baseColor", "channel": "w"}}}"#,
+                "comb.lengthTexture.channel",
+            ),
         ] {
             let e = BakeConfig::parse(p, text).unwrap_err().to_string();
             assert!(e.starts_with(&format!("pelt.json: {field}: ")), "{e}");

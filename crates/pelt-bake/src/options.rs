@@ -147,6 +147,17 @@ pub struct GeneratedComb {
     pub length: f32,
     /// Smoothing steps over the welded mesh.
     pub smoothing: u32,
+    /// Scale the length by a channel of one of the primitive's material textures.
+    pub length_texture: Option<LengthTexture>,
+}
+
+/// A comb length read from a texture: `length × channel` at each vertex's UV.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LengthTexture {
+    /// Which of the material's textures.
+    pub slot: pelt_io::picture::Slot,
+    /// Channel 0-3 (r, g, b, a), its stored 8-bit value over 255.
+    pub channel: u8,
 }
 
 impl GeneratedComb {
@@ -162,6 +173,7 @@ impl Default for GeneratedComb {
             axis: Self::DEFAULT_AXIS,
             length: 1.0,
             smoothing: Self::DEFAULT_SMOOTHING,
+            length_texture: None,
         }
     }
 }

@@ -221,6 +221,16 @@ fn chunks_or_none<T>(v: Option<&mut Vec<T>>, n: usize) -> Vec<Option<&mut [T]>> 
 /// Bakes one primitive. The mesh must have passed [`Mesh::validate`] and carry COLOR_0 unless
 /// the comb is generated.
 pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
+    bake_primitive_with(mesh, opts, None)
+}
+
+/// [`bake_primitive`] with a generated comb's length scaled per vertex by `lengths` (a texture
+/// channel sampled at each vertex; see [`crate::options::LengthTexture`]).
+pub fn bake_primitive_with(
+    mesh: &Mesh,
+    opts: &BakeOptions,
+    lengths: Option<&[f32]>,
+) -> BakedPrimitive {
     let mut stats = PrimitiveStats {
         vertices_in: mesh.vertex_count(),
         triangles: mesh.triangle_count(),
@@ -431,7 +441,10 @@ pub fn bake_primitive(mesh: &Mesh, opts: &BakeOptions) -> BakedPrimitive {
                     let (v, n, t) = inputs(o);
                     let (frame, degenerate) = Frame::new(n, t);
                     let (d, len) = match &flow {
-                        Some((dirs, len)) => (dirs[v].as_dvec3(), *len),
+                        Some((dirs, len)) => (
+                            dirs[v].as_dvec3(),
+                            *len * lengths.map_or(1.0, |l| f64::from(l[v])),
+                        ),
                         None => comb::decode_color(
                             colors.get(v).copied().unwrap_or(Vec4::ONE),
                             opts.color_space,

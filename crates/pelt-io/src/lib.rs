@@ -16,6 +16,8 @@
 //! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
 //! - [`typed`]: the `gltf` crate's typed view (skins, animations, materials) over the same
 //!   buffers, with pelt-io's bounds check before its readers run.
+//! - [`picture`]: texture images decoded with the `image` crate (bounded), a material's
+//!   texture slot through `gltf`, bilinear lookups with the sampler's wrap modes.
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -26,6 +28,7 @@ pub mod error;
 pub mod glb;
 pub mod mesh;
 pub mod obj;
+pub mod picture;
 pub mod prune;
 pub mod texture;
 pub mod topology;

@@ -1,0 +1,189 @@
+//! Texture images and what samples them: a material's texture found through the `gltf`
+//! crate's typed document (texture, image, sampler wrap modes, TEXCOORD set), the image
+//! decoded with the `image` crate (glTF 2.0 allows PNG and JPEG), and bilinear lookups with the
+//! sampler's wrap modes. Decoding is bounded: at most [`MAX_SIDE`] pixels a side and
+//! [`MAX_ALLOC`] bytes, checked from the header before any pixel is allocated.
+
+use std::io::Cursor;
+
+use gltf::texture::WrappingMode;
+
+use crate::error::Result;
+use crate::{Document, typed};
+
+/// Largest width or height decoded.
+pub const MAX_SIDE: u32 = 16384;
+/// Most bytes one decode may allocate.
+pub const MAX_ALLOC: u64 = 1 << 30;
+
+/// An 8-bit RGBA image, rows top to bottom.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Rgba8 {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// 4 bytes per pixel.
+    pub pixels: Vec<u8>,
+}
+
+/// Decodes `images[image]` of `doc` (PNG or JPEG); errors name the image.
+pub fn decode(doc: &Document, image: usize) -> Result<Rgba8> {
+    let place = format!("images[{image}]");
+    let bytes = doc.image_bytes(image)?;
+    let format = match image::guess_format(bytes) {
+        Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
+        _ => {
+            return Err(doc.invalid(
+                &place,
+                "is neither PNG nor JPEG (glTF 2.0 allows only those)",
+            ));
+        }
+    };
+    let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format);
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    limits.max_alloc = Some(MAX_ALLOC);
+    reader.limits(limits);
+    let img = reader
+        .decode()
+        .map_err(|e| doc.invalid(&place, format!("cannot be decoded: {e}")))?
+        .to_rgba8();
+    Ok(Rgba8 {
+        width: img.width(),
+        height: img.height(),
+        pixels: img.into_raw(),
+    })
+}
+
+/// A material's texture slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slot {
+    /// `pbrMetallicRoughness.baseColorTexture`.
+    BaseColor,
+    /// `pbrMetallicRoughness.metallicRoughnessTexture`.
+    MetallicRoughness,
+    /// `normalTexture`.
+    Normal,
+    /// `occlusionTexture`.
+    Occlusion,
+    /// `emissiveTexture`.
+    Emissive,
+}
+
+impl Slot {
+    /// Parses `baseColor`, `metallicRoughness`, `normal`, `occlusion`, `emissive`.
+    pub fn parse(s: &str) -> Option<Slot> {
+        Some(match s {
+            "baseColor" => Slot::BaseColor,
+            "metallicRoughness" => Slot::MetallicRoughness,
+            "normal" => Slot::Normal,
+            "occlusion" => Slot::Occlusion,
+            "emissive" => Slot::Emissive,
+            _ => return None,
+        })
+    }
+}
+
+/// Where a material's texture comes from and how it is sampled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TextureUse {
+    /// The image.
+    pub image: usize,
+    /// Which TEXCOORD_n.
+    pub tex_coord: u32,
+    /// Wrap modes (s, t).
+    pub wrap: [WrappingMode; 2],
+}
+
+/// The texture in `slot` of material `material`, if it has one.
+pub fn material_texture(doc: &Document, material: usize, slot: Slot) -> Result<Option<TextureUse>> {
+    let g = typed::document(doc)?;
+    let Some(m) = g.materials().nth(material) else {
+        return Err(doc.invalid(format!("materials[{material}]"), "does not exist"));
+    };
+    let pbr = m.pbr_metallic_roughness();
+    let found = match slot {
+        Slot::BaseColor => pbr
+            .base_color_texture()
+            .map(|i| (i.texture(), i.tex_coord())),
+        Slot::MetallicRoughness => pbr
+            .metallic_roughness_texture()
+            .map(|i| (i.texture(), i.tex_coord())),
+        Slot::Normal => m.normal_texture().map(|i| (i.texture(), i.tex_coord())),
+        Slot::Occlusion => m.occlusion_texture().map(|i| (i.texture(), i.tex_coord())),
+        Slot::Emissive => m.emissive_texture().map(|i| (i.texture(), i.tex_coord())),
+    };
+    Ok(found.map(|(t, tex_coord)| TextureUse {
+        image: t.source().index(),
+        tex_coord,
+        wrap: [t.sampler().wrap_s(), t.sampler().wrap_t()],
+    }))
+}
+
+/// Texel coordinate `x` (in pixels, continuous) wrapped into `0..n`.
+fn wrap(x: i64, n: u32, mode: WrappingMode) -> usize {
+    let n = i64::from(n.max(1));
+    let w = match mode {
+        WrappingMode::ClampToEdge => x.clamp(0, n - 1),
+        WrappingMode::Repeat => x.rem_euclid(n),
+        WrappingMode::MirroredRepeat => {
+            let m = x.rem_euclid(2 * n);
+            if m < n { m } else { 2 * n - 1 - m }
+        }
+    };
+    w as usize
+}
+
+impl Rgba8 {
+    /// Bilinear lookup of channel `c` (0-3) at UV `(u, v)` (glTF: v down the image), 0 to 1.
+    pub fn sample(&self, u: f32, v: f32, c: usize, wrap_mode: [WrappingMode; 2]) -> f32 {
+        if self.width == 0 || self.height == 0 {
+            return 0.0;
+        }
+        let (u, v) = (
+            if u.is_finite() { u } else { 0.0 },
+            if v.is_finite() { v } else { 0.0 },
+        );
+        let x = f64::from(u) * f64::from(self.width) - 0.5;
+        let y = f64::from(v) * f64::from(self.height) - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+        let texel = |dx: i64, dy: i64| {
+            let px = wrap(x0 as i64 + dx, self.width, wrap_mode[0]);
+            let py = wrap(y0 as i64 + dy, self.height, wrap_mode[1]);
+            f32::from(self.pixels[(py * self.width as usize + px) * 4 + c]) / 255.0
+        };
+        let top = texel(0, 0) * (1.0 - fx) + texel(1, 0) * fx;
+        let bottom = texel(0, 1) * (1.0 - fx) + texel(1, 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bilinear_lookups_wrap_as_the_sampler_says() {
+        // 2×1: left texel 0, right texel 255 in channel 0.
+        let img = Rgba8 {
+            width: 2,
+            height: 1,
+            pixels: vec![0, 0, 0, 0, 255, 0, 0, 0],
+        };
+        let r = [WrappingMode::Repeat; 2];
+        let c = [WrappingMode::ClampToEdge; 2];
+        assert_eq!(img.sample(0.25, 0.5, 0, r), 0.0);
+        assert_eq!(img.sample(0.75, 0.5, 0, r), 1.0);
+        assert!((img.sample(0.5, 0.5, 0, r) - 0.5).abs() < 1e-6);
+        // At u = 0 repeat blends with the right edge; clamp does not.
+        assert!((img.sample(0.0, 0.5, 0, r) - 0.5).abs() < 1e-6);
+        assert_eq!(img.sample(0.0, 0.5, 0, c), 0.0);
+        assert_eq!(img.sample(1.25, 0.5, 0, r), 0.0);
+        assert_eq!(wrap(-1, 4, WrappingMode::MirroredRepeat), 0);
+        assert_eq!(wrap(4, 4, WrappingMode::MirroredRepeat), 3);
+        assert_eq!(wrap(5, 4, WrappingMode::Repeat), 1);
+    }
+}
