@@ -187,12 +187,12 @@ fn bad_rigs_are_named_errors_with_no_output() {
             "skins[0].joints[1]: node",
         ),
         (
-            "singular inverse bind matrix",
+            "inverse bind matrices of the wrong type",
             |j| {
                 j["skins"][0]["inverseBindMatrices"] =
                     j["animations"][0]["samplers"][0]["output"].clone();
             },
-            "skins[0].inverseBindMatrices",
+            "expected Mat4 of F32",
         ),
         (
             "two parents",
@@ -260,6 +260,23 @@ fn nan_keys_and_unnormalized_weights() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
         err.contains("animations[0].samplers[0].output: value 5 is NaN"),
+        "{err}"
+    );
+    // A singular inverse bind matrix (the second joint's scaled to zero).
+    let mut d = doc.clone();
+    let ibm = d.json["skins"][0]["inverseBindMatrices"]
+        .as_u64()
+        .expect("ibm") as usize;
+    for k in 16..32 {
+        poke_f32(&mut d, ibm, k, 0.0);
+    }
+    let input = dir.join("singular.glb");
+    pelt_io::glb::write_glb(&d, &input).expect("write");
+    let o = pose(&input, &dir.join("out.glb"), &["--animation", "Bend"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("skins[0].inverseBindMatrices[1]: singular"),
         "{err}"
     );
     // Weights summing to 2 everywhere: normalized (same pose), counted in a warning.

@@ -7,6 +7,7 @@
 //! so they follow the posed positions too.
 
 use glam::{Mat4, Vec3, Vec4};
+use gltf::accessor::{DataType, Dimensions};
 use pelt_io::edit::NewAccessor;
 use pelt_io::{Document, IoError, PrimitiveRef, typed};
 use serde::Serialize;
@@ -203,7 +204,13 @@ fn posed_vertices(
         let w = rig.morph_weights(node, pose, targets.len());
         let read = |a: Option<gltf::Accessor<'_>>, what: &str, k: usize| {
             a.map(|a| {
-                typed::check(doc, &a, &format!("{place}.targets[{k}].{what}"))?;
+                typed::check_kind(
+                    doc,
+                    &a,
+                    &format!("{place}.targets[{k}].{what}"),
+                    Dimensions::Vec3,
+                    &[DataType::F32],
+                )?;
                 let it =
                     gltf::accessor::Iter::<[f32; 3]>::new(a, get.clone()).ok_or_else(|| {
                         doc.invalid(format!("{place}.targets[{k}].{what}"), "cannot be read")
@@ -244,8 +251,20 @@ fn posed_vertices(
             ) else {
                 break;
             };
-            typed::check(doc, &ja, &format!("{place}.attributes.JOINTS_{set}"))?;
-            typed::check(doc, &wa, &format!("{place}.attributes.WEIGHTS_{set}"))?;
+            typed::check_kind(
+                doc,
+                &ja,
+                &format!("{place}.attributes.JOINTS_{set}"),
+                Dimensions::Vec4,
+                &[DataType::U8, DataType::U16],
+            )?;
+            typed::check_kind(
+                doc,
+                &wa,
+                &format!("{place}.attributes.WEIGHTS_{set}"),
+                Dimensions::Vec4,
+                &[DataType::F32, DataType::U8, DataType::U16],
+            )?;
             let j: Vec<[u16; 4]> = reader
                 .read_joints(set)
                 .map(|j| j.into_u16().collect())

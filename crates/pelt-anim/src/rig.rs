@@ -6,6 +6,7 @@
 //! increasing, NaN or infinite key values, outputs whose count does not match their inputs.
 
 use glam::{Mat4, Quat, Vec3};
+use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::util::ReadOutputs;
 use pelt_io::{Document, IoError, typed};
 
@@ -271,7 +272,7 @@ fn skin(doc: &Document, s: &gltf::Skin<'_>, in_scene: &[bool]) -> Result<Skin, I
     let inverse_bind: Vec<Mat4> = match s.inverse_bind_matrices() {
         Some(a) => {
             let at = format!("{place}.inverseBindMatrices");
-            typed::check(doc, &a, &at)?;
+            typed::check_kind(doc, &a, &at, Dimensions::Mat4, &[DataType::F32])?;
             let reader = s.reader(typed::buffers(doc));
             let m: Vec<Mat4> = reader
                 .read_inverse_bind_matrices()
@@ -311,8 +312,28 @@ fn clip(doc: &Document, a: &gltf::Animation<'_>) -> Result<Clip, IoError> {
     for ch in a.channels() {
         let sampler = ch.sampler();
         let at = format!("{place}.samplers[{}]", sampler.index());
-        typed::check(doc, &sampler.input(), &format!("{at}.input"))?;
-        typed::check(doc, &sampler.output(), &format!("{at}.output"))?;
+        typed::check_kind(
+            doc,
+            &sampler.input(),
+            &format!("{at}.input"),
+            Dimensions::Scalar,
+            &[DataType::F32],
+        )?;
+        let ints = [
+            DataType::F32,
+            DataType::I8,
+            DataType::U8,
+            DataType::I16,
+            DataType::U16,
+        ];
+        let (dims, types): (Dimensions, &[DataType]) = match ch.target().property() {
+            gltf::animation::Property::Translation | gltf::animation::Property::Scale => {
+                (Dimensions::Vec3, &[DataType::F32])
+            }
+            gltf::animation::Property::Rotation => (Dimensions::Vec4, &ints),
+            gltf::animation::Property::MorphTargetWeights => (Dimensions::Scalar, &ints),
+        };
+        typed::check_kind(doc, &sampler.output(), &format!("{at}.output"), dims, types)?;
         let reader = ch.reader(typed::buffers(doc));
         let times: Vec<f32> = reader
             .read_inputs()

@@ -45,6 +45,35 @@ pub fn check(doc: &Document, a: &gltf::Accessor<'_>, place: &str) -> Result<()> 
     accessor::read_any(doc, a.index(), place).map(|_| ())
 }
 
+/// [`check`], and that the accessor holds `dims` elements of one of `types`: `gltf`'s readers
+/// assume the element size their caller expects (a mismatch trips a debug assertion in them,
+/// or reads the wrong bytes in a release build).
+pub fn check_kind(
+    doc: &Document,
+    a: &gltf::Accessor<'_>,
+    place: &str,
+    dims: gltf::accessor::Dimensions,
+    types: &[gltf::accessor::DataType],
+) -> Result<()> {
+    check(doc, a, place)?;
+    if a.dimensions() != dims || !types.contains(&a.data_type()) {
+        return Err(doc.invalid(
+            format!("{place} (accessor {})", a.index()),
+            format!(
+                "is {:?} of {:?}; expected {dims:?} of {}",
+                a.dimensions(),
+                a.data_type(),
+                types
+                    .iter()
+                    .map(|t| format!("{t:?}"))
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// An error at `place` of `doc`.
 pub fn invalid(doc: &Document, place: impl Into<String>, message: impl Into<String>) -> IoError {
     doc.invalid(place, message)
