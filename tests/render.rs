@@ -484,18 +484,3 @@ fn animation_contact_sheet_and_unknown_clip() {
     );
     assert!(!bad.exists());
 }
-
-fn load_png(path: &Path) -> pelt_preview::Image {
-    let bytes = std::fs::read(path).expect("png written");
-    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
-        .read_info()
-        .expect("valid png");
-    let mut rgba = vec![0; r.output_buffer_size().expect("size")];
-    let info = r.next_frame(&mut rgba).expect("frame");
-    assert_eq!(info.color_type, png::ColorType::Rgba);
-    pelt_preview::Image {
-        width: info.width,
-        height: info.height,
-        rgba,
-    }
-}

@@ -53,21 +53,6 @@ fn view(args: &[&str]) -> Output {
     out
 }
 
-fn load_png(path: &Path) -> Image {
-    let bytes = std::fs::read(path).expect("png written");
-    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
-        .read_info()
-        .expect("valid png");
-    let mut rgba = vec![0; r.output_buffer_size().expect("size")];
-    let info = r.next_frame(&mut rgba).expect("frame");
-    assert_eq!(info.color_type, png::ColorType::Rgba);
-    Image {
-        width: info.width,
-        height: info.height,
-        rgba,
-    }
-}
-
 fn flip(reference: &Image, test: &Image) -> f32 {
     assert_eq!(
         (reference.width, reference.height),

@@ -195,3 +195,19 @@ pub fn tool_available(found: bool, require_env: &str, what: &str, hint: &str) ->
     }
     found
 }
+
+/// An RGBA PNG written by pelt, read back.
+pub fn load_png(path: &Path) -> pelt_preview::Image {
+    let bytes = std::fs::read(path).expect("png written");
+    let mut r = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .expect("valid png");
+    let mut rgba = vec![0; r.output_buffer_size().expect("size")];
+    let info = r.next_frame(&mut rgba).expect("frame");
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    pelt_preview::Image {
+        width: info.width,
+        height: info.height,
+        rgba,
+    }
+}

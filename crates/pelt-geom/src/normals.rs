@@ -68,16 +68,7 @@ pub fn corner_normals(
         generated_flat: normals.is_none(),
         ..NormalStats::default()
     };
-    let faces: Vec<Option<DVec3>> = indices
-        .chunks_exact(3)
-        .map(|t| {
-            face_normal(
-                positions[t[0] as usize],
-                positions[t[1] as usize],
-                positions[t[2] as usize],
-            )
-        })
-        .collect();
+    let faces: Vec<Option<DVec3>> = crate::smooth::face_normals(positions, indices);
     stats.degenerate_triangles = faces.iter().filter(|f| f.is_none()).count();
 
     // Per vertex: its normalized stored normal, or None when it needs a flat one.
