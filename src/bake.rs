@@ -239,13 +239,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
                 }),
             inputs: jobs.iter().zip(outcomes).map(input_report).collect(),
         };
-        let mut text = serde_json::to_string_pretty(&report)?;
-        text.push('\n');
-        if path.as_os_str() == "-" {
-            print!("{text}");
-        } else {
-            pelt_io::glb::write_atomic(path, text.as_bytes())?;
-        }
+        crate::write_json_report(path, &report)?;
     }
     if jobs.len() > 1 && !args.quiet {
         eprintln!(

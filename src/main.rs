@@ -684,6 +684,22 @@ pub struct PoseArgs {
     pub report: Option<PathBuf>,
 }
 
+/// Writes a JSON report to `path` (pretty, one trailing newline), or to standard output when
+/// `path` is "-".
+pub fn write_json_report(
+    path: &std::path::Path,
+    report: &impl serde::Serialize,
+) -> anyhow::Result<()> {
+    let mut text = serde_json::to_string_pretty(report)?;
+    text.push('\n');
+    if path.as_os_str() == "-" {
+        print!("{text}");
+    } else {
+        pelt_io::glb::write_atomic(path, text.as_bytes())?;
+    }
+    Ok(())
+}
+
 /// A finite number.
 fn finite(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {

@@ -24,13 +24,7 @@ pub fn run(args: &PoseArgs) -> anyhow::Result<ExitCode> {
         eprintln!("pelt: {}: warning: {w}", args.input.display());
     }
     if let Some(path) = &args.report {
-        let mut text = serde_json::to_string_pretty(&report)?;
-        text.push('\n');
-        if path.as_os_str() == "-" {
-            print!("{text}");
-        } else {
-            pelt_io::glb::write_atomic(path, text.as_bytes())?;
-        }
+        crate::write_json_report(path, &report)?;
     }
     eprintln!(
         "posed {} -> {}: {} at {:.3} s, {} primitives ({} vertices), {} animated nodes",
