@@ -29,7 +29,7 @@ struct Object {
     // rgb: linear colour multiplied into the vertex albedo; a: unused.
     tint: vec4<f32>,
     // x: opacity; y: specular strength; z: the object's distance map (mirror and glass);
-    // w: unused.
+    // w: fur only, root and tip colours multiply the base colour texture (1) or not (0).
     params: vec4<f32>,
     // Fur only. rgb: root colour (linear, times the object's colour); w: fur length.
     fur_base: vec4<f32>,
@@ -46,6 +46,15 @@ struct Object {
     optics: vec4<f32>,
 }
 
+// One material's factors (glTF 2.0 §3.9). Keep in sync with MaterialUniforms in
+// crates/pelt-preview/src/uniforms.rs.
+struct MaterialParams {
+    // x: normalTexture.scale; y: metallicFactor; z: roughnessFactor; w: unused.
+    factors: vec4<f32>,
+    // x: has a normal texture; y: a base colour texture; z: a metallic-roughness texture.
+    flags: vec4<u32>,
+}
+
 struct Light {
     // View-space position, radius.
     position_radius: vec4<f32>,
@@ -58,6 +67,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) albedo: vec4<f32>,
     @location(3) group: u32,
+    // The TEXCOORD set the material samples.
+    @location(7) uv: vec2<f32>,
 }
 
 struct Surface {
@@ -66,6 +77,7 @@ struct Surface {
     @location(1) view_normal: vec3<f32>,
     @location(2) albedo: vec4<f32>,
     @location(3) @interpolate(flat) group: u32,
+    @location(4) uv: vec2<f32>,
 }
 
 // Linear depth 0 and 65535 are reserved: 65535 marks an empty DSF texel.
@@ -82,7 +94,46 @@ fn to_surface(v: VertexIn, frame: Frame, object: Object) -> Surface {
     s.view_normal = (frame.view * vec4<f32>(n_world, 0.0)).xyz;
     s.albedo = v.albedo * vec4<f32>(object.tint.rgb, 1.0);
     s.group = v.group;
+    s.uv = v.uv;
     return s;
+}
+
+// The normal map's normal (tangent space, [0, 1] encoded, xy scaled by `scale` as glTF
+// 2.0 §3.9.3 says) on the surface with view-space position `p`, unit normal `n` and texture
+// coordinates `uv`. The tangent frame is the cotangent frame the screen-space derivatives of
+// `p` and `uv` give (Schüler, "Normal Mapping Without Precomputed Tangents", ShaderX5 2006):
+// per pixel, from the UV layout itself, so skinned and morphed surfaces need no tangent
+// update. Degenerate UVs keep `n`.
+fn perturb_normal(n: vec3<f32>, p: vec3<f32>, uv: vec2<f32>, stored: vec3<f32>, scale: f32) -> vec3<f32> {
+    let dp1 = dpdx(p);
+    let dp2 = dpdy(p);
+    let duv1 = dpdx(uv);
+    let duv2 = dpdy(uv);
+    let dp2perp = cross(dp2, n);
+    let dp1perp = cross(n, dp1);
+    // The adjugate's sign: the determinant is negative when the window's Y runs down (as in
+    // wgpu) or the surface is seen from behind; Schüler's GL derivation assumes positive.
+    let side = select(-1.0, 1.0, dot(dp1, dp2perp) >= 0.0);
+    let t = side * (dp2perp * duv1.x + dp1perp * duv2.x);
+    // glTF's V runs down the image: its bitangent is minus the +V derivative direction.
+    let b = -side * (dp2perp * duv1.y + dp1perp * duv2.y);
+    let m = max(dot(t, t), dot(b, b));
+    var tn = stored * 2.0 - 1.0;
+    tn = vec3<f32>(tn.xy * scale, tn.z);
+    if m < 1e-20 {
+        return n;
+    }
+    let inv = inverseSqrt(m);
+    return normalize(t * inv * tn.x + b * inv * tn.y + n * tn.z);
+}
+
+// Specular scale and diffuse scale of a metallic-roughness surface on pelt's lighting model
+// (one specular power for the whole frame, Kircher & Lawrance §2.2): a rough surface's
+// highlight spreads out, which at one power reads as a dimmer highlight, so roughness r
+// scales the specular term by clamp(2 (1 - r), 0, 1) (1 up to r = 0.5, 0 at r = 1); a metal
+// has no diffuse term and a specular colour of its albedo.
+fn metal_rough(metallic: f32, roughness: f32) -> vec2<f32> {
+    return vec2<f32>(clamp(2.0 * (1.0 - roughness), 0.0, 1.0), 1.0 - metallic);
 }
 
 // The shading normal facing the viewer: back faces (double-sided or mis-wound geometry)

@@ -29,6 +29,8 @@ struct FinIn {
     @location(7) f1: vec3<f32>,
     @location(8) u: vec2<f32>,
     @location(9) group: u32,
+    // Linear base colour under the edge (vertex albedo times the base colour texture).
+    @location(10) albedo: vec3<f32>,
 }
 
 struct FinOut {
@@ -42,6 +44,8 @@ struct FinOut {
     @location(4) depths: vec4<f32>,
     @location(5) uv: vec2<f32>,
     @location(6) @interpolate(flat) group: u32,
+    // The fur's colour under the strand (white unless it comes from the texture).
+    @location(7) @interpolate(flat) under: vec3<f32>,
 }
 
 // The visibility of a fin from its edge: silhouette closeness times face-on-ness.
@@ -91,6 +95,7 @@ fn vs_main(fin: FinIn, @builtin(vertex_index) vi: u32) -> FinOut {
     o.depths = vec4<f32>(-pb.z, -pt.z, t, fade);
     o.uv = vec2<f32>(fin.u.x + f32(e) * fin.u.y * object.fur_tip.w, 1.0 - t);
     o.group = fin.group;
+    o.under = select(vec3<f32>(1.0), fin.albedo, object.params.w == 1.0);
     return o;
 }
 
@@ -99,7 +104,7 @@ fn shade(s: FinOut) -> vec4<f32> {
     let l = fur_lighting(fur_query(
         s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
     ));
-    let albedo = object.tint.rgb * mix(object.fur_base.rgb, object.fur_tip.rgb, tex.r);
+    let albedo = object.tint.rgb * s.under * mix(object.fur_base.rgb, object.fur_tip.rgb, tex.r);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, tex.a * s.depths.w);
 }
 

@@ -1,12 +1,20 @@
 // forward.wgsl: the forward reference (Kircher & Lawrance §1, §6): every object loops over
 // every light per pixel, O(objects × lights). Same lighting model as light.wgsl, evaluated at
-// full resolution, with the specular colour taken from each light rather than rebuilt.
+// full resolution, with the specular colour taken from each light rather than rebuilt, and the
+// same material textures as the G-buffer and material passes read.
 
 const MAX_FORWARD_LIGHTS: u32 = 256u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
 @group(2) @binding(0) var<uniform> lights: array<Light, MAX_FORWARD_LIGHTS>;
+@group(3) @binding(0) var base_texture: texture_2d<f32>;
+@group(3) @binding(1) var normal_texture: texture_2d<f32>;
+@group(3) @binding(2) var mr_texture: texture_2d<f32>;
+@group(3) @binding(3) var base_sampler: sampler;
+@group(3) @binding(4) var normal_sampler: sampler;
+@group(3) @binding(5) var mr_sampler: sampler;
+@group(3) @binding(6) var<uniform> material: MaterialParams;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -15,7 +23,13 @@ fn vs_main(v: VertexIn) -> Surface {
 
 @fragment
 fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let n = facing_normal(s.view_normal, front);
+    let albedo = s.albedo * textureSample(base_texture, base_sampler, s.uv);
+    let mr = textureSample(mr_texture, mr_sampler, s.uv);
+    let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
+    var n = facing_normal(s.view_normal, front);
+    if material.flags.x == 1u {
+        n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+    }
     var diffuse = frame.ambient.rgb;
     var specular = vec3<f32>(0.0);
     let count = min(frame.flags.y, MAX_FORWARD_LIGHTS);
@@ -27,6 +41,9 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
             specular += r.a * light.color.rgb / light.color.w;
         }
     }
-    let color = s.albedo.rgb * diffuse + object.params.y * specular;
-    return vec4<f32>(color, object.params.x * s.albedo.a);
+    let metal = material.factors.y * mr.b;
+    let k = metal_rough(metal, material.factors.z * mr.g);
+    let spec_tint = mix(vec3<f32>(1.0), albedo.rgb, metal);
+    let color = albedo.rgb * k.y * diffuse + object.params.y * k.x * spec_tint * specular;
+    return vec4<f32>(color, object.params.x * albedo.a);
 }

@@ -1,10 +1,14 @@
 // gbuffer.wgsl: the geometry pass of inferred lighting (Kircher & Lawrance §2.1), at L-buffer
 // resolution. Writes view-space normals as X/Y after the hemisphere mapping of eq. 1, and the
 // DSF buffer: 16-bit linear depth and the 16-bit ID (object << 8 | normal group, §3.1).
+// A material's normal texture perturbs the normal (common.wgsl's perturb_normal).
 // Alpha objects write only the pixels of their 2×2 stipple pattern (§4).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
+@group(2) @binding(1) var normal_texture: texture_2d<f32>;
+@group(2) @binding(4) var normal_sampler: sampler;
+@group(2) @binding(6) var<uniform> material: MaterialParams;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -22,7 +26,13 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> GBufferOut {
         discard;
     }
     var out: GBufferOut;
-    out.normal = encode_normal(facing_normal(s.view_normal, front));
+    var n = facing_normal(s.view_normal, front);
+    // Sampled before any branch: derivatives need uniform control flow.
+    let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
+    if material.flags.x == 1u {
+        n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+    }
+    out.normal = encode_normal(n);
     out.dsf = vec2<u32>(depth_code(-s.view_pos.z, frame), dsf_id(object, s.group));
     return out;
 }

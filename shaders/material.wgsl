@@ -3,12 +3,19 @@
 // bilinear filtering would read, keeping only those whose DSF ID matches exactly and whose
 // linear depth matches within a threshold (discontinuity sensitive filtering); plain bilinear
 // when none match, or when DSF is off; the ambient term alone when the frame has no L-buffer. Alpha objects read the four nearest texels of their own
-// 2×2 stipple pattern. Specular colour is rebuilt from the diffuse colour (§2.2).
+// 2×2 stipple pattern. Specular colour is rebuilt from the diffuse colour (§2.2). The
+// material's base colour texture multiplies the albedo; its metallic-roughness texture and
+// factors scale the diffuse and specular terms (common.wgsl's metal_rough).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
 @group(2) @binding(0) var lbuffer: texture_2d<f32>;
 @group(2) @binding(1) var dsf: texture_2d<u32>;
+@group(3) @binding(0) var base_texture: texture_2d<f32>;
+@group(3) @binding(2) var mr_texture: texture_2d<f32>;
+@group(3) @binding(3) var base_sampler: sampler;
+@group(3) @binding(5) var mr_sampler: sampler;
+@group(3) @binding(6) var<uniform> material: MaterialParams;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -25,6 +32,9 @@ fn clamp_tap(t: vec2<i32>, size: vec2<i32>, step: i32) -> vec2<i32> {
 
 @fragment
 fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let albedo = s.albedo * textureSample(base_texture, base_sampler, s.uv);
+    let mr = textureSample(mr_texture, mr_sampler, s.uv);
+    let k = metal_rough(material.factors.y * mr.b, material.factors.z * mr.g);
     let depth = -s.view_pos.z;
     let pattern = object.ids.y;
     let lattice = select(2.0, 1.0, pattern == 0u);
@@ -69,6 +79,8 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
     } else if frame.flags.x == 1u && kept > 0.0 {
         light = filtered / kept;
     }
-    let color = s.albedo.rgb * light.rgb + object.params.y * specular_color(light);
-    return vec4<f32>(color, object.params.x * s.albedo.a);
+    let metal = material.factors.y * mr.b;
+    let spec_tint = mix(vec3<f32>(1.0), albedo.rgb, metal);
+    let color = albedo.rgb * k.y * light.rgb + object.params.y * k.x * spec_tint * specular_color(light);
+    return vec4<f32>(color, object.params.x * albedo.a);
 }

@@ -14,6 +14,8 @@
 @group(3) @binding(1) var fin_texture: texture_2d<f32>;
 @group(3) @binding(2) var repeat_sampler: sampler;
 @group(3) @binding(3) var fin_sampler: sampler;
+@group(3) @binding(4) var base_texture: texture_2d<f32>;
+@group(3) @binding(5) var base_sampler: sampler;
 
 struct ShellOut {
     @builtin(position) clip: vec4<f32>,
@@ -27,6 +29,8 @@ struct ShellOut {
     @location(6) albedo: vec3<f32>,
     @location(7) @interpolate(flat) group: u32,
     @location(8) @interpolate(flat) shell: u32,
+    // The material's texture coordinates (the base colour texture's set).
+    @location(9) base_uv: vec2<f32>,
 }
 
 @vertex
@@ -50,6 +54,7 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     o.albedo = v.albedo.rgb * object.tint.rgb;
     o.group = v.group;
     o.shell = shell;
+    o.base_uv = v.uv;
     return o;
 }
 
@@ -57,6 +62,7 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
 fn shade(s: ShellOut) -> vec4<f32> {
     let sd = s.depths.z;
     let h = textureSample(heightfield, repeat_sampler, s.uv * object.fur_tip.w).r;
+    let under = textureSample(base_texture, base_sampler, s.base_uv).rgb;
     // Strands end where the shell depth reaches their height (Revie §2.4.4); fur shorter than
     // 5 % of the length fades away rather than lying flat on the skin. The base is opaque.
     let strand = (1.0 - smoothstep(h - object.fur_params.z, h, sd)) * clamp(s.depths.w * 20.0, 0.0, 1.0);
@@ -64,7 +70,10 @@ fn shade(s: ShellOut) -> vec4<f32> {
     let l = fur_lighting(fur_query(
         s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
     ));
-    let albedo = s.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, sd);
+    // With the fur config's colorFromTexture, the base colour texture under the strand
+    // colours the whole strand (root and tip colours then shade it).
+    let tint = select(vec3<f32>(1.0), under, object.params.w == 1.0);
+    let albedo = s.albedo * tint * mix(object.fur_base.rgb, object.fur_tip.rgb, sd);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, a);
 }
 

@@ -1,13 +1,13 @@
-//! `pelt demo`: the main job end to end on bundled data. Generates the fixture creature (a
-//! painted comb on a blobby body, `pelt-fixtures`), bakes it with fur textures exactly as
-//! `pelt bake --config` would, writes the `.glb`, reads it back and renders it as deferred fur
-//! (Revie) under the procedural sky: `demo.png`, a turntable contact sheet of `--frames` views
-//! around it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
-//! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the demo's scene as a scene
-//! file, `scene.json` (what `pelt sweep` measures in the README). Then the Khronos Fox
-//! (bundled from fixtures/fox, CC0 mesh, CC BY 4.0 rig and animations): baked with a
-//! generated comb (no one painted it) and the demo's fur, `fox.glb`; rendered furred mid-walk,
-//! `fox.png`, and over its walk cycle, `fox-walk.png`.
+//! `pelt demo`: the main job end to end on bundled data. The Khronos Fox (bundled from
+//! fixtures/fox, CC0 mesh, CC BY 4.0 rig and animations): baked with a generated comb (no one
+//! painted it) and fur whose colour comes from its base colour texture, `fox.glb`; rendered
+//! furred and textured mid-walk, `demo.png`, and over its walk cycle, `fox-walk.png`. Then the
+//! fixture creature (a painted comb on a blobby body, `pelt-fixtures`), baked with fur textures
+//! exactly as `pelt bake --config` would, read back and rendered as deferred fur (Revie) under
+//! the procedural sky: `creature.png`, a turntable contact sheet of `--frames` views around
+//! it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
+//! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the creature's scene as a
+//! scene file, `scene.json` (what `pelt sweep` measures in the README).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -30,6 +30,7 @@ pub fn demo_fur() -> FurConfig {
         uv_scale: 6.0,
         base_color: [0.08, 0.05, 0.03],
         tip_color: [0.62, 0.47, 0.31],
+        color_from_texture: false,
         materials: None,
         textures: StrandParams {
             seed: 7,
@@ -65,12 +66,14 @@ pub fn bake_creature(path: &Path) -> anyhow::Result<()> {
 const FOX: &[u8] = include_bytes!("../fixtures/fox/Fox.glb");
 
 /// The Fox's fur: the demo's strands, length scaled to its size (about 150 units nose to
-/// tail), colours of a red fox.
+/// tail), coloured by the Fox's base colour texture (orange back, white chest and tail tip),
+/// darker at the roots.
 fn fox_fur() -> FurConfig {
     FurConfig {
         length: 3.0,
-        base_color: [0.10, 0.04, 0.02],
-        tip_color: [0.78, 0.42, 0.16],
+        base_color: [0.35, 0.33, 0.32],
+        tip_color: [1.0, 1.0, 1.0],
+        color_from_texture: true,
         ..demo_fur()
     }
 }
@@ -202,10 +205,16 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     };
     let (w, h) = args.size;
     let t0 = std::time::Instant::now();
+    let fox = args.output.join("fox.glb");
+    bake_fox(&fox)?;
+    let (still, walk) = fox_renders(&mut preview, &fox, (w, h), args.frames, args.shells)?;
+    let demo = args.output.join("demo.png");
+    still.save(&demo)?;
+    walk.save(&args.output.join("fox-walk.png"))?;
     let d = preview.prepare_loaded(&scene_at(w, h, 0.0), &meshes, &[0, 1], Mode::Inferred)?;
     let image = preview.render(&d)?;
-    let demo = args.output.join("demo.png");
-    image.save(&demo)?;
+    let creature = args.output.join("creature.png");
+    image.save(&creature)?;
     write_scene(&scene_at(w, h, 0.0), &args.output.join("scene.json"))?;
     let (tw, th) = ((w / 4).max(1), (h / 4).max(1));
     let cols = args.frames.min(4);
@@ -225,21 +234,17 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     sheet.save(&turntable)?;
     let mirror = args.output.join("mirror.png");
     mirror_scene(&mut preview, &asset, (w, h))?.save(&mirror)?;
-    let fox = args.output.join("fox.glb");
-    bake_fox(&fox)?;
-    let (still, walk) = fox_renders(&mut preview, &fox, (w, h), args.frames, args.shells)?;
-    still.save(&args.output.join("fox.png"))?;
-    walk.save(&args.output.join("fox-walk.png"))?;
     if !args.quiet {
         eprintln!(
-            "wrote {} (baked fixture creature), {} ({w}×{h}), {} ({} views), {} (beside a mirror), {} (the Fox, generated comb), fox.png (mid-walk), fox-walk.png ({} frames of its walk) in {:.1} s",
-            asset.display(),
+            "wrote {} (the Fox, generated comb), {} (furred and textured mid-walk, {w}×{h}), fox-walk.png ({} frames of its walk), {} (baked fixture creature), {}, {} ({} views), {} (beside a mirror) in {:.1} s",
+            fox.display(),
             demo.display(),
+            args.frames,
+            asset.display(),
+            creature.display(),
             turntable.display(),
             args.frames,
             mirror.display(),
-            fox.display(),
-            args.frames,
             t0.elapsed().as_secs_f64()
         );
     }

@@ -104,8 +104,9 @@ enum Command {
     /// Time the inferred-lighting paper's two experiments (101 objects × 81 lights against
     /// forward; 800×450 L-buffer with DSF against 1280×720 without) on this adapter.
     RenderBench(RenderBenchArgs),
-    /// Bake the bundled fixture creature with fur and render demo.png and a turntable
-    /// contact sheet on the default adapter.
+    /// Bake the bundled Khronos Fox with a generated comb and render it furred and textured
+    /// mid-walk (demo.png) and over its walk (fox-walk.png); bake the fixture creature and
+    /// render it (creature.png), a turntable contact sheet and a mirror scene.
     #[command(after_help = DEMO_EXAMPLES)]
     Demo(DemoArgs),
     /// Show a file's meshes, attributes (with encodings), bounds and comb statistics, and its
@@ -495,7 +496,8 @@ impl KnobArgs {
 /// Arguments of `pelt demo`.
 #[derive(clap::Args)]
 pub struct DemoArgs {
-    /// Output folder (created): creature.glb, demo.png, turntable.png.
+    /// Output folder (created): fox.glb, demo.png, fox-walk.png, creature.glb, creature.png,
+    /// turntable.png, mirror.png, scene.json.
     #[arg(short, long, default_value = "out/demo")]
     pub output: PathBuf,
     /// wgpu back end: auto, vulkan or gl.

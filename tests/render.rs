@@ -360,14 +360,27 @@ fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
         "pelt demo: {}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // The Fox: baked with a generated comb, furred and textured mid-walk (demo.png) and over
+    // its walk cycle.
     assert_eq!(png_size(&dir.join("demo.png")), (320, 180));
-    // Six 80×45 views, four to a row.
+    assert_eq!(png_size(&dir.join("fox-walk.png")), (320, 90));
+    // Its fur is orange (the base colour texture's; crates/pelt-preview/tests/fur.rs checks
+    // that fur follows the texture, with a negative control).
+    let demo = load_png(&dir.join("demo.png"));
+    let orange = demo
+        .rgba
+        .chunks_exact(4)
+        .filter(|p| {
+            let [r, g, b] = [p[0], p[1], p[2]].map(f32::from);
+            r > 70.0 && r > 1.6 * b && g < 0.85 * r
+        })
+        .count();
+    assert!(orange > 1500, "{orange} orange pixels");
+    // The creature, and six 80×45 views of it, four to a row.
+    assert_eq!(png_size(&dir.join("creature.png")), (320, 180));
     assert_eq!(png_size(&dir.join("turntable.png")), (320, 90));
     // The creature beside a mirror (fixtures/scenes/creature-mirror.json).
     assert_eq!(png_size(&dir.join("mirror.png")), (320, 180));
-    // The Fox: baked with a generated comb, furred mid-walk and over its walk cycle.
-    assert_eq!(png_size(&dir.join("fox.png")), (320, 180));
-    assert_eq!(png_size(&dir.join("fox-walk.png")), (320, 90));
     let fox = pelt_preview::asset::load(&dir.join("fox.glb")).expect("baked fox loads");
     let fur = fox.fur.expect("the fox has fur");
     assert_eq!(fur.source, pelt_preview::fur::TextureSource::Baked);

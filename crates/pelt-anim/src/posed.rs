@@ -132,8 +132,8 @@ fn pose_mesh(
         .map_or(0, Vec::len);
     for p in 0..count {
         let r = PrimitiveRef { mesh, primitive: p };
-        let v = posed_vertices(doc, rig, pose, node, r, mats.as_deref(), to_node, report)?;
-        let (positions, normals, tangents) = v;
+        let job = skin_job(doc, rig, pose, node, r, mats.as_deref(), to_node)?;
+        let (positions, normals, tangents) = job.on_cpu(report);
         let mut pa = NewAccessor::f32(&positions);
         pa.min_max = true;
         let a = doc.push_accessor(pa);
@@ -166,13 +166,31 @@ fn pose_mesh(
 }
 
 /// Posed (positions, normals, tangents) of one primitive.
-type Posed = (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>, Option<Vec<[f32; 4]>>);
+pub type Posed = (Vec<[f32; 3]>, Option<Vec<[f32; 3]>>, Option<Vec<[f32; 4]>>);
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one primitive's whole context, read once"
-)]
-fn posed_vertices(
+/// One primitive ready to skin: its vertices after morphing, its joints and weights, and the
+/// matrices of this pose. `pelt pose` skins it on the CPU ([`SkinJob::on_cpu`]); the
+/// preview's skinning pass (shaders/skin.wgsl) does the same arithmetic on the GPU.
+#[derive(Debug, Clone)]
+pub struct SkinJob {
+    /// The primitive.
+    pub primitive: PrimitiveRef,
+    /// Positions after morph targets, in the mesh's space.
+    pub positions: Vec<Vec3>,
+    /// Normals after morph targets (None: the primitive has none).
+    pub normals: Option<Vec<Vec3>>,
+    /// Tangents after morph targets, w the handedness (None: none).
+    pub tangents: Option<Vec<Vec4>>,
+    /// JOINTS_n / WEIGHTS_n (empty when the node has no skin).
+    pub influences: Influences,
+    /// Each joint's matrix in this pose, already taken into the node's space (None: the node
+    /// has no skin, so vertices only morph).
+    pub joints: Option<Vec<Mat4>>,
+    /// Where a vertex with no weight goes (the node's own transform, in its space).
+    pub unweighted: Mat4,
+}
+
+fn skin_job(
     doc: &Document,
     rig: &Rig,
     pose: &Pose,
@@ -180,8 +198,7 @@ fn posed_vertices(
     r: PrimitiveRef,
     mats: Option<&[Mat4]>,
     to_node: Mat4,
-    report: &mut PoseReport,
-) -> Result<Posed, IoError> {
+) -> Result<SkinJob, IoError> {
     let place = doc.place(r);
     let m = pelt_io::mesh::read_primitive(doc, r)?.mesh;
     let g = typed::document(doc)?;
@@ -311,43 +328,98 @@ fn posed_vertices(
             ));
         }
     }
-    let global = pose.global[node];
-    let mut out_p = Vec::with_capacity(positions.len());
-    let mut out_n = normals
-        .as_ref()
-        .map(|_| Vec::with_capacity(positions.len()));
-    let mut out_t = tangents
-        .as_ref()
-        .map(|_| Vec::with_capacity(positions.len()));
-    for v in 0..positions.len() {
-        let n = normals.as_ref().map_or(Vec3::Z, |n| n[v]);
-        let t = tangents.as_ref().map_or(Vec4::X, |t| {
-            t[v].extend(m.tangents.as_ref().map_or(1.0, |o| o[v].w))
-        });
-        let (p, n, t) = match mats {
-            Some(mats) => match influences.blend(v, mats) {
-                (Some(b), off) => {
-                    report.normalized_weights += usize::from(off);
-                    let (p, n, t) = transform(&(to_node * b), positions[v], n, t);
-                    (p, n, t)
-                }
-                (None, _) => {
-                    report.unweighted_vertices += 1;
-                    // Unweighted: where the node itself would put it.
-                    transform(&(to_node * global), positions[v], n, t)
-                }
-            },
-            None => (positions[v], n.normalize_or(n), t),
-        };
-        out_p.push(p.to_array());
-        if let Some(o) = out_n.as_mut() {
-            o.push(n.to_array());
+    let tangents = tangents.map(|t| {
+        t.iter()
+            .enumerate()
+            .map(|(v, t)| t.extend(m.tangents.as_ref().map_or(1.0, |o| o[v].w)))
+            .collect()
+    });
+    Ok(SkinJob {
+        primitive: r,
+        positions,
+        normals,
+        tangents,
+        influences,
+        joints: mats.map(|ms| ms.iter().map(|j| to_node * *j).collect()),
+        unweighted: to_node * pose.global[node],
+    })
+}
+
+impl SkinJob {
+    /// Skins the job on the CPU (the reference the GPU pass is tested against), counting
+    /// normalized and unweighted vertices into `report`.
+    pub fn on_cpu(&self, report: &mut PoseReport) -> Posed {
+        let n_v = self.positions.len();
+        let mut out_p = Vec::with_capacity(n_v);
+        let mut out_n = self.normals.as_ref().map(|_| Vec::with_capacity(n_v));
+        let mut out_t = self.tangents.as_ref().map(|_| Vec::with_capacity(n_v));
+        for v in 0..n_v {
+            let n = self.normals.as_ref().map_or(Vec3::Z, |n| n[v]);
+            let t = self.tangents.as_ref().map_or(Vec4::X, |t| t[v]);
+            let (p, n, t) = match &self.joints {
+                Some(mats) => match self.influences.blend(v, mats) {
+                    (Some(b), off) => {
+                        report.normalized_weights += usize::from(off);
+                        transform(&b, self.positions[v], n, t)
+                    }
+                    (None, _) => {
+                        report.unweighted_vertices += 1;
+                        // Unweighted: where the node itself would put it.
+                        transform(&self.unweighted, self.positions[v], n, t)
+                    }
+                },
+                None => (self.positions[v], n.normalize_or(n), t),
+            };
+            out_p.push(p.to_array());
+            if let Some(o) = out_n.as_mut() {
+                o.push(n.to_array());
+            }
+            if let Some(o) = out_t.as_mut() {
+                o.push(t.to_array());
+            }
         }
-        if let Some(o) = out_t.as_mut() {
-            o.push(t.to_array());
+        (out_p, out_n, out_t)
+    }
+}
+
+/// Every skinned or morphed primitive of `doc` ready to skin at `time` seconds of
+/// `animation` (the rest pose when None), with the same checks `pelt pose` makes.
+pub fn skin_jobs(
+    doc: &Document,
+    animation: Option<&str>,
+    time: f32,
+) -> Result<Vec<SkinJob>, IoError> {
+    let rig = Rig::load(doc)?;
+    let clip = animation.map(|a| rig.clip(doc, a)).transpose()?;
+    let pose = rig.pose(clip, time);
+    let mut jobs = Vec::new();
+    for (node, mesh) in posed_meshes(doc, &rig)? {
+        let skin = rig.nodes[node].skin;
+        let mats = skin.map(|s| rig.joint_matrices(s, &pose));
+        let to_node = pose.global[node].inverse();
+        if skin.is_some() && !to_node.is_finite() {
+            return Err(doc.invalid(
+                format!("nodes[{node}]"),
+                "its transform in this pose is singular, so posed vertices cannot be placed under it",
+            ));
+        }
+        let count = doc.array("meshes")[mesh]["primitives"]
+            .as_array()
+            .map_or(0, Vec::len);
+        for p in 0..count {
+            let r = PrimitiveRef { mesh, primitive: p };
+            jobs.push(skin_job(
+                doc,
+                &rig,
+                &pose,
+                node,
+                r,
+                mats.as_deref(),
+                to_node,
+            )?);
         }
     }
-    Ok((out_p, out_n, out_t))
+    Ok(jobs)
 }
 
 fn remove_targets(doc: &mut Document, r: PrimitiveRef) {

@@ -28,6 +28,10 @@ pub struct FurConfig {
     pub base_color: [f64; 3],
     /// Linear RGB colour at the tips.
     pub tip_color: [f64; 3],
+    /// Root and tip colours multiply the material's base colour (its texture, sampled under
+    /// each strand, and factor): painted or textured assets keep their colours through the fur.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub color_from_texture: bool,
     /// Names of the materials that get fur; absent = every material of a primitive that has
     /// a comb (such primitives without a material get a new one, named `pelt fur`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -44,6 +48,7 @@ impl Default for FurConfig {
             uv_scale: 8.0,
             base_color: [0.10, 0.07, 0.05],
             tip_color: [0.60, 0.48, 0.36],
+            color_from_texture: false,
             materials: None,
             textures: StrandParams::default(),
         }
@@ -164,6 +169,10 @@ pub struct FurManifest {
     pub base_color: [f64; 3],
     /// Tip colour (linear RGB).
     pub tip_color: [f64; 3],
+    /// Root and tip colours multiply the material's base colour ([`FurConfig`]'s field);
+    /// absent means false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub color_from_texture: bool,
     /// The textures.
     pub textures: TextureEntries,
     /// The strand model's parameters.

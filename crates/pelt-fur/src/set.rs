@@ -239,6 +239,7 @@ impl TextureSet {
             uv_scale: fur.uv_scale,
             base_color: fur.base_color,
             tip_color: fur.tip_color,
+            color_from_texture: fur.color_from_texture,
             textures,
             strands: self.params.clone(),
             coverage: self.coverage.clone(),

@@ -6,7 +6,7 @@
 
 use std::io::Cursor;
 
-use gltf::texture::WrappingMode;
+pub use gltf::texture::WrappingMode;
 
 use crate::error::Result;
 use crate::{Document, typed};
@@ -120,6 +120,60 @@ pub fn material_texture(doc: &Document, material: usize, slot: Slot) -> Result<O
         tex_coord,
         wrap: [t.sampler().wrap_s(), t.sampler().wrap_t()],
     }))
+}
+
+/// A material's scalar factors: (`normalTexture.scale`, `metallicFactor`, `roughnessFactor`),
+/// glTF's defaults (1, 1, 1) where the material leaves them out. Read from the JSON itself, so
+/// a document still being built (its buffers not yet laid out) has factors too.
+pub fn material_factors(doc: &Document, material: usize) -> Result<[f32; 3]> {
+    let Some(m) = doc.array("materials").get(material) else {
+        return Err(doc.invalid(format!("materials[{material}]"), "does not exist"));
+    };
+    let field = |path: [&str; 2], name: &str| -> Result<f32> {
+        let v = m.get(path[0]).and_then(|p| p.get(path[1]));
+        match v {
+            None => Ok(1.0),
+            Some(v) => match v.as_f64() {
+                Some(x) if x.is_finite() => Ok(x as f32),
+                _ => Err(doc.invalid(
+                    format!("materials[{material}].{name}"),
+                    "must be a finite number",
+                )),
+            },
+        }
+    };
+    let f = [
+        field(["normalTexture", "scale"], "normalTexture.scale")?,
+        field(
+            ["pbrMetallicRoughness", "metallicFactor"],
+            "pbrMetallicRoughness.metallicFactor",
+        )?,
+        field(
+            ["pbrMetallicRoughness", "roughnessFactor"],
+            "pbrMetallicRoughness.roughnessFactor",
+        )?,
+    ];
+    if !(0.0..=1.0).contains(&f[1]) || !(0.0..=1.0).contains(&f[2]) {
+        return Err(doc.invalid(
+            format!("materials[{material}].pbrMetallicRoughness"),
+            "metallicFactor and roughnessFactor must be in 0..1",
+        ));
+    }
+    Ok(f)
+}
+
+/// Whether material `material` names any texture (so its textures need the typed document).
+pub fn has_textures(doc: &Document, material: usize) -> bool {
+    let Some(m) = doc.array("materials").get(material) else {
+        return false;
+    };
+    let pbr = m.get("pbrMetallicRoughness");
+    ["normalTexture", "occlusionTexture", "emissiveTexture"]
+        .iter()
+        .any(|k| m.get(*k).is_some())
+        || ["baseColorTexture", "metallicRoughnessTexture"]
+            .iter()
+            .any(|k| pbr.and_then(|p| p.get(*k)).is_some())
 }
 
 /// Texel coordinate `x` (in pixels, continuous) wrapped into `0..n`.

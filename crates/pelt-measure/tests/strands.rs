@@ -28,17 +28,17 @@ use pelt_preview::{Image, Mode, Preview, Scene};
 /// `comb` in tangent space (length 1), root and tip colours as given.
 fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) -> MeshData {
     let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    let vertices = corners
+        .iter()
+        .map(|&[x, y]| Vertex {
+            position: [x, y, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            albedo: [1.0; 4],
+            group: 1,
+            uv: [x, y],
+        })
+        .collect();
     MeshData {
-        vertices: corners
-            .iter()
-            .map(|&[x, y]| Vertex {
-                position: [x, y, 0.0],
-                normal: [0.0, 0.0, 1.0],
-                albedo: [1.0; 4],
-                group: 1,
-            })
-            .collect(),
-        indices: vec![0, 1, 2, 0, 2, 3],
         fur: Some(FurData {
             vertices: corners
                 .iter()
@@ -55,6 +55,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
                 uv_scale: 1.0,
                 base_color: Vec3::splat(base),
                 tip_color: Vec3::splat(tip),
+                color_from_texture: false,
             },
             // The shells' textures (unused by the strands): one texel each.
             heightfield: vec![Level {
@@ -70,6 +71,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
             source: TextureSource::Generated,
             model,
         }),
+        ..MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])
     }
 }
 

@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use crate::asset::MeshData;
 use crate::fur::{FurData, Level};
+use crate::gpu_material::{self, GpuMaterial};
 use crate::renderer::{FIN_FORMAT, HEIGHT_FORMAT, Renderer, SKY_FORMAT};
 use crate::sky::CubeImages;
 
@@ -23,8 +24,21 @@ pub struct GpuMesh {
     pub indices: wgpu::Buffer,
     /// Index count.
     pub count: u32,
+    /// Runs of the index list by material.
+    pub parts: Vec<GpuPart>,
+    /// The materials `parts` refer to.
+    pub materials: Vec<GpuMaterial>,
     /// Its fur, when a fur object uses it.
     pub fur: Option<GpuFur>,
+}
+
+/// A run of a mesh's indices drawn with one material.
+#[derive(Debug, Clone)]
+pub struct GpuPart {
+    /// The indices.
+    pub indices: std::ops::Range<u32>,
+    /// Index into the mesh's materials (and its fur's texture groups).
+    pub material: usize,
 }
 
 /// A mesh's fur on the GPU.
@@ -36,8 +50,9 @@ pub struct GpuFur {
     pub fins: Option<wgpu::Buffer>,
     /// Fin count.
     pub fin_count: u32,
-    /// Heightfield, fin texture and samplers.
-    pub textures: wgpu::BindGroup,
+    /// Heightfield, fin texture, the material's base colour and samplers: one group per
+    /// material of the mesh.
+    pub textures: Vec<wgpu::BindGroup>,
 }
 
 /// A mesh's explicit strands on the GPU (the strand reference, [`crate::strands`]).
@@ -79,6 +94,29 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
     h.update(&(m.vertices.len() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice(&m.vertices));
     h.update(bytemuck::cast_slice(&m.indices));
+    for p in &m.parts {
+        h.update(
+            &[p.first, p.count, p.material]
+                .map(u32::to_le_bytes)
+                .concat(),
+        );
+    }
+    for mat in &m.materials {
+        h.update(bytemuck::bytes_of(&gpu_material::uniforms(mat)));
+        for t in [&mat.base_color, &mat.normal, &mat.metallic_roughness] {
+            match t {
+                Some(t) => {
+                    h.update(
+                        format!("{}x{} {:?}", t.image.width, t.image.height, t.wrap).as_bytes(),
+                    );
+                    h.update(&t.image.pixels);
+                }
+                None => {
+                    h.update(b"none");
+                }
+            }
+        }
+    }
     if let Some(f) = m.fur.as_ref().filter(|_| with_fur) {
         h.update(b"fur");
         h.update(bytemuck::cast_slice(&f.vertices));
@@ -94,8 +132,26 @@ impl AssetCache {
     pub fn mesh(&mut self, r: &Renderer, m: &MeshData, with_fur: bool) -> Arc<GpuMesh> {
         let key = mesh_key(m, with_fur);
         Arc::clone(self.meshes.entry(key).or_insert_with(|| {
+            let materials: Vec<GpuMaterial> = m
+                .materials
+                .iter()
+                .map(|mat| gpu_material::upload(r, mat))
+                .collect();
             Arc::new(GpuMesh {
-                fur: m.fur.as_ref().filter(|_| with_fur).map(|f| gpu_fur(r, f)),
+                fur: m
+                    .fur
+                    .as_ref()
+                    .filter(|_| with_fur)
+                    .map(|f| gpu_fur(r, f, &materials)),
+                parts: m
+                    .parts
+                    .iter()
+                    .map(|p| GpuPart {
+                        indices: p.first..p.first + p.count,
+                        material: p.material as usize,
+                    })
+                    .collect(),
+                materials,
                 vertices: r.gpu.buffer_init(
                     "vertices",
                     bytemuck::cast_slice(&m.vertices),
@@ -210,7 +266,8 @@ pub fn f16_bits(v: f32) -> u16 {
     sign | r as u16
 }
 
-fn upload_levels<T>(
+/// A 2D texture of `format` with `levels` (level 0 first), its view.
+pub(crate) fn upload_levels<T>(
     r: &Renderer,
     label: &str,
     format: wgpu::TextureFormat,
@@ -258,7 +315,7 @@ fn upload_levels<T>(
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
-fn gpu_fur(r: &Renderer, fur: &FurData) -> GpuFur {
+fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let device = &r.gpu.device;
     let height = upload_levels(r, "heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
         f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
@@ -278,28 +335,39 @@ fn gpu_fur(r: &Renderer, fur: &FurData) -> GpuFur {
     };
     let repeat = sampler(wgpu::AddressMode::Repeat);
     let fin_sampler = sampler(wgpu::AddressMode::ClampToEdge);
-    let textures = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("fur textures"),
-        layout: &r.layouts.fur,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&height),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(&fin),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::Sampler(&repeat),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&fin_sampler),
-            },
-        ],
-    });
+    let group = |m: &GpuMaterial| {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("fur textures"),
+            layout: &r.layouts.fur,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&height),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&fin),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&repeat),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&fin_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&m.base_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::Sampler(&m.base_sampler),
+                },
+            ],
+        })
+    };
+    let textures = materials.iter().map(group).collect();
     GpuFur {
         vertices: r.gpu.buffer_init(
             "fur vertices",

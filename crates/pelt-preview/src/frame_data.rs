@@ -194,7 +194,12 @@ fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
                 model: o.model.to_cols_array_2d(),
                 normal_model: o.model.inverse().transpose().to_cols_array_2d(),
                 tint: o.color.extend(1.0).into(),
-                params: [o.opacity, SPECULAR_STRENGTH, o.map.unwrap_or(0) as f32, 0.0],
+                params: [
+                    o.opacity,
+                    SPECULAR_STRENGTH,
+                    o.map.unwrap_or(0) as f32,
+                    f.map_or(0.0, |f| f32::from(u8::from(f.color_from_texture))),
+                ],
                 fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
                 fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
                 fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],

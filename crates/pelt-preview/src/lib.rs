@@ -20,6 +20,7 @@ pub mod features;
 pub mod frame;
 pub mod frame_data;
 pub mod gpu;
+pub mod gpu_material;
 pub mod recipe;
 pub mod renderer;
 pub mod scene_view;

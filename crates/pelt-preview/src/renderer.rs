@@ -11,7 +11,9 @@ use std::collections::HashMap;
 
 use crate::gpu::Gpu;
 use crate::shaders::Shader;
-use crate::uniforms::{FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms};
+use crate::uniforms::{
+    FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, MaterialUniforms, ObjectUniforms,
+};
 
 /// Linear light accumulation (RGB diffuse, A specular): 16-bit float, blendable everywhere.
 pub const LBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -98,6 +100,8 @@ pub struct Layouts {
     pub reflect_maps: wgpu::BindGroupLayout,
     /// Distance maps and their ranges, written (minmax.wgsl).
     pub minmax: wgpu::BindGroupLayout,
+    /// One material's textures, samplers and factors.
+    pub material: wgpu::BindGroupLayout,
 }
 
 fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
@@ -194,11 +198,13 @@ pub enum LayoutId {
     ReflectMaps,
     /// [`Layouts::minmax`].
     MinMax,
+    /// [`Layouts::material`].
+    Material,
 }
 
 impl LayoutId {
     /// Every layout.
-    pub const ALL: [LayoutId; 18] = [
+    pub const ALL: [LayoutId; 19] = [
         LayoutId::Frame,
         LayoutId::Object,
         LayoutId::Textures,
@@ -217,6 +223,7 @@ impl LayoutId {
         LayoutId::Peel,
         LayoutId::ReflectMaps,
         LayoutId::MinMax,
+        LayoutId::Material,
     ];
 
     /// The layout's entries (plain data: the shader test checks them against the WGSL).
@@ -243,6 +250,20 @@ impl LayoutId {
                 texture_entry(1, filterable, d2),
                 sampler_entry(2),
                 sampler_entry(3),
+                texture_entry(4, filterable, d2),
+                sampler_entry(5),
+            ],
+            LayoutId::Material => vec![
+                texture_entry(0, filterable, d2),
+                texture_entry(1, filterable, d2),
+                texture_entry(2, filterable, d2),
+                sampler_entry(3),
+                sampler_entry(4),
+                sampler_entry(5),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    ..uniform_entry(size(size_of::<MaterialUniforms>()), false)
+                },
             ],
             LayoutId::ShellTable => vec![uniform_entry(SHELL_TABLE_BYTES, false)],
             LayoutId::Oit => vec![
@@ -328,6 +349,7 @@ impl Layouts {
             peel: layout(LayoutId::Peel),
             reflect_maps: layout(LayoutId::ReflectMaps),
             minmax: layout(LayoutId::MinMax),
+            material: layout(LayoutId::Material),
         }
     }
 
@@ -352,6 +374,7 @@ impl Layouts {
             LayoutId::Peel => &self.peel,
             LayoutId::ReflectMaps => &self.reflect_maps,
             LayoutId::MinMax => &self.minmax,
+            LayoutId::Material => &self.material,
         }
     }
 }

@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 24] = [
+pub const FILES: [(&str, &str); 25] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -89,6 +89,7 @@ pub const FILES: [(&str, &str); 24] = [
         "fin_records.wgsl",
         include_str!("../../../shaders/fin_records.wgsl"),
     ),
+    ("skin.wgsl", include_str!("../../../shaders/skin.wgsl")),
 ];
 
 fn file(name: &str) -> &'static str {
@@ -153,11 +154,13 @@ pub enum Shader {
     /// Compute: fin records decoded through the index list (the GPU half of
     /// `pelt_io::topology::fin_geometry`).
     FinRecords,
+    /// Compute: linear blend skinning of positions, normals and tangents (skin.wgsl).
+    Skin,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 23] = [
+    pub const ALL: [Shader; 24] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -181,6 +184,7 @@ impl Shader {
         Shader::Reflect,
         Shader::Strands,
         Shader::FinRecords,
+        Shader::Skin,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -205,6 +209,7 @@ impl Shader {
             Shader::Reflect => "reflect.wgsl",
             Shader::Strands => "strands.wgsl",
             Shader::FinRecords => "fin_records.wgsl",
+            Shader::Skin => "skin.wgsl",
         }
     }
 
@@ -258,7 +263,7 @@ impl Shader {
     pub fn is_compute(self) -> bool {
         matches!(
             self,
-            Shader::TangentFrames | Shader::MinMax | Shader::FinRecords
+            Shader::TangentFrames | Shader::MinMax | Shader::FinRecords | Shader::Skin
         )
     }
 

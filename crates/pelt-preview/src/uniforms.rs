@@ -26,6 +26,17 @@ pub struct FrameUniforms {
     pub flags: [u32; 4],
 }
 
+/// One material's factors. Keep in sync with `MaterialParams` in shaders/common.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MaterialUniforms {
+    /// x: `normalTexture.scale`; y: `metallicFactor`; z: `roughnessFactor`; w: unused.
+    pub factors: [f32; 4],
+    /// x: the material has a normal texture (1) or not (0); y: a base colour texture; z: a
+    /// metallic-roughness texture; w: unused.
+    pub flags: [u32; 4],
+}
+
 /// Per-object constants. Keep in sync with `Object` in shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -36,7 +47,8 @@ pub struct ObjectUniforms {
     pub normal_model: [[f32; 4]; 4],
     /// rgb colour multiplied into the vertex albedo.
     pub tint: [f32; 4],
-    /// x opacity; y specular strength.
+    /// x opacity; y specular strength; z the distance map; w fur colour from the base colour
+    /// texture (1) or not (0).
     pub params: [f32; 4],
     /// Fur: rgb root colour (linear, times the object's colour), w fur length.
     pub fur_base: [f32; 4],
@@ -76,9 +88,10 @@ mod tests {
         assert_eq!(size_of::<FrameUniforms>(), 208);
         assert_eq!(size_of::<ObjectUniforms>(), 240);
         assert_eq!(size_of::<FurVertex>(), 40);
-        assert_eq!(size_of::<FinInstance>(), 116);
+        assert_eq!(size_of::<FinInstance>(), 128);
         assert_eq!(size_of::<LightUniforms>(), 32);
-        assert_eq!(size_of::<Vertex>(), 44);
+        assert_eq!(size_of::<Vertex>(), 52);
+        assert_eq!(size_of::<MaterialUniforms>(), 32);
         assert!(size_of::<ObjectUniforms>() as u64 <= UNIFORM_STRIDE);
         assert_eq!(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>(), 8192);
     }

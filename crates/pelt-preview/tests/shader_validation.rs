@@ -10,7 +10,7 @@ use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
 use pelt_preview::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
 use pelt_preview::shaders::{COMMON, FILES, Shader};
 use pelt_preview::uniforms::{
-    FinInstance, FrameUniforms, FurVertex, LightUniforms, ObjectUniforms, Vertex,
+    FinInstance, FrameUniforms, FurVertex, LightUniforms, MaterialUniforms, ObjectUniforms, Vertex,
 };
 
 fn validate_info(name: &str, source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
@@ -314,10 +314,17 @@ fn uniform_structs_match_the_rust_side() {
         size_of::<ObjectUniforms>()
     );
     assert_eq!(size_of_struct("Light") as usize, size_of::<LightUniforms>());
+    assert_eq!(
+        size_of_struct("MaterialParams") as usize,
+        size_of::<MaterialUniforms>()
+    );
     // VertexIn, FurIn, FinIn: the Rust vertices pack the same attributes without padding.
-    assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4);
+    assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4 + 2 * 4);
     assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
-    assert_eq!(size_of::<FinInstance>(), 4 * 12 + 2 * 16 + 2 * 12 + 8 + 4);
+    assert_eq!(
+        size_of::<FinInstance>(),
+        4 * 12 + 2 * 16 + 2 * 12 + 8 + 4 + 12
+    );
     // The distance maps' own uniforms (keep in sync with distance_map.wgsl and reflect.wgsl).
     for (shader, name, size) in [
         (Shader::DistanceMap, "Face", size_of::<FaceUniforms>()),

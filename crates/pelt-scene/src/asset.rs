@@ -12,6 +12,7 @@ use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 use serde_json::Value;
 
 use crate::fur::{self, FurData};
+use crate::material::{Material, MaterialReader, Part};
 use crate::vertex::{FurVertex, Vertex};
 
 /// Why an asset could not be loaded.
@@ -43,9 +44,33 @@ pub struct MeshData {
     pub indices: Vec<u32>,
     /// The fur, when a primitive has a baked `_FUR_COMB`.
     pub fur: Option<FurData>,
+    /// Runs of `indices` by material, covering every index in order.
+    pub parts: Vec<Part>,
+    /// The materials `parts` refer to (at least one).
+    pub materials: Vec<Material>,
 }
 
 impl MeshData {
+    /// A mesh of one untextured part.
+    pub fn untextured(vertices: Vec<Vertex>, indices: Vec<u32>) -> MeshData {
+        MeshData {
+            parts: vec![Part {
+                first: 0,
+                count: indices.len() as u32,
+                material: 0,
+            }],
+            vertices,
+            indices,
+            fur: None,
+            materials: vec![Material::default()],
+        }
+    }
+
+    /// Whether any material samples a texture.
+    pub fn textured(&self) -> bool {
+        self.materials.iter().any(Material::textured)
+    }
+
     /// Axis-aligned bounds (min, max) of the vertices.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.vertices.iter().fold(
@@ -155,16 +180,13 @@ fn vertex(p: Vec3, n: Vec3, group: u32) -> Vertex {
         normal: n.into(),
         albedo: [1.0; 4],
         group,
+        uv: [0.0; 2],
     }
 }
 
 /// A unit cube (−0.5..0.5), 24 vertices, one normal group per face (IDs 1..6).
 fn cube() -> MeshData {
-    let mut m = MeshData {
-        vertices: Vec::new(),
-        indices: Vec::new(),
-        fur: None,
-    };
+    let mut m = MeshData::untextured(Vec::new(), Vec::new());
     for (face, n) in [
         Vec3::X,
         Vec3::NEG_X,
@@ -187,6 +209,7 @@ fn cube() -> MeshData {
         m.indices
             .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     }
+    m.parts[0].count = m.indices.len() as u32;
     m
 }
 
@@ -196,11 +219,7 @@ fn quad() -> MeshData {
         .into_iter()
         .map(|(x, y)| vertex(Vec3::new(x, y, 0.0), Vec3::Z, 1))
         .collect();
-    MeshData {
-        vertices,
-        indices: vec![0, 1, 2, 0, 2, 3],
-        fur: None,
-    }
+    MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])
 }
 
 /// A UV sphere of radius 0.5, one normal group.
@@ -226,11 +245,7 @@ fn sphere(rings: u32, segs: u32) -> MeshData {
             indices.extend([a, b, a + 1, a + 1, b, b + 1]);
         }
     }
-    MeshData {
-        vertices,
-        indices,
-        fur: None,
-    }
+    MeshData::untextured(vertices, indices)
 }
 
 /// The local matrix of a node (`matrix`, or TRS).
@@ -367,11 +382,10 @@ fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec
 /// Flattens every TRIANGLES primitive of every mesh instance into one mesh, with the fur
 /// of primitives that have a baked comb.
 pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
-    let mut out = MeshData {
-        vertices: Vec::new(),
-        indices: Vec::new(),
-        fur: None,
-    };
+    let mut out = MeshData::untextured(Vec::new(), Vec::new());
+    out.parts.clear();
+    out.materials.clear();
+    let mut reader = MaterialReader::default();
     let mut fur_vertices: Vec<FurVertex> = Vec::new();
     let mut fins = Vec::new();
     let mut manifest = None;
@@ -387,7 +401,11 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
             let m = &p.mesh;
             let albedo = base_color(doc, r)?;
             let groups = normal_groups(doc, r, m.vertex_count())?;
+            let material = reader.index(doc, doc.primitive_material(r)?)?;
+            let uvs = texcoords(doc, r, reader.read[material as usize].1.tex_coord, m)?;
+            let uv = |k: usize| uvs.as_ref().map_or([0.0; 2], |u| u[k]);
             let base = out.vertices.len() as u32;
+            let first = out.indices.len() as u32;
             match &m.normals {
                 Some(normals) => {
                     for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
@@ -396,6 +414,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                             normal: (normal_world * n).normalize_or_zero().into(),
                             albedo,
                             group: groups.as_ref().map_or(0, |g| g[k]),
+                            uv: uv(k),
                         });
                     }
                     for t in m.indices.chunks_exact(3) {
@@ -427,8 +446,8 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                             m,
                             &out.vertices,
                             &fur_vertices,
-                            base as usize,
-                            world,
+                            (base as usize, world),
+                            &reader.read[material as usize].1,
                         )?);
                     }
                 }
@@ -449,14 +468,17 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                                 normal: n.into(),
                                 albedo,
                                 group: groups.as_ref().map_or(0, |g| g[t[k] as usize]),
+                                uv: uv(t[k] as usize),
                             });
                         }
                     }
                     fur_vertices.resize(out.vertices.len(), FurVertex::NONE);
                 }
             }
+            push_part(&mut out.parts, first, out.indices.len() as u32, material);
         }
     }
+    out.materials = reader.read.into_iter().map(|(_, m)| m).collect();
     if out.indices.is_empty() {
         return Err(AssetError::Empty {
             path: doc.path.clone(),
@@ -477,6 +499,55 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
         });
     }
     Ok(out)
+}
+
+/// Extends `parts` with indices `first..end` drawn with `material` (merged into the last
+/// part when that one uses the same material).
+fn push_part(parts: &mut Vec<Part>, first: u32, end: u32, material: u32) {
+    match parts.last_mut() {
+        Some(p) if p.material == material && p.first + p.count == first => p.count = end - p.first,
+        _ if end > first => parts.push(Part {
+            first,
+            count: end - first,
+            material,
+        }),
+        _ => {}
+    }
+}
+
+/// TEXCOORD_`set` of the primitive (checked against its vertex count; None when absent).
+fn texcoords(
+    doc: &Document,
+    r: PrimitiveRef,
+    set: u32,
+    m: &pelt_geom::Mesh,
+) -> Result<Option<Vec<[f32; 2]>>, IoError> {
+    if set == 0 {
+        return Ok(m
+            .uvs
+            .as_ref()
+            .map(|u| u.iter().map(|&v| v.into()).collect()));
+    }
+    let name = format!("TEXCOORD_{set}");
+    let Some(i) = doc.attribute(r, &name)? else {
+        return Err(doc.invalid(
+            format!("{} attribute {name}", doc.place(r)),
+            "is named by the primitive's material but missing",
+        ));
+    };
+    let place = format!("{} attribute {name}", doc.place(r));
+    let uvs = accessor::read_vec::<2>(doc, i, &place)?;
+    if uvs.len() != m.vertex_count() {
+        return Err(doc.invalid(
+            place,
+            format!(
+                "has {} elements, POSITION has {}",
+                uvs.len(),
+                m.vertex_count()
+            ),
+        ));
+    }
+    Ok(Some(uvs))
 }
 
 /// Albedo of every vertex replaced (`builtin:` shapes are white; scenes tint them).
@@ -531,12 +602,56 @@ mod tests {
                 .flatten()
                 .copied()
                 .collect();
-            MeshData {
-                vertices: self.vertices.clone(),
-                indices,
-                fur: None,
-            }
+            MeshData::untextured(self.vertices.clone(), indices)
         }
+    }
+
+    #[test]
+    fn the_fox_reads_its_base_colour_texture_and_uvs() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let m = load(&root.join("fox/Fox.glb")).expect("fox");
+        assert_eq!(m.materials.len(), 1);
+        let mat = &m.materials[0];
+        let t = mat.base_color.as_ref().expect("baseColorTexture");
+        assert!(t.image.width >= 64 && t.image.height >= 64);
+        assert!(mat.normal.is_none() && mat.metallic_roughness.is_none());
+        assert!((mat.roughness - 0.58).abs() < 1e-6 && mat.metallic == 0.0);
+        assert_eq!(m.parts.len(), 1);
+        assert_eq!(m.parts[0].count as usize, m.indices.len());
+        assert!(
+            m.vertices
+                .iter()
+                .all(|v| v.uv.iter().all(|c| (0.0..=1.0).contains(c)))
+        );
+        let spread = m.vertices.iter().fold((1.0f32, 0.0f32), |(lo, hi), v| {
+            (lo.min(v.uv[0]), hi.max(v.uv[0]))
+        });
+        assert!(
+            spread.1 - spread.0 > 0.5,
+            "UVs span the texture: {spread:?}"
+        );
+        // The texture is mostly orange: red well above blue on average.
+        let (mut r, mut b) = (0u64, 0u64);
+        for p in t.image.pixels.chunks_exact(4) {
+            r += u64::from(p[0]);
+            b += u64::from(p[2]);
+        }
+        assert!(r > b + b / 2, "red {r} blue {b}");
+    }
+
+    #[test]
+    fn parts_merge_runs_of_one_material() {
+        let mut parts = Vec::new();
+        push_part(&mut parts, 0, 6, 0);
+        push_part(&mut parts, 6, 12, 0);
+        push_part(&mut parts, 12, 12, 1);
+        push_part(&mut parts, 12, 15, 1);
+        push_part(&mut parts, 15, 18, 0);
+        let got: Vec<_> = parts
+            .iter()
+            .map(|p| (p.first, p.count, p.material))
+            .collect();
+        assert_eq!(got, vec![(0, 12, 0), (12, 3, 1), (15, 3, 0)]);
     }
 
     #[test]

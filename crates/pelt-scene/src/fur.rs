@@ -36,6 +36,9 @@ pub struct FurLook {
     pub base_color: Vec3,
     /// Linear tip colour.
     pub tip_color: Vec3,
+    /// Root and tip colours multiply the material's base colour (texture and factor) under
+    /// each strand (the fur config's `colorFromTexture`).
+    pub color_from_texture: bool,
 }
 
 /// Where the textures came from.
@@ -81,6 +84,7 @@ fn look_of(m: &FurManifest) -> FurLook {
         uv_scale: m.uv_scale as f32,
         base_color: v(m.base_color),
         tip_color: v(m.tip_color),
+        color_from_texture: m.color_from_texture,
     }
 }
 
@@ -136,6 +140,7 @@ pub fn generated() -> Result<(FurLook, Textures), IoError> {
         uv_scale: config.uv_scale as f32,
         base_color: v(config.base_color),
         tip_color: v(config.tip_color),
+        color_from_texture: config.color_from_texture,
     };
     Ok((look, (heights, fin)))
 }
@@ -323,8 +328,8 @@ pub fn fin_instances(
     mesh: &pelt_geom::Mesh,
     verts: &[crate::vertex::Vertex],
     fur: &[FurVertex],
-    base: usize,
-    world: Mat4,
+    (base, world): (usize, Mat4),
+    material: &crate::material::Material,
 ) -> Result<Vec<FinInstance>, IoError> {
     let Some(edges) = doc.read_fins(r)? else {
         return Ok(Vec::new());
@@ -348,6 +353,8 @@ pub fn fin_instances(
             comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(c.w)
         };
         let uv_len = (Vec2::from(fa.uv) - Vec2::from(fb.uv)).length();
+        let mid_uv = 0.5 * (Vec2::from(va.uv) + Vec2::from(vb.uv));
+        let albedo = 0.5 * (Vec4::from(va.albedo) + Vec4::from(vb.albedo));
         out.push(FinInstance {
             p0: va.position,
             p1: vb.position,
@@ -359,7 +366,17 @@ pub fn fin_instances(
             f1: f1.into(),
             u: [edge_offset(a, b), uv_len],
             group: va.group,
+            albedo: (albedo.truncate() * base_color_at(material, mid_uv)).into(),
         });
     }
     Ok(out)
+}
+
+/// The linear colour of `material`'s base colour texture at `uv` (white without one).
+pub fn base_color_at(material: &crate::material::Material, uv: Vec2) -> Vec3 {
+    let Some(t) = &material.base_color else {
+        return Vec3::ONE;
+    };
+    let c = |k| crate::material::srgb_to_linear(t.image.sample(uv.x, uv.y, k, t.wrap));
+    Vec3::new(c(0), c(1), c(2))
 }

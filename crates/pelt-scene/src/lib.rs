@@ -6,6 +6,7 @@
 //!   the default scene around one asset;
 //! - [`asset`], [`fur`], [`vertex`]: glTF/OBJ (and built-in shapes) flattened into vertex
 //!   records with normal-group IDs, the baked fur (comb, fins, textures, manifest);
+//! - [`material`]: base colour, normal and metallic-roughness textures and their mip chains;
 //! - [`view`], [`plan`]: the camera and the CPU decisions of a frame (Kircher & Lawrance
 //!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, passes);
 //! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;
@@ -16,6 +17,7 @@ pub mod budget;
 pub mod framing;
 pub mod fur;
 pub mod knobs;
+pub mod material;
 pub mod orbit;
 pub mod plan;
 pub mod procedural;

@@ -170,6 +170,8 @@ pub struct PlannedFur {
     pub tip_color: Vec3,
     /// Heightfield UV scale.
     pub uv_scale: f32,
+    /// Root and tip colours multiply the material's base colour (texture and factor).
+    pub color_from_texture: bool,
 }
 
 /// A light that reaches the screen.
@@ -398,6 +400,7 @@ impl ScenePlan {
                                 base_color: look.base_color * color,
                                 tip_color: look.tip_color * color,
                                 uv_scale: look.uv_scale,
+                                color_from_texture: look.color_from_texture,
                             });
                             fur_count += 1;
                         }

@@ -236,6 +236,7 @@ mod tests {
                 normal: [0.0, 0.0, 1.0],
                 albedo: [1.0; 4],
                 group: 1,
+                uv: [x, y],
             })
             .collect();
         let fur_vertices = corners
@@ -247,8 +248,6 @@ mod tests {
             })
             .collect();
         MeshData {
-            vertices,
-            indices: vec![0, 1, 2, 0, 2, 3],
             fur: Some(FurData {
                 vertices: fur_vertices,
                 fins: Vec::new(),
@@ -258,12 +257,14 @@ mod tests {
                     uv_scale,
                     base_color: Vec3::ONE,
                     tip_color: Vec3::ONE,
+                    color_from_texture: false,
                 },
                 heightfield: Vec::new(),
                 fin: Vec::new(),
                 source: TextureSource::Generated,
                 model,
             }),
+            ..MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])
         }
     }
 

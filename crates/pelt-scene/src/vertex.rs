@@ -17,6 +17,8 @@ pub struct Vertex {
     pub albedo: [f32; 4],
     /// Normal-group ID (`_NORMAL_GROUP`, 0 when absent).
     pub group: u32,
+    /// The TEXCOORD set the primitive's material samples (0, 0 when absent).
+    pub uv: [f32; 2],
 }
 
 /// The per-vertex fur attributes (vertex buffer 1 of the fur pipelines). Keep in sync with
@@ -66,6 +68,9 @@ pub struct FinInstance {
     pub u: [f32; 2],
     /// Normal group of the first vertex.
     pub group: u32,
+    /// Linear base colour under the edge's midpoint: the vertex albedo times the material's
+    /// base colour texture (the fur's colour when it comes from the texture).
+    pub albedo: [f32; 3],
 }
 
 /// The most lights the forward reference takes in one pass (`MAX_FORWARD_LIGHTS` in

@@ -48,6 +48,7 @@ pub fn config_of(doc: &Document) -> FurConfig {
             uv_scale: m.uv_scale,
             base_color: m.base_color,
             tip_color: m.tip_color,
+            color_from_texture: m.color_from_texture,
             materials: None,
             textures: m.strands,
         },

@@ -15,7 +15,7 @@ pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput
         return Ok(());
     }
     r.pipeline(Shader::GBuffer, Blend::None);
-    f.draw_objects(r, "geometry", &f.plan.alpha)
+    f.draw_objects(r, "geometry", Shader::GBuffer, &f.plan.alpha)
 }
 
 /// The alpha objects back to front, blended over with `shader` (material or forward).
@@ -32,5 +32,5 @@ pub fn draw<'a>(
     let (group, offset) = material::lighting(f, shader).0;
     r.bind(slot::LIGHTING, group, offset);
     r.pipeline(shader, Blend::Over);
-    f.draw_objects(r, pass, &f.plan.alpha)
+    f.draw_objects(r, pass, shader, &f.plan.alpha)
 }

@@ -10,7 +10,12 @@ use crate::shaders::Shader;
 /// The pipeline of the forward shader.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::LightArray],
+        groups: vec![
+            LayoutId::Frame,
+            LayoutId::Object,
+            LayoutId::LightArray,
+            LayoutId::Material,
+        ],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),

@@ -24,9 +24,10 @@ pub mod obliterate_slot {
     pub const SHELL_TABLE: u32 = 1;
 }
 
-const FIN_ATTRIBUTES: [wgpu::VertexAttribute; 10] = wgpu::vertex_attr_array![
+const FIN_ATTRIBUTES: [wgpu::VertexAttribute; 11] = wgpu::vertex_attr_array![
     0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x4,
-    5 => Float32x4, 6 => Float32x3, 7 => Float32x3, 8 => Float32x2, 9 => Uint32
+    5 => Float32x4, 6 => Float32x3, 7 => Float32x3, 8 => Float32x2, 9 => Uint32,
+    10 => Float32x3
 ];
 
 /// The fin instance buffer: one [`FinInstance`] per quad (`FinIn` in fins.wgsl).
@@ -112,6 +113,19 @@ fn bind_fur<'a>(
     Ok((mesh, fur))
 }
 
+/// Draws `mesh` part by part, each with its material's fur group, `instances` shells.
+fn draw_parts<'a>(
+    r: &mut Recipe<'a>,
+    mesh: &'a crate::assets::GpuMesh,
+    fur: &'a crate::assets::GpuFur,
+    instances: std::ops::Range<u32>,
+) {
+    for p in &mesh.parts {
+        r.bind(slot::FUR, &fur.textures[p.material], None);
+        r.push(Step::DrawIndexed(p.indices.clone(), instances.clone()));
+    }
+}
+
 /// Geometry pass: base meshes, then stippled outer shells (Revie §2.4.2).
 pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput> {
     if f.plan.fur.is_empty() {
@@ -157,8 +171,7 @@ pub fn base<'a>(
     r.pipeline(Shader::Shells(lighting), Blend::None);
     for &k in &f.plan.fur {
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
-        r.bind(slot::FUR, &fur.textures, None);
-        r.push(Step::DrawIndexed(0..mesh.count, 0..1));
+        draw_parts(r, mesh, fur, 0..1);
     }
     Ok(())
 }
@@ -176,8 +189,7 @@ pub fn layers<'a>(
     for &k in &f.plan.fur {
         let n = f.plan.objects[k].fur.map_or(0, |p| p.shells);
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
-        r.bind(slot::FUR, &fur.textures, None);
-        r.push(Step::DrawIndexed(0..mesh.count, 1..n + 1));
+        draw_parts(r, mesh, fur, 1..n + 1);
     }
     let with_fins: Vec<usize> = f
         .plan
@@ -204,7 +216,9 @@ pub fn layers<'a>(
             });
         };
         f.bind_object(r, k);
-        r.bind(slot::FUR, &fur.textures, None);
+        // Fins carry their own colour under the fur (FinInstance::albedo): any material's
+        // group gives the heightfield and fin texture.
+        r.bind(slot::FUR, &fur.textures[0], None);
         r.push(Step::Vertices(0, fins));
         r.push(Step::Draw(0..6, 0..fur.fin_count));
     }

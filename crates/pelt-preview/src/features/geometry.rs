@@ -14,7 +14,7 @@ use crate::shaders::Shader;
 /// The pipeline of the G-buffer shader.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Object],
+        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::Material],
         vertex_buffers: vec![vertex_layout()],
         blends: vec![None, None],
         depth: Some((true, wgpu::CompareFunction::Less)),
@@ -64,10 +64,20 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     f.bind_frame(&mut r, Res::Lbuffer);
     if !f.plan.opaque.is_empty() || !f.plan.reflective.is_empty() {
         r.pipeline(Shader::GBuffer, Blend::None);
-        f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.opaque)?;
+        f.draw_objects(
+            &mut r,
+            Pass::Geometry.name(),
+            Shader::GBuffer,
+            &f.plan.opaque,
+        )?;
         // Mirrors and glass hold their pixels' depth and IDs (they are shaded later, from
         // their distance maps, not from the L-buffer).
-        f.draw_objects(&mut r, Pass::Geometry.name(), &f.plan.reflective)?;
+        f.draw_objects(
+            &mut r,
+            Pass::Geometry.name(),
+            Shader::GBuffer,
+            &f.plan.reflective,
+        )?;
     }
     fur::gbuffer(f, &mut r)?;
     alpha::gbuffer(f, &mut r)?;

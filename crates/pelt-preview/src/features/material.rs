@@ -28,7 +28,12 @@ pub const BACKGROUND: wgpu::Color = wgpu::Color {
 /// The pipeline of the material shader.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::Textures],
+        groups: vec![
+            LayoutId::Frame,
+            LayoutId::Object,
+            LayoutId::Textures,
+            LayoutId::Material,
+        ],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),
@@ -92,7 +97,7 @@ pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>
     r.bind(slot::LIGHTING, objects_light.0, objects_light.1);
     if !f.plan.opaque.is_empty() {
         r.pipeline(shader, Blend::None);
-        f.draw_objects(&mut r, pass.name(), &f.plan.opaque)?;
+        f.draw_objects(&mut r, pass.name(), shader, &f.plan.opaque)?;
     }
     if !f.plan.reflective.is_empty() {
         reflect::draw(f, &mut r, pass.name())?;

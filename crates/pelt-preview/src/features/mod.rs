@@ -16,7 +16,8 @@
 //! - [`mips`]: mip chains of layered targets (cube faces, arrays);
 //! - [`overlay`]: `pelt view`'s text overlay;
 //! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17);
-//! - [`strands`]: explicit strands, the converged fur reference.
+//! - [`strands`]: explicit strands, the converged fur reference;
+//! - [`skin`]: the skinning compute pass (glTF linear blend skinning) into storage buffers.
 //!
 //! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
 //! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
@@ -30,6 +31,7 @@ pub mod material;
 pub mod mips;
 pub mod overlay;
 pub mod reflect;
+pub mod skin;
 pub mod sky;
 pub mod strands;
 pub mod upscale;
@@ -58,6 +60,20 @@ pub mod slot {
     pub const LIGHTING: u32 = 2;
     /// The fur's heightfield and fin texture.
     pub const FUR: u32 = 3;
+    /// The material's textures and factors in the material and forward passes.
+    pub const MATERIAL: u32 = 3;
+    /// The material's textures and factors in the G-buffer pass (its normal map).
+    pub const GBUFFER_MATERIAL: u32 = 2;
+
+    /// Where `shader` reads the material (None: it reads none).
+    pub fn material(shader: crate::shaders::Shader) -> Option<u32> {
+        use crate::shaders::Shader;
+        match shader {
+            Shader::GBuffer => Some(GBUFFER_MATERIAL),
+            Shader::Material | Shader::Forward => Some(MATERIAL),
+            _ => None,
+        }
+    }
 }
 
 /// A planned pass lacks something it needs.
@@ -133,11 +149,13 @@ impl<'a> Frame<'a> {
         );
     }
 
-    /// Draws each object of `order` with the current pipeline (its mesh alone).
+    /// Draws each object of `order` with the current pipeline, `shader`'s, part by part,
+    /// binding each part's material where the shader reads one.
     pub fn draw_objects(
         &self,
         recipe: &mut Recipe<'a>,
         pass: &'static str,
+        shader: Shader,
         order: &[usize],
     ) -> Result<(), MissingInput> {
         for &k in order {
@@ -145,14 +163,22 @@ impl<'a> Frame<'a> {
             self.bind_object(recipe, k);
             recipe.push(Step::Vertices(0, &mesh.vertices));
             recipe.push(Step::Indices(&mesh.indices));
-            recipe.push(Step::DrawIndexed(0..mesh.count, 0..1));
+            match slot::material(shader) {
+                Some(at) => {
+                    for p in &mesh.parts {
+                        recipe.bind(at, &mesh.materials[p.material].group, None);
+                        recipe.push(Step::DrawIndexed(p.indices.clone(), 0..1));
+                    }
+                }
+                None => recipe.push(Step::DrawIndexed(0..mesh.count, 0..1)),
+            }
         }
         Ok(())
     }
 }
 
-const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32, 7 => Float32x2
 ];
 const FUR_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![
     4 => Float32x4, 5 => Float32x2, 6 => Float32x4
@@ -209,7 +235,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Overlay => overlay::spec(key),
         Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
         Shader::Strands => strands::spec(key),
-        Shader::FinRecords => PipelineSpec {
+        Shader::FinRecords | Shader::Skin => PipelineSpec {
             groups: vec![
                 crate::renderer::LayoutId::Storage,
                 crate::renderer::LayoutId::Storage,

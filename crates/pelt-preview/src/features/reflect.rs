@@ -688,5 +688,5 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
     r.pipeline(Shader::Reflect, Blend::None);
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
-    f.draw_objects(r, pass, &f.plan.reflective)
+    f.draw_objects(r, pass, Shader::Reflect, &f.plan.reflective)
 }

@@ -1,0 +1,193 @@
+//! The skinning pass (glTF 2.0 §3.7.3.3; skin.wgsl): one compute dispatch per frame moves a
+//! skinned primitive's positions, normals and tangents (the comb's frame, Revie §2.4.1) by
+//! its joints' matrices into a storage buffer of [`PosedVertex`]. The asset half
+//! ([`GpuSkin::new`]: rest vertices and influences, uploaded once) and the frame half
+//! ([`GpuSkin::set_pose`]: the joint matrices, written per frame; [`GpuSkin::encode`]: the
+//! dispatch) are kept apart, so a clip plays by writing matrices only. Its input is
+//! `pelt_anim::posed::SkinJob`, the same data `pelt pose` skins on the CPU.
+//!
+//! Not yet wired into drawing: the G-buffer, shells and fins still draw CPU-posed vertices
+//! (`pelt render --animation`); the pass is tested against `pelt pose` and benchmarked.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+use pelt_anim::posed::SkinJob;
+
+use crate::frame::FrameError;
+use crate::renderer::{PipelineError, Renderer};
+use crate::shaders::Shader;
+
+/// A vertex at rest. Keep in sync with `SkinVertex` in shaders/skin.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SkinVertex {
+    /// Position (w unused).
+    pub position: [f32; 4],
+    /// Normal (w unused).
+    pub normal: [f32; 4],
+    /// Tangent, w the handedness.
+    pub tangent: [f32; 4],
+    /// x: first influence; y: influence count.
+    pub influences: [u32; 4],
+}
+
+/// A skinned vertex. Keep in sync with `PosedVertex` in shaders/skin.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PosedVertex {
+    /// Position (w = 1).
+    pub position: [f32; 4],
+    /// Unit normal (w = 0).
+    pub normal: [f32; 4],
+    /// Unit tangent, w the handedness.
+    pub tangent: [f32; 4],
+}
+
+/// One skinned primitive on the GPU.
+#[derive(Debug)]
+pub struct GpuSkin {
+    joints: wgpu::Buffer,
+    posed: wgpu::Buffer,
+    groups: [wgpu::BindGroup; 2],
+    vertices: u32,
+    joint_count: usize,
+}
+
+/// Rest vertices and (joint, weight bits) pairs of `job`, every set's four in order.
+pub fn rest_records(job: &SkinJob) -> (Vec<SkinVertex>, Vec<[u32; 2]>) {
+    let sets = job.influences.joints.len();
+    let mut influences = Vec::with_capacity(job.positions.len() * 4 * sets);
+    let rest = (0..job.positions.len())
+        .map(|v| {
+            let first = influences.len() as u32;
+            for (js, ws) in job.influences.joints.iter().zip(&job.influences.weights) {
+                for (&j, &w) in js[v].iter().zip(&ws[v]) {
+                    influences.push([u32::from(j), w.to_bits()]);
+                }
+            }
+            let n = job.normals.as_ref().map_or(Vec3::Z, |n| n[v]);
+            let t = job.tangents.as_ref().map_or(Vec4::X, |t| t[v]);
+            SkinVertex {
+                position: job.positions[v].extend(1.0).into(),
+                normal: n.extend(0.0).into(),
+                tangent: t.into(),
+                influences: [first, influences.len() as u32 - first, 0, 0],
+            }
+        })
+        .collect();
+    // A buffer of zero bytes cannot be bound.
+    if influences.is_empty() {
+        influences.push([0, 0]);
+    }
+    (rest, influences)
+}
+
+fn storage_group(r: &Renderer, read: &wgpu::Buffer, written: &wgpu::Buffer) -> wgpu::BindGroup {
+    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("skin"),
+        layout: &r.layouts.storage,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: read.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: written.as_entire_binding(),
+            },
+        ],
+    })
+}
+
+impl GpuSkin {
+    /// Uploads `job`'s rest vertices and influences, and its pose's matrices.
+    pub fn new(r: &Renderer, job: &SkinJob) -> GpuSkin {
+        let (rest, influences) = rest_records(job);
+        let storage = wgpu::BufferUsages::STORAGE;
+        let rest_buf = r
+            .gpu
+            .buffer_init("skin rest", bytemuck::cast_slice(&rest), storage);
+        let inf_buf = r.gpu.buffer_init(
+            "skin influences",
+            bytemuck::cast_slice(&influences),
+            storage,
+        );
+        let joint_count = job.joints.as_ref().map_or(0, Vec::len);
+        let joints = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("skin joints"),
+            size: ((joint_count + 1) * 64) as u64,
+            usage: storage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let posed = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("skinned vertices"),
+            size: (rest.len().max(1) * size_of::<PosedVertex>()) as u64,
+            usage: storage | wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let groups = [
+            storage_group(r, &rest_buf, &posed),
+            storage_group(r, &inf_buf, &joints),
+        ];
+        let skin = GpuSkin {
+            joints,
+            posed,
+            groups,
+            vertices: rest.len() as u32,
+            joint_count,
+        };
+        skin.set_pose(r, job.joints.as_deref().unwrap_or(&[]), job.unweighted);
+        skin
+    }
+
+    /// Writes this frame's joint matrices (as many as the skin has) and the unweighted
+    /// vertices' matrix.
+    pub fn set_pose(&self, r: &Renderer, joints: &[Mat4], unweighted: Mat4) {
+        let mut m: Vec<[f32; 16]> = joints
+            .iter()
+            .take(self.joint_count)
+            .map(Mat4::to_cols_array)
+            .collect();
+        m.resize(self.joint_count, Mat4::IDENTITY.to_cols_array());
+        m.push(unweighted.to_cols_array());
+        r.gpu
+            .queue
+            .write_buffer(&self.joints, 0, bytemuck::cast_slice(&m));
+    }
+
+    /// Records the dispatch into `encoder`.
+    pub fn encode(
+        &self,
+        r: &Renderer,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), PipelineError> {
+        let pipeline = r.compute(Shader::Skin)?;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("skin"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        for (k, g) in self.groups.iter().enumerate() {
+            pass.set_bind_group(k as u32, g, &[]);
+        }
+        pass.dispatch_workgroups(self.vertices.div_ceil(64), 1, 1);
+        Ok(())
+    }
+
+    /// The skinned vertices (storage and vertex usage).
+    pub fn posed(&self) -> &wgpu::Buffer {
+        &self.posed
+    }
+
+    /// Vertices skinned.
+    pub fn vertex_count(&self) -> u32 {
+        self.vertices
+    }
+
+    /// Reads the skinned vertices back (tests, benchmarks).
+    pub fn read_back(&self, r: &Renderer) -> Result<Vec<PosedVertex>, FrameError> {
+        let bytes = crate::frame::read_buffer(r, &self.posed)?;
+        let n = self.vertices as usize;
+        Ok(bytemuck::cast_slice::<u8, PosedVertex>(&bytes)[..n].to_vec())
+    }
+}

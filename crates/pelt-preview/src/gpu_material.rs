@@ -1,0 +1,160 @@
+//! Materials on the GPU: a mesh's base colour, normal and metallic-roughness textures
+//! ([`pelt_scene::material`]) uploaded with their full mip chains, the glTF sampler's wrap
+//! modes, and the factors, as one bind group of the Material layout (read by the G-buffer for
+//! normal maps and by the material and forward passes for colour and specular). A slot the
+//! material leaves empty binds a 1×1 neutral texture (white; the flat normal), so every
+//! shader reads the same layout. The base colour view and sampler also go into the fur's
+//! group ([`crate::assets`]), where shells take the colour under each strand.
+
+use pelt_io::picture::{Rgba8, WrappingMode};
+use pelt_scene::fur::Level;
+use pelt_scene::material::{Material, Texture, mip_chain};
+
+use crate::renderer::Renderer;
+use crate::uniforms::MaterialUniforms;
+
+/// sRGB base colour.
+pub const BASE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Linear data (normals, metallic-roughness).
+pub const DATA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// One material on the GPU.
+#[derive(Debug)]
+pub struct GpuMaterial {
+    /// The Material-layout group.
+    pub group: wgpu::BindGroup,
+    /// The base colour texture (or the white texel).
+    pub base_view: wgpu::TextureView,
+    /// Its sampler.
+    pub base_sampler: wgpu::Sampler,
+}
+
+fn address(w: WrappingMode) -> wgpu::AddressMode {
+    match w {
+        WrappingMode::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+        WrappingMode::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+        WrappingMode::Repeat => wgpu::AddressMode::Repeat,
+    }
+}
+
+fn levels(image: &Rgba8, srgb: bool) -> Vec<Level<[u8; 4]>> {
+    mip_chain(image, srgb)
+        .into_iter()
+        .map(|l| Level {
+            width: l.width,
+            height: l.height,
+            texels: l
+                .pixels
+                .chunks_exact(4)
+                .map(|p| [p[0], p[1], p[2], p[3]])
+                .collect(),
+        })
+        .collect()
+}
+
+/// A texture slot's view and sampler: the material's texture, or the 1×1 `neutral` texel.
+fn slot(
+    r: &Renderer,
+    label: &str,
+    t: Option<&Texture>,
+    format: wgpu::TextureFormat,
+    neutral: [u8; 4],
+) -> (wgpu::TextureView, wgpu::Sampler) {
+    let srgb = format == BASE_FORMAT;
+    let (lv, wrap) = match t {
+        Some(t) => (levels(&t.image, srgb), t.wrap),
+        None => (
+            vec![Level {
+                width: 1,
+                height: 1,
+                texels: vec![neutral],
+            }],
+            [WrappingMode::Repeat; 2],
+        ),
+    };
+    let view = crate::assets::upload_levels(r, label, format, &lv, |t| t.to_vec());
+    let sampler = r.gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: address(wrap[0]),
+        address_mode_v: address(wrap[1]),
+        address_mode_w: wgpu::AddressMode::Repeat,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        anisotropy_clamp: 1,
+        ..Default::default()
+    });
+    (view, sampler)
+}
+
+/// The factors of `m` as the shaders read them.
+pub fn uniforms(m: &Material) -> MaterialUniforms {
+    MaterialUniforms {
+        factors: [m.normal_scale, m.metallic, m.roughness, 0.0],
+        flags: [
+            u32::from(m.normal.is_some()),
+            u32::from(m.base_color.is_some()),
+            u32::from(m.metallic_roughness.is_some()),
+            0,
+        ],
+    }
+}
+
+/// Uploads `m`.
+pub fn upload(r: &Renderer, m: &Material) -> GpuMaterial {
+    let (base_view, base_sampler) = slot(
+        r,
+        "base colour",
+        m.base_color.as_ref(),
+        BASE_FORMAT,
+        [255; 4],
+    );
+    let (normal_view, normal_sampler) = slot(
+        r,
+        "normal texture",
+        m.normal.as_ref(),
+        DATA_FORMAT,
+        [128, 128, 255, 255],
+    );
+    let (mr_view, mr_sampler) = slot(
+        r,
+        "metallic-roughness",
+        m.metallic_roughness.as_ref(),
+        DATA_FORMAT,
+        [255; 4],
+    );
+    let factors = r.gpu.buffer_init(
+        "material factors",
+        bytemuck::bytes_of(&uniforms(m)),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let view = wgpu::BindingResource::TextureView;
+    let sampler = wgpu::BindingResource::Sampler;
+    let resources = [
+        view(&base_view),
+        view(&normal_view),
+        view(&mr_view),
+        sampler(&base_sampler),
+        sampler(&normal_sampler),
+        sampler(&mr_sampler),
+        factors.as_entire_binding(),
+    ];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .into_iter()
+        .enumerate()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource,
+        })
+        .collect();
+    let group = r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("material"),
+        layout: &r.layouts.material,
+        entries: &entries,
+    });
+    GpuMaterial {
+        group,
+        base_view,
+        base_sampler,
+    }
+}

@@ -1,0 +1,258 @@
+//! Materials for the preview: a glTF material's base colour, normal and metallic-roughness
+//! textures (glTF 2.0 §3.9.2–3.9.4; Frantzen's "textured, normal mapped, roughness mapped
+//! objects") with their factors, read through `pelt_io::picture` (the `gltf` crate's typed
+//! document, images decoded with the `image` crate), and the mip chains the renderer uploads.
+//! Factors that glTF multiplies per vertex (the base colour factor) stay in the vertex albedo;
+//! the scalar factors live here. Decoded images are shared between the materials that use them.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use pelt_io::picture::{self, Rgba8, Slot, WrappingMode};
+use pelt_io::{Document, IoError};
+
+/// One texture of a material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Texture {
+    /// The decoded image (shared by every material that uses it).
+    pub image: Arc<Rgba8>,
+    /// The sampler's wrap modes (s, t).
+    pub wrap: [WrappingMode; 2],
+}
+
+/// One material as the preview draws it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// `baseColorTexture` (sRGB; multiplied into the vertex albedo).
+    pub base_color: Option<Texture>,
+    /// `normalTexture` (linear, tangent space).
+    pub normal: Option<Texture>,
+    /// `normalTexture.scale`.
+    pub normal_scale: f32,
+    /// `metallicRoughnessTexture` (linear: B metalness, G roughness).
+    pub metallic_roughness: Option<Texture>,
+    /// `metallicFactor`.
+    pub metallic: f32,
+    /// `roughnessFactor`.
+    pub roughness: f32,
+    /// The TEXCOORD set every texture of the material is sampled with (the base colour
+    /// texture's, else the normal texture's, else the metallic-roughness texture's).
+    pub tex_coord: u32,
+}
+
+impl Default for Material {
+    /// The material of a primitive without one and of built-in shapes: no textures, a
+    /// dielectric (metallic 0) of roughness 0.5, the preview's neutral surface (its specular
+    /// term unscaled). glTF's own default (metallic 1, roughness 1) would draw such meshes as
+    /// unlit black metal in a renderer without environment reflections; materials that exist
+    /// get glTF's defaults for the factors they leave out.
+    fn default() -> Self {
+        Material {
+            base_color: None,
+            normal: None,
+            normal_scale: 1.0,
+            metallic_roughness: None,
+            metallic: 0.0,
+            roughness: 0.5,
+            tex_coord: 0,
+        }
+    }
+}
+
+impl Material {
+    /// Whether any texture is sampled (the vertices need UVs).
+    pub fn textured(&self) -> bool {
+        self.base_color.is_some() || self.normal.is_some() || self.metallic_roughness.is_some()
+    }
+}
+
+/// A run of a mesh's index list drawn with one material.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Part {
+    /// First index.
+    pub first: u32,
+    /// Index count.
+    pub count: u32,
+    /// Index into the mesh's materials.
+    pub material: u32,
+}
+
+/// Reads a document's materials on demand, decoding each image once.
+#[derive(Debug, Default)]
+pub struct MaterialReader {
+    images: HashMap<usize, Arc<Rgba8>>,
+    /// Materials read so far, by glTF index (None: a primitive without a material).
+    pub read: Vec<(Option<usize>, Material)>,
+}
+
+impl MaterialReader {
+    /// The index (into [`MaterialReader::read`]) of glTF material `m`, read now unless it
+    /// already was.
+    pub fn index(&mut self, doc: &Document, m: Option<usize>) -> Result<u32, IoError> {
+        if let Some(k) = self.read.iter().position(|(i, _)| *i == m) {
+            return Ok(k as u32);
+        }
+        let material = match m {
+            Some(m) => self.material(doc, m)?,
+            None => Material::default(),
+        };
+        self.read.push((m, material));
+        Ok(self.read.len() as u32 - 1)
+    }
+
+    fn texture(
+        &mut self,
+        doc: &Document,
+        m: usize,
+        slot: Slot,
+    ) -> Result<Option<(Texture, u32)>, IoError> {
+        let Some(t) = picture::material_texture(doc, m, slot)? else {
+            return Ok(None);
+        };
+        let image = match self.images.get(&t.image) {
+            Some(i) => Arc::clone(i),
+            None => {
+                let i = Arc::new(picture::decode(doc, t.image)?);
+                self.images.insert(t.image, Arc::clone(&i));
+                i
+            }
+        };
+        Ok(Some((
+            Texture {
+                image,
+                wrap: t.wrap,
+            },
+            t.tex_coord,
+        )))
+    }
+
+    fn material(&mut self, doc: &Document, m: usize) -> Result<Material, IoError> {
+        let [normal_scale, metallic, roughness] = picture::material_factors(doc, m)?;
+        if !picture::has_textures(doc, m) {
+            return Ok(Material {
+                normal_scale,
+                metallic,
+                roughness,
+                ..Material::default()
+            });
+        }
+        let base = self.texture(doc, m, Slot::BaseColor)?;
+        let normal = self.texture(doc, m, Slot::Normal)?;
+        let mr = self.texture(doc, m, Slot::MetallicRoughness)?;
+        let tex_coord = [&base, &normal, &mr]
+            .into_iter()
+            .flatten()
+            .map(|(_, set)| *set)
+            .next()
+            .unwrap_or(0);
+        Ok(Material {
+            base_color: base.map(|(t, _)| t),
+            normal: normal.map(|(t, _)| t),
+            normal_scale,
+            metallic_roughness: mr.map(|(t, _)| t),
+            metallic,
+            roughness,
+            tex_coord,
+        })
+    }
+}
+
+/// sRGB-encoded `c` (0..1) to linear.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear `c` (0..1) to sRGB-encoded.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The full mip chain of `image`, level 0 first, each level a 2×2 box filter of the one above
+/// (odd sides clamp their last texel). With `srgb`, colour channels are averaged in linear
+/// light and stored sRGB-encoded again; alpha (and every channel of a linear image) is
+/// averaged as stored. Normal maps are averaged as stored too (the shader renormalizes).
+pub fn mip_chain(image: &Rgba8, srgb: bool) -> Vec<Rgba8> {
+    let mut levels = vec![image.clone()];
+    let to_linear: Vec<f32> = (0..=255u8)
+        .map(|b| {
+            let c = f32::from(b) / 255.0;
+            if srgb { srgb_to_linear(c) } else { c }
+        })
+        .collect();
+    while let Some(top) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
+        let (w, h) = ((top.width / 2).max(1), (top.height / 2).max(1));
+        let mut pixels = Vec::with_capacity(w as usize * h as usize * 4);
+        for y in 0..h {
+            for x in 0..w {
+                for c in 0..4 {
+                    let mut sum = 0.0;
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let sx = (2 * x + dx).min(top.width - 1) as usize;
+                        let sy = (2 * y + dy).min(top.height - 1) as usize;
+                        let b = top.pixels[(sy * top.width as usize + sx) * 4 + c];
+                        sum += if c < 3 {
+                            to_linear[b as usize]
+                        } else {
+                            f32::from(b) / 255.0
+                        };
+                    }
+                    let mean = sum / 4.0;
+                    let stored = if srgb && c < 3 {
+                        linear_to_srgb(mean)
+                    } else {
+                        mean
+                    };
+                    pixels.push((stored * 255.0).round().clamp(0.0, 255.0) as u8);
+                }
+            }
+        }
+        levels.push(Rgba8 {
+            width: w,
+            height: h,
+            pixels,
+        });
+    }
+    levels
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mip_chain_halves_to_one_texel_and_averages_in_linear_light() {
+        // 3×2: black and white columns; sRGB averaging of black and white is linear 0.5.
+        let px = |v: u8| [v, v, v, 255];
+        let image = Rgba8 {
+            width: 3,
+            height: 2,
+            pixels: [px(0), px(255), px(0), px(0), px(255), px(0)].concat(),
+        };
+        let srgb = mip_chain(&image, true);
+        assert_eq!(
+            srgb.iter().map(|l| (l.width, l.height)).collect::<Vec<_>>(),
+            vec![(3, 2), (1, 1)]
+        );
+        let expect = (linear_to_srgb(0.5) * 255.0).round() as u8;
+        assert_eq!(srgb[1].pixels, vec![expect, expect, expect, 255]);
+        assert_eq!(expect, 188);
+        // Linear images average as stored.
+        assert_eq!(mip_chain(&image, false)[1].pixels, vec![128, 128, 128, 255]);
+    }
+
+    #[test]
+    fn srgb_round_trips() {
+        for b in 0..=255u8 {
+            let c = f32::from(b) / 255.0;
+            assert!((linear_to_srgb(srgb_to_linear(c)) - c).abs() < 1e-5, "{b}");
+        }
+    }
+}
