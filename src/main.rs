@@ -365,6 +365,17 @@ pub struct ViewArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+    /// An animated asset's clip to start with (default: its first; `pelt inspect` lists
+    /// them). The window plays it: Space plays and pauses, `,` `.` step a frame, C picks
+    /// the next clip.
+    #[arg(long, value_name = "NAME")]
+    pub animation: Option<String>,
+    /// Seconds into the clip to start at.
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true)]
+    pub time: f32,
+    /// Scripted: advance the clip one 1/30 s frame per frame drawn (the window always plays).
+    #[arg(long, requires = "frames")]
+    pub play: bool,
 }
 
 fn positive_ms(s: &str) -> Result<f64, String> {

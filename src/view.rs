@@ -39,6 +39,9 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         shaders: args.shaders.clone().or_else(default_shaders),
         overlay: args.overlay,
         quiet: args.quiet,
+        animation: args.animation.clone(),
+        time: args.time,
+        play: args.play,
     };
     match pelt_view::run(view) {
         Ok(()) => Ok(ExitCode::SUCCESS),

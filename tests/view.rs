@@ -306,3 +306,100 @@ fn the_overlay_draws_text_over_the_window_and_nothing_else() {
         "the overlay changed pixels outside its box"
     );
 }
+
+/// The Fox baked with a generated comb (its fur from the bake's default config).
+fn fox(dir: &Path) -> PathBuf {
+    bake(&fixture("fox/Fox.glb"), dir, &["--comb", "generate"])
+}
+
+#[test]
+fn an_animated_asset_plays_in_the_window_and_a_paused_frame_equals_pelt_render() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-animation");
+    let asset = fox(&dir);
+    let b = backend();
+    let shoot = |name: &str, time: &str, play: bool| {
+        let shot = dir.join(name);
+        let mut args = vec![
+            s(&asset),
+            "--animation",
+            "Walk",
+            "--time",
+            time,
+            "--frames",
+            "3",
+            "--screenshot",
+            s(&shot),
+            "--size",
+            "192x128",
+        ];
+        if play {
+            args.push("--play");
+        }
+        let out = view(&args);
+        (
+            load_png(&shot),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let render = |name: &str, time: &str| {
+        let path = dir.join(name);
+        pelt_ok(&[
+            "render",
+            "--backend",
+            &b,
+            s(&asset),
+            "-o",
+            s(&path),
+            "--size",
+            "192x128",
+            "--animation",
+            "Walk",
+            "--time",
+            time,
+        ]);
+        load_png(&path)
+    };
+    // Paused at 0.3667 s: the window's frame is pelt render's at that time.
+    let (paused, log) = shoot("paused.png", "0.36666667", false);
+    assert!(log.contains("Walk 0.37/0.71 s paused"), "{log}");
+    let late = render("at-0.367.png", "0.36666667");
+    let f = flip(&late, &paused);
+    eprintln!("paused at 0.367 s against pelt render at 0.367 s: FLIP {f:.5}");
+    assert!(f <= 0.002, "FLIP {f} > 0.002");
+    // Playing from 0.3 s: three frames later the clip is at 0.367 s (framed at 0.3 s, where
+    // it started, so closer to the render at 0.367 s than to the one at 0.3 s).
+    let (played, log) = shoot("played.png", "0.3", true);
+    assert!(log.contains("Walk 0.37/0.71 s playing"), "{log}");
+    let early = render("at-0.3.png", "0.3");
+    let (to_late, to_early) = (flip(&late, &played), flip(&early, &played));
+    eprintln!("played to 0.367 s: FLIP {to_late:.5} against 0.367 s, {to_early:.5} against 0.3 s");
+    assert!(to_late < to_early, "the clip did not advance");
+    // Negative control: the check tells 0.3 s from 0.367 s (two frames of the walk).
+    let g = flip(&early, &paused);
+    eprintln!("0.3 s against 0.367 s: FLIP {g:.5}");
+    assert!(g > 0.002, "0.3 s and 0.367 s look alike: {g}");
+    // A clip the asset does not have is an error listing those it has.
+    let out = Command::new("xvfb-run")
+        .args(["-a"])
+        .arg(env!("CARGO_BIN_EXE_pelt"))
+        .args([
+            "view",
+            "--backend",
+            &b,
+            s(&asset),
+            "--animation",
+            "Trot",
+            "--frames",
+            "1",
+        ])
+        .output()
+        .expect("run");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("Survey, Walk, Run"),
+        "{err}"
+    );
+}

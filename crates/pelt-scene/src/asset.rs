@@ -157,10 +157,17 @@ pub fn load_at(path: &Path, pose: Option<&PoseAt>) -> Result<MeshData, AssetErro
     let Some(pose) = pose.filter(|_| !path.to_string_lossy().starts_with(BUILTIN)) else {
         return load(path);
     };
-    let mut doc = pelt_io::load(path)?;
-    if !doc.array("animations").is_empty() {
-        pelt_anim::posed::pose_document(&mut doc, Some(&pose.animation), pose.time)?;
+    posed(&pelt_io::load(path)?, pose)
+}
+
+/// `doc` posed at `pose` (when it has animations) and flattened; `doc` itself is unchanged,
+/// so a viewer keeps one document and poses it frame after frame.
+pub fn posed(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
+    if doc.array("animations").is_empty() {
+        return flatten(doc);
     }
+    let mut doc = doc.clone();
+    pelt_anim::posed::pose_document(&mut doc, Some(&pose.animation), pose.time)?;
     flatten(&doc)
 }
 

@@ -49,6 +49,8 @@ struct Running {
     /// The text overlay, and whether it shows.
     overlay: Overlay,
     show_overlay: bool,
+    /// When the animation last advanced.
+    last_tick: Instant,
 }
 
 /// The application.
@@ -127,6 +129,7 @@ impl App {
             settings,
             Surface { size, format },
             a.budget_ms,
+            (a.animation.as_deref(), a.time, a.frames.is_none() || a.play),
         )?;
         let scripted = a.frames.is_some();
         if !scripted {
@@ -161,6 +164,7 @@ impl App {
             captured: None,
             overlay,
             show_overlay: !scripted || a.overlay,
+            last_tick: Instant::now(),
         })
     }
 }
@@ -238,10 +242,39 @@ impl Running {
                 Action::Help => println!("{}", controls::HELP),
                 Action::ToggleOverlay => self.show_overlay = !self.show_overlay,
                 Action::Quit => el.exit(),
+                Action::PlayPause | Action::Step(_) | Action::NextClip => self.timeline(a),
                 _ => {}
             }
         }
         self.window.request_redraw();
+    }
+
+    /// A timeline key: play/pause, step, next clip; the asset is posed at the new time.
+    fn timeline(&mut self, a: Action) {
+        let Some(t) = &mut self.viewer.timeline else {
+            self.message = Some("no animation to play".into());
+            return;
+        };
+        match a {
+            Action::PlayPause => t.toggle(),
+            Action::Step(d) => t.step(i32::from(d)),
+            Action::NextClip => t.next_clip(),
+            _ => return,
+        }
+        self.last_tick = Instant::now();
+        if let Err(e) = self.viewer.follow_timeline(&mut self.preview) {
+            self.report(e);
+        }
+    }
+
+    /// Advances a playing animation by `dt` seconds and poses the asset there.
+    fn tick(&mut self, dt: f32) -> Result<(), ViewError> {
+        if let Some(t) = &mut self.viewer.timeline
+            && t.advance(dt)
+        {
+            self.viewer.follow_timeline(&mut self.preview)?;
+        }
+        Ok(())
     }
 
     fn screenshot(&mut self, to: Option<&PathBuf>) {
@@ -350,6 +383,7 @@ fn key_name(key: &Key) -> Option<String> {
     match key {
         Key::Character(c) => Some(c.to_lowercase()),
         Key::Named(NamedKey::Escape) => Some("Escape".into()),
+        Key::Named(NamedKey::Space) => Some("Space".into()),
         _ => None,
     }
 }
@@ -442,9 +476,11 @@ impl ApplicationHandler for App {
                 let result = if let Some(n) = self.args.frames {
                     scripted_frame(r, &self.args, n, el)
                 } else {
+                    let dt = r.last_tick.elapsed().as_secs_f32();
+                    r.last_tick = Instant::now();
                     let moving = r.moving();
                     let first = r.frame_ms == 0.0;
-                    let drawn = r.redraw(moving, false);
+                    let drawn = r.tick(dt).and_then(|()| r.redraw(moving, false));
                     // The overlay shows the previous frame's time: draw the first one twice.
                     if first {
                         r.window.request_redraw();
@@ -478,7 +514,8 @@ impl ApplicationHandler for App {
                 .last_quality
                 .zip(r.viewer.budget)
                 .is_some_and(|(q, b)| q != b.costs.full);
-        if r.moving() || settled_after_motion {
+        let playing = r.viewer.timeline.as_ref().is_some_and(|t| t.playing);
+        if r.moving() || settled_after_motion || playing {
             r.window.request_redraw();
         }
         el.set_control_flow(ControlFlow::WaitUntil(Instant::now() + POLL));
@@ -500,6 +537,10 @@ fn scripted_frame(
     if r.frames > 0 && orbiting {
         r.viewer.orbit.rotate(args.orbit.to_radians(), 0.0);
         r.viewer.camera_moved();
+    }
+    if r.frames > 0 {
+        // Scripted playback: one 1/30 s frame per frame drawn.
+        r.tick(crate::timeline::FRAME_S)?;
     }
     let last = r.frames + 1 == n;
     let moving = orbiting && !last;

@@ -40,6 +40,12 @@ pub enum Action {
     Help,
     /// Close the window.
     Quit,
+    /// Play or pause the animation.
+    PlayPause,
+    /// Step the animation a frame back (`,`) or forward (`.`).
+    Step(i8),
+    /// The next animation clip.
+    NextClip,
 }
 
 /// The action of a key, by its character (lower case) or name.
@@ -60,6 +66,10 @@ pub fn action(key: &str) -> Option<Action> {
         "o" => Action::ToggleOverlay,
         "h" | "?" => Action::Help,
         "q" | "Escape" => Action::Quit,
+        "Space" => Action::PlayPause,
+        "," => Action::Step(-1),
+        "." => Action::Step(1),
+        "c" => Action::NextClip,
         _ => return None,
     })
 }
@@ -72,6 +82,7 @@ pelt view controls:
   M  mode (inferred, deferred, forward)      [ ]  L-buffer scale -/+ 0.125
   D  DSF on/off    - =  shells halve/double  I  fins on/off   B  stipple/WBOIT
   P  screenshot    R  reload input and shaders   T  measure pass costs   O  overlay on/off
+  Space  play/pause the animation   , .  step a frame back/forward   C  next clip
   H  this help     Q / Esc  quit
 Drop a .glb, .gltf, .obj or .json on the window to open it; the open file reloads when it
 changes on disk.";
@@ -132,6 +143,9 @@ mod tests {
         assert_eq!(action("["), Some(Action::LbufferScale(-1)));
         assert_eq!(action("Escape"), Some(Action::Quit));
         assert_eq!(action("z"), None);
+        assert_eq!(action("Space"), Some(Action::PlayPause));
+        assert_eq!(action(","), Some(Action::Step(-1)));
+        assert_eq!(action("c"), Some(Action::NextClip));
     }
 
     #[test]

@@ -6,10 +6,12 @@
 //! - [`controls`]: keys to actions, actions to settings;
 //! - [`viewer`]: the open scene, camera, budget and drawing, apart from the window system;
 //! - [`watch`]: polling files for changes;
+//! - [`timeline`]: an animated asset's clip, time and play state;
 //! - [`app`]: the winit window and its event loop.
 
 pub mod app;
 pub mod controls;
+pub mod timeline;
 pub mod viewer;
 pub mod watch;
 
@@ -47,6 +49,13 @@ pub struct ViewArgs {
     pub overlay: bool,
     /// Print only errors.
     pub quiet: bool,
+    /// The clip an animated asset starts with (None: its first).
+    pub animation: Option<String>,
+    /// Seconds into it.
+    pub time: f32,
+    /// Scripted mode: advance the clip one 1/30 s frame per frame drawn (the window always
+    /// starts playing).
+    pub play: bool,
 }
 
 /// Window size for an asset without `--size`.

@@ -17,6 +17,7 @@ use pelt_preview::scene::{Material, Scene};
 use pelt_preview::{Image, Preview, RenderError, SceneView, ViewOutput};
 
 use crate::controls::Settings;
+use crate::timeline::Timeline;
 use crate::watch::Watch;
 
 /// The window's output.
@@ -56,10 +57,45 @@ pub struct Viewer {
     pub pass_ms: Vec<(Pass, f64)>,
     /// The quality of the last frame drawn.
     pub last_quality: Option<Quality>,
+    /// The animation playing, when the input is an animated asset.
+    pub timeline: Option<Timeline>,
+    /// The animated asset's document (posed afresh for each time drawn).
+    animated: Option<pelt_io::Document>,
+    /// The pose the meshes were last built at.
+    posed_at: Option<pelt_preview::asset::PoseAt>,
     full: SceneView,
     reduced: Option<Reduced>,
     surface: Surface,
     watch: Watch,
+}
+
+/// An animated asset's document and timeline (None for scene files and static assets).
+fn animation_of(
+    path: &Path,
+    start: Option<&str>,
+    time: f32,
+    playing: bool,
+) -> Result<Option<(pelt_io::Document, Timeline)>, ViewError> {
+    if knobs::is_scene(path)
+        || path
+            .to_string_lossy()
+            .starts_with(pelt_preview::asset::BUILTIN)
+    {
+        return match start {
+            Some(_) => Err(ViewError::Animation(
+                "--animation needs an asset (.glb, .gltf), not a scene file".into(),
+            )),
+            None => Ok(None),
+        };
+    }
+    let doc = pelt_io::load(path).map_err(|e| ViewError::Animation(e.to_string()))?;
+    if doc.array("animations").is_empty() && start.is_none() {
+        return Ok(None);
+    }
+    let rig = pelt_anim::rig::Rig::load(&doc).map_err(|e| ViewError::Animation(e.to_string()))?;
+    let t = Timeline::new(rig.summary().animations, start, time, playing)
+        .map_err(|e| ViewError::Animation(format!("{}: {e}", path.display())))?;
+    Ok(t.map(|t| (doc, t)))
 }
 
 /// The files an input depends on (the file, and a scene's assets).
@@ -92,15 +128,22 @@ fn max_shells(sv: &SceneView) -> Option<u32> {
 }
 
 impl Viewer {
-    /// Loads `path` for a window of `surface`.
+    /// Loads `path` for a window of `surface`; an animated asset starts at `time` s of the
+    /// clip `animation` (its first when None), playing when `playing`.
     pub fn open(
         preview: &mut Preview,
         path: &Path,
         settings: Settings,
         surface: Surface,
         target_ms: f64,
+        (animation, time, playing): (Option<&str>, f32, bool),
     ) -> Result<Viewer, ViewError> {
-        let input = load(path, surface.size)?;
+        let anim = animation_of(path, animation, time, playing)?;
+        let posed_at = anim.as_ref().map(|(_, t)| t.pose());
+        // Framed on the first pose drawn, as `pelt render --animation` frames it; the camera
+        // then stays while the clip plays.
+        let input = load_posed(path, surface.size, posed_at.as_ref())?;
+        let (animated, timeline) = anim.unzip();
         let orbit = Orbit::new(&input.scene.camera);
         let mut v = Viewer {
             path: path.to_owned(),
@@ -120,11 +163,39 @@ impl Viewer {
             target_ms,
             pass_ms: Vec::new(),
             last_quality: None,
+            timeline,
+            animated,
+            posed_at,
             reduced: None,
             surface,
         };
         v.refresh(preview)?;
         Ok(v)
+    }
+
+    /// Draws the animated asset at the timeline's time: when it moved since the meshes were
+    /// last built, the asset is posed again (on the CPU, `pelt_anim`) and uploaded.
+    pub fn follow_timeline(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
+        let (Some(doc), Some(t)) = (&self.animated, &self.timeline) else {
+            return Ok(());
+        };
+        let pose = t.pose();
+        if self.posed_at.as_ref() == Some(&pose) {
+            return Ok(());
+        }
+        self.input.meshes[0] = pelt_preview::asset::posed(doc, &pose)
+            .map_err(|e| ViewError::Animation(e.to_string()))?;
+        self.posed_at = Some(pose);
+        self.full = prepare(
+            preview,
+            &self.input,
+            self.settings.mode,
+            &self.scene(),
+            window_output(self.surface),
+        )?;
+        self.reduced = None;
+        preview.assets.sweep();
+        Ok(())
     }
 
     /// The scene as drawn at full quality: the input's, with the knobs and the camera.
@@ -184,7 +255,19 @@ impl Viewer {
     /// Opens `path` (a dropped file, or a reload of the same). On an error the last good
     /// scene stays and the error is returned.
     pub fn reload(&mut self, preview: &mut Preview, path: &Path) -> Result<(), ViewError> {
-        let input = load(path, self.surface.size)?;
+        let keep = self
+            .timeline
+            .as_ref()
+            .filter(|_| path == self.path)
+            .map(|t| (t.pose(), t.playing));
+        let anim = match &keep {
+            // A clip that no longer exists starts the file's first.
+            Some((p, playing)) => animation_of(path, Some(&p.animation), p.time, *playing)
+                .or_else(|_| animation_of(path, None, 0.0, *playing))?,
+            None => animation_of(path, None, 0.0, true)?,
+        };
+        let posed_at = anim.as_ref().map(|(_, t)| t.pose());
+        let input = load_posed(path, self.surface.size, posed_at.as_ref())?;
         let scene = scene_of(&input, &self.settings.knobs, self.surface.size);
         let full = prepare(
             preview,
@@ -202,6 +285,8 @@ impl Viewer {
         }
         self.input = input;
         self.full = full;
+        (self.animated, self.timeline) = anim.unzip();
+        self.posed_at = posed_at;
         self.refresh(preview)?;
         preview.assets.sweep();
         Ok(())
@@ -412,6 +497,9 @@ impl Viewer {
             );
         }
         let mut lines = vec![first, second];
+        if let Some(t) = &self.timeline {
+            lines.push(t.status());
+        }
         if !self.pass_ms.is_empty() {
             let p: Vec<String> = self
                 .pass_ms
@@ -429,9 +517,14 @@ impl Viewer {
     }
 }
 
-/// Loads an input for a window of `size` (an asset's default scene takes the window's size).
-fn load(path: &Path, size: (u32, u32)) -> Result<Input, ViewError> {
-    knobs::load(path, &Knobs::default(), size).map_err(ViewError::Input)
+/// Loads an input for a window of `size` (an asset's default scene takes the window's
+/// size), posed at `pose` when there is one.
+fn load_posed(
+    path: &Path,
+    size: (u32, u32),
+    pose: Option<&pelt_preview::asset::PoseAt>,
+) -> Result<Input, ViewError> {
+    knobs::load_at(path, &Knobs::default(), size, pose).map_err(ViewError::Input)
 }
 
 /// The input's scene with the knobs applied, at the window's size.
@@ -477,6 +570,9 @@ pub enum ViewError {
     /// Writing a file failed.
     #[error(transparent)]
     Frame(#[from] pelt_preview::FrameError),
+    /// The asset's animation cannot be played (a clip that does not exist, a bad rig).
+    #[error("{0}")]
+    Animation(String),
 }
 
 /// Time since `t`, in milliseconds.
