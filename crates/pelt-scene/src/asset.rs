@@ -647,6 +647,23 @@ mod tests {
     }
 
     #[test]
+    fn a_missing_texcoord_set_or_an_undecodable_image_is_an_error_naming_the_place() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let fox = pelt_io::load(&root.join("fox/Fox.glb")).expect("fox");
+        // The base colour texture names TEXCOORD_1, which the primitive does not have.
+        let mut doc = fox.clone();
+        doc.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] =
+            serde_json::json!(1);
+        let e = flatten(&doc).expect_err("no TEXCOORD_1").to_string();
+        assert!(e.contains("TEXCOORD_1") && e.contains("meshes[0]"), "{e}");
+        // The image's bytes are the positions, not a PNG or JPEG.
+        let mut doc = fox;
+        doc.json["images"][0]["bufferView"] = serde_json::json!(0);
+        let e = flatten(&doc).expect_err("not an image").to_string();
+        assert!(e.contains("images[0]") && e.contains("PNG"), "{e}");
+    }
+
+    #[test]
     fn parts_merge_runs_of_one_material() {
         let mut parts = Vec::new();
         push_part(&mut parts, 0, 6, 0);
