@@ -55,6 +55,14 @@ struct MaterialParams {
     flags: vec4<u32>,
 }
 
+// A skinned vertex (skin.wgsl writes them, skin_scatter.wgsl copies them into the vertex
+// buffers). Keep in sync with PosedVertex in crates/pelt-preview/src/features/skin.rs.
+struct PosedVertex {
+    position: vec4<f32>,
+    normal: vec4<f32>,
+    tangent: vec4<f32>,
+}
+
 struct Light {
     // View-space position, radius.
     position_radius: vec4<f32>,

@@ -5,8 +5,8 @@
 // comb's frame, so the baked tangent-space comb rides along (Revie §2.4.1). Weights that do
 // not sum to 1 (within 1e-3) are normalized; a vertex with no weight takes the last matrix
 // (its node's own transform). The same arithmetic as pelt_anim::skinning (SkinJob::on_cpu),
-// which the preview's tests compare against. Keep SkinVertex, PosedVertex in sync with
-// crates/pelt-preview/src/features/skin.rs.
+// which the preview's tests compare against. Keep SkinVertex (and PosedVertex, in common.wgsl)
+// in sync with crates/pelt-preview/src/features/skin.rs.
 
 struct SkinVertex {
     position: vec4<f32>,
@@ -14,12 +14,6 @@ struct SkinVertex {
     tangent: vec4<f32>,
     // x: first influence; y: influence count.
     influences: vec4<u32>,
-}
-
-struct PosedVertex {
-    position: vec4<f32>,
-    normal: vec4<f32>,
-    tangent: vec4<f32>,
 }
 
 @group(0) @binding(0) var<storage, read> rest: array<SkinVertex>;

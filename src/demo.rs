@@ -121,16 +121,14 @@ fn fox_renders(
     )?;
     let still = preview.render(&d)?;
     let (tw, th) = ((w / 4).max(1), (h / 4).max(1));
+    // Prepared once; each frame of the walk is skinned on the GPU.
+    let first = load_at(asset, Some(&walk(0.0)))?;
+    let d = preview.prepare_loaded(&scene_at(tw, th), &[first, quad], &[0, 1], Mode::Inferred)?;
     let mut tiles = Vec::new();
     for k in 0..frames {
         // Walk: 0 to 0.708 s; frames evenly over one cycle.
-        let m = load_at(asset, Some(&walk(0.708 * k as f32 / frames as f32)))?;
-        let d = preview.prepare_loaded(
-            &scene_at(tw, th),
-            &[m, quad.clone()],
-            &[0, 1],
-            Mode::Inferred,
-        )?;
+        let t = 0.708 * k as f32 / frames as f32;
+        preview.pose(&d, "Walk", t, asset)?;
         tiles.push(preview.render(&d)?);
     }
     Ok((still, Image::contact_sheet(&tiles, 4)))

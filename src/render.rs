@@ -417,21 +417,34 @@ fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Res
         Ok(p) => p,
         Err(e) => return Ok(fail(e)),
     };
+    // Prepared once; each frame skins the asset on the GPU (assets the GPU cannot skin, with
+    // morph targets or without NORMAL, are posed on the CPU and uploaded per frame).
+    let gpu_skinned = first.meshes.iter().any(|m| m.skin.is_some());
+    let mut prepared = None;
     let mut tiles = Vec::new();
     for i in 0..frames {
-        let meshes = if i == 0 {
-            first.meshes.clone()
-        } else {
-            match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(i))) {
-                Ok(inp) => inp.meshes,
+        if prepared.is_none() || !gpu_skinned {
+            let meshes = if i == 0 {
+                first.meshes.clone()
+            } else {
+                match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(i))) {
+                    Ok(inp) => inp.meshes,
+                    Err(e) => return Ok(fail(e)),
+                }
+            };
+            match preview.prepare_loaded(&first.scene, &meshes, &first.mesh_of, mode) {
+                Ok(d) => prepared = Some(d),
                 Err(e) => return Ok(fail(e)),
             }
-        };
-        let d = match preview.prepare_loaded(&first.scene, &meshes, &first.mesh_of, mode) {
-            Ok(d) => d,
-            Err(e) => return Ok(fail(e)),
-        };
-        match preview.render(&d) {
+        }
+        let Some(d) = &prepared else { continue };
+        if gpu_skinned && i > 0 {
+            let a = at(i);
+            if let Err(e) = preview.pose(d, &a.animation, a.time, &args.input) {
+                return Ok(fail(e));
+            }
+        }
+        match preview.render(d) {
             Ok(t) => tiles.push(t),
             Err(e) => return Ok(fail(e)),
         }

@@ -49,6 +49,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
                 })
                 .collect(),
             fins: Vec::new(),
+            fin_sources: Vec::new(),
             look: FurLook {
                 length,
                 shells: 16,

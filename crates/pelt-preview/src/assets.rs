@@ -30,6 +30,8 @@ pub struct GpuMesh {
     pub materials: Vec<GpuMaterial>,
     /// Its fur, when a fur object uses it.
     pub fur: Option<GpuFur>,
+    /// Its GPU skinning, when the mesh was loaded for it ([`crate::asset::skinned`]).
+    pub skin: Option<crate::features::skin::GpuSkinned>,
 }
 
 /// A run of a mesh's indices drawn with one material.
@@ -94,6 +96,9 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
     h.update(&(m.vertices.len() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice(&m.vertices));
     h.update(bytemuck::cast_slice(&m.indices));
+    if m.skin.is_some() {
+        h.update(b"skinned on the GPU");
+    }
     for p in &m.parts {
         h.update(
             &[p.first, p.count, p.material]
@@ -137,12 +142,40 @@ impl AssetCache {
                 .iter()
                 .map(|mat| gpu_material::upload(r, mat))
                 .collect();
+            // A skinned mesh's passes write its vertex, fur vertex and fin buffers.
+            let extra = if m.skin.is_some() {
+                wgpu::BufferUsages::STORAGE
+            } else {
+                wgpu::BufferUsages::empty()
+            };
+            let fur = m
+                .fur
+                .as_ref()
+                .filter(|_| with_fur)
+                .map(|f| gpu_fur(r, f, &materials, extra));
+            let vertices = r.gpu.buffer_init(
+                "vertices",
+                bytemuck::cast_slice(&m.vertices),
+                wgpu::BufferUsages::VERTEX | extra,
+            );
+            let skin = m.skin.as_ref().map(|b| {
+                crate::features::skin::GpuSkinned::new(
+                    r,
+                    Arc::clone(b),
+                    crate::features::skin::SkinTargets {
+                        vertices: &vertices,
+                        fur: fur.as_ref().map(|f| &f.vertices),
+                        fins: fur.as_ref().and_then(|f| {
+                            f.fins
+                                .as_ref()
+                                .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
+                        }),
+                    },
+                )
+            });
             Arc::new(GpuMesh {
-                fur: m
-                    .fur
-                    .as_ref()
-                    .filter(|_| with_fur)
-                    .map(|f| gpu_fur(r, f, &materials)),
+                fur,
+                skin,
                 parts: m
                     .parts
                     .iter()
@@ -152,11 +185,7 @@ impl AssetCache {
                     })
                     .collect(),
                 materials,
-                vertices: r.gpu.buffer_init(
-                    "vertices",
-                    bytemuck::cast_slice(&m.vertices),
-                    wgpu::BufferUsages::VERTEX,
-                ),
+                vertices,
                 indices: r.gpu.buffer_init(
                     "indices",
                     bytemuck::cast_slice(&m.indices),
@@ -315,7 +344,12 @@ pub(crate) fn upload_levels<T>(
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
-fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
+fn gpu_fur(
+    r: &Renderer,
+    fur: &FurData,
+    materials: &[GpuMaterial],
+    extra: wgpu::BufferUsages,
+) -> GpuFur {
     let device = &r.gpu.device;
     let height = upload_levels(r, "heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
         f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
@@ -372,13 +406,13 @@ fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
         vertices: r.gpu.buffer_init(
             "fur vertices",
             bytemuck::cast_slice(&fur.vertices),
-            wgpu::BufferUsages::VERTEX,
+            wgpu::BufferUsages::VERTEX | extra,
         ),
         fins: (!fur.fins.is_empty()).then(|| {
             r.gpu.buffer_init(
                 "fins",
                 bytemuck::cast_slice(&fur.fins),
-                wgpu::BufferUsages::VERTEX,
+                wgpu::BufferUsages::VERTEX | extra,
             )
         }),
         fin_count: fur.fins.len() as u32,

@@ -79,6 +79,17 @@ pub enum RenderError {
     },
 }
 
+/// A skinned mesh could not be posed.
+#[derive(Debug, thiserror::Error)]
+pub enum PoseError {
+    /// The clip does not exist (the error lists those that do).
+    #[error(transparent)]
+    Clip(#[from] pelt_io::IoError),
+    /// The skinning pipelines could not be built.
+    #[error(transparent)]
+    Pipeline(#[from] renderer::PipelineError),
+}
+
 impl From<features::MissingInput> for RenderError {
     fn from(e: features::MissingInput) -> Self {
         RenderError::Frame(FrameError::Missing(e))
@@ -347,6 +358,28 @@ impl Preview {
     pub fn draw(&self, sv: &SceneView) -> Result<(), RenderError> {
         frame::draw(&self.renderer, &sv.own_frame()?)?;
         Ok(frame::wait(&self.renderer)?)
+    }
+
+    /// Poses every GPU-skinned mesh of `sv` at `time` s of the clip `animation` (one skinning
+    /// dispatch per skinned primitive, then the fins), before the frames that draw it. Meshes
+    /// are shared between views, so every view drawing them sees the pose. Returns how many
+    /// meshes were posed.
+    pub fn pose(
+        &self,
+        sv: &SceneView,
+        animation: &str,
+        time: f32,
+        path: &std::path::Path,
+    ) -> Result<usize, PoseError> {
+        let mut n = 0;
+        for mesh in sv.meshes.iter().flatten() {
+            if let Some(skin) = &mesh.skin {
+                let m = skin.binding.matrices(path, animation, time)?;
+                skin.pose(&self.renderer, &m)?;
+                n += 1;
+            }
+        }
+        Ok(n)
     }
 
     /// Renders one frame into `view` (a window's surface texture, in the view's format).

@@ -10,7 +10,7 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 
 /// Every file in `shaders/`, by name.
-pub const FILES: [(&str, &str); 25] = [
+pub const FILES: [(&str, &str); 27] = [
     ("common.wgsl", COMMON),
     (
         "fullscreen.wgsl",
@@ -90,6 +90,14 @@ pub const FILES: [(&str, &str); 25] = [
         include_str!("../../../shaders/fin_records.wgsl"),
     ),
     ("skin.wgsl", include_str!("../../../shaders/skin.wgsl")),
+    (
+        "skin_scatter.wgsl",
+        include_str!("../../../shaders/skin_scatter.wgsl"),
+    ),
+    (
+        "fin_rebuild.wgsl",
+        include_str!("../../../shaders/fin_rebuild.wgsl"),
+    ),
 ];
 
 fn file(name: &str) -> &'static str {
@@ -156,11 +164,15 @@ pub enum Shader {
     FinRecords,
     /// Compute: linear blend skinning of positions, normals and tangents (skin.wgsl).
     Skin,
+    /// Compute: skinned vertices into the vertex buffers (skin_scatter.wgsl).
+    SkinScatter,
+    /// Compute: a skinned mesh's fin instances from its vertices (fin_rebuild.wgsl).
+    FinRebuild,
 }
 
 impl Shader {
     /// Every pipeline shader.
-    pub const ALL: [Shader; 24] = [
+    pub const ALL: [Shader; 26] = [
         Shader::GBuffer,
         Shader::Light,
         Shader::Material,
@@ -185,6 +197,8 @@ impl Shader {
         Shader::Strands,
         Shader::FinRecords,
         Shader::Skin,
+        Shader::SkinScatter,
+        Shader::FinRebuild,
     ];
 
     /// The pass's own file under `shaders/`.
@@ -210,6 +224,8 @@ impl Shader {
             Shader::Strands => "strands.wgsl",
             Shader::FinRecords => "fin_records.wgsl",
             Shader::Skin => "skin.wgsl",
+            Shader::SkinScatter => "skin_scatter.wgsl",
+            Shader::FinRebuild => "fin_rebuild.wgsl",
         }
     }
 
@@ -217,7 +233,7 @@ impl Shader {
     pub fn parts(self) -> Vec<&'static str> {
         let mut p = vec!["common.wgsl"];
         match self {
-            Shader::FurBase | Shader::FurOuter | Shader::TangentFrames => {
+            Shader::FurBase | Shader::FurOuter | Shader::TangentFrames | Shader::FinRebuild => {
                 p.push("fur_common.wgsl");
             }
             Shader::Strands => {
@@ -263,7 +279,12 @@ impl Shader {
     pub fn is_compute(self) -> bool {
         matches!(
             self,
-            Shader::TangentFrames | Shader::MinMax | Shader::FinRecords | Shader::Skin
+            Shader::TangentFrames
+                | Shader::MinMax
+                | Shader::FinRecords
+                | Shader::Skin
+                | Shader::SkinScatter
+                | Shader::FinRebuild
         )
     }
 

@@ -133,3 +133,67 @@ fn gpu_skinning_equals_pelt_pose() {
         }
     }
 }
+
+/// The Fox's furred frame with its fur textures, framed on `at`'s bounds.
+fn fox_scene(path: &Path, at: &pelt_preview::asset::MeshData) -> pelt_preview::Scene {
+    let (lo, hi) = at.bounds();
+    pelt_preview::procedural::fur_scene(path, lo, hi, 192, 128, 35.0)
+}
+
+#[test]
+fn a_gpu_skinned_frame_equals_the_cpu_posed_frame() {
+    use pelt_preview::asset::{PoseAt, builtin, posed, skinned};
+    use pelt_preview::{Image, Mode};
+    let mut p = preview();
+    let fox_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/fox/Fox.glb");
+    let fox = baked(pelt_io::load(&fox_path).expect("fox"), "skin-frame-fox.glb");
+    let at = |time: f32| PoseAt {
+        animation: "Walk".into(),
+        time,
+    };
+    let cpu = posed(&fox, &at(0.35)).expect("CPU pose");
+    // Loaded at 0.1 s (the CPU pose gives its first vertices), then skinned to 0.35 s.
+    let gpu = skinned(&fox, &at(0.1)).expect("skinned");
+    assert!(gpu.skin.is_some(), "the Fox skins on the GPU");
+    let quad = builtin("quad").expect("quad");
+    let scene = fox_scene(&fox_path, &cpu);
+    let mut frame = |mesh: &pelt_preview::asset::MeshData, pose: Option<f32>| -> Image {
+        let d = p
+            .prepare_loaded(
+                &scene,
+                &[mesh.clone(), quad.clone()],
+                &[0, 1],
+                Mode::Inferred,
+            )
+            .expect("prepare");
+        if let Some(t) = pose {
+            let n = p.pose(&d, "Walk", t, &fox_path).expect("pose");
+            assert_eq!(n, 1);
+        }
+        p.render(&d).expect("render")
+    };
+    let reference = frame(&cpu, None);
+    let unposed = frame(&gpu, None);
+    let got = frame(&gpu, Some(0.35));
+    got.save(&out_dir().join("skin-gpu-frame.png"))
+        .expect("write");
+    let f = common::assert_flip("skin-gpu-frame", &reference, &got, 0.005);
+    // Negative control: the same mesh not posed on the GPU (still at 0.1 s) is far off.
+    let (g, _) = common::flip_mean(&reference, &unposed);
+    eprintln!("GPU-skinned against CPU-posed: FLIP {f:.5}; unposed: {g:.5}");
+    assert!(g > 0.005, "0.1 s and 0.35 s look alike: {g}");
+    // An unknown clip is an error listing the clips.
+    let d = p
+        .prepare_loaded(
+            &scene,
+            &[gpu.clone(), quad.clone()],
+            &[0, 1],
+            Mode::Inferred,
+        )
+        .expect("prepare");
+    let e = p
+        .pose(&d, "Trot", 0.0, &fox_path)
+        .expect_err("no Trot")
+        .to_string();
+    assert!(e.contains("Survey, Walk, Run"), "{e}");
+}

@@ -13,6 +13,7 @@ use serde_json::Value;
 
 use crate::fur::{self, FurData};
 use crate::material::{Material, MaterialReader, Part};
+use crate::skin::SkinBinding;
 use crate::vertex::{FurVertex, Vertex};
 
 /// Why an asset could not be loaded.
@@ -48,6 +49,10 @@ pub struct MeshData {
     pub parts: Vec<Part>,
     /// The materials `parts` refer to (at least one).
     pub materials: Vec<Material>,
+    /// Each drawn primitive (with NORMAL) and its first vertex in `vertices`.
+    pub primitive_bases: Vec<(PrimitiveRef, u32)>,
+    /// GPU skinning data, when the asset is skinned and loaded for it ([`skinned`]).
+    pub skin: Option<std::sync::Arc<SkinBinding>>,
 }
 
 impl MeshData {
@@ -63,6 +68,8 @@ impl MeshData {
             indices,
             fur: None,
             materials: vec![Material::default()],
+            primitive_bases: Vec::new(),
+            skin: None,
         }
     }
 
@@ -152,12 +159,29 @@ pub fn load(path: &Path) -> Result<MeshData, AssetError> {
 }
 
 /// [`load`], posed at `pose` when the asset has animations (on the CPU, `pelt_anim::posed`:
-/// the same skinning `pelt pose` writes).
+/// the same skinning `pelt pose` writes), with its GPU skinning data ([`skinned`]) so later
+/// poses are skinned by the renderer.
 pub fn load_at(path: &Path, pose: Option<&PoseAt>) -> Result<MeshData, AssetError> {
     let Some(pose) = pose.filter(|_| !path.to_string_lossy().starts_with(BUILTIN)) else {
         return load(path);
     };
-    posed(&pelt_io::load(path)?, pose)
+    skinned(&pelt_io::load(path)?, pose)
+}
+
+/// `doc` (a rest document) posed at `pose` on the CPU, with the GPU skinning data attached when
+/// the asset can be skinned there ([`crate::skin::binding`]): the renderer then skins the
+/// mesh for each pose drawn, and the CPU pose gives the first frame's bounds.
+pub fn skinned(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
+    let mut m = posed(doc, pose)?;
+    if let Some(mut b) = crate::skin::binding(doc, &m.primitive_bases)? {
+        b.fins = m
+            .fur
+            .as_ref()
+            .map(|f| f.fin_sources.clone())
+            .unwrap_or_default();
+        m.skin = Some(std::sync::Arc::new(b));
+    }
+    Ok(m)
 }
 
 /// `doc` posed at `pose` (when it has animations) and flattened; `doc` itself is unchanged,
@@ -395,6 +419,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
     let mut reader = MaterialReader::default();
     let mut fur_vertices: Vec<FurVertex> = Vec::new();
     let mut fins = Vec::new();
+    let mut fin_sources = Vec::new();
     let mut manifest = None;
     let mut any_comb = false;
     for (mesh, world) in mesh_instances(doc) {
@@ -415,6 +440,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
             let first = out.indices.len() as u32;
             match &m.normals {
                 Some(normals) => {
+                    out.primitive_bases.push((r, base));
                     for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
                         out.vertices.push(Vertex {
                             position: world.transform_point3(pos).into(),
@@ -447,7 +473,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                         comb.as_deref(),
                     ));
                     if comb.is_some() {
-                        fins.extend(fur::fin_instances(
+                        let (f, sources) = fur::fin_instances(
                             doc,
                             r,
                             m,
@@ -455,7 +481,9 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
                             &fur_vertices,
                             (base as usize, world),
                             &reader.read[material as usize].1,
-                        )?);
+                        )?;
+                        fins.extend(f);
+                        fin_sources.extend(sources);
                     }
                 }
                 None => {
@@ -496,6 +524,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
         out.fur = Some(FurData {
             vertices: fur_vertices,
             fins,
+            fin_sources,
             look,
             heightfield,
             fin,

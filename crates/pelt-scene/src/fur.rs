@@ -57,6 +57,9 @@ pub struct FurData {
     pub vertices: Vec<FurVertex>,
     /// One per baked fin edge.
     pub fins: Vec<FinInstance>,
+    /// Parallel to `fins`: each edge by vertex index (the GPU rebuilds skinned fins from
+    /// them, `crate::skin`).
+    pub fin_sources: Vec<crate::skin::FinSource>,
     /// Length, shells, colours.
     pub look: FurLook,
     /// Heightfield levels (16-bit heights; 0 = bare).
@@ -330,9 +333,14 @@ pub fn fin_instances(
     fur: &[FurVertex],
     (base, world): (usize, Mat4),
     material: &crate::material::Material,
-) -> Result<Vec<FinInstance>, IoError> {
+) -> Result<(Vec<FinInstance>, Vec<crate::skin::FinSource>), IoError> {
     let Some(edges) = doc.read_fins(r)? else {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let mut sources = Vec::with_capacity(edges.len());
+    let face = |c: u32| {
+        let i = |k: u32| mesh.indices[k as usize] + base as u32;
+        [i(c), i(next(c)), i(prev(c))]
     };
     let n = verts.len() - base;
     let normal_world = Mat3::from_mat4(world).inverse().transpose();
@@ -368,8 +376,34 @@ pub fn fin_instances(
             group: va.group,
             albedo: (albedo.truncate() * base_color_at(material, mid_uv)).into(),
         });
+        let f0 = face(e.corner);
+        let f1 = if e.second_face().is_some() {
+            face(e.second_corner)
+        } else {
+            f0
+        };
+        sources.push([
+            a + base as u32,
+            b + base as u32,
+            f0[0],
+            f0[1],
+            f0[2],
+            f1[0],
+            f1[1],
+            f1[2],
+        ]);
     }
-    Ok(out)
+    Ok((out, sources))
+}
+
+/// The corner after `c` in its triangle.
+fn next(c: u32) -> u32 {
+    c - c % 3 + (c + 1) % 3
+}
+
+/// The corner before `c` in its triangle.
+fn prev(c: u32) -> u32 {
+    c - c % 3 + (c + 2) % 3
 }
 
 /// The linear colour of `material`'s base colour texture at `uv` (white without one).

@@ -23,6 +23,7 @@ pub mod plan;
 pub mod procedural;
 pub mod scene;
 pub mod shading;
+pub mod skin;
 pub mod sky;
 pub mod strands;
 pub mod vertex;

@@ -251,6 +251,7 @@ mod tests {
             fur: Some(FurData {
                 vertices: fur_vertices,
                 fins: Vec::new(),
+                fin_sources: Vec::new(),
                 look: FurLook {
                     length: 0.1,
                     shells: 16,

@@ -173,8 +173,9 @@ impl Viewer {
         Ok(v)
     }
 
-    /// Draws the animated asset at the timeline's time: when it moved since the meshes were
-    /// last built, the asset is posed again (on the CPU, `pelt_anim`) and uploaded.
+    /// Draws the animated asset at the timeline's time: when it moved since the last pose, the
+    /// renderer skins the mesh again on the GPU (or, for assets it cannot skin, the CPU poses
+    /// and uploads it).
     pub fn follow_timeline(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
         let (Some(doc), Some(t)) = (&self.animated, &self.timeline) else {
             return Ok(());
@@ -183,6 +184,15 @@ impl Viewer {
         if self.posed_at.as_ref() == Some(&pose) {
             return Ok(());
         }
+        if self.input.meshes[0].skin.is_some() {
+            // Skinned on the GPU: the mesh stays, only the joint matrices change.
+            preview
+                .pose(&self.full, &pose.animation, pose.time, &self.path)
+                .map_err(|e| ViewError::Animation(e.to_string()))?;
+            self.posed_at = Some(pose);
+            return Ok(());
+        }
+        // Posed on the CPU (morph targets, or no NORMAL): flattened and uploaded again.
         self.input.meshes[0] = pelt_preview::asset::posed(doc, &pose)
             .map_err(|e| ViewError::Animation(e.to_string()))?;
         self.posed_at = Some(pose);

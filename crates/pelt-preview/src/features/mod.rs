@@ -235,17 +235,19 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Overlay => overlay::spec(key),
         Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
         Shader::Strands => strands::spec(key),
-        Shader::FinRecords | Shader::Skin => PipelineSpec {
-            groups: vec![
-                crate::renderer::LayoutId::Storage,
-                crate::renderer::LayoutId::Storage,
-            ],
-            vertex_buffers: Vec::new(),
-            blends: Vec::new(),
-            depth: None,
-            cull: None,
-            constants: Vec::new(),
-        },
+        Shader::FinRecords | Shader::Skin | Shader::SkinScatter | Shader::FinRebuild => {
+            PipelineSpec {
+                groups: vec![
+                    crate::renderer::LayoutId::Storage,
+                    crate::renderer::LayoutId::Storage,
+                ],
+                vertex_buffers: Vec::new(),
+                blends: Vec::new(),
+                depth: None,
+                cull: None,
+                constants: Vec::new(),
+            }
+        }
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
             vertex_buffers: Vec::new(),

@@ -6,8 +6,8 @@
 //! dispatch) are kept apart, so a clip plays by writing matrices only. Its input is
 //! `pelt_anim::posed::SkinJob`, the same data `pelt pose` skins on the CPU.
 //!
-//! Not yet wired into drawing: the G-buffer, shells and fins still draw CPU-posed vertices
-//! (`pelt render --animation`); the pass is tested against `pelt pose` and benchmarked.
+//! [`GpuSkinned`] wires it into drawing: the skinned vertices are copied into the mesh's
+//! vertex buffers and its fins rebuilt from them, so every pass draws the pose.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
@@ -190,4 +190,135 @@ impl GpuSkin {
         let n = self.vertices as usize;
         Ok(bytemuck::cast_slice::<u8, PosedVertex>(&bytes)[..n].to_vec())
     }
+}
+
+/// A skinned mesh on the GPU: a [`GpuSkin`] per skinned primitive, whose output is copied into
+/// the mesh's vertex buffers (skin_scatter.wgsl), and the fin instances rebuilt from them
+/// (fin_rebuild.wgsl). [`GpuSkinned::pose`] runs all of it for one pose; every pass that
+/// draws the mesh (G-buffer, material, shells, fins) then reads the skinned vertices, so the
+/// cost does not grow with the shell count.
+#[derive(Debug)]
+pub struct GpuSkinned {
+    /// The rig and ranges it skins.
+    pub binding: std::sync::Arc<pelt_scene::skin::SkinBinding>,
+    ranges: Vec<(GpuSkin, [wgpu::BindGroup; 2])>,
+    fins: Option<([wgpu::BindGroup; 2], u32)>,
+}
+
+/// The mesh buffers a skinned mesh's passes write.
+#[derive(Debug, Clone, Copy)]
+pub struct SkinTargets<'a> {
+    /// Vertex records (`Vertex`).
+    pub vertices: &'a wgpu::Buffer,
+    /// Fur vertex records (`FurVertex`), when the mesh has fur.
+    pub fur: Option<&'a wgpu::Buffer>,
+    /// Fin instances and the loaded ones, when the mesh has fins.
+    pub fins: Option<(&'a wgpu::Buffer, &'a [crate::uniforms::FinInstance])>,
+}
+
+impl GpuSkinned {
+    /// Uploads `binding`'s ranges and fin sources, writing into `targets`.
+    pub fn new(
+        r: &Renderer,
+        binding: std::sync::Arc<pelt_scene::skin::SkinBinding>,
+        targets: SkinTargets<'_>,
+    ) -> GpuSkinned {
+        let storage = wgpu::BufferUsages::STORAGE;
+        // Where there are no fur vertices the scatter writes none; a word stands in.
+        let no_fur = r.gpu.buffer_init("no fur", &[0; 16], storage);
+        let fur = targets.fur.unwrap_or(&no_fur);
+        let ranges = binding
+            .ranges
+            .iter()
+            .map(|range| {
+                let skin = GpuSkin::new(r, &range.job);
+                let params = [
+                    range.base,
+                    skin.vertex_count(),
+                    u32::from(targets.fur.is_some()),
+                    0,
+                ];
+                let params =
+                    r.gpu
+                        .buffer_init("skin scatter", bytemuck::cast_slice(&params), storage);
+                let groups = [
+                    storage_group(r, &skin.posed, targets.vertices),
+                    storage_group(r, &params, fur),
+                ];
+                (skin, groups)
+            })
+            .collect();
+        let fins = targets
+            .fins
+            .filter(|(_, rest)| !rest.is_empty() && rest.len() == binding.fins.len())
+            .and_then(|(buffer, rest)| {
+                let fur = targets.fur?;
+                let mut words: Vec<u32> = Vec::with_capacity(rest.len() * 40);
+                for (s, f) in binding.fins.iter().zip(rest) {
+                    words.extend_from_slice(s);
+                    words.extend_from_slice(bytemuck::cast_slice(std::slice::from_ref(f)));
+                }
+                let fin_in =
+                    r.gpu
+                        .buffer_init("fin sources", bytemuck::cast_slice(&words), storage);
+                let groups = [
+                    storage_group(r, &fin_in, buffer),
+                    storage_group(r, fur, targets.vertices),
+                ];
+                Some((groups, rest.len() as u32))
+            });
+        GpuSkinned {
+            binding,
+            ranges,
+            fins,
+        }
+    }
+
+    /// Skins the mesh at `matrices` (one entry per range: joint matrices and the unweighted
+    /// vertices' matrix, `SkinBinding::matrices`) and rebuilds its fins; submitted now, before
+    /// the frames that draw it.
+    pub fn pose(
+        &self,
+        r: &Renderer,
+        matrices: &[pelt_scene::skin::RangeMatrices],
+    ) -> Result<(), PipelineError> {
+        let mut enc = r
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("skin"),
+            });
+        for ((skin, _), (joints, unweighted)) in self.ranges.iter().zip(matrices) {
+            skin.set_pose(r, joints, *unweighted);
+            skin.encode(r, &mut enc)?;
+        }
+        let scatter = r.compute(Shader::SkinScatter)?;
+        for (skin, groups) in &self.ranges {
+            dispatch(&mut enc, &scatter, groups, skin.vertex_count());
+        }
+        if let Some((groups, n)) = &self.fins {
+            let rebuild = r.compute(Shader::FinRebuild)?;
+            dispatch(&mut enc, &rebuild, groups, *n);
+        }
+        r.gpu.queue.submit([enc.finish()]);
+        Ok(())
+    }
+}
+
+/// One compute pass of `pipeline` over `n` items (64 a workgroup).
+fn dispatch(
+    enc: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[wgpu::BindGroup; 2],
+    n: u32,
+) {
+    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("skin"),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    for (k, g) in groups.iter().enumerate() {
+        pass.set_bind_group(k as u32, g, &[]);
+    }
+    pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
 }
