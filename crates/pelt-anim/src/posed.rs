@@ -108,14 +108,14 @@ fn posed_meshes(doc: &Document, rig: &Rig) -> Result<Vec<(usize, usize)>, IoErro
     Ok(out)
 }
 
-fn pose_mesh(
-    doc: &mut Document,
+/// Every primitive of `mesh`, drawn by `node`, ready to skin in `pose`.
+fn mesh_jobs(
+    doc: &Document,
     rig: &Rig,
     pose: &Pose,
     node: usize,
     mesh: usize,
-    report: &mut PoseReport,
-) -> Result<(), IoError> {
+) -> Result<Vec<SkinJob>, IoError> {
     let skin = rig.nodes[node].skin;
     let mats = skin.map(|s| rig.joint_matrices(s, pose));
     // Skinned vertices land in the scene's space; the node keeps its place in the hierarchy,
@@ -130,9 +130,24 @@ fn pose_mesh(
     let count = doc.array("meshes")[mesh]["primitives"]
         .as_array()
         .map_or(0, Vec::len);
-    for p in 0..count {
-        let r = PrimitiveRef { mesh, primitive: p };
-        let job = skin_job(doc, rig, pose, node, r, mats.as_deref(), to_node)?;
+    (0..count)
+        .map(|p| {
+            let r = PrimitiveRef { mesh, primitive: p };
+            skin_job(doc, rig, pose, node, r, mats.as_deref(), to_node)
+        })
+        .collect()
+}
+
+fn pose_mesh(
+    doc: &mut Document,
+    rig: &Rig,
+    pose: &Pose,
+    node: usize,
+    mesh: usize,
+    report: &mut PoseReport,
+) -> Result<(), IoError> {
+    for job in mesh_jobs(doc, rig, pose, node, mesh)? {
+        let r = job.primitive;
         let (positions, normals, tangents) = job.on_cpu(report);
         let mut pa = NewAccessor::f32(&positions);
         pa.min_max = true;
@@ -394,30 +409,7 @@ pub fn skin_jobs(
     let pose = rig.pose(clip, time);
     let mut jobs = Vec::new();
     for (node, mesh) in posed_meshes(doc, &rig)? {
-        let skin = rig.nodes[node].skin;
-        let mats = skin.map(|s| rig.joint_matrices(s, &pose));
-        let to_node = pose.global[node].inverse();
-        if skin.is_some() && !to_node.is_finite() {
-            return Err(doc.invalid(
-                format!("nodes[{node}]"),
-                "its transform in this pose is singular, so posed vertices cannot be placed under it",
-            ));
-        }
-        let count = doc.array("meshes")[mesh]["primitives"]
-            .as_array()
-            .map_or(0, Vec::len);
-        for p in 0..count {
-            let r = PrimitiveRef { mesh, primitive: p };
-            jobs.push(skin_job(
-                doc,
-                &rig,
-                &pose,
-                node,
-                r,
-                mats.as_deref(),
-                to_node,
-            )?);
-        }
+        jobs.extend(mesh_jobs(doc, &rig, &pose, node, mesh)?);
     }
     Ok(jobs)
 }

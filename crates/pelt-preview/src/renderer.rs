@@ -482,6 +482,27 @@ impl Renderer {
             .ok_or(PipelineError::NotPrepared(*key))
     }
 
+    /// A bind group of the Storage layout (compute passes): `read` at binding 0, `written`
+    /// at binding 1.
+    pub fn storage_group(&self, read: &wgpu::Buffer, written: &wgpu::Buffer) -> wgpu::BindGroup {
+        self.gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("storage"),
+                layout: &self.layouts.storage,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: read.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: written.as_entire_binding(),
+                    },
+                ],
+            })
+    }
+
     /// The compute pipeline of `shader` (a compute module), compiled on first use.
     pub fn compute(&self, shader: Shader) -> Result<wgpu::ComputePipeline, PipelineError> {
         if let Some(p) = self.compute.borrow().get(&shader) {

@@ -13,28 +13,6 @@ use pelt_preview::shaders::Shader;
 
 use common::preview;
 
-/// A bind group of the Storage layout: `read` at binding 0, `written` at binding 1.
-fn storage_group(
-    r: &pelt_preview::renderer::Renderer,
-    read: &wgpu::Buffer,
-    written: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &r.layouts.storage,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: read.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: written.as_entire_binding(),
-            },
-        ],
-    })
-}
-
 /// Runs `shader` over `n` items (64 a workgroup) with `groups` bound in order, and reads
 /// `output` back.
 fn run_compute(
@@ -160,7 +138,7 @@ fn gpu(records: &[[Vec4; 3]]) -> Vec<Vec3> {
         wgpu::BufferUsages::STORAGE,
     );
     let output = output_buffer(r, "directions", records.len() * 16);
-    let group = storage_group(r, &input, &output);
+    let group = r.storage_group(&input, &output);
     let bytes = run_compute(r, Shader::TangentFrames, &[&group], records.len(), &output);
     let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     out.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect()
@@ -224,8 +202,8 @@ fn the_shaders_fin_decode_is_pelt_ios() {
     let positions = storage("positions", bytemuck::cast_slice(&pos));
     let output = output_buffer(r, "decoded", records.len() * 48);
     let (g0, g1) = (
-        storage_group(r, &fins, &output),
-        storage_group(r, &idx, &positions),
+        r.storage_group(&fins, &output),
+        r.storage_group(&idx, &positions),
     );
     let bytes = run_compute(r, Shader::FinRecords, &[&g0, &g1], records.len(), &output);
     let words: &[u32] = bytemuck::cast_slice(&bytes);

@@ -82,23 +82,6 @@ pub fn rest_records(job: &SkinJob) -> (Vec<SkinVertex>, Vec<[u32; 2]>) {
     (rest, influences)
 }
 
-fn storage_group(r: &Renderer, read: &wgpu::Buffer, written: &wgpu::Buffer) -> wgpu::BindGroup {
-    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("skin"),
-        layout: &r.layouts.storage,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: read.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: written.as_entire_binding(),
-            },
-        ],
-    })
-}
-
 impl GpuSkin {
     /// Uploads `job`'s rest vertices and influences, and its pose's matrices.
     pub fn new(r: &Renderer, job: &SkinJob) -> GpuSkin {
@@ -126,8 +109,8 @@ impl GpuSkin {
             mapped_at_creation: false,
         });
         let groups = [
-            storage_group(r, &rest_buf, &posed),
-            storage_group(r, &inf_buf, &joints),
+            r.storage_group(&rest_buf, &posed),
+            r.storage_group(&inf_buf, &joints),
         ];
         let skin = GpuSkin {
             joints,
@@ -242,8 +225,8 @@ impl GpuSkinned {
                     r.gpu
                         .buffer_init("skin scatter", bytemuck::cast_slice(&params), storage);
                 let groups = [
-                    storage_group(r, &skin.posed, targets.vertices),
-                    storage_group(r, &params, fur),
+                    r.storage_group(&skin.posed, targets.vertices),
+                    r.storage_group(&params, fur),
                 ];
                 (skin, groups)
             })
@@ -262,8 +245,8 @@ impl GpuSkinned {
                     r.gpu
                         .buffer_init("fin sources", bytemuck::cast_slice(&words), storage);
                 let groups = [
-                    storage_group(r, &fin_in, buffer),
-                    storage_group(r, fur, targets.vertices),
+                    r.storage_group(&fin_in, buffer),
+                    r.storage_group(fur, targets.vertices),
                 ];
                 Some((groups, rest.len() as u32))
             });
