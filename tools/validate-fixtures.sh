@@ -13,6 +13,8 @@ inputs=(fixtures/*.glb fixtures/edge/*.gltf fixtures/edge/*.obj)
 ./target/debug/pelt bake -q "${inputs[@]}" -o "$out/regen-u16" --tangents regenerate --quantize u16
 ./target/debug/pelt bake -q "${inputs[@]}" -o "$out/fur" --config fixtures/fur.json
 demo=()
-# The creature `pelt demo` baked, when CI ran it first.
-[ -f target/validate-demo/creature.glb ] && demo=(target/validate-demo/creature.glb)
+# The creature and the Fox `pelt demo` baked, when CI ran it first.
+for f in creature fox; do
+  [ -f "target/validate-demo/$f.glb" ] && demo+=("target/validate-demo/$f.glb")
+done
 node tools/validator/validate.mjs "$out"/default/*.glb "$out"/regen-u16/*.glb "$out"/fur/*.glb "${demo[@]}"
