@@ -52,13 +52,16 @@ const VIEW_EXAMPLES: &str = "\
 Controls: left drag orbits, right (or shift) drag pans, the wheel zooms, F frames the asset;
 M mode, [ ] L-buffer scale, D DSF, - = shells, I fins, B stipple/WBOIT, P screenshot,
 R reload, T measure pass costs, O overlay, H help, Q quit. Drop a file on the window to open it.
+An animated asset plays: Space plays/pauses, , . step a frame, C picks the next clip.
 
 Examples:
   pelt view out/demo/creature.glb
   pelt view fixtures/scenes/alpha.json --backend vulkan
   pelt view out/demo/creature.glb --budget-ms 100
   pelt view out/demo/creature.glb --frames 3 --screenshot shot.png --size 320x180
-  pelt view out/demo/creature.glb --frames 24 --orbit 15 --screenshot still.png";
+  pelt view out/demo/creature.glb --frames 24 --orbit 15 --screenshot still.png
+  pelt view out/demo/fox.glb --animation Run
+  pelt view out/demo/fox.glb --animation Walk --time 0.3 --play --frames 10 --screenshot walk.png";
 
 const DEMO_EXAMPLES: &str = "\
 Examples:
@@ -257,7 +260,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub knobs: KnobArgs,
     /// Pose animated assets at --time seconds of this animation (`pelt inspect` lists them),
-    /// skinned on the CPU as `pelt pose` does.
+    /// as `pelt pose` does; with --frames, each later frame is skinned on the GPU.
     #[arg(long, value_name = "NAME")]
     pub animation: Option<String>,
     /// Seconds into --animation (clamped to its keys).
