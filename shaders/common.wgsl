@@ -79,6 +79,12 @@ struct VertexIn {
     @location(7) uv: vec2<f32>,
 }
 
+// VertexIn and fur_common.wgsl's FurIn as 32-bit words (compute passes that write vertex
+// records: skin_scatter.wgsl, fin_rebuild.wgsl). The shader-validation test checks them
+// against size_of::<Vertex>() and size_of::<FurVertex>().
+const VERTEX_FLOATS: u32 = 13u;
+const FUR_FLOATS: u32 = 10u;
+
 struct Surface {
     @builtin(position) clip: vec4<f32>,
     @location(0) view_pos: vec3<f32>,

@@ -4,11 +4,9 @@
 // follow the skin: positions and normals from the vertex records, the combed direction from
 // the skinned tangent frame (comb_object, the same rule the shells use), both faces' normals
 // from the skinned positions; the fin texture offset, group and colour are copied from the
-// loaded instance. The output is FinInstance's layout (fins.wgsl's FinIn, 32 floats). Keep the
-// strides and offsets in sync with crates/pelt-scene/src/vertex.rs.
+// loaded instance. The output is FinInstance's layout (fins.wgsl's FinIn, 32 floats). The strides
+// are common.wgsl's VERTEX_FLOATS and FUR_FLOATS; the offsets follow crates/pelt-scene/src/vertex.rs.
 
-const VERTEX_FLOATS: u32 = 13u;
-const FUR_FLOATS: u32 = 10u;
 const FIN_FLOATS: u32 = 32u;
 // Per fin in `fin_in`: 8 source indices, then the loaded instance's 32 words.
 const FIN_IN_WORDS: u32 = 40u;

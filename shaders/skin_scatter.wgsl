@@ -2,10 +2,8 @@
 // G-buffer, material and shell passes draw from: position and normal into the mesh's vertex
 // records (`Vertex`, 13 floats), the tangent (the comb's frame) into the fur vertex records
 // (`FurVertex`, 10 floats), at the primitive's first vertex. Albedo, group, UVs and the comb
-// stay as loaded. Keep the strides in sync with crates/pelt-scene/src/vertex.rs.
+// stay as loaded. The strides are common.wgsl's VERTEX_FLOATS and FUR_FLOATS.
 
-const VERTEX_FLOATS: u32 = 13u;
-const FUR_FLOATS: u32 = 10u;
 
 @group(0) @binding(0) var<storage, read> posed: array<PosedVertex>;
 @group(0) @binding(1) var<storage, read_write> vertices: array<f32>;

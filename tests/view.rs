@@ -87,6 +87,25 @@ fn s(p: &Path) -> &str {
     p.to_str().expect("utf8")
 }
 
+/// `pelt render ASSET -o DIR/NAME --size 192x128 EXTRA` on the test's back end, read back.
+fn render_png(dir: &Path, asset: &Path, name: &str, extra: &[&str]) -> Image {
+    let path = dir.join(name);
+    let b = backend();
+    let mut args = vec![
+        "render",
+        "--backend",
+        &b,
+        s(asset),
+        "-o",
+        s(&path),
+        "--size",
+        "192x128",
+    ];
+    args.extend_from_slice(extra);
+    pelt_ok(&args);
+    load_png(&path)
+}
+
 #[test]
 fn a_scripted_screenshot_equals_pelt_render() {
     if !have_xvfb() {
@@ -106,23 +125,7 @@ fn a_scripted_screenshot_equals_pelt_render() {
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.lines().any(|l| l.starts_with("error:")), "{err}");
-    let b = backend();
-    let render = |name: &str, extra: &[&str]| {
-        let path = dir.join(name);
-        let mut args = vec![
-            "render",
-            "--backend",
-            &b,
-            s(&asset),
-            "-o",
-            s(&path),
-            "--size",
-            "192x128",
-        ];
-        args.extend_from_slice(extra);
-        pelt_ok(&args);
-        load_png(&path)
-    };
+    let render = |name: &str, extra: &[&str]| render_png(&dir, &asset, name, extra);
     let reference = render("render.png", &[]);
     let got = load_png(&shot);
     let f = flip(&reference, &got);
@@ -345,22 +348,7 @@ fn an_animated_asset_plays_in_the_window_and_a_paused_frame_equals_pelt_render()
         )
     };
     let render = |name: &str, time: &str| {
-        let path = dir.join(name);
-        pelt_ok(&[
-            "render",
-            "--backend",
-            &b,
-            s(&asset),
-            "-o",
-            s(&path),
-            "--size",
-            "192x128",
-            "--animation",
-            "Walk",
-            "--time",
-            time,
-        ]);
-        load_png(&path)
+        render_png(&dir, &asset, name, &["--animation", "Walk", "--time", time])
     };
     // Paused at 0.3667 s: the window's frame is pelt render's at that time.
     let (paused, log) = shoot("paused.png", "0.36666667", false);

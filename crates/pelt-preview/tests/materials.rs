@@ -21,17 +21,22 @@ mod common;
 
 use common::{assert_flip, out_dir, preview};
 
-/// An image whose left half is `left` and right half `right` (RGBA).
-fn halves(w: u32, h: u32, left: [u8; 4], right: [u8; 4]) -> Rgba8 {
+/// A `w` × `h` image coloured `a` where `first(x, y)` holds, `b` elsewhere (RGBA).
+fn two_tone(w: u32, h: u32, a: [u8; 4], b: [u8; 4], first: impl Fn(u32, u32) -> bool) -> Rgba8 {
     let pixels = (0..h)
-        .flat_map(|_| (0..w).map(move |x| if x < w / 2 { left } else { right }))
-        .flatten()
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .flat_map(|(x, y)| if first(x, y) { a } else { b })
         .collect();
     Rgba8 {
         width: w,
         height: h,
         pixels,
     }
+}
+
+/// An image whose left half is `left` and right half `right`.
+fn halves(w: u32, h: u32, left: [u8; 4], right: [u8; 4]) -> Rgba8 {
+    two_tone(w, h, left, right, |x, _| x < w / 2)
 }
 
 fn texture(image: Rgba8) -> Option<Texture> {
@@ -226,15 +231,7 @@ fn a_roughness_map_dims_the_highlight_where_it_is_rough() {
 
 /// An image whose top half is `top` and bottom half `bottom`.
 fn rows(w: u32, h: u32, top: [u8; 4], bottom: [u8; 4]) -> Rgba8 {
-    let pixels = (0..h)
-        .flat_map(|y| (0..w).map(move |_| if y < h / 2 { top } else { bottom }))
-        .flatten()
-        .collect();
-    Rgba8 {
-        width: w,
-        height: h,
-        pixels,
-    }
+    two_tone(w, h, top, bottom, |_, y| y < h / 2)
 }
 
 #[test]

@@ -321,6 +321,20 @@ fn uniform_structs_match_the_rust_side() {
     // VertexIn, FurIn, FinIn: the Rust vertices pack the same attributes without padding.
     assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4 + 2 * 4);
     assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
+    // The compute passes' view of the same records, in 32-bit words.
+    let words = |name: &str| -> usize {
+        let (_, c) = m
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("const {name} in common.wgsl"));
+        match m.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v as usize,
+            ref e => panic!("{name} is {e:?}"),
+        }
+    };
+    assert_eq!(words("VERTEX_FLOATS") * 4, size_of::<Vertex>());
+    assert_eq!(words("FUR_FLOATS") * 4, size_of::<FurVertex>());
     assert_eq!(
         size_of::<FinInstance>(),
         4 * 12 + 2 * 16 + 2 * 12 + 8 + 4 + 12
