@@ -3,6 +3,9 @@
 # generator's two ~1.3 M-triangle creatures (`gen-fixtures bench-out --big`):
 #   creature-1m3.glb        tangents present, one bufferView per attribute (Blender's layout)
 #   creature-1m3-notan.glb  no tangents, interleaved in one bufferView (gltfpack's layout)
+# Tangent generation is compared like for like: MikkTSpace (--tangent-generator mikktspace)
+# against gltf-transform tangents, which makes MikkTSpace; the default bake (the gradient frame
+# where no normal map needs MikkTSpace) against gltfpack -kv, which makes none.
 # Every round runs each command once, in turn (bench/measure.py), so a slow spell of this
 # shared machine falls on all tools alike; p10/p50/p90 of the wall time and peak RSS (wait4).
 # gltf-transform's tangent runs take about a minute each: they are timed in the first 2 rounds.
@@ -44,9 +47,10 @@ cp (tangents)${tab}cp $tan $dst/cp.glb
 pelt bake (tangents kept; groups and fins)${tab}$pelt bake -q $tan -o $dst/pelt.glb
 gltfpack -kv (tangents)${tab}$bin/gltfpack -kv -i $tan -o $dst/gltfpack.glb
 pelt bake --topology off (tangents kept)${tab}$pelt bake -q $tan -o $dst/pelt-off.glb --topology off
-pelt bake (no tangents: MikkTSpace generated)${tab}$pelt bake -q $notan -o $dst/pelt-gen.glb
+pelt bake (no tangents: gradient frame, the default)${tab}$pelt bake -q $notan -o $dst/pelt-gen.glb
 gltfpack -kv (no tangents)${tab}$bin/gltfpack -kv -i $notan -o $dst/gltfpack-notan.glb
-pelt bake --tangents regenerate${tab}$pelt bake -q $tan -o $dst/pelt-regen.glb --tangents regenerate
+pelt bake --tangent-generator mikktspace (no tangents)${tab}$pelt bake -q $notan -o $dst/pelt-mikk.glb --tangent-generator mikktspace
+pelt bake --tangents regenerate --tangent-generator mikktspace${tab}$pelt bake -q $tan -o $dst/pelt-regen.glb --tangents regenerate --tangent-generator mikktspace
 gltf-transform tangents --overwrite${tab}2${tab}$bin/gltf-transform tangents $tan $dst/gt-regen.glb --overwrite
 gltf-transform tangents (no tangents)${tab}2${tab}$bin/gltf-transform tangents $notan $dst/gt-gen.glb
 SPEC
@@ -56,7 +60,7 @@ echo "$(du -m "$tan" | cut -f1) MB with tangents, $(du -m "$notan" | cut -f1) MB
 echo
 python3 bench/measure.py "$rounds" "$spec" \
   --vs "gltfpack -kv (tangents)" "pelt bake (tangents kept; groups and fins)" \
-  --vs "gltfpack -kv (no tangents)" "pelt bake (no tangents: MikkTSpace generated)" \
-  --vs "gltf-transform tangents --overwrite" "pelt bake --tangents regenerate" \
-  --vs "gltf-transform tangents (no tangents)" "pelt bake (no tangents: MikkTSpace generated)" \
-  --vs "gltfpack -kv (tangents)" "pelt bake --tangents regenerate"
+  --vs "gltfpack -kv (no tangents)" "pelt bake (no tangents: gradient frame, the default)" \
+  --vs "gltf-transform tangents --overwrite" "pelt bake --tangents regenerate --tangent-generator mikktspace" \
+  --vs "gltf-transform tangents (no tangents)" "pelt bake --tangent-generator mikktspace (no tangents)" \
+  --vs "gltfpack -kv (no tangents)" "pelt bake --tangent-generator mikktspace (no tangents)"

@@ -11,15 +11,15 @@ use anyhow::Context;
 use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::{FurAssets, FurReport};
 use pelt_bake::options::{
-    ColorSpace, CombSource, DEFAULT_CREASE_ANGLE_DEG, Quantize, TangentMode, TopologyMode,
-    TopologyOptions,
+    ColorSpace, CombSource, DEFAULT_CREASE_ANGLE_DEG, Quantize, TangentGenerator, TangentMode,
+    TopologyMode, TopologyOptions,
 };
 use pelt_bake::{AssetReport, BakeOptions};
 use pelt_batch::{Job, Outcome, Settings, Status};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, Tangents, TopologyArg};
+use crate::{BakeArgs, ColorSpaceArg, QuantizeArg, TangentGeneratorArg, Tangents, TopologyArg};
 
 #[derive(Serialize)]
 struct Report {
@@ -56,6 +56,7 @@ struct Summary {
 #[derive(Serialize, Clone)]
 struct OptionsReport {
     tangents: &'static str,
+    tangent_generator: &'static str,
     comb_color_space: &'static str,
     comb_axes: String,
     quantize: &'static str,
@@ -106,6 +107,11 @@ fn options(args: &BakeArgs, config: Option<&BakeConfig>) -> anyhow::Result<BakeO
         tangents: match args.tangents {
             Tangents::Keep => TangentMode::Keep,
             Tangents::Regenerate => TangentMode::Regenerate,
+        },
+        tangent_generator: match args.tangent_generator {
+            TangentGeneratorArg::Auto => TangentGenerator::Auto,
+            TangentGeneratorArg::Mikktspace => TangentGenerator::Mikktspace,
+            TangentGeneratorArg::Gradient => TangentGenerator::Gradient,
         },
         color_space: match args.comb_color_space {
             ColorSpaceArg::Linear => ColorSpace::Linear,
@@ -287,6 +293,11 @@ fn options_report(args: &BakeArgs, opts: &BakeOptions) -> OptionsReport {
         tangents: match opts.tangents {
             TangentMode::Keep => "keep",
             TangentMode::Regenerate => "regenerate",
+        },
+        tangent_generator: match opts.tangent_generator {
+            TangentGenerator::Auto => "auto",
+            TangentGenerator::Mikktspace => "mikktspace",
+            TangentGenerator::Gradient => "gradient",
         },
         comb_color_space: match opts.color_space {
             ColorSpace::Linear => "linear",

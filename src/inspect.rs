@@ -187,6 +187,7 @@ fn topology(
     Ok(Some(Topology {
         fields: json!({
             "format_version": num(&pelt["version"]),
+            "tangents": pelt.get("tangents").and_then(Value::as_str),
             "normal_groups": num(&groups["groups"]),
             "ids_used": ids.len(),
             "split_vertices": num(&groups["splitVertices"]),

@@ -202,9 +202,15 @@ pub struct BakeArgs {
     /// Write a JSON report to FILE ("-" for standard output).
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
-    /// Keep TANGENT where present, or always generate MikkTSpace tangents.
+    /// Keep TANGENT where present, or always generate tangents.
     #[arg(long, value_enum, default_value_t = Tangents::Keep)]
     pub tangents: Tangents,
+    /// Which generator makes generated tangents: auto = MikkTSpace where the primitive's
+    /// material has a normal texture, the one-pass UV-gradient frame elsewhere (the comb
+    /// decodes the same in any stored frame; several times faster); mikktspace everywhere;
+    /// gradient everywhere.
+    #[arg(long, value_enum, default_value_t = TangentGeneratorArg::Auto)]
+    pub tangent_generator: TangentGeneratorArg,
     /// How COLOR_0 holds the painted direction: linear (glTF's definition) or srgb (8-bit
     /// sRGB paint that an exporter linearized, as Blender does with byte colors).
     #[arg(long, value_enum, default_value_t = ColorSpaceArg::Linear)]
@@ -731,6 +737,17 @@ pub enum Tangents {
     Keep,
     /// Always generate.
     Regenerate,
+}
+
+/// `--tangent-generator`.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum TangentGeneratorArg {
+    /// MikkTSpace for normal-mapped materials, the gradient frame elsewhere.
+    Auto,
+    /// MikkTSpace (bit-identical to the reference) everywhere.
+    Mikktspace,
+    /// The per-vertex UV-gradient frame everywhere.
+    Gradient,
 }
 
 /// `--comb-color-space`.

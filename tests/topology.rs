@@ -536,6 +536,11 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
         info["primitive"][0]["topology"]["format_version"], 2,
         "{info}"
     );
+    // The torus brings its own TANGENT, kept.
+    assert_eq!(
+        info["primitive"][0]["topology"]["tangents"], "kept",
+        "{info}"
+    );
     // A version-1 file: refused, naming the version and what to do.
     let v1 = dir.join("v1.glb");
     with_pelt_extras(&out, &v1, |p| p["version"] = 1.into());

@@ -17,9 +17,11 @@ use serde_json::{Map, Value, json};
 
 use crate::comb;
 use crate::options::{
-    BakeOptions, CombSource, GeneratedComb, LengthTexture, Quantize, TopologyMode,
+    BakeOptions, CombSource, GeneratedComb, LengthTexture, Quantize, TangentGenerator, TopologyMode,
 };
-use crate::primitive::{PrimitiveStats, TopologyStats, bake_primitive_with, group_primitive};
+use crate::primitive::{
+    PrimitiveStats, TangentSource, TopologyStats, bake_primitive_with, group_primitive,
+};
 
 /// The attribute pelt writes.
 pub use pelt_io::contract::COMB_ATTRIBUTE;
@@ -131,7 +133,12 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                     }
                     let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&g.normal_group)));
                     doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
-                    write_extras(doc, r, &g.stats, opts, None, &mut report.warnings)?;
+                    let extras = Extras {
+                        topology: &g.stats,
+                        tangents: None,
+                        fins: None,
+                    };
+                    write_extras(doc, r, extras, opts, &mut report.warnings)?;
                     report.timings.encode_ms += ms(t2);
                     report.timings.topology_ms += g.topology_ms;
                     report.primitives_grouped += 1;
@@ -163,7 +170,8 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             }) => texture_lengths(doc, r, &prim.mesh, lt, &mut images, &mut report.warnings)?,
             _ => None,
         };
-        let mut baked = bake_primitive_with(&prim.mesh, opts, lengths.as_deref());
+        let prim_opts = resolve_generator(doc, r, opts)?;
+        let mut baked = bake_primitive_with(&prim.mesh, &prim_opts, lengths.as_deref());
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
@@ -209,14 +217,12 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
             doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
             let fins = baked.fins.take().map(fins_view);
-            write_extras(
-                doc,
-                r,
-                &baked.stats.topology,
-                opts,
+            let extras = Extras {
+                topology: &baked.stats.topology,
+                tangents: baked.stats.tangents,
                 fins,
-                &mut report.warnings,
-            )?;
+            };
+            write_extras(doc, r, extras, opts, &mut report.warnings)?;
         }
         report.timings.encode_ms += ms(t2);
 
@@ -269,16 +275,51 @@ fn as_scalars(v: &[u16]) -> Vec<[u16; 1]> {
 }
 
 /// Writes `extras.pelt` (format version, normal groups, and fins when given).
+/// `opts` with [`TangentGenerator::Auto`] resolved for primitive `r`: MikkTSpace where its
+/// material has a normal texture, the gradient frame elsewhere.
+fn resolve_generator(
+    doc: &Document,
+    r: PrimitiveRef,
+    opts: &BakeOptions,
+) -> Result<BakeOptions, IoError> {
+    if opts.tangent_generator != TangentGenerator::Auto {
+        return Ok(*opts);
+    }
+    let normal_mapped = match doc.primitive_material(r)? {
+        Some(m) => doc.material_has_normal_texture(m),
+        None => false,
+    };
+    Ok(BakeOptions {
+        tangent_generator: if normal_mapped {
+            TangentGenerator::Mikktspace
+        } else {
+            TangentGenerator::Gradient
+        },
+        ..*opts
+    })
+}
+
+/// What one primitive's `extras.pelt` records.
+struct Extras<'a> {
+    topology: &'a TopologyStats,
+    /// Where TANGENT came from (None: the primitive has no comb and kept its own).
+    tangents: Option<TangentSource>,
+    fins: Option<ViewData>,
+}
+
 fn write_extras(
     doc: &mut Document,
     r: PrimitiveRef,
-    t: &TopologyStats,
+    e: Extras,
     opts: &BakeOptions,
-    fins: Option<ViewData>,
     warnings: &mut Vec<String>,
 ) -> Result<(), IoError> {
+    let (t, fins) = (e.topology, e.fins);
     let mut pelt = Map::new();
     pelt.insert("version".into(), json!(FORMAT_VERSION));
+    if let Some(source) = e.tangents {
+        pelt.insert("tangents".into(), json!(source.name()));
+    }
     pelt.insert(
         "normalGroups".into(),
         json!({

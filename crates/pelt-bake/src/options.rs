@@ -11,8 +11,23 @@ pub enum TangentMode {
     /// Keep TANGENT when the primitive has it (and NORMAL); generate it otherwise.
     #[default]
     Keep,
-    /// Always generate MikkTSpace tangents.
+    /// Always generate tangents (with [`TangentGenerator`]'s rule).
     Regenerate,
+}
+
+/// Which generator makes the tangents a bake generates.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum TangentGenerator {
+    /// MikkTSpace where the primitive's material has a normal texture (a normal map needs the
+    /// frame glTF names), the gradient frame elsewhere (the comb decodes the same in any
+    /// stored frame). [`crate::primitive::bake_primitive`] alone knows no material: it treats
+    /// the primitive as having none; [`crate::asset`] resolves this per primitive.
+    #[default]
+    Auto,
+    /// MikkTSpace everywhere (bit-identical to the reference).
+    Mikktspace,
+    /// The per-vertex UV-gradient frame everywhere (`pelt_geom::gradient`).
+    Gradient,
 }
 
 /// How COLOR_0's RGB holds the painted direction.
@@ -248,6 +263,8 @@ pub const DEFAULT_CREASE_ANGLE_DEG: f32 = 60.0;
 pub struct BakeOptions {
     /// Keep or regenerate tangents.
     pub tangents: TangentMode,
+    /// Which generator makes generated tangents.
+    pub tangent_generator: TangentGenerator,
     /// How COLOR_0 holds the direction.
     pub color_space: ColorSpace,
     /// Axis remap applied to the decoded direction (for Z-up sources).
@@ -269,6 +286,7 @@ impl Default for BakeOptions {
     fn default() -> Self {
         BakeOptions {
             tangents: TangentMode::default(),
+            tangent_generator: TangentGenerator::default(),
             color_space: ColorSpace::default(),
             axes: AxisMap::default(),
             quantize: Quantize::default(),

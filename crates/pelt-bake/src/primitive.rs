@@ -1,9 +1,10 @@
-//! Baking one primitive: unit normals (flat where missing or zero), tangents (kept, or
-//! MikkTSpace), topology (normal groups and their IDs, Kircher & Lawrance §3.1), vertex splits
+//! Baking one primitive: unit normals (flat where missing or zero), tangents (kept, MikkTSpace,
+//! or the one-pass UV-gradient frame where no normal map needs MikkTSpace), topology (normal groups and their IDs, Kircher & Lawrance §3.1), vertex splits
 //! where corners of one vertex disagree (mirrored-UV seams, flat normals, different group
 //! IDs), then the comb and group ID of every output vertex, and the fin edges of the furry
-//! part. Only the work the primitive needs is done: with usable NORMAL and TANGENT and one
-//! normal group nothing is done per corner and no vertex is split.
+//! part. Only the work the primitive needs is done: with usable NORMAL, per-vertex tangents
+//! (kept, or the gradient frame) and one normal group nothing is done per corner and no vertex
+//! is split.
 //!
 //! [`group_primitive`] is the part of this a primitive without a painted comb gets: normal
 //! groups and their IDs only, so the renderer's filter keeps its creases too.
@@ -16,17 +17,17 @@ use pelt_geom::Mesh;
 use pelt_geom::fins::{self, FinEdge};
 use pelt_geom::flow::comb_flow;
 use pelt_geom::group_ids::{self, GroupIds};
-use pelt_geom::mikktspace;
 use pelt_geom::normals::{UNIT_TOLERANCE, corner_normals, face_normal, normalize_f64};
 use pelt_geom::smooth::smooth_corner_normals;
 use pelt_geom::topology::{self, CornerNormals, Topology};
 use pelt_geom::weld::{key_bits, weld};
+use pelt_geom::{gradient, mikktspace};
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::comb::{self, CombCase};
 use crate::frame::Frame;
-use crate::options::{BakeOptions, CombSource, TangentMode, TopologyMode};
+use crate::options::{BakeOptions, CombSource, TangentGenerator, TangentMode, TopologyMode};
 
 /// Where the output tangents came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -35,7 +36,20 @@ pub enum TangentSource {
     /// The file's TANGENT was kept.
     Kept,
     /// MikkTSpace generated them.
-    Generated,
+    Mikktspace,
+    /// The per-vertex UV-gradient frame (`pelt_geom::gradient`; no normal map needs them).
+    Gradient,
+}
+
+impl TangentSource {
+    /// The name the report and `extras.pelt.tangents` use.
+    pub fn name(self) -> &'static str {
+        match self {
+            TangentSource::Kept => "kept",
+            TangentSource::Mikktspace => "mikktspace",
+            TangentSource::Gradient => "gradient",
+        }
+    }
 }
 
 /// Topology counts for the report.
@@ -298,7 +312,7 @@ pub fn bake_primitive_with(
         }
     };
 
-    // Tangents: kept (per vertex) or MikkTSpace (per corner).
+    // Tangents: kept (per vertex), MikkTSpace (per corner) or the gradient frame (per vertex).
     let keep =
         opts.tangents == TangentMode::Keep && mesh.tangents.is_some() && mesh.normals.is_some();
     if mesh.tangents.is_some() && mesh.normals.is_none() {
@@ -306,34 +320,67 @@ pub fn bake_primitive_with(
             "TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned(),
         );
     }
-    let tangents: Attr<Vec4> = match (&mesh.tangents, keep) {
-        (Some(ts), true) => {
-            stats.tangents = Some(TangentSource::Kept);
-            stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
-            Attr::Vertex(Cow::Borrowed(ts.as_slice()))
-        }
-        _ => {
-            stats.tangents = Some(TangentSource::Generated);
-            if mesh.uvs.is_none() {
-                warnings
-                    .push("no TEXCOORD_0: tangents follow MikkTSpace's fallback frame".to_owned());
-            }
-            Attr::Corner(generate_tangents(mesh, &normals, &mut stats))
-        }
+    let kept = mesh.tangents.as_deref().filter(|_| keep);
+    let source = match kept {
+        Some(_) => TangentSource::Kept,
+        None if opts.tangent_generator == TangentGenerator::Mikktspace => TangentSource::Mikktspace,
+        None => TangentSource::Gradient,
     };
+    stats.tangents = Some(source);
 
-    // Topology over the normals as written: groups, their IDs.
-    let t_topology = Instant::now();
-    let mut topo = (opts.topology_mode != TopologyMode::Off).then(|| {
-        let t = topology::build(
-            &mesh.positions,
-            idx,
-            corner_normals_of(&normals),
-            &opts.topology,
-        );
-        let ids = group_ids::assign(&t);
-        (t, ids)
+    // MikkTSpace first: its working memory is freed before the topology's is taken.
+    let mikktspace = (source == TangentSource::Mikktspace).then(|| {
+        if mesh.uvs.is_none() {
+            warnings.push("no TEXCOORD_0: tangents follow MikkTSpace's fallback frame".to_owned());
+        }
+        generate_tangents(mesh, &normals, &mut stats)
     });
+
+    // Topology over the normals as written: groups, their IDs. The gradient frame (one
+    // sequential pass) runs beside it.
+    let (gradient, (mut topo, mut topology_ms)) = rayon::join(
+        || {
+            (source == TangentSource::Gradient)
+                .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx))
+        },
+        || {
+            let t_topology = Instant::now();
+            let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
+                let t = topology::build(
+                    &mesh.positions,
+                    idx,
+                    corner_normals_of(&normals),
+                    &opts.topology,
+                );
+                let ids = group_ids::assign(&t);
+                (t, ids)
+            });
+            (topo, ms(t_topology))
+        },
+    );
+    let tangents: Attr<Vec4> = match (kept, gradient, mikktspace) {
+        (Some(ts), _, _) => {
+            stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
+            Attr::Vertex(Cow::Borrowed(ts))
+        }
+        (None, _, Some(corners)) => Attr::Corner(corners),
+        (None, Some(g), None) => {
+            if mesh.uvs.is_none() {
+                warnings.push(
+                    "no TEXCOORD_0: tangents are perpendiculars of the normal (no UV gradient)"
+                        .to_owned(),
+                );
+            }
+            stats.degenerate_uv_triangles = g.degenerate_uv_triangles;
+            Attr::Vertex(Cow::Owned(g.vertices))
+        }
+        // Not reached: a source other than Kept made one of the two. Zero tangents would
+        // still give valid frames (the perpendicular fallback), never a panic.
+        (None, None, None) => Attr::Vertex(Cow::Owned(vec![Vec4::ZERO; mesh.vertex_count()])),
+    };
+    // Generated tangents are written as their frame's (projected, unit, w = ±1).
+    let generated = source != TangentSource::Kept;
+
     match &topo {
         Some((t, ids)) => {
             stats.degenerate_triangles = t.degenerate_faces();
@@ -346,7 +393,6 @@ pub fn bake_primitive_with(
         topo.as_ref()
             .map_or(0, |(t, ids)| ids.id[t.face_group[c / 3] as usize])
     };
-    let mut topology_ms = ms(t_topology);
 
     // Output vertices: one per distinct (source vertex, normal, tangent, group ID).
     // With per-corner data, each output vertex reads it at the first corner that uses it.
@@ -389,7 +435,7 @@ pub fn bake_primitive_with(
     // TANGENT as written: the frame's where generated or unusable, else the kept xyz with
     // w made exactly ±1.
     let tangent_out = |frame: &Frame, degenerate: bool, t: Vec4| {
-        if degenerate || tangents.is_corner() {
+        if degenerate || generated {
             frame.tangent4()
         } else {
             [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
@@ -414,7 +460,7 @@ pub fn bake_primitive_with(
     let mut comb = vec![[0.0f32; 4]; out_count];
     let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
     let mut out_tangents =
-        (tangents.is_corner() || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
+        (generated || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
     let mut normal_group = vec![0u16; if topo.is_some() { out_count } else { 0 }];
     let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
     let counts = comb

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, combed, embed};
-use pelt_bake::options::Quantize;
+use pelt_bake::options::{Quantize, TangentGenerator, TangentMode};
 
 /// The seed files: every fixture under `root/fixtures` small enough to bake quickly in a
 /// debug build (the edge cases, the bad corpus, fuzz finds, sphere and torus), sorted.
@@ -92,7 +92,14 @@ pub fn exercise(
         let again = Path::new("output.glb");
         let mut back = pelt_io::Document::from_bytes(again, out)
             .map_err(|e| format!("DEFECT: the output does not load: {e}"))?;
-        pelt_bake::bake_document(&mut back, &opts)
+        // The second bake regenerates MikkTSpace tangents, so every input exercises both
+        // generators (the first used the default: gradient unless a normal map asks).
+        let again_opts = BakeOptions {
+            tangents: TangentMode::Regenerate,
+            tangent_generator: TangentGenerator::Mikktspace,
+            ..opts
+        };
+        pelt_bake::bake_document(&mut back, &again_opts)
             .map_err(|e| format!("DEFECT: the output does not bake again: {e}"))?;
         Ok(())
     }));

@@ -9,6 +9,8 @@
 //! - [`flow`]: a comb direction field along an axis, for meshes nobody painted.
 //! - [`mikktspace`]: a parallel MikkTSpace tangent generator that matches the reference
 //!   implementation (tested against `bevy_mikktspace`).
+//! - [`gradient`]: a one-pass per-vertex tangent frame from UV gradients, for meshes whose
+//!   tangents only carry the comb (no normal map).
 //! - [`topology`]: welded positions, unique edges with their faces, and normal groups (the
 //!   dual-graph components of Kircher & Lawrance §3.1); not yet wired into the bake.
 //! - [`fastmath`]: the scalar f32 vector operations MikkTSpace needs, in the reference's order
@@ -18,6 +20,7 @@ pub mod fastmath;
 pub mod fins;
 pub mod flow;
 pub mod frame;
+pub mod gradient;
 pub mod group_ids;
 pub mod mesh;
 pub mod mikktspace;

@@ -138,42 +138,77 @@ impl Elements<'_> {
     /// parallel straight into their final vector.
     pub fn to_vec<const N: usize, T: From<[f32; N]> + Send>(&self) -> Vec<T> {
         debug_assert_eq!(N, self.components);
-        let (c, n, b) = (self.component, self.normalized, &*self.bytes);
-        match c {
-            ComponentType::F32 => map_elements::<N, 4, T>(b, f32::from_le_bytes),
-            ComponentType::U8 => map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0]))),
-            ComponentType::I8 => {
-                map_elements::<N, 1, T>(b, |x| normalize(c, n, f64::from(x[0] as i8)))
-            }
-            ComponentType::U16 => {
-                map_elements::<N, 2, T>(b, |x| normalize(c, n, f64::from(u16::from_le_bytes(x))))
-            }
-            ComponentType::I16 => {
-                map_elements::<N, 2, T>(b, |x| normalize(c, n, f64::from(i16::from_le_bytes(x))))
-            }
-            ComponentType::U32 => {
-                map_elements::<N, 4, T>(b, |x| normalize(c, n, f64::from(u32::from_le_bytes(x))))
-            }
+        let layout = Layout {
+            stride: self.element_size(),
+            count: self.count,
+        };
+        decode_vec::<N, T>(self.component, self.normalized, &self.bytes, layout)
+    }
+}
+
+/// Where elements lie in a byte slice: element `k` starts at `k * stride`.
+#[derive(Clone, Copy)]
+struct Layout {
+    stride: usize,
+    count: usize,
+}
+
+/// Decodes `layout.count` elements of `N` components of type `c` from `b`, in parallel.
+fn decode_vec<const N: usize, T: From<[f32; N]> + Send>(
+    c: ComponentType,
+    n: bool,
+    b: &[u8],
+    layout: Layout,
+) -> Vec<T> {
+    match c {
+        ComponentType::F32 => map_elements::<N, 4, T>(b, layout, f32::from_le_bytes),
+        ComponentType::U8 => {
+            map_elements::<N, 1, T>(b, layout, |x| normalize(c, n, f64::from(x[0])))
         }
+        ComponentType::I8 => {
+            map_elements::<N, 1, T>(b, layout, |x| normalize(c, n, f64::from(x[0] as i8)))
+        }
+        ComponentType::U16 => map_elements::<N, 2, T>(b, layout, |x| {
+            normalize(c, n, f64::from(u16::from_le_bytes(x)))
+        }),
+        ComponentType::I16 => map_elements::<N, 2, T>(b, layout, |x| {
+            normalize(c, n, f64::from(i16::from_le_bytes(x)))
+        }),
+        ComponentType::U32 => map_elements::<N, 4, T>(b, layout, |x| {
+            normalize(c, n, f64::from(u32::from_le_bytes(x)))
+        }),
     }
 }
 
 /// Elements per parallel task when decoding.
 const DECODE_CHUNK: usize = 16384;
 
-/// Decodes packed elements of `N` components of `S` bytes each with `f`, in parallel.
+/// Decodes elements of `N` components of `S` bytes each with `f`, in parallel: packed ones as
+/// exact chunks, interleaved ones (a bufferView's byteStride) straight from the view, without
+/// gathering them into a packed copy first.
 #[inline]
 fn map_elements<const N: usize, const S: usize, T: From<[f32; N]> + Send>(
     b: &[u8],
+    layout: Layout,
     f: impl Fn([u8; S]) -> f32 + Sync,
 ) -> Vec<T> {
-    b.par_chunks_exact(N * S)
-        .with_min_len(pelt_geom::task_len(b.len() / (N * S), DECODE_CHUNK))
-        .map(|e| {
-            T::from(std::array::from_fn(|k| {
-                f(std::array::from_fn(|j| e[k * S + j]))
-            }))
-        })
+    let element = |e: &[u8]| {
+        T::from(std::array::from_fn(|k| {
+            f(std::array::from_fn(|j| e[k * S + j]))
+        }))
+    };
+    let min = pelt_geom::task_len(layout.count, DECODE_CHUNK);
+    if layout.stride == N * S {
+        return b[..layout.count * N * S]
+            .par_chunks_exact(N * S)
+            .with_min_len(min)
+            .map(element)
+            .collect();
+    }
+    (0..layout.count)
+        .into_par_iter()
+        .with_min_len(min)
+        .map(|k| element(&b[k * layout.stride..k * layout.stride + N * S]))
         .collect()
 }
 
@@ -296,65 +331,82 @@ fn opt_uint(doc: &Document, v: &Value, key: &str, place: &str) -> Result<Option<
     }
 }
 
-/// `count` elements of `elem` bytes, `stride` apart from `offset` in `bytes`: borrowed when
-/// packed, copied out otherwise.
-fn gather<'d>(
+/// Checks that `count` elements of `elem` bytes, `stride` apart from `offset`, lie inside the
+/// `len` bytes of their bufferView.
+fn check_span(
     doc: &Document,
     place: &str,
-    bytes: &'d [u8],
+    len: usize,
     offset: u64,
     stride: usize,
     count: u64,
     elem: usize,
-) -> Result<Cow<'d, [u8]>> {
+) -> Result<()> {
     let need = (count - 1)
         .checked_mul(stride as u64)
         .and_then(|x| x.checked_add(offset))
         .and_then(|x| x.checked_add(elem as u64));
     match need {
-        Some(n) if n <= bytes.len() as u64 => {}
-        _ => {
-            return Err(doc.invalid(
-                place,
-                format!(
-                    "{count} elements of {elem} bytes (stride {stride}, offset {offset}) need more \
-                     than the {} bytes of its bufferView",
-                    bytes.len()
-                ),
-            ));
-        }
+        Some(n) if n <= len as u64 => Ok(()),
+        _ => Err(doc.invalid(
+            place,
+            format!(
+                "{count} elements of {elem} bytes (stride {stride}, offset {offset}) need more \
+                 than the {len} bytes of its bufferView"
+            ),
+        )),
     }
+}
+
+/// `count` packed elements of `elem` bytes from `offset` in `bytes`, checked to lie inside.
+fn packed<'d>(
+    doc: &Document,
+    place: &str,
+    bytes: &'d [u8],
+    offset: u64,
+    count: u64,
+    elem: usize,
+) -> Result<&'d [u8]> {
+    check_span(doc, place, bytes.len(), offset, elem, count, elem)?;
     let offset = offset as usize;
-    if stride == elem {
-        return Ok(Cow::Borrowed(
-            &bytes[offset..offset + count as usize * elem],
-        ));
-    }
-    let mut out = Vec::with_capacity(count as usize * elem);
-    for e in 0..count as usize {
-        let s = offset + e * stride;
-        out.extend_from_slice(&bytes[s..s + elem]);
-    }
-    Ok(Cow::Owned(out))
+    Ok(&bytes[offset..offset + count as usize * elem])
 }
 
 /// Reads accessor `index` into packed elements. `place` prefixes errors (e.g. the attribute).
 pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
-    read_with(doc, index, place, false)
+    finish(doc, locate(doc, index, place, false)?)
 }
 
 /// [`read`] that also takes float `MAT4` accessors (inverse bind matrices); used to check an
 /// accessor's bounds before the `gltf` crate's readers walk it.
 pub fn read_any<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
-    read_with(doc, index, place, true)
+    finish(doc, locate(doc, index, place, true)?)
 }
 
-fn read_with<'d>(
+/// An accessor checked against its bufferView, not yet copied or decoded.
+struct Located<'d> {
+    place: String,
+    component: ComponentType,
+    components: usize,
+    ty: String,
+    normalized: bool,
+    count: usize,
+    /// Bytes per element.
+    elem: usize,
+    /// `byteOffset` within the bufferView.
+    offset: usize,
+    /// The bufferView's bytes and the element stride (every element checked to lie inside);
+    /// None without a bufferView (zeros, then sparse).
+    data: Option<(&'d [u8], usize)>,
+    sparse: Option<&'d Value>,
+}
+
+fn locate<'d>(
     doc: &'d Document,
     index: usize,
     place: &str,
     float_mat4: bool,
-) -> Result<Elements<'d>> {
+) -> Result<Located<'d>> {
     let accessors = doc.array("accessors");
     let place = format!("{place} (accessor {index})");
     let a = accessors.get(index).ok_or_else(|| {
@@ -397,8 +449,7 @@ fn read_with<'d>(
             format!("byteOffset {offset} is not a multiple of the component size"),
         ));
     }
-
-    let mut bytes = match opt_uint(doc, a, "bufferView", &place)? {
+    let data = match opt_uint(doc, a, "bufferView", &place)? {
         Some(v) => {
             let (data, stride) = view_bytes(doc, v as usize, &place)?;
             let stride = stride.unwrap_or(elem);
@@ -408,7 +459,8 @@ fn read_with<'d>(
                     format!("byteStride {stride} is smaller than an element ({elem} bytes)"),
                 ));
             }
-            gather(doc, &place, data, offset, stride, count, elem)?
+            check_span(doc, &place, data.len(), offset, stride, count, elem)?;
+            Some((data, stride))
         }
         None => {
             // No data: zeros (then sparse). Bounded by the asset's real size so a lying count
@@ -418,19 +470,51 @@ fn read_with<'d>(
             if want > limit {
                 return Err(doc.invalid(&place, format!("count {count} without a bufferView would need {want} bytes; the asset holds {}", doc.real_bytes())));
             }
-            Cow::Owned(vec![0u8; want as usize])
+            None
         }
     };
-
-    if let Some(sparse) = a.get("sparse") {
-        apply_sparse(doc, &place, sparse, count, elem, bytes.to_mut())?;
-    }
-    Ok(Elements {
+    Ok(Located {
+        place,
         component,
         components,
         ty,
         normalized,
+        // Both fit: the span check or the size limit above bounds them.
         count: count as usize,
+        elem,
+        offset: offset as usize,
+        data,
+        sparse: a.get("sparse"),
+    })
+}
+
+/// The located accessor as packed elements: borrowed when packed in its view, copied out when
+/// interleaved, zeros without a view; sparse values applied.
+fn finish<'d>(doc: &Document, l: Located<'d>) -> Result<Elements<'d>> {
+    let (count, elem, offset) = (l.count, l.elem, l.offset);
+    let mut bytes = match l.data {
+        Some((data, stride)) if stride == elem => {
+            Cow::Borrowed(&data[offset..offset + count * elem])
+        }
+        Some((data, stride)) => {
+            let mut out = Vec::with_capacity(count * elem);
+            for e in 0..count {
+                let s = offset + e * stride;
+                out.extend_from_slice(&data[s..s + elem]);
+            }
+            Cow::Owned(out)
+        }
+        None => Cow::Owned(vec![0u8; count * elem]),
+    };
+    if let Some(sparse) = l.sparse {
+        apply_sparse(doc, &l.place, sparse, count as u64, elem, bytes.to_mut())?;
+    }
+    Ok(Elements {
+        component: l.component,
+        components: l.components,
+        ty: l.ty,
+        normalized: l.normalized,
+        count,
         bytes,
     })
 }
@@ -477,28 +561,26 @@ fn apply_sparse(
     let vview =
         uint(val, "bufferView").ok_or_else(|| doc.invalid(&sp, "values bufferView missing"))?;
     let (ib, _) = view_bytes(doc, iview as usize, &format!("{sp} indices"))?;
-    let ibytes = gather(
+    let ibytes = packed(
         doc,
         &format!("{sp} indices"),
         ib,
         opt_uint(doc, idx, "byteOffset", &sp)?.unwrap_or(0),
-        ict.size(),
         n,
         ict.size(),
     )?;
     let (vb, _) = view_bytes(doc, vview as usize, &format!("{sp} values"))?;
-    let vbytes = gather(
+    let vbytes = packed(
         doc,
         &format!("{sp} values"),
         vb,
         opt_uint(doc, val, "byteOffset", &sp)?.unwrap_or(0),
-        elem,
         n,
         elem,
     )?;
     let mut last: Option<u64> = None;
     for k in 0..n as usize {
-        let i = u64::from(read_index(ict, &ibytes, k));
+        let i = u64::from(read_index(ict, ibytes, k));
         if i >= count || last.is_some_and(|l| i <= l) {
             return Err(doc.invalid(
                 &sp,
@@ -536,14 +618,34 @@ pub fn read_vec_as<const N: usize, T: From<[f32; N]> + Send>(
     index: usize,
     place: &str,
 ) -> Result<Vec<T>> {
-    let e = read(doc, index, place)?;
-    if e.components != N {
+    let located = locate(doc, index, place, false)?;
+    if located.components != N {
         return Err(doc.invalid(
             format!("{place} (accessor {index})"),
-            format!("type is {}, expected {}", e.ty, type_of(N)),
+            format!("type is {}, expected {}", located.ty, type_of(N)),
         ));
     }
-    Ok(e.to_vec::<N, T>())
+    // Interleaved and not sparse: decoded straight out of the bufferView.
+    if let Located {
+        data: Some((data, stride)),
+        sparse: None,
+        ..
+    } = located
+        && stride != located.elem
+    {
+        let layout = Layout {
+            stride,
+            count: located.count,
+        };
+        let from = located.offset;
+        return Ok(decode_vec::<N, T>(
+            located.component,
+            located.normalized,
+            &data[from..],
+            layout,
+        ));
+    }
+    Ok(finish(doc, located)?.to_vec::<N, T>())
 }
 
 /// Reads an index accessor (SCALAR unsigned byte, short or int, not normalized).

@@ -56,6 +56,15 @@ impl Document {
         push_to(&mut self.json, "materials", json!({ "name": name }))
     }
 
+    /// Whether `materials[material]` has a `normalTexture` (false for a material that does
+    /// not exist).
+    pub fn material_has_normal_texture(&self, material: usize) -> bool {
+        self.array("materials")
+            .get(material)
+            .and_then(|m| m.get("normalTexture"))
+            .is_some_and(|t| !t.is_null())
+    }
+
     /// The material's name, if any.
     pub fn material_name(&self, material: usize) -> Option<&str> {
         self.array("materials").get(material)?.get("name")?.as_str()
