@@ -186,16 +186,17 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             }
             doc.remap_primitive(r, map, indices, &replaced)?;
         }
-        if let Some(n) = &baked.normals {
-            let a = doc.push_accessor(NewAccessor::f32(n));
+        // The baked arrays become the new bufferViews as they are (no copy).
+        if let Some(n) = baked.normals.take() {
+            let a = doc.push_accessor(NewAccessor::f32_owned(n));
             doc.set_attribute(r, "NORMAL", a)?;
         }
-        if let Some(t) = &baked.tangents {
-            let a = doc.push_accessor(NewAccessor::f32(t));
+        if let Some(t) = baked.tangents.take() {
+            let a = doc.push_accessor(NewAccessor::f32_owned(t));
             doc.set_attribute(r, "TANGENT", a)?;
         }
         let comb = match opts.quantize {
-            Quantize::Float => NewAccessor::f32(&baked.comb),
+            Quantize::Float => NewAccessor::f32_owned(std::mem::take(&mut baked.comb)),
             Quantize::U16 => NewAccessor::u16_norm(
                 &baked
                     .comb

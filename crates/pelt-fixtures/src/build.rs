@@ -151,7 +151,7 @@ fn push_interleaved<'a>(
     let stride: usize = sizes.iter().map(|s| s.next_multiple_of(4)).sum();
     let mut bytes = vec![0u8; stride * count];
     for (((_, a), &size), &off) in list.iter().zip(&sizes).zip(&offsets) {
-        for (i, e) in a.bytes.chunks_exact(size).enumerate() {
+        for (i, e) in a.bytes.bytes().chunks_exact(size).enumerate() {
             bytes[i * stride + off..i * stride + off + size].copy_from_slice(e);
         }
     }

@@ -25,8 +25,8 @@ pub struct NewAccessor {
     pub components: usize,
     /// Normalized integers.
     pub normalized: bool,
-    /// Packed elements.
-    pub bytes: Vec<u8>,
+    /// Packed elements (float data is kept as the words it was computed in: no copy).
+    pub bytes: ViewData,
     /// Write `min` and `max` (required for POSITION).
     pub min_max: bool,
     /// bufferView target.
@@ -48,16 +48,30 @@ impl NewAccessor {
         component: ComponentType,
         components: usize,
         normalized: bool,
-        bytes: Vec<u8>,
+        bytes: impl Into<ViewData>,
     ) -> Self {
         Self {
             component,
             components,
             normalized,
-            bytes,
+            bytes: bytes.into(),
             min_max: false,
             target: ARRAY_BUFFER,
         }
+    }
+
+    /// Float vectors, taking ownership: on little-endian targets the vector becomes the
+    /// bufferView's data as it is (no copy, no fresh memory).
+    pub fn f32_owned<const N: usize>(v: Vec<[f32; N]>) -> Self {
+        let words: Vec<u32> = if cfg!(target_endian = "little") {
+            bytemuck::allocation::cast_vec::<[f32; N], [u32; N]>(v).into_flattened()
+        } else {
+            v.as_flattened()
+                .iter()
+                .map(|x| x.to_bits().to_le())
+                .collect()
+        };
+        Self::vectors(ComponentType::F32, N, false, ViewData::Words(words))
     }
 
     /// Float vectors.
@@ -95,7 +109,7 @@ impl NewAccessor {
             component,
             components: 1,
             normalized: false,
-            bytes,
+            bytes: ViewData::Bytes(bytes),
             min_max: false,
             target: ELEMENT_ARRAY_BUFFER,
         }
@@ -120,7 +134,7 @@ impl NewAccessor {
             component: e.component,
             components: e.components,
             normalized: e.normalized,
-            bytes,
+            bytes: ViewData::Bytes(bytes),
             min_max,
             target: ARRAY_BUFFER,
         }
@@ -132,7 +146,7 @@ impl NewAccessor {
     }
 
     fn count(&self) -> usize {
-        self.bytes.len() / self.element_size()
+        self.bytes.bytes().len() / self.element_size()
     }
 
     /// Per-component (min, max) in the accessor's own type, as JSON numbers.
@@ -143,7 +157,7 @@ impl NewAccessor {
         if self.component == ComponentType::F32 {
             let mut lo32 = vec![f32::INFINITY; n];
             let mut hi32 = vec![f32::NEG_INFINITY; n];
-            for e in self.bytes.chunks_exact(4 * n) {
+            for e in self.bytes.bytes().chunks_exact(4 * n) {
                 for k in 0..n {
                     let v =
                         f32::from_le_bytes([e[4 * k], e[4 * k + 1], e[4 * k + 2], e[4 * k + 3]]);
@@ -156,7 +170,7 @@ impl NewAccessor {
         } else {
             for i in 0..self.count() * n {
                 let k = i % n;
-                let v = accessor::raw(self.component, &self.bytes, i);
+                let v = accessor::raw(self.component, self.bytes.bytes(), i);
                 lo[k] = lo[k].min(v);
                 hi[k] = hi[k].max(v);
             }
@@ -190,21 +204,22 @@ impl Document {
             a.bytes
         } else {
             let mut d = vec![0u8; count * stride];
-            for (dst, src) in d.chunks_exact_mut(stride).zip(a.bytes.chunks_exact(size)) {
+            let src = a.bytes.bytes();
+            for (dst, src) in d.chunks_exact_mut(stride).zip(src.chunks_exact(size)) {
                 dst[..size].copy_from_slice(src);
             }
-            d
+            ViewData::Bytes(d)
         };
         let mut view = Map::new();
         view.insert("buffer".into(), json!(0));
-        view.insert("byteLength".into(), json!(data.len()));
+        view.insert("byteLength".into(), json!(data.bytes().len()));
         if stride != size {
             view.insert("byteStride".into(), json!(stride));
         }
         view.insert("target".into(), json!(a.target));
         let view_index = self.source_views + self.new_views.len();
         push_to(&mut self.json, "bufferViews", Value::Object(view));
-        self.new_views.push(data.into());
+        self.new_views.push(data);
 
         let mut acc = Map::new();
         acc.insert("bufferView".into(), json!(view_index));
@@ -383,5 +398,22 @@ pub(crate) fn push_to(json: &mut Map<String, Value>, key: &str, v: Value) -> usi
             a.len() - 1
         }
         None => 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn owned_floats_store_the_same_bytes_as_copied_ones() {
+        let v = vec![[1.0f32, -2.5, 3.25e-9, f32::MAX], [0.0, -0.0, 7.0, 1e20]];
+        let copied = NewAccessor::f32(&v);
+        let owned = NewAccessor::f32_owned(v.clone());
+        assert!(matches!(owned.bytes, ViewData::Words(_)));
+        assert_eq!(copied.bytes.bytes(), owned.bytes.bytes());
+        assert_eq!(owned.count(), 2);
+        assert_eq!(copied.bounds(), owned.bounds());
+        assert_eq!(owned.bytes.bytes()[..4], 1.0f32.to_le_bytes());
     }
 }
