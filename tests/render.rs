@@ -497,3 +497,42 @@ fn animation_contact_sheet_and_unknown_clip() {
     );
     assert!(!bad.exists());
 }
+
+#[test]
+fn fur_renders_the_same_from_either_tangent_generator() {
+    // The comb is stored in the frame the bake writes and decoded with the frame the renderer
+    // reads, so the gradient frame (the default without a normal map) and MikkTSpace give the
+    // same fur, fins included.
+    let dir = scratch("tangent-generators");
+    let creature = fixture("creature.glb");
+    let png = |name: &str, bake_args: &[&str]| {
+        let sub = dir.join(name);
+        let baked = bake(&creature, &sub, bake_args);
+        let out = dir.join(format!("{name}.png"));
+        render_ok(&[
+            baked.to_str().expect("utf8"),
+            "-o",
+            out.to_str().expect("utf8"),
+            "--size",
+            "192x108",
+        ]);
+        load_png(&out)
+    };
+    let gradient = png("gradient", &[]);
+    let mikk = png("mikktspace", &["--tangent-generator", "mikktspace"]);
+    let f = pelt_measure::flip::Flip::new(&gradient, &mikk)
+        .expect("same size")
+        .mean();
+    eprintln!("gradient frame against MikkTSpace: FLIP {f}");
+    assert!(f <= 0.001, "gradient frame against MikkTSpace: FLIP {f}");
+    // Negative control: the comb's axes swapped (another fur direction) fails the threshold.
+    let swapped = png("swapped", &["--comb-axes", "z,x,y"]);
+    let f = pelt_measure::flip::Flip::new(&gradient, &swapped)
+        .expect("same size")
+        .mean();
+    eprintln!("gradient frame against a swapped comb: FLIP {f}");
+    assert!(
+        f > 0.001,
+        "a swapped comb should fail the threshold: FLIP {f}"
+    );
+}
