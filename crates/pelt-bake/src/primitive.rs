@@ -1,10 +1,10 @@
 //! Baking one primitive: unit normals (flat where missing or zero), tangents (kept, MikkTSpace,
-//! or the one-pass UV-gradient frame where no normal map needs MikkTSpace), topology (normal groups and their IDs, Kircher & Lawrance §3.1), vertex splits
-//! where corners of one vertex disagree (mirrored-UV seams, flat normals, different group
-//! IDs), then the comb and group ID of every output vertex, and the fin edges of the furry
-//! part. Only the work the primitive needs is done: with usable NORMAL, per-vertex tangents
-//! (kept, or the gradient frame) and one normal group nothing is done per corner and no vertex
-//! is split.
+//! or the one-pass UV-gradient frame where no normal map needs MikkTSpace), topology (normal
+//! groups and their IDs, Kircher & Lawrance §3.1), vertex splits where corners of one vertex
+//! disagree (mirrored-UV seams, flat normals, different group IDs), then the comb and group ID
+//! of every output vertex, and the fin edges of the furry part. Only the work the primitive
+//! needs is done: with usable NORMAL, per-vertex tangents (kept, or the gradient frame) and one
+//! normal group nothing is done per corner and no vertex is split.
 //!
 //! [`group_primitive`] is the part of this a primitive without a painted comb gets: normal
 //! groups and their IDs only, so the renderer's filter keeps its creases too.
@@ -358,25 +358,25 @@ pub fn bake_primitive_with(
             (topo, ms(t_topology))
         },
     );
-    let tangents: Attr<Vec4> = match (kept, gradient, mikktspace) {
-        (Some(ts), _, _) => {
+    let tangents: Attr<Vec4> = match (kept, mikktspace) {
+        (Some(ts), _) => {
             stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
             Attr::Vertex(Cow::Borrowed(ts))
         }
-        (None, _, Some(corners)) => Attr::Corner(corners),
-        (None, Some(g), None) => {
+        (None, Some(corners)) => Attr::Corner(corners),
+        (None, None) => {
             if mesh.uvs.is_none() {
                 warnings.push(
                     "no TEXCOORD_0: tangents are perpendiculars of the normal (no UV gradient)"
                         .to_owned(),
                 );
             }
+            // Made beside the topology above (the source is Gradient here).
+            let g = gradient
+                .unwrap_or_else(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
             stats.degenerate_uv_triangles = g.degenerate_uv_triangles;
             Attr::Vertex(Cow::Owned(g.vertices))
         }
-        // Not reached: a source other than Kept made one of the two. Zero tangents would
-        // still give valid frames (the perpendicular fallback), never a panic.
-        (None, None, None) => Attr::Vertex(Cow::Owned(vec![Vec4::ZERO; mesh.vertex_count()])),
     };
     // Generated tangents are written as their frame's (projected, unit, w = ±1).
     let generated = source != TangentSource::Kept;
