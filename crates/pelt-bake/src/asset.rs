@@ -275,7 +275,6 @@ fn as_scalars(v: &[u16]) -> Vec<[u16; 1]> {
     v.iter().map(|&x| [x]).collect()
 }
 
-/// Writes `extras.pelt` (format version, normal groups, and fins when given).
 /// `opts` with [`TangentGenerator::Auto`] resolved for primitive `r`: MikkTSpace where its
 /// material has a normal texture, the gradient frame elsewhere.
 fn resolve_generator(
@@ -308,6 +307,7 @@ struct Extras<'a> {
     fins: Option<ViewData>,
 }
 
+/// Writes `extras.pelt` (format version, tangent source, normal groups, and fins when given).
 fn write_extras(
     doc: &mut Document,
     r: PrimitiveRef,
