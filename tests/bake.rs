@@ -73,11 +73,14 @@ fn comb_is_tangential_and_unit() {
     }
 }
 
+/// A `--report` file (Null when it is missing or not JSON, so assertions on it fail).
+fn read_report(path: &std::path::Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap_or_default()).unwrap_or_default()
+}
+
 /// The baked primitive's report entry.
 fn primitive_report(path: &std::path::Path) -> Value {
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(path).unwrap_or_default()).unwrap_or_default();
-    report["inputs"][0]["primitives"][0].clone()
+    read_report(path)["inputs"][0]["primitives"][0].clone()
 }
 
 #[test]
@@ -95,16 +98,13 @@ fn mirrored_uvs_split_the_seam_under_mikktspace_and_keep_the_comb() {
         ],
     );
     let b = read_baked(&out, 0, 0);
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(dir.join("r.json")).unwrap_or_default())
-            .unwrap_or_default();
-    let prim = &report["inputs"][0]["primitives"][0];
+    let prim = primitive_report(&rep);
     assert_eq!(prim["split_vertices"], 2, "{prim}");
     assert!(b.tangents.iter().any(|t| t.w == 1.0) && b.tangents.iter().any(|t| t.w == -1.0));
     for v in 0..b.positions.len() {
         assert!(angle(b.object_comb(v), DVec3::X) < 1e-6, "vertex {v}");
     }
-    assert_eq!(primitive_report(&rep)["tangents"], "mikktspace");
+    assert_eq!(prim["tangents"], "mikktspace");
 }
 
 #[test]
@@ -151,8 +151,7 @@ fn a_split_leaves_no_unused_accessors_or_views() {
             "mikktspace",
         ],
     );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     assert!(
         report["inputs"][0]["removed_accessors"].as_u64() > Some(0),
         "{report}"
@@ -193,8 +192,7 @@ fn comb_along_the_normal_and_gray_have_defined_results() {
         &["--report", rep.to_str().unwrap_or_default()],
     );
     let b = read_baked(&out, 0, 0);
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     let prim = &report["inputs"][0]["primitives"][0];
     // Grid 4 wide, 3 tall; top row +Y. Rows 0-1: x=0 along N, x=1 1e-7 rad off, x=2 gray.
     assert_eq!(prim["parallel_combs"], 4, "{prim}");
@@ -240,8 +238,7 @@ fn missing_normals_become_flat_and_split() {
             assert!((b.normals[v as usize].as_dvec3() - flat).length() < 1e-6);
         }
     }
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     assert_eq!(report["inputs"][0]["primitives"][0]["flat_normals"], true);
 }
 
@@ -284,8 +281,7 @@ fn missing_normals_are_smooth_within_the_crease_angle() {
                 );
             }
         }
-        let report: Value =
-            serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+        let report: Value = read_report(&rep);
         let prim = &report["inputs"][0]["primitives"][0];
         assert_eq!(prim["smooth_normals"], true, "{prim}");
         assert_eq!(prim["flat_normals"], false, "{prim}");
@@ -303,8 +299,7 @@ fn bad_normals_are_repaired_and_counted() {
         &dir,
         &["--report", rep.to_str().unwrap_or_default()],
     );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     let prim = &report["inputs"][0]["primitives"][0];
     assert_eq!(
         (
@@ -327,8 +322,7 @@ fn degenerate_triangles_are_counted_and_harmless() {
         &dir,
         &["--report", rep.to_str().unwrap_or_default()],
     );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     let prim = &report["inputs"][0]["primitives"][0];
     assert_eq!(prim["degenerate_triangles"], 3, "{prim}");
     // The zero-UV-area triangle, and the collinear one (its derivatives vanish too).
@@ -655,8 +649,7 @@ fn generated_comb_is_the_axis_projected_on_the_surface() {
         checked > b.positions.len() / 2,
         "only {checked} vertices checked"
     );
-    let report: Value =
-        serde_json::from_slice(&std::fs::read(&rep).unwrap_or_default()).unwrap_or_default();
+    let report: Value = read_report(&rep);
     assert_eq!(report["options"]["comb"], "generate:0,0,-1");
     assert_eq!(report["inputs"][0]["primitives"][0]["generated_comb"], true);
     let warnings = report["inputs"][0]["warnings"].to_string();

@@ -374,23 +374,28 @@ fn packed<'d>(
 
 /// Reads accessor `index` into packed elements. `place` prefixes errors (e.g. the attribute).
 pub fn read<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
-    finish(doc, locate(doc, index, place, false)?)
+    finish(doc, locate(doc, index, place)?)
 }
 
 /// [`read`] that also takes float `MAT4` accessors (inverse bind matrices); used to check an
 /// accessor's bounds before the `gltf` crate's readers walk it.
 pub fn read_any<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Elements<'d>> {
-    finish(doc, locate(doc, index, place, true)?)
+    finish(doc, locate_with(doc, index, place, true)?)
 }
 
-/// An accessor checked against its bufferView, not yet copied or decoded.
-struct Located<'d> {
+/// An accessor checked against its bufferView, not yet copied or decoded ([`locate`]).
+pub struct Located<'d> {
     place: String,
-    component: ComponentType,
-    components: usize,
-    ty: String,
-    normalized: bool,
-    count: usize,
+    /// Component type.
+    pub component: ComponentType,
+    /// Components per element.
+    pub components: usize,
+    /// The `type` string.
+    pub ty: String,
+    /// Whether integers are normalized.
+    pub normalized: bool,
+    /// Element count.
+    pub count: usize,
     /// Bytes per element.
     elem: usize,
     /// `byteOffset` within the bufferView.
@@ -401,7 +406,13 @@ struct Located<'d> {
     sparse: Option<&'d Value>,
 }
 
-fn locate<'d>(
+/// Checks accessor `index` against its bufferView without copying or decoding it, so a caller
+/// can look at its type first and then [`Located::decode`] it. `place` prefixes errors.
+pub fn locate<'d>(doc: &'d Document, index: usize, place: &str) -> Result<Located<'d>> {
+    locate_with(doc, index, place, false)
+}
+
+fn locate_with<'d>(
     doc: &'d Document,
     index: usize,
     place: &str,
@@ -618,34 +629,45 @@ pub fn read_vec_as<const N: usize, T: From<[f32; N]> + Send>(
     index: usize,
     place: &str,
 ) -> Result<Vec<T>> {
-    let located = locate(doc, index, place, false)?;
+    let located = locate(doc, index, place)?;
     if located.components != N {
         return Err(doc.invalid(
             format!("{place} (accessor {index})"),
             format!("type is {}, expected {}", located.ty, type_of(N)),
         ));
     }
-    // Interleaved and not sparse: decoded straight out of the bufferView.
-    if let Located {
-        data: Some((data, stride)),
-        sparse: None,
-        ..
-    } = located
-        && stride != located.elem
-    {
-        let layout = Layout {
-            stride,
-            count: located.count,
-        };
-        let from = located.offset;
-        return Ok(decode_vec::<N, T>(
-            located.component,
-            located.normalized,
-            &data[from..],
-            layout,
-        ));
+    located.decode::<N, T>(doc)
+}
+
+impl Located<'_> {
+    /// The elements as `T` made from `[f32; N]` (N must equal [`Located::components`]),
+    /// decoded in parallel: interleaved ones straight out of the bufferView, the rest through
+    /// [`Elements`] (packed views are borrowed; sparse values applied).
+    pub fn decode<const N: usize, T: From<[f32; N]> + Send>(
+        self,
+        doc: &Document,
+    ) -> Result<Vec<T>> {
+        debug_assert_eq!(N, self.components);
+        if let Located {
+            data: Some((data, stride)),
+            sparse: None,
+            ..
+        } = self
+            && stride != self.elem
+        {
+            let layout = Layout {
+                stride,
+                count: self.count,
+            };
+            return Ok(decode_vec::<N, T>(
+                self.component,
+                self.normalized,
+                &data[self.offset..],
+                layout,
+            ));
+        }
+        Ok(finish(doc, self)?.to_vec::<N, T>())
     }
-    Ok(finish(doc, located)?.to_vec::<N, T>())
 }
 
 /// Reads an index accessor (SCALAR unsigned byte, short or int, not normalized).

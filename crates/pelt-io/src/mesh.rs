@@ -117,7 +117,7 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
     })?;
     let (colors, color) = match attr("COLOR_0")? {
         Some(i) => {
-            let e = accessor::read(doc, i, &at("COLOR_0"))?;
+            let e = accessor::locate(doc, i, &at("COLOR_0"))?;
             let legal = e.component == ComponentType::F32
                 || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
             if !legal || !(e.components == 3 || e.components == 4) {
@@ -128,9 +128,9 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
             }
             checked_len("COLOR_0", e.count)?;
             let c: Vec<Vec4> = if e.components == 4 {
-                e.to_vec::<4, Vec4>()
+                e.decode::<4, Vec4>(doc)?
             } else {
-                e.to_vec::<3, Rgb>().into_iter().map(|c| c.0).collect()
+                e.decode::<3, Rgb>(doc)?.into_iter().map(|c| c.0).collect()
             };
             (Some(c), encoding(doc, i))
         }
