@@ -2,7 +2,8 @@
 """Per-triangle cost of the default bake from 10 k to 1.3 M triangles: the fixture creature
 (tangents present, Blender's layout) at five sizes.
 
-Two ways, each run RUNS times, round by round (every command once per round, in turn):
+Two ways, each run RUNS times, round by round (every command once per round, in turn, each
+timed run right after a discarded run of the same command):
 - one file per process: `pelt bake FILE` once per size. Prints the median wall time and the
   median in-process time (the report's read + decode + bake + encode + write, without process
   start and exit), per triangle and relative to 1.3 M.
@@ -85,6 +86,9 @@ def main():
     for _ in range(runs):
         for n in names:
             os.makedirs(f"{out}/single", exist_ok=True)
+            # A discarded run first (hyperfine's --warmup): the timed run then follows a run
+            # of its own size, not the previous command's release of 300 MB.
+            timed([PELT, "bake", "-q", f"{SRC}/{n}.glb", "-o", f"{out}/single/{n}.glb"])
             wall, stdout = timed([PELT, "bake", "-q", f"{SRC}/{n}.glb",
                                   "-o", f"{out}/single/{n}.glb", "--report", "-"])
             rep = json.loads(stdout)["inputs"][0]
@@ -94,6 +98,7 @@ def main():
             single[n][0].append(wall)
             single[n][1].append(inproc)
         for n in names:
+            timed([PELT, "bake", "-q", folders[n][0], "-o", f"{out}/batch-{n}"])
             wall, _ = timed([PELT, "bake", "-q", folders[n][0], "-o", f"{out}/batch-{n}"])
             batch[n].append(wall)
     shutil.rmtree(out, ignore_errors=True)

@@ -521,9 +521,12 @@ fn read_file(path: &Path) -> std::io::Result<FileBytes> {
         {
             return Ok(FileBytes::Mapped(map));
         }
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
-        if len >= PARALLEL_FROM && threads >= 2 {
-            return read_parallel(&file, len, threads).map(FileBytes::Owned);
+        // Asked only for large files: on Linux the answer costs a few reads of cgroup files.
+        if len >= PARALLEL_FROM {
+            let threads = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+            if threads >= 2 {
+                return read_parallel(&file, len, threads).map(FileBytes::Owned);
+            }
         }
     }
     let mut bytes = Vec::new();
