@@ -224,10 +224,11 @@ impl Counts {
     }
 }
 
-/// `n` chunks of `v` (or `n` Nones), for zipping optional outputs into the per-vertex pass.
-fn chunks_or_none<T>(v: Option<&mut Vec<T>>, n: usize) -> Vec<Option<&mut [T]>> {
+/// `n` chunks of `len` items of `v` (or `n` Nones), for zipping optional outputs into the
+/// per-vertex pass.
+fn chunks_or_none<T>(v: Option<&mut Vec<T>>, len: usize, n: usize) -> Vec<Option<&mut [T]>> {
     match v {
-        Some(v) => v.chunks_mut(CHUNK).map(Some).collect(),
+        Some(v) => v.chunks_mut(len).map(Some).collect(),
         None => (0..n).map(|_| None).collect(),
     }
 }
@@ -456,7 +457,9 @@ pub fn bake_primitive_with(
 
     // One parallel pass over the output vertices writes the comb and whatever else is needed.
     let colors = mesh.colors.as_deref().unwrap_or_default();
-    let tasks = out_count.div_ceil(CHUNK);
+    // Tasks sized like the topology's, so a small mesh still spreads over every core.
+    let chunk = pelt_geom::task_len(out_count, CHUNK);
+    let tasks = out_count.div_ceil(chunk);
     let mut comb = vec![[0.0f32; 4]; out_count];
     let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
     let mut out_tangents =
@@ -464,19 +467,20 @@ pub fn bake_primitive_with(
     let mut normal_group = vec![0u16; if topo.is_some() { out_count } else { 0 }];
     let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
     let counts = comb
-        .par_chunks_mut(CHUNK)
+        .par_chunks_mut(chunk)
         .zip(chunks_or_none(
             topo.is_some().then_some(&mut normal_group),
+            chunk,
             tasks,
         ))
-        .zip(chunks_or_none(out_normals.as_mut(), tasks))
-        .zip(chunks_or_none(out_tangents.as_mut(), tasks))
+        .zip(chunks_or_none(out_normals.as_mut(), chunk, tasks))
+        .zip(chunks_or_none(out_tangents.as_mut(), chunk, tasks))
         .enumerate()
         .map(
             |(task, (((comb, mut group), mut normals_out), mut tangents_out))| {
                 let mut counts = Counts::default();
                 for (k, slot) in comb.iter_mut().enumerate() {
-                    let o = task * CHUNK + k;
+                    let o = task * chunk + k;
                     if let Some(group) = group.as_deref_mut() {
                         group[k] = match (&first_corner, only_id) {
                             (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),

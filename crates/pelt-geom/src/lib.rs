@@ -33,8 +33,8 @@ pub mod weld;
 pub use mesh::{GeomError, Mesh};
 
 /// Items per parallel task for `n` items: about four tasks per thread, at least 256 items and
-/// at most `max`. Large meshes get `max`-sized tasks (little overhead); small ones still
-/// spread over every core, so the cost per triangle stays flat from 10 k triangles up.
+/// at most `max`. Large meshes get `max`-sized tasks (little overhead); small ones are still
+/// split into several tasks per core.
 pub fn task_len(n: usize, max: usize) -> usize {
     (n / (4 * rayon::current_num_threads().max(1))).clamp(256, max.max(256))
 }

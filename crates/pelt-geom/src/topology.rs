@@ -375,8 +375,13 @@ pub fn build(
         .collect();
     let nonmanifold = parts.iter().map(|p| p.1).sum();
     let edges = concat(parts.into_iter().map(|p| p.0).collect());
-    // Degenerate faces join proper neighbours across their edges by the same rule.
-    for f in (0..nf as u32).filter(|&f| is_degenerate(f)) {
+    // Degenerate faces join proper neighbours across their edges by the same rule, in
+    // parallel like the edges above (joins are atomic; the labels do not depend on their order).
+    let degenerate_faces = (0..nf as u32)
+        .into_par_iter()
+        .with_min_len(crate::task_len(nf, CHUNK))
+        .filter(|&f| is_degenerate(f));
+    degenerate_faces.for_each(|f| {
         for c in 3 * f..3 * f + 3 {
             let (a, b) = (pid(c), pid(next_corner(c)));
             if a == b {
@@ -394,7 +399,7 @@ pub fn build(
                 }
             }
         }
-    }
+    });
     let (face_group, groups) = sets.into_sequential().labels();
     Topology {
         position_id,
