@@ -6,7 +6,8 @@ Two ways, each run RUNS times, round by round (every command once per round, in 
 timed run right after a discarded run of the same command):
 - one file per process: `pelt bake FILE` once per size. Prints the median wall time and the
   median in-process time (the report's read + decode + bake + encode + write, without process
-  start and exit), per triangle and relative to 1.3 M.
+  start and exit), per triangle and relative to 1.3 M; then the in-process time of the same
+  bake with `--jobs 1` and the speedup two threads give over one.
 - batch: a folder of copies of the same file, as many as make about 1.3 M triangles in all
   (130 at 10 k, 1 at 1.3 M), baked by one `pelt bake FOLDER -o OUT`. Prints the median wall
   time per triangle relative to the single 1.3 M file: what a pipeline baking a folder of
@@ -73,6 +74,17 @@ def timed(cmd):
     return time.perf_counter() - t, p.stdout
 
 
+def single_run(n, out, extra):
+    """One `pelt bake` of size `n`: (wall seconds, in-process seconds from its report)."""
+    wall, stdout = timed([PELT, "bake", "-q", f"{SRC}/{n}.glb", "-o", f"{out}/single/{n}.glb",
+                          "--report", "-"] + extra)
+    rep = json.loads(stdout)["inputs"][0]
+    tm = rep["timings"]
+    inproc = (rep["read_ms"] + tm["decode_ms"] + tm["bake_ms"] + tm["encode_ms"]
+              + rep["write_ms"]) / 1000
+    return wall, inproc
+
+
 def main():
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 15
     make_inputs()
@@ -81,7 +93,7 @@ def main():
     big = names[-1]
     folders = {n: batch_folder(n, tris[n], tris[big]) for n in names}
     out = out_root()
-    single = {n: ([], []) for n in names}
+    single = {n: ([], [], []) for n in names}
     batch = {n: [] for n in names}
     for _ in range(runs):
         for n in names:
@@ -89,14 +101,10 @@ def main():
             # A discarded run first (hyperfine's --warmup): the timed run then follows a run
             # of its own size, not the previous command's release of 300 MB.
             timed([PELT, "bake", "-q", f"{SRC}/{n}.glb", "-o", f"{out}/single/{n}.glb"])
-            wall, stdout = timed([PELT, "bake", "-q", f"{SRC}/{n}.glb",
-                                  "-o", f"{out}/single/{n}.glb", "--report", "-"])
-            rep = json.loads(stdout)["inputs"][0]
-            tm = rep["timings"]
-            inproc = (rep["read_ms"] + tm["decode_ms"] + tm["bake_ms"] + tm["encode_ms"]
-                      + rep["write_ms"]) / 1000
+            wall, inproc = single_run(n, out, [])
             single[n][0].append(wall)
             single[n][1].append(inproc)
+            single[n][2].append(single_run(n, out, ["--jobs", "1"])[1])
         for n in names:
             timed([PELT, "bake", "-q", folders[n][0], "-o", f"{out}/batch-{n}"])
             wall, _ = timed([PELT, "bake", "-q", folders[n][0], "-o", f"{out}/batch-{n}"])
@@ -105,17 +113,19 @@ def main():
     ref_in = statistics.median(single[big][1]) / tris[big]
     ref_batch = statistics.median(batch[big]) / tris[big]
     print(f"| triangles | one file: wall (p50 of {runs}) | in-process (p50) | in-process per "
-          "triangle | relative to 1.3 M | batch: files | wall (p50) | wall per triangle "
-          "| relative to 1.3 M |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "triangle | relative to 1.3 M | `--jobs 1` in-process (p50) | 2 threads' speedup "
+          "| batch: files | wall (p50) | wall per triangle | relative to 1.3 M |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for n in names:
         w, i = statistics.median(single[n][0]), statistics.median(single[n][1])
+        one = statistics.median(single[n][2])
         per = i / tris[n]
         copies = folders[n][1]
         b = statistics.median(batch[n])
         bper = b / (copies * tris[n])
         print(f"| {tris[n]:,} | {w * 1000:.1f} ms | {i * 1000:.1f} ms | {per * 1e9:.0f} ns "
-              f"| {per / ref_in:.2f} | {copies} | {b * 1000:.0f} ms | {bper * 1e9:.0f} ns "
+              f"| {per / ref_in:.2f} | {one * 1000:.1f} ms | {one / i:.2f}× "
+              f"| {copies} | {b * 1000:.0f} ms | {bper * 1e9:.0f} ns "
               f"| {bper / ref_batch:.2f} |".replace(",", " "))
 
 
