@@ -100,7 +100,7 @@ def main():
             os.makedirs(f"{out}/single", exist_ok=True)
             # A discarded run first (hyperfine's --warmup): the timed run then follows a run
             # of its own size, not the previous command's release of 300 MB.
-            timed([PELT, "bake", "-q", f"{SRC}/{n}.glb", "-o", f"{out}/single/{n}.glb"])
+            single_run(n, out, [])
             wall, inproc = single_run(n, out, [])
             single[n][0].append(wall)
             single[n][1].append(inproc)
