@@ -274,6 +274,15 @@ fn a_vertex_shared_by_two_groups_is_duplicated() {
     let ids = r.face_ids();
     assert_ne!(ids[0], ids[1]);
     assert_ne!(r.indices[0], r.indices[3], "vertex 0 was not split");
+    // The copy carries its source's comb, normal and tangent (the per-vertex pass runs over the
+    // source vertices beside the topology; the copy gathers its source's results).
+    let b = read_baked(&out, 0, 0);
+    let (v, copy) = (r.indices[0] as usize, r.indices[3] as usize);
+    assert_eq!(b.positions[v], b.positions[copy]);
+    assert_eq!(b.comb[v], b.comb[copy]);
+    assert_eq!(b.normals[v], b.normals[copy]);
+    assert_eq!(b.tangents[v], b.tangents[copy]);
+    assert!(b.comb[v][3] > 0.0, "{:?}", b.comb[v]);
 }
 
 #[test]

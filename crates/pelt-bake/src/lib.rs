@@ -5,6 +5,8 @@
 //! - [`comb`]: Revie's Listing 2.7 (decode, Gram-Schmidt against N, normalize, into tangent
 //!   space) with defined results at the extremes, and the `_FUR_COMB` encodings.
 //! - [`primitive`]: one primitive: normals, tangents (kept or MikkTSpace), vertex splits, comb.
+//! - `vertex_pass`: the per-vertex frame, comb, NORMAL and TANGENT, beside the topology where
+//!   it can be.
 //! - [`asset`]: a whole document, with the per-primitive report.
 //! - [`config`]: the bake config file (its `fur` section).
 //! - [`fur`]: embedding generated fur textures and the fur manifest in a baked asset.
@@ -16,6 +18,7 @@ pub use pelt_geom::frame;
 pub mod fur;
 pub mod options;
 pub mod primitive;
+mod vertex_pass;
 
 pub use asset::{AssetReport, bake_document};
 pub use options::BakeOptions;

@@ -25,9 +25,10 @@ use pelt_geom::{gradient, mikktspace};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::comb::{self, CombCase};
+use crate::comb;
 use crate::frame::Frame;
 use crate::options::{BakeOptions, CombSource, TangentGenerator, TangentMode, TopologyMode};
+use crate::vertex_pass::{self, Writes};
 
 /// Where the output tangents came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -204,34 +205,7 @@ impl<T: Copy> Attr<'_, T> {
 }
 
 /// Output vertices handled by one parallel task.
-const CHUNK: usize = 4096;
-
-/// Counts gathered by the per-vertex pass.
-#[derive(Debug, Clone, Copy, Default)]
-struct Counts {
-    degenerate_tangents: usize,
-    gray: usize,
-    parallel: usize,
-}
-
-impl Counts {
-    fn add(self, o: Counts) -> Counts {
-        Counts {
-            degenerate_tangents: self.degenerate_tangents + o.degenerate_tangents,
-            gray: self.gray + o.gray,
-            parallel: self.parallel + o.parallel,
-        }
-    }
-}
-
-/// `n` chunks of `len` items of `v` (or `n` Nones), for zipping optional outputs into the
-/// per-vertex pass.
-fn chunks_or_none<T>(v: Option<&mut Vec<T>>, len: usize, n: usize) -> Vec<Option<&mut [T]>> {
-    match v {
-        Some(v) => v.chunks_mut(len).map(Some).collect(),
-        None => (0..n).map(|_| None).collect(),
-    }
-}
+pub(crate) const CHUNK: usize = 4096;
 
 /// Bakes one primitive. The mesh must have passed [`Mesh::validate`] and carry COLOR_0 unless
 /// the comb is generated.
@@ -337,12 +311,73 @@ pub fn bake_primitive_with(
         generate_tangents(mesh, &normals, &mut stats)
     });
 
-    // Topology over the normals as written: groups, their IDs. The gradient frame (one
-    // sequential pass) runs beside it.
-    let (gradient, (mut topo, mut topology_ms)) = rayon::join(
+    // Kept tangents whose w is not exactly ±1 are rewritten with its sign.
+    if let Some(ts) = kept {
+        stats.tangent_w_fixed = ts
+            .par_iter()
+            .with_min_len(CHUNK)
+            .filter(|t| t.w != 1.0 && t.w != -1.0)
+            .count();
+    }
+    // Generated tangents are written as their frame's (projected, unit, w = ±1).
+    let generated = source != TangentSource::Kept;
+    let write = Writes {
+        normals: rewrite_normals,
+        tangents: generated || stats.tangent_w_fixed > 0,
+    };
+    // TANGENT as written: the frame's where generated or unusable, else the kept xyz with
+    // w made exactly ±1.
+    let tangent_out = |frame: &Frame, degenerate: bool, t: Vec4| {
+        if degenerate || generated {
+            frame.tangent4()
+        } else {
+            [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
+        }
+    };
+    // The comb of a source vertex in a frame: painted, or generated along `flow`.
+    let generate = match opts.comb {
+        CombSource::Generate(g) => Some(g),
+        CombSource::Painted => None,
+    };
+    stats.generated_comb = generate.is_some();
+    let colors = mesh.colors.as_deref().unwrap_or_default();
+    let comb_at = |v: usize, frame: &Frame, flow: Option<&[Vec3]>| {
+        let (d, len) = match (flow, generate) {
+            (Some(dirs), Some(g)) => (
+                dirs[v].as_dvec3(),
+                f64::from(g.length) * lengths.map_or(1.0, |l| f64::from(l[v])),
+            ),
+            _ => comb::decode_color(
+                colors.get(v).copied().unwrap_or(Vec4::ONE),
+                opts.color_space,
+                &opts.axes,
+            ),
+        };
+        comb::bake(d, len, frame)
+    };
+
+    // Topology over the normals as written: groups, their IDs. Beside it, none of which needs
+    // the groups: the gradient frame (one sequential pass), a generated comb's flow, and, where
+    // every vertex's normal and tangent are its own, the per-vertex pass over the source
+    // vertices (split vertices copy their source's results).
+    let (side, (mut topo, mut topology_ms)) = rayon::join(
         || {
-            (source == TangentSource::Gradient)
-                .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx))
+            let gradient = (source == TangentSource::Gradient)
+                .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
+            let flow =
+                generate.map(|g| comb_flow(&mesh.positions, idx, Vec3::from(g.axis), g.smoothing));
+            let vertex_tangents = kept.or(gradient.as_ref().map(|g| g.vertices.as_slice()));
+            let early = match (&normals, vertex_tangents) {
+                (Attr::Vertex(ns), Some(ts)) => Some(vertex_pass::run(
+                    mesh.vertex_count(),
+                    &|v| (v, ns[v], ts[v]),
+                    &|v, f| comb_at(v, f, flow.as_deref()),
+                    &tangent_out,
+                    write,
+                )),
+                _ => None,
+            };
+            (gradient, flow, early)
         },
         || {
             let t_topology = Instant::now();
@@ -359,11 +394,9 @@ pub fn bake_primitive_with(
             (topo, ms(t_topology))
         },
     );
+    let (gradient, flow, early) = side;
     let tangents: Attr<Vec4> = match (kept, mikktspace) {
-        (Some(ts), _) => {
-            stats.tangent_w_fixed = ts.iter().filter(|t| t.w != 1.0 && t.w != -1.0).count();
-            Attr::Vertex(Cow::Borrowed(ts))
-        }
+        (Some(ts), _) => Attr::Vertex(Cow::Borrowed(ts)),
         (None, Some(corners)) => Attr::Corner(corners),
         (None, None) => {
             if mesh.uvs.is_none() {
@@ -379,8 +412,6 @@ pub fn bake_primitive_with(
             Attr::Vertex(Cow::Owned(g.vertices))
         }
     };
-    // Generated tangents are written as their frame's (projected, unit, w = ±1).
-    let generated = source != TangentSource::Kept;
 
     match &topo {
         Some((t, ids)) => {
@@ -433,93 +464,39 @@ pub fn bake_primitive_with(
         (v, n, t)
     };
 
-    // TANGENT as written: the frame's where generated or unusable, else the kept xyz with
-    // w made exactly ±1.
-    let tangent_out = |frame: &Frame, degenerate: bool, t: Vec4| {
-        if degenerate || generated {
-            frame.tangent4()
-        } else {
-            [t.x, t.y, t.z, crate::frame::handedness(t.w) as f32]
-        }
+    // The per-vertex pass over the output vertices: copied from the source vertices' where it
+    // ran beside the topology, else run now.
+    let out = match (early, map) {
+        (Some(src), Some(m)) => src.gather(m),
+        (Some(src), None) => src,
+        (None, _) => vertex_pass::run(
+            out_count,
+            &inputs,
+            &|v, f| comb_at(v, f, flow.as_deref()),
+            &tangent_out,
+            write,
+        ),
     };
-
-    // The comb's object-space direction and length per source vertex: painted, or generated.
-    let flow = match opts.comb {
-        CombSource::Generate(g) => {
-            stats.generated_comb = true;
-            Some((
-                comb_flow(&mesh.positions, idx, Vec3::from(g.axis), g.smoothing),
-                f64::from(g.length),
-            ))
-        }
-        CombSource::Painted => None,
-    };
-
-    // One parallel pass over the output vertices writes the comb and whatever else is needed.
-    let colors = mesh.colors.as_deref().unwrap_or_default();
-    // Tasks sized like the topology's, so a small mesh still spreads over every core.
-    let chunk = pelt_geom::task_len(out_count, CHUNK);
-    let tasks = out_count.div_ceil(chunk);
-    let mut comb = vec![[0.0f32; 4]; out_count];
-    let mut out_normals = rewrite_normals.then(|| vec![[0.0f32; 3]; out_count]);
-    let mut out_tangents =
-        (generated || stats.tangent_w_fixed > 0).then(|| vec![[0.0f32; 4]; out_count]);
-    let mut normal_group = vec![0u16; if topo.is_some() { out_count } else { 0 }];
-    let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
-    let counts = comb
-        .par_chunks_mut(chunk)
-        .zip(chunks_or_none(
-            topo.is_some().then_some(&mut normal_group),
-            chunk,
-            tasks,
-        ))
-        .zip(chunks_or_none(out_normals.as_mut(), chunk, tasks))
-        .zip(chunks_or_none(out_tangents.as_mut(), chunk, tasks))
-        .enumerate()
-        .map(
-            |(task, (((comb, mut group), mut normals_out), mut tangents_out))| {
-                let mut counts = Counts::default();
-                for (k, slot) in comb.iter_mut().enumerate() {
-                    let o = task * chunk + k;
-                    if let Some(group) = group.as_deref_mut() {
-                        group[k] = match (&first_corner, only_id) {
-                            (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
-                            (None, Some(id)) => id,
-                            _ => 0,
-                        };
-                    }
-                    let (v, n, t) = inputs(o);
-                    let (frame, degenerate) = Frame::new(n, t);
-                    let (d, len) = match &flow {
-                        Some((dirs, len)) => (
-                            dirs[v].as_dvec3(),
-                            *len * lengths.map_or(1.0, |l| f64::from(l[v])),
-                        ),
-                        None => comb::decode_color(
-                            colors.get(v).copied().unwrap_or(Vec4::ONE),
-                            opts.color_space,
-                            &opts.axes,
-                        ),
-                    };
-                    let (combed, case) = comb::bake(d, len, &frame);
-                    *slot = combed;
-                    if let Some(out) = normals_out.as_deref_mut() {
-                        out[k] = n.to_array();
-                    }
-                    if let Some(out) = tangents_out.as_deref_mut() {
-                        out[k] = tangent_out(&frame, degenerate, t);
-                    }
-                    counts.degenerate_tangents += usize::from(degenerate);
-                    counts.gray += usize::from(case == CombCase::Gray);
-                    counts.parallel += usize::from(case == CombCase::ParallelToNormal);
-                }
-                counts
-            },
-        )
-        .reduce(Counts::default, Counts::add);
+    let counts = out.counts();
     stats.degenerate_tangents = counts.degenerate_tangents;
     stats.gray_combs = counts.gray;
     stats.parallel_combs = counts.parallel;
+    let (comb, out_normals, mut out_tangents) = (out.comb, out.normals, out.tangents);
+
+    // The group ID of every output vertex: its first corner's face's.
+    let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
+    let normal_group: Vec<u16> = match &topo {
+        None => Vec::new(),
+        Some(_) => (0..out_count)
+            .into_par_iter()
+            .with_min_len(CHUNK)
+            .map(|o| match (&first_corner, only_id) {
+                (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
+                (None, Some(id)) => id,
+                _ => 0,
+            })
+            .collect(),
+    };
 
     // Kept tangents that were unusable are replaced: only then is TANGENT rewritten.
     if out_tangents.is_none() && stats.degenerate_tangents > 0 {
