@@ -3,6 +3,7 @@
 //! attribute is an error naming the attribute and the vertex, never something to carry along.
 
 use glam::{Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 
 /// Errors found in mesh data. The IO layer adds the file, mesh and primitive to each.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -73,27 +74,45 @@ impl Mesh {
         self.indices.len() / 3
     }
 
-    /// Checks attribute lengths, index ranges and that every component is finite.
+    /// Checks attribute lengths, index ranges and that every component is finite. The checks
+    /// run side by side; the error reported is the first in the order POSITION, NORMAL,
+    /// TEXCOORD_0, TANGENT, COLOR_0, indices, whatever finished first.
     pub fn validate(&self) -> Result<(), GeomError> {
         let n = self.positions.len();
-        check_finite("POSITION", self.positions.iter().map(|v| v.to_array()))?;
-        if let Some(v) = &self.normals {
-            check_len("NORMAL", v.len(), n)?;
-            check_finite("NORMAL", v.iter().map(|v| v.to_array()))?;
-        }
-        if let Some(v) = &self.uvs {
-            check_len("TEXCOORD_0", v.len(), n)?;
-            check_finite("TEXCOORD_0", v.iter().map(|v| v.to_array()))?;
-        }
-        if let Some(v) = &self.tangents {
-            check_len("TANGENT", v.len(), n)?;
-            check_finite("TANGENT", v.iter().map(|v| v.to_array()))?;
-        }
-        if let Some(v) = &self.colors {
-            check_len("COLOR_0", v.len(), n)?;
-            check_finite("COLOR_0", v.iter().map(|v| v.to_array()))?;
-        }
-        check_indices(&self.indices, n)
+        let checks: [&(dyn Fn() -> Result<(), GeomError> + Sync); 6] = [
+            &|| check_finite("POSITION", self.positions.iter().map(|v| v.to_array())),
+            &|| match &self.normals {
+                None => Ok(()),
+                Some(v) => {
+                    check_len("NORMAL", v.len(), n)?;
+                    check_finite("NORMAL", v.iter().map(|v| v.to_array()))
+                }
+            },
+            &|| match &self.uvs {
+                None => Ok(()),
+                Some(v) => {
+                    check_len("TEXCOORD_0", v.len(), n)?;
+                    check_finite("TEXCOORD_0", v.iter().map(|v| v.to_array()))
+                }
+            },
+            &|| match &self.tangents {
+                None => Ok(()),
+                Some(v) => {
+                    check_len("TANGENT", v.len(), n)?;
+                    check_finite("TANGENT", v.iter().map(|v| v.to_array()))
+                }
+            },
+            &|| match &self.colors {
+                None => Ok(()),
+                Some(v) => {
+                    check_len("COLOR_0", v.len(), n)?;
+                    check_finite("COLOR_0", v.iter().map(|v| v.to_array()))
+                }
+            },
+            &|| check_indices(&self.indices, n),
+        ];
+        let results: Vec<Result<(), GeomError>> = checks.par_iter().map(|check| check()).collect();
+        results.into_iter().collect()
     }
 }
 
@@ -202,6 +221,41 @@ mod tests {
         assert!(matches!(
             m.validate(),
             Err(GeomError::PartialTriangle { count: 2 })
+        ));
+    }
+
+    #[test]
+    fn with_several_faults_the_first_in_attribute_order_is_reported() {
+        // The checks run side by side; the report must not depend on which finished first.
+        let mut m = tri();
+        m.indices = vec![0, 1, 7];
+        m.colors = Some(vec![Vec4::ONE; 2]);
+        m.tangents = Some(vec![Vec4::new(f32::INFINITY, 0.0, 0.0, 1.0); 3]);
+        m.normals = Some(vec![Vec3::Z, Vec3::Z, Vec3::new(f32::NAN, 0.0, 1.0)]);
+        for _ in 0..20 {
+            assert_eq!(
+                m.validate(),
+                Err(GeomError::NonFinite {
+                    attribute: "NORMAL".into(),
+                    vertex: 2,
+                    value: "NaN".into()
+                })
+            );
+        }
+        m.normals = None;
+        assert!(matches!(
+            m.validate(),
+            Err(GeomError::NonFinite { attribute, .. }) if attribute == "TANGENT"
+        ));
+        m.tangents = None;
+        assert!(matches!(
+            m.validate(),
+            Err(GeomError::LengthMismatch { attribute, .. }) if attribute == "COLOR_0"
+        ));
+        m.colors = None;
+        assert!(matches!(
+            m.validate(),
+            Err(GeomError::IndexOutOfRange { index: 7, .. })
         ));
     }
 

@@ -106,51 +106,73 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
         checked_len(v.len())?;
         Ok(Some(v))
     }
-    let normals: Option<Vec<Vec3>> = optional(doc, attr("NORMAL")?, &at("NORMAL"), &|l| {
-        checked_len("NORMAL", l)
-    })?;
-    let uvs: Option<Vec<Vec2>> = optional(doc, attr("TEXCOORD_0")?, &at("TEXCOORD_0"), &|l| {
-        checked_len("TEXCOORD_0", l)
-    })?;
-    let tangents: Option<Vec<Vec4>> = optional(doc, attr("TANGENT")?, &at("TANGENT"), &|l| {
-        checked_len("TANGENT", l)
-    })?;
-    let (colors, color) = match attr("COLOR_0")? {
-        Some(i) => {
-            let e = accessor::locate(doc, i, &at("COLOR_0"))?;
-            let legal = e.component == ComponentType::F32
-                || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
-            if !legal || !(e.components == 3 || e.components == 4) {
-                return Err(doc.invalid(
-                    format!("{} (accessor {i})", at("COLOR_0")),
-                    format!("COLOR_0 must be VEC3 or VEC4 of float or normalized unsigned byte/short, found {} {}{}", e.ty, e.component.name(), if e.normalized { " normalized" } else { "" }),
-                ));
+    let colors = || -> Result<(Option<Vec<Vec4>>, Option<Encoding>)> {
+        let Some(i) = attr("COLOR_0")? else {
+            return Ok((None, None));
+        };
+        let e = accessor::locate(doc, i, &at("COLOR_0"))?;
+        let legal = e.component == ComponentType::F32
+            || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
+        if !legal || !(e.components == 3 || e.components == 4) {
+            return Err(doc.invalid(
+                format!("{} (accessor {i})", at("COLOR_0")),
+                format!("COLOR_0 must be VEC3 or VEC4 of float or normalized unsigned byte/short, found {} {}{}", e.ty, e.component.name(), if e.normalized { " normalized" } else { "" }),
+            ));
+        }
+        checked_len("COLOR_0", e.count)?;
+        let c: Vec<Vec4> = if e.components == 4 {
+            e.decode::<4, Vec4>(doc)?
+        } else {
+            e.decode::<3, Rgb>(doc)?.into_iter().map(|c| c.0).collect()
+        };
+        Ok((Some(c), encoding(doc, i)))
+    };
+    let indices = || -> Result<(Vec<u32>, bool)> {
+        let prim = doc.primitive(r)?;
+        Ok(match prim.get("indices") {
+            Some(v) => {
+                let i = v.as_u64().ok_or_else(|| {
+                    doc.invalid(format!("{place} indices"), "not an accessor index")
+                })? as usize;
+                (
+                    accessor::read_indices(doc, i, &format!("{place} indices"))?,
+                    true,
+                )
             }
-            checked_len("COLOR_0", e.count)?;
-            let c: Vec<Vec4> = if e.components == 4 {
-                e.decode::<4, Vec4>(doc)?
-            } else {
-                e.decode::<3, Rgb>(doc)?.into_iter().map(|c| c.0).collect()
-            };
-            (Some(c), encoding(doc, i))
-        }
-        None => (None, None),
+            None => ((0..n as u32).collect(), false),
+        })
     };
-
-    let prim = doc.primitive(r)?;
-    let (indices, indexed) = match prim.get("indices") {
-        Some(v) => {
-            let i = v
-                .as_u64()
-                .ok_or_else(|| doc.invalid(format!("{place} indices"), "not an accessor index"))?
-                as usize;
-            (
-                accessor::read_indices(doc, i, &format!("{place} indices"))?,
-                true,
+    // The attributes and indices are decoded side by side; a file with several faults gets
+    // the error of the first in this order, as if read one after another.
+    let ((normals, uvs), (tangents, (colors, indices))) = rayon::join(
+        || {
+            rayon::join(
+                || -> Result<Option<Vec<Vec3>>> {
+                    optional(doc, attr("NORMAL")?, &at("NORMAL"), &|l| {
+                        checked_len("NORMAL", l)
+                    })
+                },
+                || -> Result<Option<Vec<Vec2>>> {
+                    optional(doc, attr("TEXCOORD_0")?, &at("TEXCOORD_0"), &|l| {
+                        checked_len("TEXCOORD_0", l)
+                    })
+                },
             )
-        }
-        None => ((0..n as u32).collect(), false),
-    };
+        },
+        || {
+            rayon::join(
+                || -> Result<Option<Vec<Vec4>>> {
+                    optional(doc, attr("TANGENT")?, &at("TANGENT"), &|l| {
+                        checked_len("TANGENT", l)
+                    })
+                },
+                || rayon::join(colors, indices),
+            )
+        },
+    );
+    let (normals, uvs, tangents) = (normals?, uvs?, tangents?);
+    let (colors, color) = colors?;
+    let (indices, indexed) = indices?;
 
     let mesh = Mesh {
         positions,
