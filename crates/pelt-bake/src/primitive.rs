@@ -359,8 +359,23 @@ pub fn bake_primitive_with(
     // Topology over the normals as written: groups, their IDs. Beside it, none of which needs
     // the groups: the gradient frame (one sequential pass), a generated comb's flow, and, where
     // every vertex's normal and tangent are its own, the per-vertex pass over the source
-    // vertices (split vertices copy their source's results).
-    let (side, (mut topo, mut topology_ms)) = rayon::join(
+    // vertices (split vertices copy their source's results). The topology, the longer, starts
+    // at once on this thread; another takes the rest when it wakes.
+    let ((mut topo, mut topology_ms), side) = rayon::join(
+        || {
+            let t_topology = Instant::now();
+            let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
+                let t = topology::build(
+                    &mesh.positions,
+                    idx,
+                    corner_normals_of(&normals),
+                    &opts.topology,
+                );
+                let ids = group_ids::assign(&t);
+                (t, ids)
+            });
+            (topo, ms(t_topology))
+        },
         || {
             let gradient = (source == TangentSource::Gradient)
                 .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
@@ -378,20 +393,6 @@ pub fn bake_primitive_with(
                 _ => None,
             };
             (gradient, flow, early)
-        },
-        || {
-            let t_topology = Instant::now();
-            let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
-                let t = topology::build(
-                    &mesh.positions,
-                    idx,
-                    corner_normals_of(&normals),
-                    &opts.topology,
-                );
-                let ids = group_ids::assign(&t);
-                (t, ids)
-            });
-            (topo, ms(t_topology))
         },
     );
     let (gradient, flow, early) = side;
