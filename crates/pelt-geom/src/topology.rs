@@ -377,6 +377,9 @@ pub fn build(
     let edges = concat(parts.into_iter().map(|p| p.0).collect());
     // Degenerate faces join proper neighbours across their edges by the same rule, in
     // parallel like the edges above (joins are atomic; the labels do not depend on their order).
+    // The faces on an edge (a, b) are in the stars of both ends: the smaller one is searched.
+    // Degenerate faces gather at high-valence positions (a UV sphere's poles), whose stars
+    // are long: searching from the pole made this step quadratic in the valence.
     let degenerate_faces = (0..nf as u32)
         .into_par_iter()
         .with_min_len(crate::task_len(nf, CHUNK))
@@ -387,14 +390,18 @@ pub fn build(
             if a == b {
                 continue;
             }
-            for &d in star_at(a) {
+            let from_a = star_at(a).len() <= star_at(b).len();
+            let (near, far) = if from_a { (a, b) } else { (b, a) };
+            for &d in star_at(near) {
                 let g = d / 3;
                 if is_degenerate(g) {
                     continue;
                 }
-                if let Some(at_b) = other_end(d, b)
-                    && same_group([c, next_corner(c)], [d, at_b])
-                {
+                let Some(e) = other_end(d, far) else {
+                    continue;
+                };
+                let (at_a, at_b) = if from_a { (d, e) } else { (e, d) };
+                if same_group([c, next_corner(c)], [at_a, at_b]) {
                     sets.join(f, g);
                 }
             }
@@ -592,6 +599,41 @@ mod tests {
         );
         assert_eq!(t2.face_group[4], 0);
         assert_eq!(t2.edges.len(), 5);
+    }
+
+    #[test]
+    fn a_sliver_at_a_pole_joins_by_the_same_rule_searched_from_either_end() {
+        // A fan of 8 triangles around a pole P, and a zero-area sliver (P, R, M) on the fan's
+        // edge P-R, M halfway along it. R's star (3 corners) is smaller than P's (9), so the
+        // sliver's edge is searched from R: the sliver's corners must still be paired with
+        // the fan face's corners at the same ends (P with P, R with R).
+        let ring = |k: usize| {
+            let a = k as f32 * std::f32::consts::TAU / 8.0;
+            Vec3::new(a.cos(), a.sin(), 0.0)
+        };
+        let mut p: Vec<Vec3> = (0..8).map(ring).collect();
+        p.push(Vec3::ZERO); // 8: P
+        p.push(ring(0)); // 9: the sliver's own vertex at R
+        p.push(ring(0) * 0.5); // 10: M
+        let mut i: Vec<u32> = (0..8u32).flat_map(|k| [8, k, (k + 1) % 8]).collect();
+        i.extend([8, 9, 10]);
+        // P's normal and the ring's differ, so pairing P with R would not agree.
+        let mut n = vec![Vec3::X; p.len()];
+        n[8] = Vec3::Z;
+        let groups = |n: &[Vec3]| {
+            let t = build(
+                &p,
+                &i,
+                CornerNormals::Vertex(n),
+                &TopologyOptions::default(),
+            );
+            assert!(t.is_degenerate(8) && !t.is_degenerate(0));
+            (t.face_group[8] == t.face_group[0], t.groups)
+        };
+        assert_eq!(groups(&n), (true, 1));
+        // The sliver's vertex at R turned away: no longer the same group.
+        n[9] = -Vec3::X;
+        assert_eq!(groups(&n), (false, 2));
     }
 
     #[test]
