@@ -26,12 +26,20 @@ pub fn weld<const N: usize>(n: usize, key: impl Fn(usize) -> [u32; N] + Sync) ->
     weld_by(n, key, hash_key)
 }
 
+/// Below this many vertices [`weld`] runs on one thread with a hash table: there the parallel
+/// sort's hand-offs between threads cost more than they save, and a table needs no sort and
+/// no labelling pass.
+const TABLE_BELOW: usize = 1 << 16;
+
 /// [`weld`] with the hash as a parameter (tests force collisions with it).
 fn weld_by<const N: usize>(
     n: usize,
     key: impl Fn(usize) -> [u32; N] + Sync,
     hash: impl Fn(&[u32; N]) -> u64 + Sync,
 ) -> (Vec<u32>, usize) {
+    if n < TABLE_BELOW {
+        return weld_table(n, &key, &hash);
+    }
     let order: Vec<(u64, u32)> = (0..n)
         .into_par_iter()
         .with_min_len(4096)
@@ -63,6 +71,40 @@ fn weld_by<const N: usize>(
     drop(order);
 
     first_seen_labels(rep)
+}
+
+/// [`weld`] on one thread: an open-addressing table (linear probing) from each distinct key to
+/// its id, ids given in order of first appearance as the vertices are visited in order; keys
+/// are compared exactly, so colliding hashes only cost probes.
+fn weld_table<const N: usize>(
+    n: usize,
+    key: &impl Fn(usize) -> [u32; N],
+    hash: &impl Fn(&[u32; N]) -> u64,
+) -> (Vec<u32>, usize) {
+    const EMPTY: u32 = u32::MAX;
+    let mask = (2 * n).next_power_of_two().max(16) - 1;
+    let mut slots = vec![EMPTY; mask + 1];
+    // The first vertex of every id.
+    let mut first: Vec<u32> = Vec::new();
+    let ids = (0..n)
+        .map(|v| {
+            let k = key(v);
+            let mut s = hash(&k) as usize & mask;
+            loop {
+                match slots[s] {
+                    EMPTY => {
+                        let id = first.len() as u32;
+                        slots[s] = id;
+                        first.push(v as u32);
+                        return id;
+                    }
+                    id if key(first[id as usize] as usize) == k => return id,
+                    _ => s = (s + 1) & mask,
+                }
+            }
+        })
+        .collect();
+    (ids, first.len())
 }
 
 /// Welds positions: bit-equal ones when `epsilon` is 0 (or not positive), otherwise every pair
@@ -198,6 +240,27 @@ mod tests {
             });
             assert_eq!(ids[i], id, "vertex {i}");
         }
+    }
+
+    #[test]
+    fn table_and_sort_give_the_same_ids() {
+        // Above TABLE_BELOW the parallel sort welds, below it the table: same ids, also when
+        // every hash collides.
+        let keys: Vec<[u32; 2]> = (0..(TABLE_BELOW as u32 + 5000))
+            .map(|i| [i % 9173, (i * 7) % 11])
+            .collect();
+        let (big, n) = weld(keys.len(), |i| keys[i]);
+        let (small, m) = weld_table(keys.len(), &|i| keys[i], &hash_key);
+        assert_eq!((small, m), (big.clone(), n));
+        let few = 3000;
+        assert_eq!(
+            weld_table(few, &|i| keys[i], &|_| 7),
+            weld_table(few, &|i| keys[i], &hash_key)
+        );
+        assert_eq!(
+            weld_table(few, &|i| keys[i], &hash_key),
+            (big[..few].to_vec(), n.min(few))
+        );
     }
 
     #[test]
