@@ -2,8 +2,9 @@
 //! or the one-pass UV-gradient frame where no normal map needs MikkTSpace), topology (normal
 //! groups and their IDs, Kircher & Lawrance §3.1), vertex splits where corners of one vertex
 //! disagree (mirrored-UV seams, flat normals, different group IDs), then the comb and group ID
-//! of every output vertex, and the fin edges of the furry part. Only the work the primitive
-//! needs is done: with usable NORMAL, per-vertex tangents (kept, or the gradient frame) and one
+//! of every output vertex (made beside the topology where normals and tangents are per vertex;
+//! see `vertex_pass`), and the fin edges of the furry part. Only the work the primitive needs
+//! is done: with usable NORMAL, per-vertex tangents (kept, or the gradient frame) and one
 //! normal group nothing is done per corner and no vertex is split.
 //!
 //! [`group_primitive`] is the part of this a primitive without a painted comb gets: normal
