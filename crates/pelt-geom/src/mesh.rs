@@ -80,40 +80,28 @@ impl Mesh {
     pub fn validate(&self) -> Result<(), GeomError> {
         let n = self.positions.len();
         let checks: [&(dyn Fn() -> Result<(), GeomError> + Sync); 6] = [
-            &|| check_finite("POSITION", self.positions.iter().map(|v| v.to_array())),
-            &|| match &self.normals {
-                None => Ok(()),
-                Some(v) => {
-                    check_len("NORMAL", v.len(), n)?;
-                    check_finite("NORMAL", v.iter().map(|v| v.to_array()))
-                }
-            },
-            &|| match &self.uvs {
-                None => Ok(()),
-                Some(v) => {
-                    check_len("TEXCOORD_0", v.len(), n)?;
-                    check_finite("TEXCOORD_0", v.iter().map(|v| v.to_array()))
-                }
-            },
-            &|| match &self.tangents {
-                None => Ok(()),
-                Some(v) => {
-                    check_len("TANGENT", v.len(), n)?;
-                    check_finite("TANGENT", v.iter().map(|v| v.to_array()))
-                }
-            },
-            &|| match &self.colors {
-                None => Ok(()),
-                Some(v) => {
-                    check_len("COLOR_0", v.len(), n)?;
-                    check_finite("COLOR_0", v.iter().map(|v| v.to_array()))
-                }
-            },
+            &|| check_finite("POSITION", self.positions.iter().map(Vec3::to_array)),
+            &|| check_optional("NORMAL", self.normals.as_deref(), n, Vec3::to_array),
+            &|| check_optional("TEXCOORD_0", self.uvs.as_deref(), n, Vec2::to_array),
+            &|| check_optional("TANGENT", self.tangents.as_deref(), n, Vec4::to_array),
+            &|| check_optional("COLOR_0", self.colors.as_deref(), n, Vec4::to_array),
             &|| check_indices(&self.indices, n),
         ];
         let results: Vec<Result<(), GeomError>> = checks.par_iter().map(|check| check()).collect();
         results.into_iter().collect()
     }
+}
+
+/// An optional attribute: its length against the vertex count, then [`check_finite`].
+fn check_optional<T, const N: usize>(
+    attribute: &str,
+    values: Option<&[T]>,
+    vertex_count: usize,
+    components: fn(&T) -> [f32; N],
+) -> Result<(), GeomError> {
+    let Some(v) = values else { return Ok(()) };
+    check_len(attribute, v.len(), vertex_count)?;
+    check_finite(attribute, v.iter().map(components))
 }
 
 /// Fails on the first element with a NaN or infinite component. The common all-finite case
