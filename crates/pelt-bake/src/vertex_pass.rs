@@ -125,18 +125,20 @@ impl VertexOut {
 
     /// How many vertices had a degenerate tangent, a gray comb, a comb along the normal.
     pub fn counts(&self) -> Counts {
-        let count = |bit: u8| {
-            self.flags
-                .par_iter()
-                .with_min_len(crate::primitive::CHUNK)
-                .filter(|&&f| f & bit != 0)
-                .count()
-        };
-        Counts {
-            degenerate_tangents: count(DEGENERATE),
-            gray: count(GRAY),
-            parallel: count(PARALLEL),
-        }
+        let count = |f: u8, bit: u8| usize::from(f & bit != 0);
+        self.flags
+            .par_iter()
+            .with_min_len(crate::primitive::CHUNK)
+            .fold(Counts::default, |c, &f| Counts {
+                degenerate_tangents: c.degenerate_tangents + count(f, DEGENERATE),
+                gray: c.gray + count(f, GRAY),
+                parallel: c.parallel + count(f, PARALLEL),
+            })
+            .reduce(Counts::default, |a, b| Counts {
+                degenerate_tangents: a.degenerate_tangents + b.degenerate_tangents,
+                gray: a.gray + b.gray,
+                parallel: a.parallel + b.parallel,
+            })
     }
 }
 
