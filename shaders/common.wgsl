@@ -38,6 +38,10 @@ struct Object {
     // x: rim strength; y: rim falloff (Revie Listing 2.3); z: strand fade width in shell
     // depth; w: WBOIT weight scale.
     fur_params: vec4<f32>,
+    // Fur only, the strand model as a medium (pelt_fur::density): x: κ = Σ 2r / Σ π r² (per
+    // tile width); y: mean strand diameter (tile widths); z: coverage (0 analytic, 1 the
+    // binary heightfield alone); w: deferred fur lighting (0 Kajiya-Kay, 1 Revie's normals).
+    fur_model: vec4<f32>,
     // x: object ID (1..255); y: stipple pattern (0 = opaque, 1..3 = alpha layer); z: the
     // fur's outer-shell ID; w: shell count.
     ids: vec4<u32>,
@@ -219,6 +223,34 @@ fn point_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec
     let h = normalize(l + v);
     let spec = pow(max(dot(n, h), 0.0), spec_power) * ndl * atten;
     return vec4<f32>(light.color.rgb * (ndl * atten), spec * light.color.w);
+}
+
+// The shell table's flag for object IDs whose G-buffer texels hold a strand tangent (the
+// fur's base and outer shell under Kajiya-Kay lighting). Keep in sync with STRAND_LIT in
+// crates/pelt-preview/src/frame_data.rs.
+const STRAND_LIT: u32 = 65536u;
+
+// point_light for a strand running along `t` (either sign) instead of a surface with normal
+// `n`: Kajiya-Kay (Revie Listing 2.4), diffuse sin(T, L), specular (sin(T, L) sin(T, V) −
+// (T·L)(T·V))^p, with the same falloff; fur_light_forward.wgsl evaluates the same terms.
+fn strand_light(p: vec3<f32>, t: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
+    let to_light = light.position_radius.xyz - p;
+    let dist = length(to_light);
+    let radius = light.position_radius.w;
+    if dist >= radius {
+        return vec4<f32>(0.0);
+    }
+    let l = to_light / max(dist, 1e-6);
+    let x = dist / radius;
+    let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
+    let atten = window * window / (1.0 + dist * dist);
+    let v = normalize(-p);
+    let lt = dot(l, t);
+    let vt = dot(v, t);
+    let sin_l = sqrt(max(1.0 - lt * lt, 0.0));
+    let sin_v = sqrt(max(1.0 - vt * vt, 0.0));
+    let spec = pow(max(sin_l * sin_v - lt * vt, 0.0), spec_power) * atten;
+    return vec4<f32>(light.color.rgb * (sin_l * atten), spec * light.color.w);
 }
 
 // Kircher & Lawrance §2.2: the specular colour is rebuilt by scaling the stored intensity by

@@ -89,7 +89,7 @@ fn vs_main(fin: FinIn, @builtin(vertex_index) vi: u32) -> FinOut {
     let pt = to_view * vec4<f32>(p + shell_offset(n, c.xyz, 1.0, len, c.w), 1.0);
     o.clip = frame.proj * pv;
     o.view_pos = pv.xyz;
-    o.strand = view_dir_of(strand_dir(n, c.xyz, t), frame, object);
+    o.strand = view_dir_of(strand_tangent(n, c.xyz, t), frame, object);
     o.base_clip = frame.proj * pb;
     o.top_clip = frame.proj * pt;
     o.depths = vec4<f32>(-pb.z, -pt.z, t, fade);
@@ -102,7 +102,7 @@ fn vs_main(fin: FinIn, @builtin(vertex_index) vi: u32) -> FinOut {
 fn shade(s: FinOut) -> vec4<f32> {
     let tex = textureSample(fin_texture, fin_sampler, s.uv);
     let l = fur_lighting(fur_query(
-        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
+        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, s.depths.z, frame,
     ));
     let albedo = object.tint.rgb * s.under * mix(object.fur_base.rgb, object.fur_tip.rgb, tex.r);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, tex.a * s.depths.w);

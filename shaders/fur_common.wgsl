@@ -52,10 +52,23 @@ fn shell_offset(n: vec3<f32>, comb: vec3<f32>, sd: f32, fur_length: f32, comb_le
     return dir * sd * fur_length * comb_length;
 }
 
-// The direction a strand runs at shell depth `sd`: the derivative of the Listing 2.1 path
-// (close enough to the offset direction, which is what Kajiya-Kay needs as its tangent).
-fn strand_dir(n: vec3<f32>, comb: vec3<f32>, sd: f32) -> vec3<f32> {
-    return normalize(normalize(n) + comb * max(sd, 0.5));
+// The direction a strand runs at height `z` (fraction of the fur length), the tangent
+// Kajiya-Kay lights: the derivative of the Listing 2.1 path P(z) = z D(z), D = normalize(n +
+// c z): P' = D + z D', D' = (c − D (D·c)) / |n + c z| (pelt_fur::path::tangent on the CPU).
+fn strand_tangent(n: vec3<f32>, comb: vec3<f32>, z: f32) -> vec3<f32> {
+    return normalize(strand_velocity(n, comb, z));
+}
+
+// P'(z) itself (per unit of fur length × comb length).
+fn strand_velocity(n: vec3<f32>, comb: vec3<f32>, z: f32) -> vec3<f32> {
+    let m = normalize(n) + comb * z;
+    let len = length(m);
+    if len <= 1e-6 {
+        return select(normalize(n), comb, length(comb) > 1e-6);
+    }
+    let d = m / len;
+    let dd = (comb - d * dot(d, comb)) / len;
+    return d + dd * z;
 }
 
 // An object-space direction (a tangent vector) in view space.
@@ -128,6 +141,8 @@ struct FurQuery {
     top_depth: f32,
     // Normal group of the base mesh there.
     group: u32,
+    // Height on the strand (fraction of the fur length).
+    height: f32,
 }
 
 // The query of a fragment at view-space `view_pos` on a strand running along `strand`, whose
@@ -141,6 +156,7 @@ fn fur_query(
     base_depth: f32,
     top_depth: f32,
     group: u32,
+    height: f32,
     frame: Frame,
 ) -> FurQuery {
     var q: FurQuery;
@@ -151,6 +167,7 @@ fn fur_query(
     q.top_pixel = clip_to_pixel(top_clip, frame);
     q.top_depth = top_depth;
     q.group = group;
+    q.height = height;
     return q;
 }
 

@@ -5,10 +5,19 @@
 // the comb length and combed per Listing 2.1, into one pixel in four (the top-left of each
 // 2×2 cell, Listing 2.6), with the grain normal bent toward the back at the silhouette
 // (Listing 2.3). Its texels carry the fur's outer-shell ID, so the material phase can tell
-// them from the base mesh.
+// them from the base mesh. With Kajiya-Kay fur lighting (Object.fur_model.w = 0) both passes
+// store, in place of a normal, the strand's tangent (the Listing 2.1 path's derivative) at
+// ROOT_HEIGHT and TIP_HEIGHT, flipped toward the viewer (Kajiya-Kay does not see its sign);
+// light.wgsl lights them with Kajiya-Kay and the shells mix the two by height
+// (fur_light_inferred.wgsl).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
+
+// The heights whose strand tangents the base and outer passes store (Kajiya-Kay lighting).
+// Keep in sync with fur_light_inferred.wgsl.
+const ROOT_HEIGHT: f32 = 0.25;
+const TIP_HEIGHT: f32 = 0.75;
 
 struct FurSurface {
     @builtin(position) clip: vec4<f32>,
@@ -16,6 +25,8 @@ struct FurSurface {
     @location(1) view_normal: vec3<f32>,
     @location(2) view_comb: vec3<f32>,
     @location(3) @interpolate(flat) group: u32,
+    // The strand's view-space tangent at this pass's height.
+    @location(4) view_strand: vec3<f32>,
 }
 
 struct GBufferOut {
@@ -23,7 +34,7 @@ struct GBufferOut {
     @location(1) dsf: vec2<u32>,
 }
 
-fn fur_surface(v: VertexIn, f: FurIn, sd: f32) -> FurSurface {
+fn fur_surface(v: VertexIn, f: FurIn, sd: f32, lit_at: f32) -> FurSurface {
     var s: FurSurface;
     let comb = comb_object(v.normal, f.tangent, f.comb.xyz);
     let p = v.position + shell_offset(v.normal, comb, sd, object.fur_base.w, f.comb.w);
@@ -32,18 +43,29 @@ fn fur_surface(v: VertexIn, f: FurIn, sd: f32) -> FurSurface {
     s.view_pos = view.xyz;
     s.view_normal = view_normal_of(v.normal, frame, object);
     s.view_comb = view_dir_of(comb, frame, object);
+    s.view_strand = view_dir_of(strand_tangent(v.normal, comb, lit_at), frame, object);
     s.group = v.group;
     return s;
 }
 
 @vertex
 fn vs_base(v: VertexIn, f: FurIn) -> FurSurface {
-    return fur_surface(v, f, 0.0);
+    return fur_surface(v, f, 0.0, ROOT_HEIGHT);
 }
 
 @vertex
 fn vs_outer(v: VertexIn, f: FurIn) -> FurSurface {
-    return fur_surface(v, f, 1.0);
+    return fur_surface(v, f, 1.0, TIP_HEIGHT);
+}
+
+// The strand tangent, flipped to face the viewer (the G-buffer encoding holds a hemisphere).
+fn stored_strand(s: FurSurface) -> vec3<f32> {
+    let t = normalize(s.view_strand);
+    return select(t, -t, t.z < 0.0);
+}
+
+fn kajiya_kay() -> bool {
+    return object.fur_model.w == 0.0;
 }
 
 fn grain(s: FurSurface, front: bool) -> vec3<f32> {
@@ -54,7 +76,7 @@ fn grain(s: FurSurface, front: bool) -> vec3<f32> {
 @fragment
 fn fs_base(s: FurSurface, @builtin(front_facing) front: bool) -> GBufferOut {
     var out: GBufferOut;
-    out.normal = encode_normal(grain(s, front));
+    out.normal = encode_normal(select(grain(s, front), stored_strand(s), kajiya_kay()));
     out.dsf = vec2<u32>(depth_code(-s.view_pos.z, frame), ((object.ids.x & 255u) << 8u) | (s.group & 255u));
     return out;
 }
@@ -68,7 +90,7 @@ fn fs_outer(s: FurSurface, @builtin(front_facing) front: bool) -> GBufferOut {
     let eye = normalize(s.view_pos);
     let n = rim_normal(grain(s, front), eye, object.fur_params.x, object.fur_params.y);
     var out: GBufferOut;
-    out.normal = encode_normal(n);
+    out.normal = encode_normal(select(n, stored_strand(s), kajiya_kay()));
     out.dsf = vec2<u32>(depth_code(-s.view_pos.z, frame), ((object.ids.z & 255u) << 8u) | (s.group & 255u));
     return out;
 }

@@ -2,9 +2,10 @@
 // the L-buffer, at two points per strand: the root on the base mesh (the base pass's texels)
 // and the tip on the outer shell (the stippled texels, top-left of each 2×2 cell). A tap is
 // kept only when its ID is that surface's and its stored linear depth matches the point's, so
-// an occluder in front of either point is never sampled into the strand. The maximum of the
-// valid samples is taken (the halo of back-lit fur without darkening edges); with none valid,
-// the ambient term. The L-buffer holds light without albedo (inferred lighting), so Revie's
+// an occluder in front of either point is never sampled into the strand. With Kajiya-Kay fur
+// lighting the two hold the strand lit at a quarter and three quarters of its height and are
+// mixed by the fragment's height; with Revie's normals the maximum of the valid samples is
+// taken (the halo of back-lit fur without darkening edges). With none valid, the ambient term. The L-buffer holds light without albedo (inferred lighting), so Revie's
 // division by the albedo is the identity here.
 
 @group(2) @binding(0) var lbuffer: texture_2d<f32>;
@@ -63,7 +64,13 @@ fn fur_lighting(q: FurQuery) -> FurLight {
     let t = fur_taps(q.top_pixel, top_id, q.top_depth, tt, true);
     var l = vec4<f32>(frame.ambient.rgb, 0.0);
     if b.weight > 0.0 && t.weight > 0.0 {
-        l = max(b.light / b.weight, t.light / t.weight);
+        if object.fur_model.w == 0.0 {
+            // Kajiya-Kay: the two samples are the strand lit at ROOT_HEIGHT and TIP_HEIGHT
+            // (fur_gbuffer.wgsl); between them, and beyond, the nearer one's share by height.
+            l = mix(b.light / b.weight, t.light / t.weight, clamp((q.height - 0.25) / 0.5, 0.0, 1.0));
+        } else {
+            l = max(b.light / b.weight, t.light / t.weight);
+        }
     } else if b.weight > 0.0 {
         l = b.light / b.weight;
     } else if t.weight > 0.0 {

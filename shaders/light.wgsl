@@ -1,12 +1,17 @@
 // light.wgsl: the light pass of inferred lighting (Kircher & Lawrance §2.2). One full-screen
 // triangle per point light, clipped by the scissor rectangle of the light's screen-space bounds
 // (set by the CPU) and added into the L-buffer: rgb = diffuse, a = specular intensity. The
-// view-space position comes from the DSF buffer's linear depth; the normal from eqs. 2 and 3.
+// view-space position comes from the DSF buffer's linear depth; the normal from eqs. 2 and 3,
+// or, for fur lit as strands (the shell table's STRAND_LIT), the strand tangent stored in its
+// place, lit with Kajiya-Kay (strand_light).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var normals: texture_2d<f32>;
 @group(1) @binding(1) var dsf: texture_2d<u32>;
 @group(2) @binding(0) var<uniform> light: Light;
+// The shell table (obliterate.wgsl): STRAND_LIT marks the IDs whose texels hold a strand
+// tangent instead of a normal (Kajiya-Kay fur).
+@group(3) @binding(0) var<uniform> shell_table: array<vec4<u32>, 64>;
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -20,5 +25,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let ndc = vec2<f32>(frag.x * frame.target_size.z * 2.0 - 1.0, 1.0 - frag.y * frame.target_size.w * 2.0);
     let p = vec3<f32>(ndc * frame.proj_params.xy, -1.0) * depth;
     let n = decode_normal(textureLoad(normals, px, 0).xy);
+    let id = (d.y >> 8u) & 255u;
+    if (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
+        return strand_light(p, n, light, frame.ambient.w);
+    }
     return point_light(p, n, light, frame.ambient.w);
 }

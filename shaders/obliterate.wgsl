@@ -8,7 +8,8 @@
 
 @group(0) @binding(0) var lbuffer: texture_2d<f32>;
 @group(0) @binding(1) var dsf: texture_2d<u32>;
-// For each object ID (0..255): the base ID of the fur whose outer shell it is, else 0.
+// For each object ID (0..255): the base ID of the fur whose outer shell it is, else 0 (the
+// low byte; STRAND_LIT above it, see light.wgsl).
 @group(1) @binding(0) var<uniform> shell_table: array<vec4<u32>, 64>;
 
 struct ObliterateOut {
@@ -18,7 +19,7 @@ struct ObliterateOut {
 
 fn base_of(object_id: u32) -> u32 {
     let i = object_id & 255u;
-    return shell_table[i >> 2u][i & 3u];
+    return shell_table[i >> 2u][i & 3u] & 255u;
 }
 
 @fragment

@@ -1,11 +1,15 @@
 // shells.wgsl: the concentric shells of the material phase (Revie §2.3.1, §2.4.4; Lengyel et
-// al. 2001). One instanced draw per fur object: instance s is the shell at normalized depth
-// s / N (Listing 2.1); instance 0 is the base mesh, drawn opaque. Each fragment is lit at the
-// strand's root (base mesh) and tip (outer shell) through `fur_lighting` (the L-buffer in the
-// deferred pipeline, fur_light_inferred.wgsl, or every light directly with Kajiya-Kay,
-// fur_light_forward.wgsl), takes the root-to-tip albedo lerp by shell depth, and fades
-// strands out with smoothstep where the shell depth reaches the heightfield sampled at
-// TEXCOORD_0 × uvScale. fs_main writes straight alpha for "over" blending (inner shells
+// al. 2001). One instanced draw per fur object: instance 0 is the base mesh, drawn opaque;
+// instance s of N stands for the layer of fur between heights (s − 1)/N and s/N and is drawn
+// at its middle (Listing 2.1). Each fragment is lit at the strand's root (base mesh) and tip
+// (outer shell) through `fur_lighting` (the L-buffer in the deferred pipeline,
+// fur_light_inferred.wgsl, or every light directly with Kajiya-Kay, fur_light_forward.wgsl)
+// about the strand's tangent at that height, and takes the root-to-tip albedo lerp there.
+// Its opacity is what the strand model hides of the view ray across its layer
+// (pelt_fur::density): where the pixel resolves single strands, the binary heightfield
+// sampled at TEXCOORD_0 × uvScale (the strands taller than the layer); where it holds many,
+// 1 − e^(−Δτ) with Δτ the optical depth of the strands' sides and tips over the layer,
+// slanted by the view. fs_main writes straight alpha for "over" blending (inner shells
 // first) or, with the WBOIT override, weighted blended OIT (McGuire & Bavoil 2013).
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -16,6 +20,13 @@
 @group(3) @binding(3) var fin_sampler: sampler;
 @group(3) @binding(4) var base_texture: texture_2d<f32>;
 @group(3) @binding(5) var base_sampler: sampler;
+// T(z) of pelt_fur::density at z = 0..3 / 8 and 4..7 / 8, with box-filtered mips.
+@group(3) @binding(6) var density_lo: texture_2d<f32>;
+@group(3) @binding(7) var density_hi: texture_2d<f32>;
+
+// The cosine between view ray and normal below which a layer's path length stops growing
+// (a shell near the silhouette is crossed along a chord, not an infinite slab).
+const MIN_COS: f32 = 0.1;
 
 struct ShellOut {
     @builtin(position) clip: vec4<f32>,
@@ -31,22 +42,30 @@ struct ShellOut {
     @location(8) @interpolate(flat) shell: u32,
     // The material's texture coordinates (the base colour texture's set).
     @location(9) base_uv: vec2<f32>,
+    // x, y: the heights the layer spans; z: the strand's length across it (view units).
+    @location(10) layer: vec3<f32>,
+    @location(11) view_normal: vec3<f32>,
 }
 
 @vertex
 fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellOut {
     var o: ShellOut;
-    let n = max(object.ids.w, 1u);
-    let sd = f32(shell) / f32(n);
+    let n = f32(max(object.ids.w, 1u));
+    let z0 = max(f32(shell) - 1.0, 0.0) / n;
+    let z1 = f32(shell) / n;
+    // The base mesh at the root; each shell in the middle of its layer.
+    let sd = select(0.5 * (z0 + z1), 0.0, shell == 0u);
     let comb = comb_object(v.normal, f.tangent, f.comb.xyz);
     let len = object.fur_base.w;
     let to_view = frame.view * object.model;
     let p = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, sd, len, f.comb.w), 1.0);
     let pb = to_view * vec4<f32>(v.position, 1.0);
     let pt = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, 1.0, len, f.comb.w), 1.0);
+    let p0 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z0, len, f.comb.w), 1.0);
+    let p1 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z1, len, f.comb.w), 1.0);
     o.clip = frame.proj * p;
     o.view_pos = p.xyz;
-    o.strand = view_dir_of(strand_dir(v.normal, comb, sd), frame, object);
+    o.strand = view_dir_of(strand_tangent(v.normal, comb, sd), frame, object);
     o.base_clip = frame.proj * pb;
     o.top_clip = frame.proj * pt;
     o.depths = vec4<f32>(-pb.z, -pt.z, sd, f.comb.w);
@@ -55,20 +74,67 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     o.group = v.group;
     o.shell = shell;
     o.base_uv = v.uv;
+    o.layer = vec3<f32>(z0, z1, length(p1.xyz - p0.xyz));
+    o.view_normal = view_normal_of(v.normal, frame, object);
     return o;
+}
+
+// T(z) (pelt_fur::density::t_at) from the two density samples.
+fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
+    let bins = array<f32, 9>(lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, 0.0);
+    let x = clamp(z, 0.0, 1.0) * 8.0;
+    let k = min(u32(floor(x)), 7u);
+    return mix(bins[k], bins[k + 1u], x - f32(k));
+}
+
+// The opacity of shell fragment `s`'s layer with heightfield sample `h` (pelt_fur::density):
+// Δτ = (κ T(z_mid) sin ψ ℓ √J + T(z0) − T(z1)) / |cos θ|, with ψ the angle between view ray
+// and strand, ℓ the strand's length across the layer, J the tile area per unit of surface
+// area and θ the angle from the normal; the binary heightfield (the fraction of the layer
+// the strand over the texel reaches into) where a pixel is under about a strand wide.
+fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, tile_area: f32, surface_area: f32) -> f32 {
+    let z0 = s.layer.x;
+    let z1 = s.layer.y;
+    let binary = clamp((h - z0) / max(z1 - z0, 1e-6), 0.0, 1.0);
+    if object.fur_model.z == 1.0 {
+        // The heightfield alone, faded over the strand's top (Revie §2.4.4).
+        return 1.0 - smoothstep(h - object.fur_params.z, h, z1);
+    }
+    let eye = normalize(-s.view_pos);
+    let mu = max(abs(dot(normalize(s.view_normal), eye)), MIN_COS);
+    let vt = dot(eye, normalize(s.strand));
+    let sin_psi = sqrt(max(1.0 - vt * vt, 0.0));
+    let sqrt_j = sqrt(tile_area / max(surface_area, 1e-20));
+    let zm = 0.5 * (z0 + z1);
+    let tau = (object.fur_model.x * t_at(lo, hi, zm) * sin_psi * s.layer.z * sqrt_j
+        + max(t_at(lo, hi, z0) - t_at(lo, hi, z1), 0.0)) / mu;
+    let statistical = 1.0 - exp(-tau);
+    // A pixel footprint (tile widths) under half a strand's diameter resolves it.
+    let footprint = sqrt(tile_area);
+    let d = max(object.fur_model.y, 1e-9);
+    let w = smoothstep(0.5 * d, 1.5 * d, footprint);
+    return clamp(mix(binary, statistical, w), 0.0, 1.0);
 }
 
 // Colour and coverage of a shell fragment.
 fn shade(s: ShellOut) -> vec4<f32> {
     let sd = s.depths.z;
-    let h = textureSample(heightfield, repeat_sampler, s.uv * object.fur_tip.w).r;
+    let tuv = s.uv * object.fur_tip.w;
+    let h = textureSample(heightfield, repeat_sampler, tuv).r;
+    let lo = textureSample(density_lo, repeat_sampler, tuv);
+    let hi = textureSample(density_hi, repeat_sampler, tuv);
     let under = textureSample(base_texture, base_sampler, s.base_uv).rgb;
-    // Strands end where the shell depth reaches their height (Revie §2.4.4); fur shorter than
-    // 5 % of the length fades away rather than lying flat on the skin. The base is opaque.
-    let strand = (1.0 - smoothstep(h - object.fur_params.z, h, sd)) * clamp(s.depths.w * 20.0, 0.0, 1.0);
+    // Fur shorter than 5 % of the length fades away rather than lying flat on the skin.
+    // Tile area and surface area one pixel covers (the shell's own, at this fragment).
+    let uv_dx = dpdx(tuv);
+    let uv_dy = dpdy(tuv);
+    let tile_area = abs(uv_dx.x * uv_dy.y - uv_dx.y * uv_dy.x);
+    let surface_area = length(cross(dpdx(s.view_pos), dpdy(s.view_pos)));
+    let coverage = layer_alpha(s, h, lo, hi, tile_area, surface_area);
+    let strand = coverage * clamp(s.depths.w * 20.0, 0.0, 1.0);
     let a = select(strand, 1.0, s.shell == 0u);
     let l = fur_lighting(fur_query(
-        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, frame,
+        s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, sd, frame,
     ));
     // With the fur config's colorFromTexture, the base colour texture under the strand
     // colours the whole strand (root and tip colours then shade it).

@@ -7,7 +7,8 @@
 // triangle per segment. The
 // fragment stage keeps the pixels whose centre lies inside the projected capsule, so a
 // strand thinner than a pixel is exact under jittered supersampling, and shades them with
-// Kajiya-Kay per light (fur_light_forward.wgsl, Listing 2.4) about the segment's direction,
+// Kajiya-Kay per light (fur_light_forward.wgsl, Listing 2.4) about the path's direction (its
+// derivative at each end, blended along the segment: no shading jump at the joints),
 // the albedo the shells use at that height (root-to-tip lerp). Opaque, depth tested.
 // Keep `StrandIn` in sync with `StrandRoot` in crates/pelt-scene/src/vertex.rs and SEGMENTS
 // with `STRAND_SEGMENTS` in crates/pelt-preview/src/features/strands.rs.
@@ -40,12 +41,23 @@ struct StrandOut {
     // Heights of the ends (fraction of the fur length).
     @location(4) @interpolate(flat) z: vec2<f32>,
     @location(5) @interpolate(flat) albedo: vec3<f32>,
+    // The strand's view-space direction at each end (the path's derivative there, lean
+    // included): blended along the segment, so the shading has no jump at the joints.
+    @location(6) @interpolate(flat) t0: vec3<f32>,
+    @location(7) @interpolate(flat) t1: vec3<f32>,
 }
 
 // The point at height `z` (fraction of the fur length) of strand `s`, in asset space.
 fn strand_point(s: StrandIn, z: f32) -> vec3<f32> {
     let len = object.fur_base.w;
     return s.root.xyz + s.lean.xyz * z + shell_offset(s.normal.xyz, s.comb.xyz, z, len, s.normal.w);
+}
+
+// The direction of strand `s` at height `z`, in view space.
+fn strand_direction(s: StrandIn, z: f32) -> vec3<f32> {
+    let k = object.fur_base.w * s.normal.w;
+    let d = s.lean.xyz + strand_velocity(s.normal.xyz, s.comb.xyz, z) * k;
+    return view_dir_of(d, frame, object);
 }
 
 // Pixels per view-space unit at view depth `w` (vertical).
@@ -71,6 +83,8 @@ fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
     o.v0 = v0;
     o.v1 = v1;
     o.z = vec2<f32>(z0, z1);
+    o.t0 = strand_direction(s, z0);
+    o.t1 = strand_direction(s, z1);
     o.albedo = s.albedo.rgb * object.tint.rgb;
     let near = frame.proj_params.z;
     let reach = object.fur_base.w * s.normal.w * s.root.w;
@@ -131,8 +145,8 @@ fn fs_main(f: StrandOut) -> @location(0) vec4<f32> {
         discard;
     }
     let view_pos = mix(f.v0, f.v1, t);
-    let seg = f.v1 - f.v0;
-    let dir = select(vec3<f32>(0.0, 1.0, 0.0), normalize(seg), length(seg) > 1e-9);
+    let blend = mix(f.t0, f.t1, t);
+    let dir = select(f.t0, normalize(blend), length(blend) > 1e-6);
     var q: FurQuery;
     q.view_pos = view_pos;
     q.strand = dir;

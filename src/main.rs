@@ -426,6 +426,15 @@ pub struct KnobArgs {
     /// outer) or wboit (weighted blended order-independent transparency).
     #[arg(long)]
     pub fur_blend: Option<pelt_preview::scene::FurBlend>,
+    /// How much of the skin each shell hides: analytic (the strand model's optical depth
+    /// where a pixel holds many strands, the heightfield where it resolves them) or binary
+    /// (the heightfield alone, Revie §2.4.4 as written).
+    #[arg(long)]
+    pub fur_coverage: Option<pelt_preview::scene::FurCoverage>,
+    /// How the deferred and inferred paths light fur: kajiya-kay (the strand tangent in
+    /// the G-buffer, Kajiya-Kay per light) or revie (grain and rim-bent normals).
+    #[arg(long)]
+    pub fur_lighting: Option<pelt_preview::scene::FurLighting>,
     /// How mirrors and glass are drawn: distance-maps (GPU Gems 3 ch. 17), envmap (the
     /// classic environment-map baseline) or off (opaque).
     #[arg(long)]
@@ -500,6 +509,8 @@ impl KnobArgs {
             shells: self.shells,
             fins: on(self.fins),
             fur_blend: self.fur_blend,
+            fur_coverage: self.fur_coverage,
+            fur_lighting: self.fur_lighting,
             reflections: pelt_preview::knobs::ReflectionKnobs {
                 technique: self.reflections,
                 linear_steps: self.linear_steps,

@@ -62,8 +62,11 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     let quiet = args.quiet;
     let mut progress = |r: &Row| {
         if !quiet {
+            let lum = r
+                .fur_luminance
+                .map_or(String::new(), |l| format!(", fur luminance {l:.3}×"));
             eprintln!(
-                "{}={}: {:.1} ms, FLIP {:.4} against {}",
+                "{}={}: {:.1} ms, FLIP {:.4} against {}{lum}",
                 r.knob,
                 r.value,
                 r.ms,

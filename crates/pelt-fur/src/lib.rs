@@ -9,9 +9,12 @@
 //! - [`fin`]: from the side, the **fin texture** for silhouette fins;
 //! - [`mips`]: **coverage-preserving mip chains**, so fur seen from afar keeps its density.
 //!
-//! [`expect`] holds the analytic coverage the tests measure against, [`image`] the PNG
+//! [`density`] holds the same strands as a medium (the area of strands taller than each
+//! height, with mips) for the shells' sub-pixel coverage, [`path`] the curve every strand
+//! follows (Revie Listing 2.1) and its tangent. [`expect`] holds the analytic coverage the tests measure against, [`image`] the PNG
 //! encoding, [`manifest`] the fur parameters written beside the textures or into a `.glb`.
 
+pub mod density;
 pub mod error;
 pub mod expect;
 pub mod fin;
@@ -19,6 +22,7 @@ pub mod image;
 pub mod manifest;
 pub mod mips;
 pub mod params;
+pub mod path;
 pub mod raster;
 pub mod rng;
 pub mod set;

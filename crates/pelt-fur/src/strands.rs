@@ -34,58 +34,66 @@ fn clump_stream(c: u32) -> u64 {
     u64::MAX - u64::from(c)
 }
 
-/// Generates the strands of `p` (assumed valid). Strand `i` depends only on the seed, `i`
-/// and the parameters, so the result is the same at any thread count.
-pub fn generate(p: &StrandParams) -> Vec<Strand> {
-    let centres: Vec<(f64, f64)> = (0..p.clumps)
+/// The clump centres of `p` (empty without clumping).
+pub fn centres(p: &StrandParams) -> Vec<(f64, f64)> {
+    (0..p.clumps)
         .map(|c| {
             let mut s = SplitMix64::stream(p.seed, clump_stream(c));
             (s.unit(), s.unit())
         })
-        .collect();
-    let span = p.height_max - p.height_min;
+        .collect()
+}
+
+/// Generates the strands of `p` (assumed valid). Strand `i` depends only on the seed, `i`
+/// and the parameters, so the result is the same at any thread count.
+pub fn generate(p: &StrandParams) -> Vec<Strand> {
+    let centres = centres(p);
     (0..p.strands)
         .into_par_iter()
-        .map(|i| {
-            let mut s = SplitMix64::stream(p.seed, u64::from(i));
-            // A fixed number of draws per strand, whatever the options, so that turning
-            // clumping or tilt on leaves radii and heights where they were.
-            let member = s.unit();
-            let clump = if centres.is_empty() {
-                s.next_u64();
-                0
-            } else {
-                s.below(p.clumps)
-            };
-            let (u, v) = (s.unit(), s.unit());
-            let ur = s.unit();
-            let uh = s.unit();
-            let (ut, ua) = (s.unit(), s.unit());
-            let tint = s.unit();
-            let (x, y) = if member < p.clumping && !centres.is_empty() {
-                // Box-Muller on (u, v): a normal offset around the clump centre.
-                let rr = (-2.0 * (1.0 - u).ln()).sqrt() * p.clump_radius;
-                let a = std::f64::consts::TAU * v;
-                let (cx, cy) = centres[clump as usize];
-                (wrap_unit(cx + rr * a.cos()), wrap_unit(cy + rr * a.sin()))
-            } else {
-                (u, v)
-            };
-            let r = p.radius * (1.0 + p.radius_jitter * (2.0 * ur - 1.0));
-            let h = p.height_min + span * uh.powf(p.height_bias);
-            let lean = p.tilt * p.radius * ut;
-            let a = std::f64::consts::TAU * ua;
-            Strand {
-                x,
-                y,
-                r,
-                h,
-                tx: lean * a.cos(),
-                ty: lean * a.sin(),
-                tint,
-            }
-        })
+        .map(|i| nth(p, &centres, i))
         .collect()
+}
+
+/// Strand `i` of `p`, given the model's clump [`centres`].
+pub fn nth(p: &StrandParams, centres: &[(f64, f64)], i: u32) -> Strand {
+    let span = p.height_max - p.height_min;
+    let mut s = SplitMix64::stream(p.seed, u64::from(i));
+    // A fixed number of draws per strand, whatever the options, so that turning
+    // clumping or tilt on leaves radii and heights where they were.
+    let member = s.unit();
+    let clump = if centres.is_empty() {
+        s.next_u64();
+        0
+    } else {
+        s.below(p.clumps)
+    };
+    let (u, v) = (s.unit(), s.unit());
+    let ur = s.unit();
+    let uh = s.unit();
+    let (ut, ua) = (s.unit(), s.unit());
+    let tint = s.unit();
+    let (x, y) = if member < p.clumping && !centres.is_empty() {
+        // Box-Muller on (u, v): a normal offset around the clump centre.
+        let rr = (-2.0 * (1.0 - u).ln()).sqrt() * p.clump_radius;
+        let a = std::f64::consts::TAU * v;
+        let (cx, cy) = centres[clump as usize];
+        (wrap_unit(cx + rr * a.cos()), wrap_unit(cy + rr * a.sin()))
+    } else {
+        (u, v)
+    };
+    let r = p.radius * (1.0 + p.radius_jitter * (2.0 * ur - 1.0));
+    let h = p.height_min + span * uh.powf(p.height_bias);
+    let lean = p.tilt * p.radius * ut;
+    let a = std::f64::consts::TAU * ua;
+    Strand {
+        x,
+        y,
+        r,
+        h,
+        tx: lean * a.cos(),
+        ty: lean * a.sin(),
+        tint,
+    }
 }
 
 /// `v` wrapped into [0, 1).

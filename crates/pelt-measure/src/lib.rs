@@ -4,9 +4,10 @@
 //! renderer's knobs against a converged reference and time them ([`reflections`]: mirrors
 //! and glass from distance maps against the CPU ray tracer; [`sweep`]: every knob against
 //! its reference, `pelt sweep`). [`strands`] accumulates the converged strand reference of
-//! the fur.
+//! the fur; [`luminance`] compares the fur's brightness with it.
 
 pub mod flip;
+pub mod luminance;
 pub mod reflections;
 pub mod strands;
 pub mod sweep;

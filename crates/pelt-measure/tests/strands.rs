@@ -70,6 +70,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
                 texels: vec![[255; 4]],
             }],
             source: TextureSource::Generated,
+            density: pelt_scene::fur::density_of(&model),
             model,
         }),
         ..MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use crate::asset::MeshData;
 use crate::fur::{FurData, Level};
 use crate::gpu_material::{self, GpuMaterial};
-use crate::renderer::{FIN_FORMAT, HEIGHT_FORMAT, Renderer, SKY_FORMAT};
+use crate::renderer::{DENSITY_FORMAT, FIN_FORMAT, HEIGHT_FORMAT, Renderer, SKY_FORMAT};
 use crate::sky::CubeImages;
 
 /// One mesh on the GPU.
@@ -344,6 +344,26 @@ pub(crate) fn upload_levels<T>(
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
+/// Four of the density's bins, from `first`, as RGBA levels (shells.wgsl's `density_lo`
+/// and `density_hi`).
+fn density_levels(d: &crate::fur::Density, first: usize) -> Vec<Level<[f32; 4]>> {
+    d.levels
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let side = (d.side >> i).max(1);
+            Level {
+                width: side,
+                height: side,
+                texels: l
+                    .iter()
+                    .map(|t| [t[first], t[first + 1], t[first + 2], t[first + 3]])
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
 fn gpu_fur(
     r: &Renderer,
     fur: &FurData,
@@ -355,6 +375,12 @@ fn gpu_fur(
         f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
     });
     let fin = upload_levels(r, "fin texture", FIN_FORMAT, &fur.fin, |t| t.to_vec());
+    let [density_lo, density_hi] = [0, 4].map(|first| {
+        let levels = density_levels(&fur.density, first);
+        upload_levels(r, "fur density", DENSITY_FORMAT, &levels, |t| {
+            t.iter().flat_map(|&v| f16_bits(v).to_le_bytes()).collect()
+        })
+    });
     let sampler = |v_mode| {
         device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("fur"),
@@ -397,6 +423,14 @@ fn gpu_fur(
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: wgpu::BindingResource::Sampler(&m.base_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::TextureView(&density_lo),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(&density_hi),
                 },
             ],
         })

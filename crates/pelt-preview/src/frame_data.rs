@@ -11,6 +11,7 @@ use glam::{Mat4, Vec3, Vec4Swizzles};
 
 use crate::plan::{Plan, PlannedLight};
 use crate::renderer::{Renderer, SHELL_TABLE_BYTES};
+use crate::scene::{FurCoverage, FurLighting};
 use crate::uniforms::{
     FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms, UNIFORM_STRIDE,
 };
@@ -176,6 +177,11 @@ fn frame_uniforms(plan: &Plan, target: (u32, u32), lbuffer: (u32, u32)) -> Frame
     }
 }
 
+/// The shell table's flag (obliterate.wgsl, light.wgsl): the G-buffer texels of this object
+/// ID hold a strand tangent, lit with Kajiya-Kay. Keep in sync with `STRAND_LIT` in
+/// shaders/common.wgsl.
+pub const STRAND_LIT: u32 = 1 << 16;
+
 fn light_uniforms(view: Mat4, l: &PlannedLight) -> LightUniforms {
     let p = (view * l.position.extend(1.0)).xyz();
     let lum = l.color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
@@ -203,6 +209,14 @@ fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
                 fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
                 fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
                 fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],
+                fur_model: f.map_or([0.0; 4], |f| {
+                    [
+                        f.medium[0],
+                        f.medium[1],
+                        f32::from(u8::from(f.coverage == FurCoverage::Binary)),
+                        f32::from(u8::from(f.lighting == FurLighting::Revie)),
+                    ]
+                }),
                 ids: [
                     o.id,
                     o.pattern,
@@ -316,7 +330,13 @@ impl FrameData {
         let mut table = [0u32; 256];
         for o in plans.iter().flat_map(|p| &p.objects) {
             if let Some(f) = o.fur {
-                table[(f.shell_id & 255) as usize] = o.id;
+                let strands = if f.lighting == FurLighting::KajiyaKay {
+                    STRAND_LIT
+                } else {
+                    0
+                };
+                table[(f.shell_id & 255) as usize] = (o.id & 255) | strands;
+                table[(o.id & 255) as usize] |= strands;
             }
         }
         self.shell_table.write(r, bytemuck::cast_slice(&table));

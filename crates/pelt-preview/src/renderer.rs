@@ -30,6 +30,8 @@ pub const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 pub const SKY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// The heightfield (16-bit heights as half floats: filterable everywhere).
 pub const HEIGHT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+/// The fur density's two textures (pelt_fur::density, four bins each; half floats filter).
+pub const DENSITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The fin texture (linear data: height, tint, coverage).
 pub const FIN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
@@ -252,6 +254,8 @@ impl LayoutId {
                 sampler_entry(3),
                 texture_entry(4, filterable, d2),
                 sampler_entry(5),
+                texture_entry(6, filterable, d2),
+                texture_entry(7, filterable, d2),
             ],
             LayoutId::Material => vec![
                 texture_entry(0, filterable, d2),

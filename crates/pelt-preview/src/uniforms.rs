@@ -57,6 +57,10 @@ pub struct ObjectUniforms {
     /// Fur: x rim strength, y rim falloff (Listing 2.3), z strand fade width (in shell depth),
     /// w WBOIT weight scale.
     pub fur_params: [f32; 4],
+    /// Fur: the strand model as a medium: x κ = Σ 2r / Σ π r² (per tile width), y mean strand
+    /// diameter (tile widths), z coverage (0 analytic, 1 binary heightfield), w deferred fur
+    /// lighting (0 Kajiya-Kay, 1 Revie's normals).
+    pub fur_model: [f32; 4],
     /// x object ID (1..255); y stipple pattern (0 opaque, 1..3); z the fur's outer-shell ID;
     /// w shell count.
     pub ids: [u32; 4],
@@ -84,9 +88,9 @@ mod tests {
 
     #[test]
     fn sizes_match_the_wgsl_layouts() {
-        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 7 vec4 = 240; Light = 32.
+        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 8 vec4 = 256; Light = 32.
         assert_eq!(size_of::<FrameUniforms>(), 208);
-        assert_eq!(size_of::<ObjectUniforms>(), 240);
+        assert_eq!(size_of::<ObjectUniforms>(), 256);
         assert_eq!(size_of::<FurVertex>(), 40);
         assert_eq!(size_of::<FinInstance>(), 128);
         assert_eq!(size_of::<LightUniforms>(), 32);

@@ -521,6 +521,9 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
     }
     if any_comb {
         let (look, (heightfield, fin), source) = fur::look_and_textures(doc, manifest.as_ref())?;
+        let model = manifest
+            .as_ref()
+            .map_or_else(fur::generated_model, |(m, _)| m.strands.clone());
         out.fur = Some(FurData {
             vertices: fur_vertices,
             fins,
@@ -529,9 +532,8 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
             heightfield,
             fin,
             source,
-            model: manifest
-                .as_ref()
-                .map_or_else(fur::generated_model, |(m, _)| m.strands.clone()),
+            density: fur::density_of(&model),
+            model,
         });
     }
     Ok(out)

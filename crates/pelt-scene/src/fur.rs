@@ -7,6 +7,7 @@
 //! (baked without `--config`) get the default strand model's textures, generated here.
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+pub use pelt_fur::density::Density;
 use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
 use pelt_io::{Document, IoError, PrimitiveRef};
 
@@ -71,6 +72,19 @@ pub struct FurData {
     /// The strand model the textures were made from (the manifest's, or the generated
     /// defaults'): the explicit strands of the strand reference are planted from it.
     pub model: StrandParams,
+    /// The same model as a medium (`pelt_fur::density`): the shells' sub-pixel coverage.
+    pub density: Density,
+}
+
+/// Largest side of the density texture the preview makes.
+pub const MAX_DENSITY_SIDE: u32 = 1024;
+
+/// The medium statistics of `model` at the side its strand count calls for.
+pub fn density_of(model: &StrandParams) -> Density {
+    pelt_fur::density::density(
+        model,
+        pelt_fur::density::side_for(model.strands, MAX_DENSITY_SIDE),
+    )
 }
 
 /// Heightfield and fin texture levels.

@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use crate::asset::{self, AssetError, MeshData};
-use crate::scene::{FurBlend, Material, Reflections, Scene, SceneError, Technique};
+use crate::scene::{
+    FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, SceneError, Technique,
+};
 
 /// Overrides; `None` keeps the scene's value.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -22,6 +24,10 @@ pub struct Knobs {
     pub fins: Option<bool>,
     /// How fur is composited.
     pub fur_blend: Option<FurBlend>,
+    /// How much of the skin a shell hides.
+    pub fur_coverage: Option<FurCoverage>,
+    /// How the deferred paths light fur.
+    pub fur_lighting: Option<FurLighting>,
     /// Mirrors and glass.
     pub reflections: ReflectionKnobs,
 }
@@ -82,6 +88,12 @@ impl Knobs {
         }
         if let Some(b) = self.fur_blend {
             scene.fur_blend = b;
+        }
+        if let Some(c) = self.fur_coverage {
+            scene.fur_coverage = c;
+        }
+        if let Some(l) = self.fur_lighting {
+            scene.fur_lighting = l;
         }
         self.reflections.apply(&mut scene.reflections);
         for o in &mut scene.objects {
@@ -185,6 +197,8 @@ mod tests {
             shells: Some(7),
             fins: Some(false),
             fur_blend: Some(FurBlend::Wboit),
+            fur_coverage: Some(FurCoverage::Binary),
+            fur_lighting: Some(FurLighting::Revie),
             reflections: ReflectionKnobs {
                 technique: Some(Technique::Envmap),
                 linear_steps: Some(80),
@@ -211,6 +225,10 @@ mod tests {
         assert_eq!(
             (s.lbuffer_scale, s.dsf, s.fur_blend),
             (0.5, false, FurBlend::Wboit)
+        );
+        assert_eq!(
+            (s.fur_coverage, s.fur_lighting),
+            (FurCoverage::Binary, FurLighting::Revie)
         );
         let Material::Fur(f) = s.objects[0].material else {
             panic!("fur")

@@ -11,7 +11,9 @@ use glam::{Mat4, Vec3};
 
 use crate::asset::MeshData;
 use crate::fur::FurLook;
-use crate::scene::{FurBlend, Material, Reflections, Scene, Sky, Technique};
+use crate::scene::{
+    FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, Sky, Technique,
+};
 use crate::vertex::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
 
@@ -172,6 +174,13 @@ pub struct PlannedFur {
     pub uv_scale: f32,
     /// Root and tip colours multiply the material's base colour (texture and factor).
     pub color_from_texture: bool,
+    /// The strand model as a medium: κ = Σ 2r / Σ π r² (per tile width) and the mean strand
+    /// diameter (tile widths), from `pelt_fur::density`.
+    pub medium: [f32; 2],
+    /// How much of the skin each shell hides.
+    pub coverage: FurCoverage,
+    /// How the deferred paths light it.
+    pub lighting: FurLighting,
 }
 
 /// A light that reaches the screen.
@@ -296,6 +305,8 @@ pub struct MeshInfo {
     pub bounds: (Vec3, Vec3),
     /// Its fur's look and whether it has fin edges, when it has a baked comb.
     pub fur: Option<(FurLook, bool)>,
+    /// Its fur's strand model as a medium: κ and the mean diameter ([`PlannedFur::medium`]).
+    pub medium: [f32; 2],
 }
 
 impl MeshInfo {
@@ -307,6 +318,9 @@ impl MeshInfo {
                 .fur
                 .as_ref()
                 .map(|f| (f.look.clone(), !f.fins.is_empty())),
+            medium: mesh.fur.as_ref().map_or([0.0; 2], |f| {
+                [f.density.kappa as f32, f.density.diameter as f32]
+            }),
         }
     }
 }
@@ -401,6 +415,9 @@ impl ScenePlan {
                                 tip_color: look.tip_color * color,
                                 uv_scale: look.uv_scale,
                                 color_from_texture: look.color_from_texture,
+                                medium: info.medium,
+                                coverage: scene.fur_coverage,
+                                lighting: scene.fur_lighting,
                             });
                             fur_count += 1;
                         }

@@ -121,6 +121,59 @@ impl std::str::FromStr for FurBlend {
     }
 }
 
+/// How much of the skin a shell hides (see `pelt_fur::density`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FurCoverage {
+    /// Each shell's opacity is the strand model's optical depth over the layer it stands
+    /// for (tips and sides, slanted by the view), where a pixel holds many strands; the
+    /// binary heightfield where it resolves them.
+    #[default]
+    Analytic,
+    /// The binary heightfield alone, faded over the top of each strand (Revie §2.4.4 as
+    /// written): what a shell shows is the strands' top-view area.
+    Binary,
+}
+
+impl std::str::FromStr for FurCoverage {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "analytic" => Ok(FurCoverage::Analytic),
+            "binary" => Ok(FurCoverage::Binary),
+            _ => Err(format!(
+                "unknown fur coverage {s:?} (expected analytic or binary)"
+            )),
+        }
+    }
+}
+
+/// How the deferred and inferred paths light fur from the L-buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FurLighting {
+    /// The strand tangent in the G-buffer, Kajiya-Kay per light in the L-buffer (as the
+    /// forward shells and the strand reference are lit), root and tip mixed by height.
+    #[default]
+    KajiyaKay,
+    /// Revie §2.4: grain normals at the root, rim-bent normals on the stippled outer shell,
+    /// Blinn-Phong in the L-buffer, the brighter of root and tip.
+    Revie,
+}
+
+impl std::str::FromStr for FurLighting {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "kajiya-kay" => Ok(FurLighting::KajiyaKay),
+            "revie" => Ok(FurLighting::Revie),
+            _ => Err(format!(
+                "unknown fur lighting {s:?} (expected kajiya-kay or revie)"
+            )),
+        }
+    }
+}
+
 /// The background.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub enum Sky {
@@ -654,6 +707,10 @@ pub struct Scene {
     pub sky: Sky,
     /// How fur shells and fins are composited.
     pub fur_blend: FurBlend,
+    /// How much of the skin each shell hides.
+    pub fur_coverage: FurCoverage,
+    /// How the deferred paths light fur.
+    pub fur_lighting: FurLighting,
     /// Mirrors and glass: the technique and its knobs.
     pub reflections: Reflections,
 }
@@ -803,6 +860,8 @@ impl Default for Scene {
             lights: Vec::new(),
             sky: Sky::None,
             fur_blend: FurBlend::Stipple,
+            fur_coverage: FurCoverage::Analytic,
+            fur_lighting: FurLighting::KajiyaKay,
             reflections: Reflections::default(),
         }
     }

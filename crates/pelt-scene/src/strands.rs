@@ -263,6 +263,7 @@ mod tests {
                 heightfield: Vec::new(),
                 fin: Vec::new(),
                 source: TextureSource::Generated,
+                density: crate::fur::density_of(&model),
                 model,
             }),
             ..MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])

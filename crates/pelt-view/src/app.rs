@@ -375,6 +375,8 @@ fn scene_knobs(v: &Viewer) -> pelt_preview::knobs::Knobs {
         shells: fur.and_then(|f| f.shells).or(manifest_shells),
         fins: fur.map(|f| f.fins),
         fur_blend: Some(s.fur_blend),
+        fur_coverage: Some(s.fur_coverage),
+        fur_lighting: Some(s.fur_lighting),
         reflections: Default::default(),
     }
 }

@@ -158,6 +158,7 @@ mod tests {
             fur_blend: Some(FurBlend::Stipple),
             size: None,
             reflections: Default::default(),
+            ..Knobs::default()
         };
         let mut s = Settings {
             mode: Mode::Inferred,

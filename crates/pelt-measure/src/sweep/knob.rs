@@ -9,7 +9,7 @@ use pelt_bake::options::Quantize;
 use pelt_fur::HeightBits;
 use pelt_scene::Mode;
 use pelt_scene::knobs::Knobs;
-use pelt_scene::scene::{FurBlend, Technique};
+use pelt_scene::scene::{FurBlend, FurCoverage, FurLighting, Technique};
 
 /// A knob.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -20,6 +20,10 @@ pub enum Knob {
     Fins,
     /// Fur compositing.
     FurBlend,
+    /// How much of the skin a shell hides.
+    Coverage,
+    /// How the deferred paths light fur.
+    FurLighting,
     /// The renderer's mode (inferred, deferred, forward).
     Mode,
     /// Fur texture size (re-bake).
@@ -85,6 +89,10 @@ pub enum Value {
     Mode(Mode),
     /// A fur blend.
     Blend(FurBlend),
+    /// A fur coverage model.
+    Coverage(FurCoverage),
+    /// A fur lighting model.
+    Lighting(FurLighting),
     /// Heightfield bits.
     Bits(HeightBits),
     /// Comb quantization.
@@ -104,6 +112,10 @@ impl fmt::Display for Value {
             Value::Mode(m) => write!(f, "{m}"),
             Value::Blend(FurBlend::Stipple) => f.write_str("stipple"),
             Value::Blend(FurBlend::Wboit) => f.write_str("wboit"),
+            Value::Coverage(FurCoverage::Analytic) => f.write_str("analytic"),
+            Value::Coverage(FurCoverage::Binary) => f.write_str("binary"),
+            Value::Lighting(FurLighting::KajiyaKay) => f.write_str("kajiya-kay"),
+            Value::Lighting(FurLighting::Revie) => f.write_str("revie"),
             Value::Bits(HeightBits::Eight) => f.write_str("8"),
             Value::Bits(HeightBits::Sixteen) => f.write_str("16"),
             Value::Quantize(Quantize::U8) => f.write_str("u8"),
@@ -165,10 +177,12 @@ fn switch(s: &str) -> Option<Value> {
 
 impl Knob {
     /// Every knob, in report order.
-    pub const ALL: [Knob; 17] = [
+    pub const ALL: [Knob; 19] = [
         Knob::Shells,
         Knob::Fins,
         Knob::FurBlend,
+        Knob::Coverage,
+        Knob::FurLighting,
         Knob::Mode,
         Knob::TextureSize,
         Knob::HeightBits,
@@ -191,6 +205,8 @@ impl Knob {
             Knob::Shells => "shells",
             Knob::Fins => "fins",
             Knob::FurBlend => "fur-blend",
+            Knob::Coverage => "fur-coverage",
+            Knob::FurLighting => "fur-lighting",
             Knob::Mode => "mode",
             Knob::TextureSize => "texture-size",
             Knob::HeightBits => "height-bits",
@@ -222,6 +238,8 @@ impl Knob {
             Knob::Shells => "1 to 256",
             Knob::Fins | Knob::Dsf | Knob::MinMax => "on or off",
             Knob::FurBlend => "stipple or wboit",
+            Knob::Coverage => "analytic or binary",
+            Knob::FurLighting => "kajiya-kay or revie",
             Knob::Mode => "inferred, deferred or forward",
             Knob::TextureSize => "a power of two from 16 to 4096",
             Knob::HeightBits => "8 or 16",
@@ -243,6 +261,8 @@ impl Knob {
             Knob::Shells => count(s, 1, 256, false),
             Knob::Fins | Knob::Dsf | Knob::MinMax => switch(s),
             Knob::FurBlend => s.parse().ok().map(Value::Blend),
+            Knob::Coverage => s.parse().ok().map(Value::Coverage),
+            Knob::FurLighting => s.parse().ok().map(Value::Lighting),
             Knob::Mode => s
                 .parse()
                 .ok()
@@ -305,6 +325,8 @@ impl Knob {
             Knob::Shells
             | Knob::Fins
             | Knob::FurBlend
+            | Knob::Coverage
+            | Knob::FurLighting
             | Knob::Mode
             | Knob::TextureSize
             | Knob::HeightBits
@@ -336,6 +358,14 @@ impl Knob {
             Knob::FurBlend => vec![
                 Value::Blend(FurBlend::Stipple),
                 Value::Blend(FurBlend::Wboit),
+            ],
+            Knob::Coverage => vec![
+                Value::Coverage(FurCoverage::Analytic),
+                Value::Coverage(FurCoverage::Binary),
+            ],
+            Knob::FurLighting => vec![
+                Value::Lighting(FurLighting::KajiyaKay),
+                Value::Lighting(FurLighting::Revie),
             ],
             Knob::Mode => [Mode::Inferred, Mode::Deferred, Mode::Forward]
                 .map(Value::Mode)
@@ -396,6 +426,8 @@ impl Setting {
             (Knob::Shells, Value::Count(n)) => k.shells = Some(n),
             (Knob::Fins, Value::Switch(b)) => k.fins = Some(b),
             (Knob::FurBlend, Value::Blend(b)) => k.fur_blend = Some(b),
+            (Knob::Coverage, Value::Coverage(c)) => k.fur_coverage = Some(c),
+            (Knob::FurLighting, Value::Lighting(l)) => k.fur_lighting = Some(l),
             (Knob::Mode, Value::Mode(m)) => self.mode = Some(m),
             (Knob::TextureSize, Value::Count(n)) => self.texture_size = Some(n),
             (Knob::HeightBits, Value::Bits(b)) => self.height_bits = Some(b),

@@ -116,6 +116,9 @@ pub struct Row {
     pub heat: String,
     /// Bytes uploaded to the GPU to switch to this setting.
     pub upload_bytes: u64,
+    /// Against the strand reference: the fur's mean luminance over the reference's
+    /// ([`crate::luminance`]).
+    pub fur_luminance: Option<f32>,
 }
 
 /// A reference as the reports give it.
@@ -312,6 +315,8 @@ fn default_value(knob: Knob, scene: &Scene, meshes: &[MeshData]) -> Option<Value
         Knob::Shells => Value::Count(furset?.shells.unwrap_or(fur?.look.shells)),
         Knob::Fins => Value::Switch(furset?.fins && fur.is_some_and(|f| !f.fins.is_empty())),
         Knob::FurBlend => Value::Blend(scene.fur_blend),
+        Knob::Coverage => Value::Coverage(scene.fur_coverage),
+        Knob::FurLighting => Value::Lighting(scene.fur_lighting),
         Knob::Mode => Value::Mode(Mode::Inferred),
         Knob::TextureSize => Value::Count(fur?.model.size),
         Knob::HeightBits => Value::Bits(fur?.model.height_bits),
@@ -355,6 +360,8 @@ fn file_stem(knob: &str, value: &str) -> String {
 struct References {
     images: HashMap<Truth, Image>,
     info: Vec<ReferenceInfo>,
+    /// The fur's pixels of the strand reference.
+    fur: Option<crate::luminance::FurMask>,
 }
 
 fn references(
@@ -370,6 +377,7 @@ fn references(
     let mut out = References {
         images: HashMap::new(),
         info: Vec::new(),
+        fur: None,
     };
     for t in truths {
         let started = Instant::now();
@@ -383,6 +391,8 @@ fn references(
                         target: opts.reference.target,
                     });
                 }
+                let bare = crate::luminance::bare(preview, scene, meshes, of)?;
+                out.fur = Some(crate::luminance::mask(&r.image, &bare));
                 (
                     r.image,
                     r.samples,
@@ -567,6 +577,10 @@ pub fn run(
             default,
             pareto: false,
             upload_bytes,
+            fur_luminance: match (truth, &refs.fur) {
+                (Truth::Strands, Some(m)) => m.ratio(&test),
+                _ => None,
+            },
         };
         write_png(&opts.out, &row.image, &image)?;
         write_png(&opts.out, &row.heat, &flip.heat_map())?;

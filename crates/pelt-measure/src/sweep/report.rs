@@ -37,16 +37,18 @@ fn field(s: &str) -> String {
 
 /// `sweep.csv`.
 pub fn csv(s: &Sweep) -> String {
-    let mut out =
-        String::from("knob,value,ms,error,reference,default,pareto,upload_bytes,image,heat\n");
+    let mut out = String::from(
+        "knob,value,ms,error,fur_luminance,reference,default,pareto,upload_bytes,image,heat\n",
+    );
     for r in &s.rows {
         let _ = writeln!(
             out,
-            "{},{},{:.3},{:.5},{},{},{},{},{},{}",
+            "{},{},{:.3},{:.5},{},{},{},{},{},{},{}",
             field(&r.knob),
             field(&r.value),
             r.ms,
             r.error,
+            r.fur_luminance.map_or(String::new(), |l| format!("{l:.4}")),
             r.truth.name(),
             r.default,
             r.pareto,
@@ -64,6 +66,7 @@ fn row_json(r: &Row) -> serde_json::Value {
         "value": r.value,
         "ms": r.ms,
         "error": r.error,
+        "fur_luminance": r.fur_luminance,
         "reference": r.truth.name(),
         "default": r.default,
         "pareto": r.pareto,
@@ -147,7 +150,7 @@ pub fn markdown(s: &Sweep) -> String {
             }
         }
     }
-    out.push_str("\n| knob | value | ms | FLIP | against | Pareto |\n|---|---|---|---|---|---|\n");
+    out.push_str("\n| knob | value | ms | FLIP | fur luminance | against | Pareto |\n|---|---|---|---|---|---|---|\n");
     let mut rows: Vec<&Row> = s.rows.iter().collect();
     rows.sort_by(|a, b| a.knob.cmp(&b.knob).then(a.ms.total_cmp(&b.ms)));
     for r in rows {
@@ -158,10 +161,11 @@ pub fn markdown(s: &Sweep) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {value} | {:.0} | {:.4} | {} | {} |",
+            "| {} | {value} | {:.0} | {:.4} | {} | {} | {} |",
             r.knob,
             r.ms,
             r.error,
+            r.fur_luminance.map_or("–".into(), |l| format!("{l:.2}×")),
             r.truth.name(),
             if r.pareto { "●" } else { "" }
         );
@@ -211,6 +215,7 @@ mod tests {
             image: String::new(),
             heat: String::new(),
             upload_bytes: 0,
+            fur_luminance: None,
         }
     }
 

@@ -17,12 +17,19 @@ pub mod slot {
     pub const GBUFFER: u32 = 1;
     /// The light.
     pub const LIGHT: u32 = 2;
+    /// Which object IDs hold strand tangents (the fur's shell table).
+    pub const SHELL_TABLE: u32 = 3;
 }
 
 /// The pipeline of the light shader: additive into the L-buffer.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Textures, LayoutId::Light],
+        groups: vec![
+            LayoutId::Frame,
+            LayoutId::Textures,
+            LayoutId::Light,
+            LayoutId::ShellTable,
+        ],
         vertex_buffers: Vec::new(),
         blends: vec![Some(ADD)],
         depth: None,
@@ -69,6 +76,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         Some(f.data.frame_offset(f.view, Res::Lbuffer)),
     );
     r.bind(slot::GBUFFER, &g.read, None);
+    r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
     for (i, light) in f.plan.lights.iter().enumerate() {
         r.push(Step::Scissor(light.rect));
         r.bind(

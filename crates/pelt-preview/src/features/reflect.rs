@@ -454,6 +454,7 @@ impl Maps {
                 }),
                 fur_tip: [0.0; 4],
                 fur_params: [0.0; 4],
+                fur_model: [0.0; 4],
                 ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
                 optics: o.optics.encoded(),
             };
