@@ -55,7 +55,10 @@ fn fin_fade(fin: FinIn, to_view: mat4x4<f32>) -> f32 {
     let s0 = dot(view_normal_of(fin.f0, frame, object), to_eye);
     let s1 = dot(view_normal_of(fin.f1, frame, object), to_eye);
     let near = min(abs(s0), abs(s1));
-    let silhouette = select(1.0 - smoothstep(0.0, FIN_SILHOUETTE, near), 1.0, s0 * s1 <= 0.0);
+    // With analytic coverage the shells' optical depth holds the fur down to MIN_COS from
+    // the silhouette; the fins only what lies below it.
+    let reach = select(FIN_SILHOUETTE, MIN_COS, object.fur_model.z == 0.0);
+    let silhouette = select(1.0 - smoothstep(0.0, reach, near), 1.0, s0 * s1 <= 0.0);
     let edge = view_dir_of(fin.p1 - fin.p0, frame, object);
     let up = view_dir_of(normalize(fin.n0 + fin.n1) + 0.5 * (fin.c0.xyz + fin.c1.xyz), frame, object);
     let fin_normal = cross(edge, up);

@@ -5,6 +5,11 @@
 // crates/pelt-preview/src/shaders.rs). Keep `FurIn` in sync with `FurVertex` in
 // crates/pelt-preview/src/uniforms.rs.
 
+// The cosine between view ray and normal below which a shell layer's path length stops
+// growing (a shell near the silhouette is crossed along a chord, not an infinite slab);
+// with analytic coverage the fins carry the silhouette's fur below it (fins.wgsl).
+const MIN_COS: f32 = 0.1;
+
 struct FurIn {
     @location(4) tangent: vec4<f32>,
     @location(5) uv: vec2<f32>,

@@ -24,10 +24,6 @@
 @group(3) @binding(6) var density_lo: texture_2d<f32>;
 @group(3) @binding(7) var density_hi: texture_2d<f32>;
 
-// The cosine between view ray and normal below which a layer's path length stops growing
-// (a shell near the silhouette is crossed along a chord, not an infinite slab).
-const MIN_COS: f32 = 0.1;
-
 struct ShellOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) view_pos: vec3<f32>,

@@ -118,14 +118,31 @@ fn the_demo_scene_sweep_measures_shells_against_the_strand_reference() {
     );
     eprintln!("shells 4/16/64 against strands: {e4:.4} {e16:.4} {e64:.4}");
     assert!(error("lbuffer-scale", "0.5") >= error("lbuffer-scale", "1"));
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("a {name} column: {csv}"))
+    };
+    let (against, image, heat, lum) = (
+        col("reference"),
+        col("image"),
+        col("heat"),
+        col("fur_luminance"),
+    );
     for r in &rows {
         let want = if r[0] == "shells" {
             "strands"
         } else {
             "deferred"
         };
-        assert_eq!(r[4], want, "{r:?}");
-        assert!(out_dir.join(r[8]).is_file() && out_dir.join(r[9]).is_file());
+        assert_eq!(r[against], want, "{r:?}");
+        assert!(out_dir.join(r[image]).is_file() && out_dir.join(r[heat]).is_file());
+        if r[0] == "shells" {
+            // The shells are as bright as the strands they stand for (within 10 %).
+            let ratio: f64 = r[lum].parse().expect("fur luminance");
+            assert!((0.9..=1.1).contains(&ratio), "fur luminance {ratio}: {r:?}");
+        }
     }
 
     // sweep.json: the same rows, the reference's convergence, the adapter.

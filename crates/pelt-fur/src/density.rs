@@ -163,7 +163,7 @@ mod tests {
             .sum();
         assert!((f64::from(last[0][0]) - area).abs() < 1e-4 * area);
         // Bin k holds the strands taller than k / BINS.
-        for k in 0..BINS {
+        for (k, got) in last[0].iter().enumerate() {
             let z = k as f64 / BINS as f64;
             let want: f64 = strands
                 .iter()
@@ -171,7 +171,7 @@ mod tests {
                 .map(|s| std::f64::consts::PI * s.r * s.r)
                 .sum();
             assert!(
-                (f64::from(last[0][k]) - want).abs() < 1e-4 * area,
+                (f64::from(*got) - want).abs() < 1e-4 * area,
                 "bin {k}: {} vs {want}",
                 last[0][k]
             );

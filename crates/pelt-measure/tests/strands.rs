@@ -138,7 +138,7 @@ fn scene(
             transform: Transform::default(),
             material: Material::Fur(FurSettings {
                 shells: None,
-                fins: true,
+                fins: None,
                 length: None,
             }),
             color: [1.0; 3],
@@ -416,7 +416,7 @@ fn extremes_leave_no_nan_and_no_holes_in_shells_or_strands() {
     };
     let fur = |shells, length| FurSettings {
         shells: Some(shells),
-        fins: true,
+        fins: None,
         length,
     };
     let combed = |c: [f32; 3]| {

@@ -127,8 +127,10 @@ pub enum Maps {
 
 /// The frame's passes in the plan's order, as recipes (this is the frame's ordering: a new
 /// pass gets its place here).
-pub fn recipes<'a>(f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
+pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let mut out = Vec::new();
+    // Every pass before the resolve draws into the scene colour where the plan has one.
+    let f = &features::resolve::inner(outer)?;
     let fresh = match maps {
         Maps::IfStale => f.maps.is_some_and(|m| m.fresh()),
         Maps::Always => false,
@@ -151,6 +153,7 @@ pub fn recipes<'a>(f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, Missing
             Pass::Forward => features::forward::pass(f),
             Pass::FurAccum => features::wboit::accum_pass(f),
             Pass::Composite => features::wboit::composite_pass(f),
+            Pass::Resolve => features::resolve::pass(outer),
             Pass::MinMax => features::reflect::minmax_pass(f),
             Pass::DistanceMaps => Err(MissingInput {
                 pass: p.name(),

@@ -24,6 +24,9 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The PNG output (lighting is linear; the target encodes sRGB). A window renders to its
 /// surface's format instead: pipeline keys carry the format.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The linear colour frames that blend fur layers draw into before the resolve pass
+/// ([`crate::features::resolve`]).
+pub const SCENE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Revealage of weighted blended OIT: 16-bit float (8 bits band after a few layers).
 pub const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// The cube-map sky's faces.

@@ -25,6 +25,8 @@ pub struct TargetSpec {
     pub composition: bool,
     /// The OIT targets are needed.
     pub oit: bool,
+    /// The scene colour target is needed (the plan resolves it into the output).
+    pub scene: bool,
 }
 
 impl TargetSpec {
@@ -37,6 +39,7 @@ impl TargetSpec {
             own_color,
             composition: plan.lbuffer.is_some() && plan.passes.contains(&Pass::Obliterate),
             oit: plan.passes.contains(&Pass::FurAccum),
+            scene: plan.passes.contains(&Pass::Resolve),
         }
     }
 }
@@ -138,6 +141,8 @@ pub struct ViewTargets {
     pub material_read: wgpu::BindGroup,
     /// OIT targets.
     pub oit: Option<Oit>,
+    /// The half-float colour the passes draw into before the resolve, when planned.
+    pub scene: Option<crate::features::resolve::SceneColor>,
     /// The output colour, when the view owns it.
     pub color: Option<Target>,
     /// The output's depth.
@@ -222,6 +227,9 @@ impl ViewTargets {
             composition,
             material_read,
             oit,
+            scene: spec
+                .scene
+                .then(|| crate::features::resolve::SceneColor::new(r, spec.output)),
             color: spec
                 .own_color
                 .then(|| tex("output", spec.output, spec.color_format)),

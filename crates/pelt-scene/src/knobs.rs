@@ -102,7 +102,7 @@ impl Knobs {
                     f.shells = self.shells;
                 }
                 if let Some(on) = self.fins {
-                    f.fins = on;
+                    f.fins = Some(on);
                 }
             }
         }
@@ -233,7 +233,7 @@ mod tests {
         let Material::Fur(f) = s.objects[0].material else {
             panic!("fur")
         };
-        assert_eq!((f.shells, f.fins), (Some(7), false));
+        assert_eq!((f.shells, f.fins), (Some(7), Some(false)));
         assert_eq!(s.objects[1].material, Material::Opaque);
     }
 

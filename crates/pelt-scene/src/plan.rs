@@ -217,6 +217,11 @@ pub enum Pass {
     FurAccum,
     /// Weighted blended OIT resolve over the image, then alpha objects.
     Composite,
+    /// The linear half-float colour the passes before drew into, written to the output.
+    /// Planned where fur shells blend: tens of thin layers blended one after another
+    /// straight into 8-bit sRGB each round to the nearest step, and the steps add up (at 64
+    /// shells the fur came out up to a fifth too bright).
+    Resolve,
     /// A reduced-resolution frame scaled up to a window (`pelt view`'s frame budget; never
     /// in a plan).
     Upscale,
@@ -239,6 +244,7 @@ impl Pass {
             Pass::Obliterate => "obliterate",
             Pass::FurAccum => "fur-oit",
             Pass::Composite => "composite",
+            Pass::Resolve => "resolve",
             Pass::Upscale => "upscale",
             Pass::Mips => "mips",
             Pass::Overlay => "overlay",
@@ -408,7 +414,9 @@ impl ScenePlan {
                                     .shells
                                     .unwrap_or(look.shells)
                                     .clamp(1, crate::scene::MAX_SHELLS),
-                                fins: f.fins && *has_fins && mode != Mode::Strands,
+                                fins: f.fins_with(scene.fur_coverage)
+                                    && *has_fins
+                                    && mode != Mode::Strands,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
                                 length: f.length.unwrap_or(look.length),
                                 base_color: look.base_color * color,
@@ -641,6 +649,9 @@ impl Plan {
         if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit {
             passes.extend([Pass::FurAccum, Pass::Composite]);
         }
+        if !fur.is_empty() && mode != Mode::Strands {
+            passes.push(Pass::Resolve);
+        }
         if !maps.is_empty() {
             let mut first = vec![Pass::DistanceMaps];
             if scene.reflections.min_max && scene.reflections.technique == Technique::DistanceMaps {
@@ -774,6 +785,12 @@ impl Plan {
                         s,
                         "{w}×{h}: OIT resolve over the image; {} alpha back to front",
                         self.alpha.len()
+                    );
+                }
+                Pass::Resolve => {
+                    let _ = write!(
+                        s,
+                        "{w}×{h}: the half-float colour the fur's layers blended into, to the output"
                     );
                 }
                 Pass::Light => {

@@ -74,23 +74,24 @@ impl Rgb {
 }
 
 /// A fur material's overrides of the asset's manifest.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FurSettings {
     /// Shell count (the manifest's when absent; 1 to 256).
     pub shells: Option<u32>,
-    /// Silhouette fins (default on).
-    pub fins: bool,
+    /// Silhouette fins. When absent they follow the coverage model
+    /// ([`FurSettings::fins_with`]).
+    pub fins: Option<bool>,
     /// Fur length in mesh units (the manifest's when absent).
     pub length: Option<f32>,
 }
 
-impl Default for FurSettings {
-    fn default() -> Self {
-        FurSettings {
-            shells: None,
-            fins: true,
-            length: None,
-        }
+impl FurSettings {
+    /// Whether fins are drawn under `coverage`: as set, else on with the binary heightfield
+    /// (the shells lose the silhouette's side-on strands, which the fins stand for) and off
+    /// with analytic coverage, whose shells already hold the optical depth of the grazing
+    /// path (fins there add fur the strands do not have: docs/fur.md).
+    pub fn fins_with(&self, coverage: FurCoverage) -> bool {
+        self.fins.unwrap_or(coverage == FurCoverage::Binary)
     }
 }
 
@@ -274,7 +275,7 @@ pub struct MaterialSpec {
     /// Shell count (fur only; 1 to 256).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shells: Option<u32>,
-    /// Silhouette fins (fur only; default true).
+    /// Silhouette fins (fur only; default: on with binary coverage, off with analytic).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fins: Option<bool>,
     /// Fur length in mesh units (fur only; default: the asset's manifest).
@@ -393,7 +394,7 @@ impl TryFrom<MaterialSpec> for Material {
                 }
                 Ok(Material::Fur(FurSettings {
                     shells: m.shells,
-                    fins: m.fins.unwrap_or(true),
+                    fins: m.fins,
                     length: m.length,
                 }))
             }
@@ -462,7 +463,7 @@ impl From<Material> for MaterialSpec {
             Material::Fur(f) => {
                 spec.kind = MaterialKind::Fur;
                 spec.shells = f.shells;
-                spec.fins = (!f.fins).then_some(false);
+                spec.fins = f.fins;
                 spec.length = f.length;
             }
             Material::Mirror { f0, reference } => {

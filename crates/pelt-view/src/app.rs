@@ -373,7 +373,7 @@ fn scene_knobs(v: &Viewer) -> pelt_preview::knobs::Knobs {
         lbuffer_scale: Some(s.lbuffer_scale),
         dsf: Some(s.dsf),
         shells: fur.and_then(|f| f.shells).or(manifest_shells),
-        fins: fur.map(|f| f.fins),
+        fins: fur.map(|f| f.fins_with(s.fur_coverage)),
         fur_blend: Some(s.fur_blend),
         fur_coverage: Some(s.fur_coverage),
         fur_lighting: Some(s.fur_lighting),

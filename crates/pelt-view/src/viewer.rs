@@ -487,7 +487,7 @@ impl Viewer {
             let fins = s
                 .objects
                 .iter()
-                .any(|o| matches!(o.material, Material::Fur(f) if f.fins));
+                .any(|o| matches!(o.material, Material::Fur(f) if f.fins_with(s.fur_coverage)));
             first += &format!(
                 ", {n} shells{}, {:?}",
                 if fins { " + fins" } else { "" },

@@ -313,7 +313,9 @@ fn default_value(knob: Knob, scene: &Scene, meshes: &[MeshData]) -> Option<Value
     let r = &scene.reflections;
     Some(match knob {
         Knob::Shells => Value::Count(furset?.shells.unwrap_or(fur?.look.shells)),
-        Knob::Fins => Value::Switch(furset?.fins && fur.is_some_and(|f| !f.fins.is_empty())),
+        Knob::Fins => Value::Switch(
+            furset?.fins_with(scene.fur_coverage) && fur.is_some_and(|f| !f.fins.is_empty()),
+        ),
         Knob::FurBlend => Value::Blend(scene.fur_blend),
         Knob::Coverage => Value::Coverage(scene.fur_coverage),
         Knob::FurLighting => Value::Lighting(scene.fur_lighting),

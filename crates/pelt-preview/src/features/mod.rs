@@ -13,6 +13,7 @@
 //! - [`sky`]: procedural and cube-map skies;
 //! - [`forward`]: the forward reference;
 //! - [`upscale`]: a reduced-resolution frame scaled up to a window (`pelt view`);
+//! - [`resolve`]: the half-float scene colour the fur's layers blend into, to the output;
 //! - [`mips`]: mip chains of layered targets (cube faces, arrays);
 //! - [`overlay`]: `pelt view`'s text overlay;
 //! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17);
@@ -31,6 +32,7 @@ pub mod material;
 pub mod mips;
 pub mod overlay;
 pub mod reflect;
+pub mod resolve;
 pub mod skin;
 pub mod sky;
 pub mod strands;

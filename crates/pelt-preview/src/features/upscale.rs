@@ -86,8 +86,13 @@ impl Upscale {
 
     /// The pass drawing the source over `output`.
     pub fn pass<'a>(&'a self, output: Output<'a>) -> Recipe<'a> {
+        self.pass_as(Pass::Upscale, output)
+    }
+
+    /// [`Upscale::pass`] under another pass's name (a same-size copy: [`super::resolve`]).
+    pub fn pass_as<'a>(&'a self, pass: Pass, output: Output<'a>) -> Recipe<'a> {
         let mut r = Recipe::new(
-            Pass::Upscale,
+            pass,
             vec![Color {
                 view: output.view,
                 format: output.format,

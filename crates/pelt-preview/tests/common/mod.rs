@@ -168,7 +168,7 @@ pub fn scene(shells: u32, fins: bool, blend: FurBlend) -> Scene {
         ambient: [0.05; 3],
         objects: vec![fur_object(FurSettings {
             shells: Some(shells),
-            fins,
+            fins: Some(fins),
             length: None,
         })],
         lights: vec![
