@@ -401,7 +401,8 @@ fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
         "--explain",
     ]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("fur: base + 16 shells + fins"), "{text}");
+    // Analytic coverage (the default) holds the silhouette in the shells: no fins unless asked.
+    assert!(text.contains("fur: base + 16 shells, "), "{text}");
     assert!(text.contains("obliterate"), "{text}");
 }
 

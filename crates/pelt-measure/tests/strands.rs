@@ -2,7 +2,8 @@
 //! theory: it converges as samples rise; one straight strand lit from the side shows
 //! Kajiya-Kay's diffuse, flat across its width; a flat patch seen from above is covered as
 //! the strand model predicts (pelt_fur::expect, as the texture tests check the textures);
-//! and the extremes (fur length 0 and 100× the object, 1 and 256 shells, comb along the
+//! 64 analytic shells see a combed patch as bright as its strands do, from above, at 45° and
+//! at 80° (the binary heightfield, the negative control, does not); and the extremes (fur length 0 and 100× the object, 1 and 256 shells, comb along the
 //! normal and in the tangent plane, a grazing view) leave no NaN and no black or white
 //! holes, in the shells and in the strands. `PELT_BACKEND=gl|vulkan` picks the back end.
 //! Images are at most 128 × 128.
@@ -19,7 +20,8 @@ use pelt_measure::strands::{self, Options, Reference};
 use pelt_preview::asset::{MeshData, flatten};
 use pelt_preview::fur::{FurData, FurLook, Level, TextureSource};
 use pelt_preview::scene::{
-    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size, Transform,
+    Camera, FurCoverage, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size,
+    Transform,
 };
 use pelt_preview::uniforms::{FurVertex, Vertex};
 use pelt_preview::{Image, Mode, Preview, Scene};
@@ -186,9 +188,17 @@ fn the_reference_converges_as_samples_rise() {
         "a few samples are not yet converged: {:?}",
         r.history
     );
-    for w in r.history.windows(2) {
-        assert!(w[1].1 < w[0].1, "half-vs-half must fall: {:?}", r.history);
+    // The halves' figure falls by about 1/√2 per doubling, give or take its own sampling
+    // noise (one doubling may read flat): over every two doublings it must fall.
+    for w in r.history.windows(3) {
+        assert!(w[2].1 < w[0].1, "half-vs-half must fall: {:?}", r.history);
     }
+    let (first, last) = (r.history[0].1, r.history[r.history.len() - 1].1);
+    assert!(
+        last < first / 4.0,
+        "half-vs-half must fall: {:?}",
+        r.history
+    );
     assert!(r.linear.iter().flatten().all(|v| v.is_finite()));
 }
 
@@ -484,4 +494,119 @@ fn extremes_leave_no_nan_and_no_holes_in_shells_or_strands() {
         failures.is_empty(),
         "holes, NaN or nothing drawn: {failures:?}"
     );
+}
+
+/// A flat square of `tiles` × `tiles` texture tiles (one unit each, centred on (0.5, 0.5)),
+/// normal +Z, with `model`'s fur combed along +X in the tangent plane, black at the root
+/// and white at the tip, and the heightfield the shells' binary test reads generated from
+/// the same model.
+fn wide_patch(model: &StrandParams, length: f32, tiles: f32) -> MeshData {
+    let mut m = patch(model.clone(), length, [1.0, 0.0, 0.0], 0.0, 1.0);
+    let lo = 0.5 - tiles / 2.0;
+    for v in &mut m.vertices {
+        v.position = [lo + v.position[0] * tiles, lo + v.position[1] * tiles, 0.0];
+    }
+    let fur = m.fur.as_mut().expect("fur");
+    for v in &mut fur.vertices {
+        v.uv = [v.uv[0] * tiles, v.uv[1] * tiles];
+    }
+    let set = pelt_fur::generate(model).expect("textures");
+    fur.heightfield = set
+        .heightfield
+        .iter()
+        .map(|i| Level {
+            width: i.width,
+            height: i.height,
+            texels: match &i.pixels {
+                pelt_fur::Pixels::Gray16(v) => v.clone(),
+                pelt_fur::Pixels::Gray8(v) => v.iter().map(|&x| u16::from(x) * 257).collect(),
+                pelt_fur::Pixels::Rgba8(v) => v.iter().map(|x| u16::from(x[0]) * 257).collect(),
+            },
+        })
+        .collect();
+    m
+}
+
+/// Mean linear green of an 8-bit sRGB image.
+fn mean_linear(image: &Image) -> f64 {
+    let lin = |c: u8| {
+        let s = f64::from(c) / 255.0;
+        if s <= 0.04045 {
+            s / 12.92
+        } else {
+            ((s + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let n = (image.width * image.height) as f64;
+    image.rgba.chunks_exact(4).map(|p| lin(p[1])).sum::<f64>() / n
+}
+
+#[test]
+fn shells_cover_a_patch_as_its_strands_do_from_above_at_45_and_80_degrees() {
+    // Combed fur lying across the skin, black at the root and white at the tip, in ambient
+    // light: a pixel's value is the height of what it sees (0 on bare skin), so the image's
+    // mean weighs coverage by how high it is seen. The truth is the converged render of the
+    // model's own strands; 64 analytic shells must match it within 5 % at every angle,
+    // where the old binary heightfield (the negative control) falls short.
+    let mut p = preview();
+    let model = StrandParams {
+        size: 256,
+        strands: 4000,
+        radius: 0.003,
+        ..StrandParams::default()
+    };
+    let mesh = wide_patch(&model, 0.1, 9.0);
+    let meshes = std::slice::from_ref(&mesh);
+    let d = 5.0f32;
+    let fov = 2.0 * (0.4f32 / d).atan().to_degrees();
+    // The image's mean settles long before every pixel does: 256 samples hold it to a few
+    // parts in a thousand (the halves then differ by about FLIP 0.02 per pixel).
+    let opts = Options {
+        target: 0.05,
+        min_samples: 256,
+        max_samples: 256,
+        ..Options::default()
+    };
+    let mut failures = Vec::new();
+    for deg in [0.0f32, 45.0, 80.0] {
+        let t = deg.to_radians();
+        let eye = Vec3::new(0.5, 0.5 - d * t.sin(), d * t.cos());
+        let mut s = scene((64, 64), eye, Vec3::new(0.5, 0.5, 0.0), fov, (1.0, 20.0));
+        s.ambient = [1.0; 3];
+        s.objects[0].material = Material::Fur(FurSettings {
+            shells: Some(64),
+            fins: Some(false),
+            length: None,
+        });
+        let r = strands::reference(&mut p, &s, meshes, &[0], opts).expect("strands");
+        let truth = r.linear.iter().map(|c| f64::from(c[1])).sum::<f64>() / r.linear.len() as f64;
+        let mut shells = Vec::new();
+        for coverage in [FurCoverage::Analytic, FurCoverage::Binary] {
+            s.fur_coverage = coverage;
+            let sv = p
+                .prepare_loaded(&s, meshes, &[0], Mode::Forward)
+                .expect("prepare");
+            let img = p.render(&sv).expect("render");
+            img.save(&out_dir().join(format!("patch-{deg}-{coverage:?}.png")))
+                .expect("write");
+            shells.push(mean_linear(&img) / truth);
+        }
+        r.image
+            .save(&out_dir().join(format!("patch-{deg}-strands.png")))
+            .expect("write");
+        eprintln!(
+            "patch at {deg}°: strands {truth:.4}; 64 shells analytic {:.3}×, binary {:.3}× ({} samples)",
+            shells[0], shells[1], r.samples
+        );
+        if (shells[0] - 1.0).abs() > 0.05 {
+            failures.push(format!("{deg}°: analytic {:.3}×", shells[0]));
+        }
+        if (shells[1] - 1.0).abs() <= 0.05 {
+            failures.push(format!(
+                "{deg}°: the binary control passes ({:.3}×)",
+                shells[1]
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
 }
