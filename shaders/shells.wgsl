@@ -75,12 +75,21 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     return o;
 }
 
-// T(z) (pelt_fur::density::t_at) from the two density samples.
+// Bin `i` (0..7) of the two density samples. Selects, not a local array: a dynamically
+// indexed array spills to memory on some drivers (llvmpipe), at a cost per shell fragment.
+fn density_bin(lo: vec4<f32>, hi: vec4<f32>, i: u32) -> f32 {
+    let v = select(hi, lo, i < 4u);
+    let j = i & 3u;
+    return select(select(v.w, v.z, j == 2u), select(v.y, v.x, j == 0u), j < 2u);
+}
+
+// T(z) (pelt_fur::density::t_at) from the two density samples: linear between the bins,
+// 0 at z = 1.
 fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
-    let bins = array<f32, 9>(lo.x, lo.y, lo.z, lo.w, hi.x, hi.y, hi.z, hi.w, 0.0);
     let x = clamp(z, 0.0, 1.0) * 8.0;
     let k = min(u32(floor(x)), 7u);
-    return mix(bins[k], bins[k + 1u], x - f32(k));
+    let next = select(density_bin(lo, hi, k + 1u), 0.0, k == 7u);
+    return mix(density_bin(lo, hi, k), next, x - f32(k));
 }
 
 // The opacity of shell fragment `s`'s layer with heightfield sample `h` (pelt_fur::density):
