@@ -511,34 +511,19 @@ fn wide_patch(model: &StrandParams, length: f32, tiles: f32) -> MeshData {
         v.uv = [v.uv[0] * tiles, v.uv[1] * tiles];
     }
     let set = pelt_fur::generate(model).expect("textures");
-    fur.heightfield = set
-        .heightfield
-        .iter()
-        .map(|i| Level {
-            width: i.width,
-            height: i.height,
-            texels: match &i.pixels {
-                pelt_fur::Pixels::Gray16(v) => v.clone(),
-                pelt_fur::Pixels::Gray8(v) => v.iter().map(|&x| u16::from(x) * 257).collect(),
-                pelt_fur::Pixels::Rgba8(v) => v.iter().map(|x| u16::from(x[0]) * 257).collect(),
-            },
-        })
-        .collect();
+    fur.heightfield = pelt_scene::fur::height_levels(&set.heightfield);
     m
 }
 
 /// Mean linear green of an 8-bit sRGB image.
 fn mean_linear(image: &Image) -> f64 {
-    let lin = |c: u8| {
-        let s = f64::from(c) / 255.0;
-        if s <= 0.04045 {
-            s / 12.92
-        } else {
-            ((s + 0.055) / 1.055).powf(2.4)
-        }
-    };
     let n = (image.width * image.height) as f64;
-    image.rgba.chunks_exact(4).map(|p| lin(p[1])).sum::<f64>() / n
+    image
+        .rgba
+        .chunks_exact(4)
+        .map(|p| f64::from(pelt_scene::shading::linear_of_srgb8(p[1])))
+        .sum::<f64>()
+        / n
 }
 
 #[test]

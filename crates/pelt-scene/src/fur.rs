@@ -113,6 +113,22 @@ pub fn generated_model() -> StrandParams {
     }
 }
 
+/// Heightfield levels as the shells read them (16-bit; 8-bit and RGBA levels widened).
+pub fn height_levels(images: &[pelt_fur::Image]) -> Vec<Level<u16>> {
+    images
+        .iter()
+        .map(|i| Level {
+            width: i.width,
+            height: i.height,
+            texels: match &i.pixels {
+                Pixels::Gray16(v) => v.clone(),
+                Pixels::Gray8(v) => v.iter().map(|&x| u16::from(x) * 257).collect(),
+                Pixels::Rgba8(v) => v.iter().map(|x| u16::from(x[0]) * 257).collect(),
+            },
+        })
+        .collect()
+}
+
 /// The defaults' look and textures (generated: no manifest in the asset).
 pub fn generated() -> Result<(FurLook, Textures), IoError> {
     let config = FurConfig {
@@ -124,19 +140,7 @@ pub fn generated() -> Result<(FurLook, Textures), IoError> {
         place: "strand model".into(),
         message: e.to_string(),
     })?;
-    let heights = set
-        .heightfield
-        .iter()
-        .map(|i| Level {
-            width: i.width,
-            height: i.height,
-            texels: match &i.pixels {
-                Pixels::Gray16(v) => v.clone(),
-                Pixels::Gray8(v) => v.iter().map(|&x| u16::from(x) * 257).collect(),
-                Pixels::Rgba8(v) => v.iter().map(|x| u16::from(x[0]) * 257).collect(),
-            },
-        })
-        .collect();
+    let heights = height_levels(&set.heightfield);
     let fin = set
         .fin
         .iter()
