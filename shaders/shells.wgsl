@@ -92,15 +92,42 @@ fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
     return mix(density_bin(lo, hi, k), next, x - f32(k));
 }
 
+// Where the pixel resolves single strands: the mean over four taps in its footprint (a
+// rotated grid along the UV derivatives) of the fraction of the layer the strand over each
+// tap's texel reaches into, read from level 0 without filtering. A filtered or coarser
+// level blends a strand's height with the bare skin around it, so a high layer would see
+// every strand thinner than it is (a strand six texels wide lost a fifth of its top view to
+// the blur); an unfiltered texel is covered exactly where the strand covers its centre, so
+// the taps' mean is the covered fraction of the footprint, without bias.
+fn resolved_coverage(tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, z0: f32, z1: f32) -> f32 {
+    let dims = vec2<f32>(textureDimensions(heightfield, 0));
+    let top = vec2<i32>(dims) - vec2<i32>(1);
+    var taps = array<vec2<f32>, 4>(
+        vec2<f32>(-0.125, -0.375),
+        vec2<f32>(0.375, -0.125),
+        vec2<f32>(0.125, 0.375),
+        vec2<f32>(-0.375, 0.125),
+    );
+    var sum = 0.0;
+    for (var i = 0u; i < 4u; i++) {
+        let t = taps[i];
+        let uv = fract(tuv + t.x * uv_dx + t.y * uv_dy);
+        let texel = clamp(vec2<i32>(floor(uv * dims)), vec2<i32>(0), top);
+        let h = textureLoad(heightfield, texel, 0).r;
+        sum += clamp((h - z0) / max(z1 - z0, 1e-6), 0.0, 1.0);
+    }
+    return 0.25 * sum;
+}
+
 // The opacity of shell fragment `s`'s layer with heightfield sample `h` (pelt_fur::density):
 // Δτ = (κ T(z_mid) sin ψ ℓ √J + T(z0) − T(z1)) / |cos θ|, with ψ the angle between view ray
 // and strand, ℓ the strand's length across the layer, J the tile area per unit of surface
 // area and θ the angle from the normal; the binary heightfield (the fraction of the layer
 // the strand over the texel reaches into) where a pixel is under about a strand wide.
-fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, tile_area: f32, surface_area: f32) -> f32 {
+fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, surface_area: f32) -> f32 {
     let z0 = s.layer.x;
     let z1 = s.layer.y;
-    let binary = clamp((h - z0) / max(z1 - z0, 1e-6), 0.0, 1.0);
+    let tile_area = abs(uv_dx.x * uv_dy.y - uv_dx.y * uv_dy.x);
     if object.fur_model.z == 1.0 {
         // The heightfield alone, faded over the strand's top (Revie §2.4.4).
         return 1.0 - smoothstep(h - object.fur_params.z, h, z1);
@@ -118,6 +145,10 @@ fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, tile_area: f32
     let footprint = sqrt(tile_area);
     let d = max(object.fur_model.y, 1e-9);
     let w = smoothstep(0.5 * d, 1.5 * d, footprint);
+    if w >= 1.0 {
+        return clamp(statistical, 0.0, 1.0);
+    }
+    let binary = resolved_coverage(s.uv * object.fur_tip.w, uv_dx, uv_dy, z0, z1);
     return clamp(mix(binary, statistical, w), 0.0, 1.0);
 }
 
@@ -133,9 +164,8 @@ fn shade(s: ShellOut) -> vec4<f32> {
     // Tile area and surface area one pixel covers (the shell's own, at this fragment).
     let uv_dx = dpdx(tuv);
     let uv_dy = dpdy(tuv);
-    let tile_area = abs(uv_dx.x * uv_dy.y - uv_dx.y * uv_dy.x);
     let surface_area = length(cross(dpdx(s.view_pos), dpdy(s.view_pos)));
-    let coverage = layer_alpha(s, h, lo, hi, tile_area, surface_area);
+    let coverage = layer_alpha(s, h, lo, hi, uv_dx, uv_dy, surface_area);
     let strand = coverage * clamp(s.depths.w * 20.0, 0.0, 1.0);
     let a = select(strand, 1.0, s.shell == 0u);
     let l = fur_lighting(fur_query(

@@ -45,6 +45,8 @@ struct StrandOut {
     // included): blended along the segment, so the shading has no jump at the joints.
     @location(6) @interpolate(flat) t0: vec3<f32>,
     @location(7) @interpolate(flat) t1: vec3<f32>,
+    // The strand's radius in view units.
+    @location(8) @interpolate(flat) radius: f32,
 }
 
 // The point at height `z` (fraction of the fur length) of strand `s`, in asset space.
@@ -82,6 +84,7 @@ fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
     let c1 = frame.proj * vec4<f32>(v1, 1.0);
     o.v0 = v0;
     o.v1 = v1;
+    o.radius = radius;
     o.z = vec2<f32>(z0, z1);
     o.t0 = strand_direction(s, z0);
     o.t1 = strand_direction(s, z1);
@@ -130,20 +133,85 @@ fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
     return o;
 }
 
+// The view-space direction of the ray through pixel `p` (framebuffer coordinates) for a
+// perspective projection, jittered or not (the jitter is a shift of P[2].xy).
+fn pixel_ray(p: vec2<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(p.x * frame.target_size.z * 2.0 - 1.0, 1.0 - p.y * frame.target_size.w * 2.0);
+    let x = (ndc.x + frame.proj[2][0]) / frame.proj[0][0];
+    let y = (ndc.y + frame.proj[2][1]) / frame.proj[1][1];
+    return normalize(vec3<f32>(x, y, -1.0));
+}
+
+// Where along the capsule of radius `r` around segment a → b (0 at a, 1 at b) the eye's ray
+// `rd` first meets its surface (x; −1 where it misses) and how far from the eye (y). The ray starts at its closest
+// approach to `a` rather than at the eye, so that f32 keeps the precision of a capsule far
+// thinner than its distance.
+fn capsule_hit(rd: vec3<f32>, a: vec3<f32>, b: vec3<f32>, r: f32) -> vec2<f32> {
+    let t0 = dot(a, rd);
+    let ro = rd * t0;
+    let ba = b - a;
+    let oa = ro - a;
+    let baba = dot(ba, ba);
+    let bard = dot(ba, rd);
+    let baoa = dot(ba, oa);
+    let rdoa = dot(rd, oa);
+    let qa = baba - bard * bard;
+    let qb = baba * rdoa - baoa * bard;
+    let qc = baba * dot(oa, oa) - baoa * baoa - r * r * baba;
+    let disc = qb * qb - qa * qc;
+    if disc >= 0.0 && qa > 1e-12 * baba {
+        // The cylinder's side, where it lies between the ends.
+        let t = (-qb - sqrt(disc)) / qa;
+        let y = baoa + t * bard;
+        if y > 0.0 && y < baba {
+            return vec2<f32>(y / baba, t0 + t);
+        }
+    }
+    // The round ends: the nearer sphere the ray meets.
+    var best = -1.0;
+    var depth = 1e30;
+    for (var e = 0u; e < 2u; e++) {
+        let centre = select(a, b, e == 1u);
+        let oc = ro - centre;
+        let hb = dot(rd, oc);
+        let hc = dot(oc, oc) - r * r;
+        let h = hb * hb - hc;
+        if h >= 0.0 {
+            let t = -hb - sqrt(h);
+            if t < depth {
+                depth = t;
+                best = f32(e);
+            }
+        }
+    }
+    if best < 0.0 {
+        return vec2<f32>(-1.0, 0.0);
+    }
+    // Inside the sphere's half that the cylinder does not cover: the axis parameter there.
+    let hit = ro + rd * depth;
+    return vec2<f32>(clamp(dot(hit - a, ba) / max(baba, 1e-30), 0.0, 1.0), t0 + depth);
+}
+
+struct StrandFragment {
+    @location(0) color: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
 @fragment
-fn fs_main(f: StrandOut) -> @location(0) vec4<f32> {
-    let p = f.clip.xy;
-    let a = f.s0.xy;
-    let ab = f.s1.xy - a;
-    let len2 = dot(ab, ab);
-    // Seen end-on, the visible point is the near end (the cap facing the eye).
-    let near_end = select(0.0, 1.0, f.v1.z > f.v0.z);
-    let end_on = len2 < max(f.s0.z, f.s1.z) * max(f.s0.z, f.s1.z);
-    let t = select(clamp(dot(p - a, ab) / max(len2, 1e-12), 0.0, 1.0), near_end, end_on);
-    let r = mix(f.s0.z, f.s1.z, t);
-    if distance(p, a + ab * t) > r {
+fn fs_main(f: StrandOut) -> StrandFragment {
+    // The visible point is where the pixel's ray meets the capsule first; the strand's
+    // height, direction and colour are the axis's there (the point of the axis nearest the
+    // hit), so a strand wider than a pixel shows the part of its length that faces the eye.
+    let r = f.radius;
+    let rd = pixel_ray(f.clip.xy);
+    let hit = capsule_hit(rd, f.v0, f.v1, r);
+    if hit.x < 0.0 {
         discard;
     }
+    let t = hit.x;
+    // The depth of the hit itself: the quad's own depth, extrapolated past a steep
+    // segment's root, would pass under the skin and be hidden there.
+    let c = frame.proj * vec4<f32>(rd * hit.y, 1.0);
     let view_pos = mix(f.v0, f.v1, t);
     let blend = mix(f.t0, f.t1, t);
     let dir = select(f.t0, normalize(blend), length(blend) > 1e-6);
@@ -153,5 +221,8 @@ fn fs_main(f: StrandOut) -> @location(0) vec4<f32> {
     let l = fur_lighting(q);
     let height = mix(f.z.x, f.z.y, t);
     let albedo = f.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, height);
-    return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, 1.0);
+    var o: StrandFragment;
+    o.color = vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, 1.0);
+    o.depth = clamp(c.z / c.w, 0.0, 1.0);
+    return o;
 }

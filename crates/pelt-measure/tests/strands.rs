@@ -595,3 +595,97 @@ fn shells_cover_a_patch_as_its_strands_do_from_above_at_45_and_80_degrees() {
     }
     assert!(failures.is_empty(), "{failures:?}");
 }
+
+#[test]
+fn zoomed_in_until_strands_are_pixels_wide_256_shells_are_as_bright_as_the_strands() {
+    // The same combed fur seen so close that each strand is about 2.6 pixels wide: the
+    // shells resolve single strands from the heightfield (1024² texels, six across a
+    // strand). At 45° from the normal 256 shells must see the patch within 5 % as bright as
+    // its strands; 8 shells, too few to close the gaps between their layers, are the
+    // negative control and must fall short. From above the shells read brighter (about
+    // 1.18×: where a strand lies nearly flat, the highest of the stacked discs over a point
+    // stands further up the strand than the point of the tube facing the eye); the test
+    // prints that view and asserts only that the shells cover as much of it as the strands.
+    let mut p = preview();
+    let model = StrandParams {
+        size: 1024,
+        strands: 4000,
+        radius: 0.003,
+        ..StrandParams::default()
+    };
+    let mesh = wide_patch(&model, 0.1, 1.0);
+    let meshes = std::slice::from_ref(&mesh);
+    let d = 5.0f32;
+    let view = 0.3f32;
+    let size = 128;
+    let fov = 2.0 * (0.5 * view / d).atan().to_degrees();
+    let strand_px = 2.0 * model.radius as f32 / (view / size as f32);
+    assert!(strand_px >= 2.0, "strands {strand_px:.2} px wide");
+    let opts = Options {
+        target: 0.05,
+        min_samples: 256,
+        max_samples: 256,
+        ..Options::default()
+    };
+    let covered = |img: &[f32]| img.iter().filter(|&&v| v > 0.01).count() as f64 / img.len() as f64;
+    let mut failures = Vec::new();
+    for deg in [0.0f32, 45.0] {
+        let t = deg.to_radians();
+        let eye = Vec3::new(0.5, 0.5 - d * t.sin(), d * t.cos());
+        let mut s = scene(
+            (size, size),
+            eye,
+            Vec3::new(0.5, 0.5, 0.0),
+            fov,
+            (1.0, 20.0),
+        );
+        s.ambient = [1.0; 3];
+        let r = strands::reference(&mut p, &s, meshes, &[0], opts).expect("strands");
+        let green: Vec<f32> = r.linear.iter().map(|c| c[1]).collect();
+        let truth = green.iter().map(|&v| f64::from(v)).sum::<f64>() / green.len() as f64;
+        r.image
+            .save(&out_dir().join(format!("zoomed-{deg}-strands.png")))
+            .expect("write");
+        let mut ratios = Vec::new();
+        let mut cover = Vec::new();
+        for shells in [256u32, 8] {
+            s.objects[0].material = Material::Fur(FurSettings {
+                shells: Some(shells),
+                fins: Some(false),
+                length: None,
+            });
+            let sv = p
+                .prepare_loaded(&s, meshes, &[0], Mode::Forward)
+                .expect("prepare");
+            let img = p.render(&sv).expect("render");
+            img.save(&out_dir().join(format!("zoomed-{deg}-{shells}.png")))
+                .expect("write");
+            ratios.push(mean_linear(&img) / truth);
+            let g: Vec<f32> = img
+                .rgba
+                .chunks_exact(4)
+                .map(|px| pelt_scene::shading::linear_of_srgb8(px[1]))
+                .collect();
+            cover.push(covered(&g) / covered(&green));
+        }
+        eprintln!(
+            "zoomed patch at {deg}°: strands {truth:.4}; 256 shells {:.3}× (covering {:.3}×), 8 shells {:.3}× ({} samples)",
+            ratios[0], cover[0], ratios[1], r.samples
+        );
+        if (cover[0] - 1.0).abs() > 0.05 {
+            failures.push(format!("{deg}°: 256 shells cover {:.3}×", cover[0]));
+        }
+        if deg > 0.0 {
+            if (ratios[0] - 1.0).abs() > 0.05 {
+                failures.push(format!("{deg}°: 256 shells {:.3}×", ratios[0]));
+            }
+            if (ratios[1] - 1.0).abs() <= 0.05 {
+                failures.push(format!(
+                    "{deg}°: the 8-shell control passes ({:.3}×)",
+                    ratios[1]
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}

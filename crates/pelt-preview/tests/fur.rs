@@ -418,3 +418,144 @@ fn a_cube_map_sky_shows_its_faces_and_a_bad_face_is_named() {
         "{msg}"
     );
 }
+
+/// Runs `strand_tangent` and `shell_offset` of shaders/fur_common.wgsl (the functions the
+/// shells, fins and strands call) on the GPU for each (normal, comb, height) and returns
+/// (tangent, offset) per input.
+fn gpu_path(p: &Preview, inputs: &[([f32; 3], [f32; 3], f32)]) -> Vec<([f32; 3], [f32; 3])> {
+    use wgpu::util::DeviceExt;
+    let source = format!(
+        "{}\n{}\n{}",
+        pelt_preview::shaders::COMMON,
+        include_str!("../../../shaders/fur_common.wgsl"),
+        r"
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+@compute @workgroup_size(1)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = inputs[2u * id.x].xyz;
+    let c = inputs[2u * id.x + 1u].xyz;
+    let z = inputs[2u * id.x + 1u].w;
+    outputs[2u * id.x] = vec4<f32>(strand_tangent(n, c, z), 0.0);
+    outputs[2u * id.x + 1u] = vec4<f32>(shell_offset(n, c, z, 1.0, 1.0), 0.0);
+}
+"
+    );
+    let device = &p.renderer.gpu.device;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("strand path test"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("strand path test"),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let data: Vec<[f32; 4]> = inputs
+        .iter()
+        .flat_map(|&(n, c, z)| [[n[0], n[1], n[2], 0.0], [c[0], c[1], c[2], z]])
+        .collect();
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("inputs"),
+        contents: bytemuck::cast_slice(&data),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("outputs"),
+        size: (data.len() * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("strand path test"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(inputs.len() as u32, 1, 1);
+    }
+    p.renderer.gpu.queue.submit([enc.finish()]);
+    let bytes = pelt_preview::frame::read_buffer(&p.renderer, &output).expect("read back");
+    let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    out.chunks_exact(2)
+        .map(|o| ([o[0][0], o[0][1], o[0][2]], [o[1][0], o[1][1], o[1][2]]))
+        .collect()
+}
+
+#[test]
+fn the_shaders_strand_tangent_is_the_cpu_paths_derivative_at_each_height() {
+    // The Kajiya-Kay tangent every shell, fin and strand fragment is lit about is
+    // `strand_tangent` at its height; it must equal pelt_fur::path's derivative, and the
+    // shells' offset the path itself, for combs along the normal, in the tangent plane,
+    // between, longer than the fur and absent.
+    let p = preview();
+    let normals = [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [-0.48, 0.6, 0.64]];
+    let combs = [
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.6, 0.8, 0.0],
+        [0.3, -0.2, 0.1],
+        [2.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0],
+    ];
+    let heights = [0.0, 0.03, 0.25, 0.5, 0.75, 0.97, 1.0];
+    let mut inputs = Vec::new();
+    for n in normals {
+        for c in combs {
+            for z in heights {
+                inputs.push((n, c, z));
+            }
+        }
+    }
+    let got = gpu_path(&p, &inputs);
+    let f64v = |v: [f32; 3]| v.map(f64::from);
+    let mut worst_angle = 0.0f64;
+    let mut worst_offset = 0.0f64;
+    for (&(n, c, z), (t, o)) in inputs.iter().zip(&got) {
+        let want_t = pelt_fur::path::tangent(f64v(n), f64v(c), f64::from(z));
+        let want_o = pelt_fur::path::point(f64v(n), f64v(c), f64::from(z));
+        let t = f64v(*t);
+        let cos = (t[0] * want_t[0] + t[1] * want_t[1] + t[2] * want_t[2]).clamp(-1.0, 1.0);
+        let angle = cos.acos().to_degrees();
+        let offset = (0..3)
+            .map(|k| (o[k] as f64 - want_o[k]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            angle < 0.05 && offset < 1e-5,
+            "n {n:?} comb {c:?} z {z}: tangent {t:?} against {want_t:?} ({angle:.4}°), offset {o:?} against {want_o:?}"
+        );
+        worst_angle = worst_angle.max(angle);
+        worst_offset = worst_offset.max(offset);
+    }
+    eprintln!(
+        "{} heights: tangents within {worst_angle:.5}°, offsets within {worst_offset:.2e}",
+        inputs.len()
+    );
+    // The check can fail: the old tangent, n + c·max(z, 0.5), is far from the path's.
+    let old = {
+        let (n, c, z) = ([0.0f64, 0.0, 1.0], [1.0f64, 0.0, 0.0], 1.0f64);
+        let m = [n[0] + c[0] * z.max(0.5), n[1], n[2] + c[2] * z.max(0.5)];
+        let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+        let t = pelt_fur::path::tangent(n, c, z);
+        ((m[0] * t[0] + m[1] * t[1] + m[2] * t[2]) / l)
+            .acos()
+            .to_degrees()
+    };
+    assert!(old > 20.0, "{old}");
+}
