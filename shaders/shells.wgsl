@@ -38,9 +38,12 @@ struct ShellOut {
     @location(8) @interpolate(flat) shell: u32,
     // The material's texture coordinates (the base colour texture's set).
     @location(9) base_uv: vec2<f32>,
-    // x, y: the heights the layer spans; z: the strand's length across it (view units).
-    @location(10) layer: vec3<f32>,
+    // x, y: the heights the layer spans; z: the strand's length across it; w: the path's
+    // length scale, |P(1)| (view units).
+    @location(10) layer: vec4<f32>,
     @location(11) view_normal: vec3<f32>,
+    // The comb in view space (unit): with the normal, the path's shape (a uniform scale).
+    @location(12) comb: vec3<f32>,
 }
 
 @vertex
@@ -70,7 +73,8 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     o.group = v.group;
     o.shell = shell;
     o.base_uv = v.uv;
-    o.layer = vec3<f32>(z0, z1, length(p1.xyz - p0.xyz));
+    o.layer = vec4<f32>(z0, z1, length(p1.xyz - p0.xyz), length(pt.xyz - pb.xyz));
+    o.comb = view_dir_of(comb, frame, object);
     o.view_normal = view_normal_of(v.normal, frame, object);
     return o;
 }
@@ -92,31 +96,104 @@ fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
     return mix(density_bin(lo, hi, k), next, x - f32(k));
 }
 
-// Where the pixel resolves single strands: the mean over four taps in its footprint (a
-// rotated grid along the UV derivatives) of the fraction of the layer the strand over each
-// tap's texel reaches into, read from level 0 without filtering. A filtered or coarser
-// level blends a strand's height with the bare skin around it, so a high layer would see
-// every strand thinner than it is (a strand six texels wide lost a fifth of its top view to
-// the blur); an unfiltered texel is covered exactly where the strand covers its centre, so
-// the taps' mean is the covered fraction of the footprint, without bias.
-fn resolved_coverage(tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, z0: f32, z1: f32) -> f32 {
+// Where the pixel resolves single strands, the heightfield is read at level 0 without
+// filtering, at four taps of a rotated grid across the pixel's footprint: a filtered or
+// coarser level blends a strand's height with the bare skin beside it, so a high layer would
+// see every strand thinner than it is, while an unfiltered texel is covered exactly where the
+// strand covers its centre.
+//
+// The layers over a pixel are not independent there: a strand covering part of the pixel
+// covers that same part in every layer it crosses, and blending each layer "over" the ones
+// below with its own fraction of covered taps would let the partly covered edge of a strand
+// add up to an opaque pixel of its highest colour. So each tap asks whether the ray through
+// it is covered anywhere higher up: at the next layer (the same strand, usually) and at
+// three heights between this layer and the tips (a strand the ray meets further on), each
+// read where the ray meets the shell of that height. A layer's opacity is the share of its
+// taps that it covers and nothing higher does, among the taps nothing higher covers; blended
+// inner to outer, every tap then shows the highest layer covering it, as the strands would.
+fn tap_texel(uv: vec2<f32>, dims: vec2<f32>) -> vec2<i32> {
+    return clamp(vec2<i32>(floor(fract(uv) * dims)), vec2<i32>(0), vec2<i32>(dims) - vec2<i32>(1));
+}
+
+// The ray through a fragment and the shell's local frame: where the ray meets the shell at
+// another height, as a shift along the texture.
+struct RayFrame {
+    eye_dir: vec3<f32>,
+    normal: vec3<f32>,
+    comb: vec3<f32>,
+    // The path's scale (view units per unit height) and this shell's height.
+    scale: f32,
+    height: f32,
+    // Screen-space derivatives of the position and of the texture coordinates.
+    p_dx: vec3<f32>,
+    p_dy: vec3<f32>,
+    uv_dx: vec2<f32>,
+    uv_dy: vec2<f32>,
+}
+
+// The path's offset at height `z` in view units (pelt_fur::path::point, scaled).
+fn path_at(f: RayFrame, z: f32) -> vec3<f32> {
+    return normalize(f.normal + f.comb * z) * z * f.scale;
+}
+
+// How far along the texture the ray moves from this shell to the shell at height `z`: that
+// shell is this one moved by the path's step, and the ray meets it nearer the eye (or
+// further); the difference lies in the shell's tangent plane, mapped to texture coordinates
+// through the screen-space derivatives (least squares).
+fn shift_to(f: RayFrame, z: f32) -> vec2<f32> {
+    let step = path_at(f, z) - path_at(f, f.height);
+    let en = dot(f.eye_dir, f.normal);
+    let g00 = dot(f.p_dx, f.p_dx);
+    let g01 = dot(f.p_dx, f.p_dy);
+    let g11 = dot(f.p_dy, f.p_dy);
+    let det = g00 * g11 - g01 * g01;
+    if abs(en) < 1e-4 || det <= 1e-30 {
+        return vec2<f32>(0.0);
+    }
+    let d = f.eye_dir * (dot(step, f.normal) / en) - step;
+    let r0 = dot(d, f.p_dx);
+    let r1 = dot(d, f.p_dy);
+    return ((r0 * g11 - r1 * g01) * f.uv_dx + (r1 * g00 - r0 * g01) * f.uv_dy) / det;
+}
+
+fn resolved_alpha(f: RayFrame, tuv: vec2<f32>, z0: f32, z1: f32) -> f32 {
     let dims = vec2<f32>(textureDimensions(heightfield, 0));
-    let top = vec2<i32>(dims) - vec2<i32>(1);
+    let dz = max(z1 - z0, 1e-6);
     var taps = array<vec2<f32>, 4>(
         vec2<f32>(-0.125, -0.375),
         vec2<f32>(0.375, -0.125),
         vec2<f32>(0.125, 0.375),
         vec2<f32>(-0.375, 0.125),
     );
-    var sum = 0.0;
+    // The next layer's middle, then three heights up to the tips.
+    var heights = array<f32, 4>(
+        f.height + dz,
+        z1 + 0.25 * (1.0 - z1),
+        z1 + 0.5 * (1.0 - z1),
+        z1 + 0.75 * (1.0 - z1),
+    );
+    var shifts: array<vec2<f32>, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        shifts[k] = shift_to(f, heights[k]);
+    }
+    var top = 0.0;
+    var above = 0.0;
     for (var i = 0u; i < 4u; i++) {
         let t = taps[i];
-        let uv = fract(tuv + t.x * uv_dx + t.y * uv_dy);
-        let texel = clamp(vec2<i32>(floor(uv * dims)), vec2<i32>(0), top);
-        let h = textureLoad(heightfield, texel, 0).r;
-        sum += clamp((h - z0) / max(z1 - z0, 1e-6), 0.0, 1.0);
+        let uv = tuv + t.x * f.uv_dx + t.y * f.uv_dy;
+        let here = textureLoad(heightfield, tap_texel(uv, dims), 0).r;
+        let covered = clamp((here - z0) / dz, 0.0, 1.0);
+        // The next layer: the fraction of it the strand there reaches into.
+        let next = textureLoad(heightfield, tap_texel(uv + shifts[0], dims), 0).r;
+        var higher = clamp((next - z1) / dz, 0.0, 1.0);
+        for (var k = 1u; k < 4u; k++) {
+            let h = textureLoad(heightfield, tap_texel(uv + shifts[k], dims), 0).r;
+            higher = max(higher, select(0.0, 1.0, h > heights[k]));
+        }
+        top += covered * (1.0 - higher);
+        above += higher;
     }
-    return 0.25 * sum;
+    return clamp(top / max(4.0 - above, 1e-3), 0.0, 1.0);
 }
 
 // The opacity of shell fragment `s`'s layer with heightfield sample `h` (pelt_fur::density):
@@ -124,7 +201,8 @@ fn resolved_coverage(tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, z0: f32
 // and strand, ℓ the strand's length across the layer, J the tile area per unit of surface
 // area and θ the angle from the normal; the binary heightfield (the fraction of the layer
 // the strand over the texel reaches into) where a pixel is under about a strand wide.
-fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, surface_area: f32) -> f32 {
+fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, p_dx: vec3<f32>, p_dy: vec3<f32>) -> f32 {
+    let surface_area = length(cross(p_dx, p_dy));
     let z0 = s.layer.x;
     let z1 = s.layer.y;
     let tile_area = abs(uv_dx.x * uv_dy.y - uv_dx.y * uv_dy.x);
@@ -148,7 +226,17 @@ fn layer_alpha(s: ShellOut, h: f32, lo: vec4<f32>, hi: vec4<f32>, uv_dx: vec2<f3
     if w >= 1.0 {
         return clamp(statistical, 0.0, 1.0);
     }
-    let binary = resolved_coverage(s.uv * object.fur_tip.w, uv_dx, uv_dy, z0, z1);
+    var f: RayFrame;
+    f.eye_dir = normalize(s.view_pos);
+    f.normal = normalize(s.view_normal);
+    f.comb = normalize(s.comb);
+    f.scale = s.layer.w;
+    f.height = 0.5 * (z0 + z1);
+    f.p_dx = p_dx;
+    f.p_dy = p_dy;
+    f.uv_dx = uv_dx;
+    f.uv_dy = uv_dy;
+    let binary = resolved_alpha(f, s.uv * object.fur_tip.w, z0, z1);
     return clamp(mix(binary, statistical, w), 0.0, 1.0);
 }
 
@@ -164,8 +252,7 @@ fn shade(s: ShellOut) -> vec4<f32> {
     // Tile area and surface area one pixel covers (the shell's own, at this fragment).
     let uv_dx = dpdx(tuv);
     let uv_dy = dpdy(tuv);
-    let surface_area = length(cross(dpdx(s.view_pos), dpdy(s.view_pos)));
-    let coverage = layer_alpha(s, h, lo, hi, uv_dx, uv_dy, surface_area);
+    let coverage = layer_alpha(s, h, lo, hi, uv_dx, uv_dy, dpdx(s.view_pos), dpdy(s.view_pos));
     let strand = coverage * clamp(s.depths.w * 20.0, 0.0, 1.0);
     let a = select(strand, 1.0, s.shell == 0u);
     let l = fur_lighting(fur_query(
