@@ -2,7 +2,8 @@
 //! `xauth`), on the back end `PELT_BACKEND` names (CI runs GL and Vulkan): the scripted mode's
 //! screenshot equals `pelt render` of the same input, size, camera and knobs; after a scripted
 //! orbit drawn under a tight frame budget, the still frame equals the full-quality render of
-//! the final camera. Also `pelt render --bench --orbit --json` (frame 0 uploads the asset,
+//! the final camera; strands mode refines a still frame toward the converged reference. Also
+//! `pelt render --bench --orbit --json` (frame 0 uploads the asset,
 //! later frames only uniforms) and a quiet successful render (no "error:" line).
 //!
 //! Without `xvfb-run` the window tests are skipped, unless `PELT_REQUIRE_XVFB` is set (CI sets
@@ -393,5 +394,51 @@ fn an_animated_asset_plays_in_the_window_and_a_paused_frame_equals_pelt_render()
     assert!(
         !out.status.success() && err.contains("Survey, Walk, Run"),
         "{err}"
+    );
+}
+
+#[test]
+fn strands_mode_refines_a_still_frame_toward_the_converged_reference() {
+    // `pelt view --mode strands` adds one jittered sample a frame while the camera is still:
+    // after 48 frames its screenshot (the running mean) must lie far closer to the converged
+    // strand reference (`pelt render --mode strands`) than after one, the single frame being
+    // the negative control.
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-strands");
+    let asset = furry(&dir);
+    let shot = |frames: &str| {
+        let path = dir.join(format!("strands-{frames}.png"));
+        let out = view(&[
+            s(&asset),
+            "--mode",
+            "strands",
+            "--frames",
+            frames,
+            "--screenshot",
+            s(&path),
+            "--size",
+            "192x128",
+            "--quiet",
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        (load_png(&path), err)
+    };
+    let reference = render_png(
+        &dir,
+        &asset,
+        "strands-reference.png",
+        &["--mode", "strands", "--target-flip", "0.01"],
+    );
+    let (one, _) = shot("1");
+    let (many, err) = shot("48");
+    let (f1, f48) = (flip(&reference, &one), flip(&reference, &many));
+    eprintln!(
+        "strands view against the converged reference: 1 frame FLIP {f1:.4}, 48 frames {f48:.4}"
+    );
+    assert!(
+        f48 < 0.5 * f1,
+        "48 frames ({f48:.4}) are not much closer than 1 ({f1:.4}): {err}"
     );
 }

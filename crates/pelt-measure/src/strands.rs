@@ -80,15 +80,9 @@ pub struct Reference {
     pub strands: u64,
 }
 
-/// The R2 sequence (Roberts 2018) in [-0.5, 0.5)²: sample `i`'s offset within the pixel.
-/// Its even and odd terms are each low-discrepancy, so both halves cover the pixel.
-pub fn jitter(i: u32) -> (f32, f32) {
-    const A1: f64 = 0.754_877_666_246_692_7;
-    const A2: f64 = 0.569_840_290_998_053_3;
-    let n = f64::from(i);
-    let f = |a: f64| ((0.5 + n * a).fract() - 0.5) as f32;
-    (f(A1), f(A2))
-}
+/// Sample `i`'s offset within the pixel (the R2 sequence; one home with the viewer's
+/// progressive refinement).
+pub use pelt_preview::progressive::jitter;
 
 /// sRGB 8-bit to linear, per value ([`pelt_scene::shading::linear_of_srgb8`] tabulated).
 fn srgb_to_linear_table() -> [f32; 256] {

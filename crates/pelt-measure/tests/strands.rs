@@ -657,6 +657,12 @@ fn zoomed_in_until_strands_are_pixels_wide_256_shells_are_as_bright_as_the_stran
             let sv = p
                 .prepare_loaded(&s, meshes, &[0], Mode::Forward)
                 .expect("prepare");
+            // The plan must find this view fine enough to resolve strands
+            // (pelt_scene::footprint), or the shells lack the taps that draw them.
+            assert!(
+                sv.plan.objects[0].fur.is_some_and(|f| f.resolved),
+                "{deg}°: the plan gives the zoomed patch no strand-resolving taps"
+            );
             let img = p.render(&sv).expect("render");
             img.save(&out_dir().join(format!("zoomed-{deg}-{shells}.png")))
                 .expect("write");

@@ -116,6 +116,32 @@ pub enum Lighting {
     Forward,
 }
 
+/// Which coverage code a shell pipeline holds (the `COVERAGE` override of shells.wgsl).
+/// Code a pipeline does not need is left out when it is created, not branched over: drivers
+/// that run a fragment's lanes in lockstep (llvmpipe) pay for both sides of a branch. So
+/// only objects that may show a pixel under 1.5 strand diameters get the strand-resolving
+/// taps (`pelt_scene::footprint`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Coverage {
+    /// The strand model as a medium alone: every pixel holds many strands.
+    Medium,
+    /// The medium, and the unfiltered heightfield taps where a pixel resolves single strands.
+    Resolved,
+    /// The binary heightfield alone (`--fur-coverage binary`, Revie §2.4.4 as written).
+    Binary,
+}
+
+impl Coverage {
+    /// The value of shells.wgsl's `COVERAGE` override.
+    pub fn constant(self) -> f64 {
+        match self {
+            Coverage::Medium => 0.0,
+            Coverage::Resolved => 1.0,
+            Coverage::Binary => 2.0,
+        }
+    }
+}
+
 /// A shader module (and, for files with several, which entry points a pipeline uses).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Shader {
@@ -134,7 +160,7 @@ pub enum Shader {
     /// Stipple obliteration into the composition copy (§2.4.4).
     Obliterate,
     /// Concentric shells (instance 0: the base mesh).
-    Shells(Lighting),
+    Shells(Lighting, Coverage),
     /// Silhouette fins.
     Fins(Lighting),
     /// Weighted blended OIT resolve.
@@ -180,8 +206,8 @@ impl Shader {
         Shader::FurBase,
         Shader::FurOuter,
         Shader::Obliterate,
-        Shader::Shells(Lighting::Inferred),
-        Shader::Shells(Lighting::Forward),
+        Shader::Shells(Lighting::Inferred, Coverage::Medium),
+        Shader::Shells(Lighting::Forward, Coverage::Medium),
         Shader::Fins(Lighting::Inferred),
         Shader::Fins(Lighting::Forward),
         Shader::Composite,
@@ -210,7 +236,7 @@ impl Shader {
             Shader::Forward => "forward.wgsl",
             Shader::FurBase | Shader::FurOuter => "fur_gbuffer.wgsl",
             Shader::Obliterate => "obliterate.wgsl",
-            Shader::Shells(_) => "shells.wgsl",
+            Shader::Shells(..) => "shells.wgsl",
             Shader::Fins(_) => "fins.wgsl",
             Shader::Composite => "composite.wgsl",
             Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
@@ -240,7 +266,7 @@ impl Shader {
                 p.push("fur_common.wgsl");
                 p.push("fur_light_forward.wgsl");
             }
-            Shader::Shells(l) | Shader::Fins(l) => {
+            Shader::Shells(l, _) | Shader::Fins(l) => {
                 p.push("fur_common.wgsl");
                 p.push(match l {
                     Lighting::Inferred => "fur_light_inferred.wgsl",

@@ -9,11 +9,14 @@
 //! - [`material`]: base colour, normal and metallic-roughness textures and their mip chains;
 //! - [`view`], [`plan`]: the camera and the CPU decisions of a frame (Kircher & Lawrance
 //!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, passes);
+//! - [`footprint`]: how fine a pixel can get on a fur object (whether its shells must
+//!   resolve single strands at this view);
 //! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;
 //! - [`sky`]: the cube-map sky's images.
 
 pub mod asset;
 pub mod budget;
+pub mod footprint;
 pub mod framing;
 pub mod fur;
 pub mod knobs;

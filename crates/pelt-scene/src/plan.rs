@@ -181,6 +181,11 @@ pub struct PlannedFur {
     pub coverage: FurCoverage,
     /// How the deferred paths light it.
     pub lighting: FurLighting,
+    /// The mesh's sparsest texel density ([`crate::footprint::texel_density`]).
+    pub texel_density: f32,
+    /// Whether a pixel of it may be fine enough to resolve single strands at this camera
+    /// ([`crate::footprint`]): its shells then use the pipeline with the heightfield taps.
+    pub resolved: bool,
 }
 
 /// A light that reaches the screen.
@@ -313,6 +318,8 @@ pub struct MeshInfo {
     pub fur: Option<(FurLook, bool)>,
     /// Its fur's strand model as a medium: κ and the mean diameter ([`PlannedFur::medium`]).
     pub medium: [f32; 2],
+    /// Its fur's sparsest texel density ([`crate::footprint::texel_density`]).
+    pub texel_density: f32,
 }
 
 impl MeshInfo {
@@ -327,6 +334,7 @@ impl MeshInfo {
             medium: mesh.fur.as_ref().map_or([0.0; 2], |f| {
                 [f.density.kappa as f32, f.density.diameter as f32]
             }),
+            texel_density: crate::footprint::texel_density(mesh),
         }
     }
 }
@@ -426,6 +434,8 @@ impl ScenePlan {
                                 medium: info.medium,
                                 coverage: scene.fur_coverage,
                                 lighting: scene.fur_lighting,
+                                texel_density: info.texel_density,
+                                resolved: false,
                             });
                             fur_count += 1;
                         }
@@ -562,8 +572,22 @@ impl Plan {
                 continue;
             };
             rects.push(rect);
+            let mut fur = o.fur;
+            if let Some(f) = &mut fur {
+                let finest = crate::footprint::finest_footprint(
+                    &view,
+                    output,
+                    o.model,
+                    -vhi.z,
+                    f.texel_density,
+                    f.uv_scale,
+                );
+                f.resolved = f.coverage == FurCoverage::Analytic
+                    && crate::footprint::resolves_strands(finest, f.medium[1]);
+            }
             objects.push(PlannedObject {
                 depth: -(vlo.z + vhi.z) / 2.0,
+                fur,
                 ..o.clone()
             });
         }
@@ -913,10 +937,15 @@ impl Plan {
             } else if let Some(f) = o.fur {
                 let _ = write!(
                     s,
-                    "; objects[{}] fur: base + {} shells{}, {}",
+                    "; objects[{}] fur: base + {} shells{}{}, {}",
                     o.scene_index,
                     f.shells,
                     if f.fins { " + fins" } else { "" },
+                    if f.resolved {
+                        " (near enough to resolve single strands: heightfield taps)"
+                    } else {
+                        ""
+                    },
                     match (self.fur_blend, self.mode) {
                         (FurBlend::Wboit, _) => "into the OIT pass",
                         (_, Mode::Forward) => "Kajiya-Kay per light, blended over inner to outer",

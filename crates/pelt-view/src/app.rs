@@ -517,7 +517,8 @@ impl ApplicationHandler for App {
                 .zip(r.viewer.budget)
                 .is_some_and(|(q, b)| q != b.costs.full);
         let playing = r.viewer.timeline.as_ref().is_some_and(|t| t.playing);
-        if r.moving() || settled_after_motion || playing {
+        // Strands mode keeps drawing while it refines a still frame.
+        if r.moving() || settled_after_motion || playing || r.viewer.refining() {
             r.window.request_redraw();
         }
         el.set_control_flow(ControlFlow::WaitUntil(Instant::now() + POLL));

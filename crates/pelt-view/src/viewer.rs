@@ -2,7 +2,9 @@
 //! the orbit camera, the settings the keys turn, the frame budget, and drawing one frame into
 //! a surface texture: at full quality when the camera is still, or, while it moves, at the
 //! quality the budget picks (lower L-buffer scale and shells, and a reduced resolution scaled
-//! up to the window).
+//! up to the window). In strands mode a still camera refines the explicit strands
+//! progressively (`pelt_preview::progressive`): one more jittered sample every frame, the
+//! running mean shown, restarted by any change of camera, settings, size, input or pose.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -13,6 +15,7 @@ use pelt_preview::features::upscale::Upscale;
 use pelt_preview::knobs::{self, Input, Knobs};
 use pelt_preview::orbit::Orbit;
 use pelt_preview::plan::Pass;
+use pelt_preview::progressive::Progressive;
 use pelt_preview::scene::{Material, Scene};
 use pelt_preview::{Image, Preview, RenderError, SceneView, ViewOutput};
 
@@ -34,6 +37,19 @@ pub struct Surface {
 struct Reduced {
     view: SceneView,
     upscale: Upscale,
+}
+
+/// Samples per pixel after which strands mode stops refining (the strand reference
+/// converges to about FLIP 0.004 half-vs-half by 2048).
+pub const MAX_REFINE: u32 = 4096;
+
+/// Strands mode's progressive refinement: its own view (rendered to a texture and read
+/// back), the running mean and the scene it belongs to.
+#[derive(Debug)]
+struct Refining {
+    view: SceneView,
+    mean: Progressive,
+    scene: Scene,
 }
 
 /// Everything `pelt view` draws.
@@ -65,6 +81,7 @@ pub struct Viewer {
     posed_at: Option<pelt_preview::asset::PoseAt>,
     full: SceneView,
     reduced: Option<Reduced>,
+    refining: Option<Refining>,
     surface: Surface,
     watch: Watch,
 }
@@ -167,6 +184,7 @@ impl Viewer {
             animated,
             posed_at,
             reduced: None,
+            refining: None,
             surface,
         };
         v.refresh(preview)?;
@@ -184,6 +202,8 @@ impl Viewer {
         if self.posed_at.as_ref() == Some(&pose) {
             return Ok(());
         }
+        // A new pose: the strands mode's mean starts again (its view is prepared anew).
+        self.refining = None;
         if self.input.meshes[0].skin.is_some() {
             // Skinned on the GPU: the mesh stays, only the joint matrices change.
             preview
@@ -241,6 +261,7 @@ impl Viewer {
         preview.update(&mut self.full, &scene, self.settings.mode)?;
         self.budget = None;
         self.reduced = None;
+        self.refining = None;
         Ok(())
     }
 
@@ -384,7 +405,14 @@ impl Viewer {
             format: self.surface.format,
         };
         let full_quality = self.budget.is_none_or(|b| q == b.costs.full);
-        if full_quality {
+        let playing = self.timeline.as_ref().is_some_and(|t| t.playing);
+        if self.settings.mode != pelt_preview::Mode::Strands || moving || playing {
+            self.refining = None;
+        }
+        if full_quality && self.settings.mode == pelt_preview::Mode::Strands && !moving && !playing
+        {
+            self.refine(preview, output)?;
+        } else if full_quality {
             let scene = self.scene();
             if self.moved {
                 preview.look(&mut self.full, &scene.camera)?;
@@ -396,6 +424,62 @@ impl Viewer {
         }
         self.last_quality = Some(q);
         Ok(q)
+    }
+
+    /// Whether strands mode is still refining a still frame (the window should keep drawing).
+    pub fn refining(&self) -> bool {
+        self.settings.mode == pelt_preview::Mode::Strands
+            && !self.timeline.as_ref().is_some_and(|t| t.playing)
+            && self
+                .refining
+                .as_ref()
+                .is_none_or(|r| r.mean.samples() < MAX_REFINE)
+    }
+
+    /// Samples per pixel of the strands mode's running mean (0 when not refining).
+    pub fn refined_samples(&self) -> u32 {
+        self.refining.as_ref().map_or(0, |r| r.mean.samples())
+    }
+
+    /// One more sample of the still strands frame, and the mean so far into `output`. A
+    /// camera move keeps the view and restarts the mean; any other change of the scene or
+    /// size prepares the view again.
+    fn refine(&mut self, preview: &mut Preview, output: Output<'_>) -> Result<(), ViewError> {
+        let scene = self.scene();
+        let size = (scene.output.width, scene.output.height);
+        let same_but_camera = |r: &Refining| {
+            let mut s = r.scene.clone();
+            s.camera = scene.camera;
+            s == scene && r.mean.size() == size
+        };
+        match &mut self.refining {
+            Some(r) if r.scene == scene && r.mean.size() == size => {}
+            Some(r) if same_but_camera(r) => {
+                preview.look(&mut r.view, &scene.camera)?;
+                r.mean.restart();
+                r.scene = scene;
+            }
+            _ => {
+                let view = prepare(
+                    preview,
+                    &self.input,
+                    pelt_preview::Mode::Strands,
+                    &scene,
+                    ViewOutput::IMAGE,
+                )?;
+                let mean = Progressive::new(&preview.renderer, size, self.surface.size);
+                self.refining = Some(Refining { view, mean, scene });
+            }
+        }
+        if let Some(r) = &mut self.refining {
+            if r.mean.samples() < MAX_REFINE {
+                r.mean.step(preview, &mut r.view)?;
+            }
+            r.mean
+                .show(&preview.renderer, output)
+                .map_err(RenderError::from)?;
+        }
+        Ok(())
     }
 
     fn draw_reduced(
@@ -451,6 +535,13 @@ impl Viewer {
     /// The full-quality frame of the current camera and settings as an image (a screenshot:
     /// rendered again into a texture of its own, from the same cached assets).
     pub fn screenshot(&self, preview: &mut Preview) -> Result<Image, ViewError> {
+        // Strands mode shows its running mean: the screenshot is that mean.
+        if let Some(r) = &self.refining
+            && r.mean.samples() > 0
+            && r.scene == self.scene()
+        {
+            return Ok(r.mean.image());
+        }
         let sv = prepare(
             preview,
             &self.input,
@@ -482,7 +573,11 @@ impl Viewer {
             );
         }
         if self.settings.mode == pelt_preview::Mode::Strands {
-            first += ", explicit strands (one sample a frame)";
+            first += &match self.refining.as_ref().map(|r| r.mean.samples()) {
+                Some(n) if n >= MAX_REFINE => format!(", explicit strands, {n} samples (done)"),
+                Some(n) => format!(", explicit strands, {n} samples (refining while still)"),
+                None => ", explicit strands (one sample a frame while moving)".to_owned(),
+            };
         } else if let Some(n) = shells {
             let fins = s
                 .objects

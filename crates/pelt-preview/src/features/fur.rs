@@ -13,7 +13,8 @@ use crate::features::{
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
-use crate::shaders::{Lighting, Shader};
+use crate::scene::FurCoverage;
+use crate::shaders::{Coverage, Lighting, Shader};
 use crate::uniforms::FinInstance;
 
 /// Bind-group slots of obliterate.wgsl.
@@ -54,7 +55,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
             cull: None,
             constants: Vec::new(),
         },
-        Shader::Shells(lt) | Shader::Fins(lt) => PipelineSpec {
+        Shader::Shells(lt, _) | Shader::Fins(lt) => PipelineSpec {
             groups: vec![
                 LayoutId::Frame,
                 LayoutId::Object,
@@ -70,14 +71,23 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
             depth: object_depth(key.blend),
             // Blended shells show only their outer side (the far side's shells stick out
             // behind the silhouette, where they would blend in the wrong order).
-            cull: (matches!(key.shader, Shader::Shells(_)) && key.blend != Blend::None)
+            cull: (matches!(key.shader, Shader::Shells(..)) && key.blend != Blend::None)
                 .then_some(wgpu::Face::Back),
-            // One fragment entry point: straight alpha, or with WBOIT the OIT outputs.
-            constants: if key.blend == Blend::Wboit {
-                vec![("WBOIT", 1.0)]
-            } else {
-                Vec::new()
-            },
+            // One fragment entry point: straight alpha, or with WBOIT the OIT outputs; the
+            // coverage code the object needs (the strand-resolving taps only where the plan
+            // says a pixel may resolve strands).
+            constants: [
+                (key.blend == Blend::Wboit).then_some(("WBOIT", 1.0)),
+                match key.shader {
+                    Shader::Shells(_, c) if c != Coverage::Medium => {
+                        Some(("COVERAGE", c.constant()))
+                    }
+                    _ => None,
+                },
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
         },
         // FurBase, FurOuter: into the G-buffer.
         _ => PipelineSpec {
@@ -168,7 +178,7 @@ pub fn base<'a>(
     pass: &'static str,
     lighting: Lighting,
 ) -> Result<(), MissingInput> {
-    r.pipeline(Shader::Shells(lighting), Blend::None);
+    r.pipeline(Shader::Shells(lighting, Coverage::Medium), Blend::None);
     for &k in &f.plan.fur {
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
         draw_parts(r, mesh, fur, 0..1);
@@ -185,9 +195,15 @@ pub fn layers<'a>(
     lighting: Lighting,
     blend: Blend,
 ) -> Result<(), MissingInput> {
-    r.pipeline(Shader::Shells(lighting), blend);
     for &k in &f.plan.fur {
-        let n = f.plan.objects[k].fur.map_or(0, |p| p.shells);
+        let planned = f.plan.objects[k].fur;
+        let n = planned.map_or(0, |p| p.shells);
+        let coverage = match planned {
+            Some(p) if p.coverage == FurCoverage::Binary => Coverage::Binary,
+            Some(p) if p.resolved => Coverage::Resolved,
+            _ => Coverage::Medium,
+        };
+        r.pipeline(Shader::Shells(lighting, coverage), blend);
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
         draw_parts(r, mesh, fur, 1..n + 1);
     }

@@ -228,7 +228,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::FurBase
         | Shader::FurOuter
         | Shader::Obliterate
-        | Shader::Shells(_)
+        | Shader::Shells(..)
         | Shader::Fins(_) => fur::spec(key),
         Shader::Composite => wboit::spec(key),
         Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
