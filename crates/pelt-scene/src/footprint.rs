@@ -1,7 +1,7 @@
 //! How fine a pixel can get on a fur object: the CPU half of the shells' choice between the
 //! statistical medium and the strand-resolving heightfield taps (shells.wgsl,
 //! `layer_alpha`). A shell fragment reads single strands only where its pixel's footprint
-//! is under 1.5 mean strand diameters (tile widths); the resolving code costs every shell
+//! is under 0.75 mean strand diameters (tile widths); the resolving code costs every shell
 //! fragment on drivers that run both sides of a branch (llvmpipe runs a fragment shader's
 //! lanes in lockstep under masks), so the renderer compiles it only into the pipeline of
 //! objects that may show such a pixel. This module bounds, per object and camera, the
@@ -12,8 +12,8 @@ use crate::view::View;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// The shells resolve single strands where a pixel is under this many strand diameters
-/// (the upper end of the shader's `smoothstep(0.5 d, 1.5 d, footprint)`).
-pub const RESOLVED_BELOW: f32 = 1.5;
+/// (the upper end of the shader's `smoothstep(0.5 d, 0.75 d, footprint)`).
+pub const RESOLVED_BELOW: f32 = 0.75;
 
 /// Headroom of the bound: a skinned pose squeezes triangles, shells over concave skin are
 /// smaller than the skin, and a screen-space derivative is a finite difference. An object
