@@ -91,3 +91,5 @@ sweep-demo backend="vulkan":
     cargo run --release -- sweep out/demo/scene.json --backend {{backend}} -o out/sweep
     mkdir -p docs/sweep
     cp out/sweep/sweep.md out/sweep/sweep.csv out/sweep/sweep.json out/sweep/sweep.png out/sweep/contact.png out/sweep/reference-strands.png docs/sweep/
+    cp out/sweep/images/shells=16.png docs/sweep/default.png
+    cp out/sweep/heat/shells=16.png docs/sweep/default-flip.png
