@@ -18,6 +18,10 @@
 // alone. The branches on it are gone at pipeline creation: drivers that run a fragment's
 // lanes in lockstep (llvmpipe) would otherwise pay for every side on every shell fragment.
 override COVERAGE: u32 = 0u;
+// Strand diameters under which a pixel's footprint reads single strands (the upper end of
+// the taps' blend into the medium): pelt_scene::footprint::RESOLVED_BELOW, set by the
+// renderer, so the plan and the shader share one threshold.
+override RESOLVED_BELOW: f32;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(1) @binding(0) var<uniform> object: Object;
@@ -220,14 +224,14 @@ fn layer_alpha(s: ShellOut, tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, 
     let tau = (object.fur_model.x * t_at(lo, hi, zm) * sin_psi * s.layer.z * sqrt_j
         + max(t_at(lo, hi, z0) - t_at(lo, hi, z1), 0.0)) / mu;
     let statistical = 1.0 - exp(-tau);
-    // A pixel footprint (tile widths) under half a strand's diameter resolves it; over three
-    // quarters the medium alone is truer than four point taps of single strands (demo scene
+    // A pixel footprint (tile widths) under half a strand's diameter resolves it; over
+    // RESOLVED_BELOW (three quarters) the medium alone is truer than four point taps of single strands (demo scene
     // at 1280×720 box-filtered to 320×180 against the strands: with the taps blended in up to
     // 1.5 diameters, 64 shells read 0.031 and 1.045× the strands' brightness, worse than 16;
-    // the medium alone 0.020 and 0.995×). Keep in sync with pelt_scene::footprint.
+    // the medium alone 0.020 and 0.995×).
     let footprint = sqrt(tile_area);
     let d = max(object.fur_model.y, 1e-9);
-    let w = smoothstep(0.5 * d, 0.75 * d, footprint);
+    let w = smoothstep(0.5 * d, RESOLVED_BELOW * d, footprint);
     if COVERAGE != 1u || w >= 1.0 {
         return clamp(statistical, 0.0, 1.0);
     }

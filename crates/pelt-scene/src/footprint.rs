@@ -12,7 +12,8 @@ use crate::view::View;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// The shells resolve single strands where a pixel is under this many strand diameters
-/// (the upper end of the shader's `smoothstep(0.5 d, 0.75 d, footprint)`).
+/// (the upper end of the shader's `smoothstep(0.5 d, RESOLVED_BELOW d, footprint)`; the
+/// renderer sets shells.wgsl's override of that name from this constant).
 pub const RESOLVED_BELOW: f32 = 0.75;
 
 /// Headroom of the bound: a skinned pose squeezes triangles, shells over concave skin are

@@ -84,6 +84,11 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
                     }
                     _ => None,
                 },
+                // Where the taps give way to the medium: the plan's threshold, one home.
+                matches!(key.shader, Shader::Shells(..)).then_some((
+                    "RESOLVED_BELOW",
+                    f64::from(pelt_scene::footprint::RESOLVED_BELOW),
+                )),
             ]
             .into_iter()
             .flatten()
