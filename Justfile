@@ -85,7 +85,7 @@ bench-view frames="30":
     bash bench/view.sh {{frames}}
 
 # The speed/accuracy trade on the demo scene (640×360, Vulkan): every knob against its
-# reference, then the tables and pictures the README quotes copied into docs/sweep.
+# reference, then the tables and pictures docs/sweep.md quotes copied into docs/sweep.
 sweep-demo backend="vulkan":
     cargo run --release -- demo --size 640x360 -q
     cargo run --release -- sweep out/demo/scene.json --backend {{backend}} -o out/sweep

@@ -7,7 +7,7 @@
 //! the procedural sky: `creature.png`, a turntable contact sheet of `--frames` views around
 //! it, `turntable.png`, and the creature beside a mirror (fixtures/scenes/
 //! creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the creature's scene as a
-//! scene file, `scene.json` (what `pelt sweep` measures in the README).
+//! scene file, `scene.json` (what `pelt sweep` measures in docs/sweep.md).
 
 use std::path::Path;
 use std::process::ExitCode;

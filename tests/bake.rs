@@ -49,7 +49,7 @@ fn float_comb_round_trips_within_1e_4_rad() {
 #[test]
 fn quantized_comb_stays_within_the_readme_bounds() {
     // Half a quantization step per component bounds the angle by √3/65535 (2.64e-5 rad) and
-    // √3/255 (6.79e-3 rad); the README states these and the measured 2.60e-5 and 6.64e-3.
+    // √3/255 (6.79e-3 rad); docs/bake.md states these and the measured 2.60e-5 and 6.64e-3.
     let e16 = max_round_trip_error("creature.glb", &["--quantize", "u16"]);
     let e8 = max_round_trip_error("creature.glb", &["--quantize", "u8"]);
     println!("u16 max error {e16:.3e} rad, u8 max error {e8:.3e} rad");

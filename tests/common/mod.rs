@@ -131,7 +131,7 @@ pub fn read_baked(path: &Path, mesh: usize, prim: usize) -> Baked {
 }
 
 impl Baked {
-    /// Object-space comb direction of vertex `v`, decoded as the README documents.
+    /// Object-space comb direction of vertex `v`, decoded as docs/bake.md documents.
     pub fn object_comb(&self, v: usize) -> DVec3 {
         let mut c = self.comb[v];
         if self.comb_normalized {

@@ -1,6 +1,6 @@
 //! A sweep's tables: each knob's Pareto front (the settings no other setting of the knob
 //! beats on both time and error), `sweep.csv`, `sweep.json` (the rows, the references with
-//! their convergence, the machine and adapter) and `sweep.md` (the Pareto table the README
+//! their convergence, the machine and adapter) and `sweep.md` (the Pareto table docs/sweep.md
 //! quotes).
 
 use std::fmt::Write as _;
