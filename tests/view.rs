@@ -55,24 +55,9 @@ fn view(args: &[&str]) -> Output {
 }
 
 fn flip(reference: &Image, test: &Image) -> f32 {
-    assert_eq!(
-        (reference.width, reference.height),
-        (test.width, test.height)
-    );
-    let rgb = |i: &Image| {
-        let data: Vec<u8> = i
-            .rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
-        nv_flip::FlipImageRgb8::with_data(i.width, i.height, &data)
-    };
-    let err = nv_flip::flip(
-        rgb(reference),
-        rgb(test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    nv_flip::FlipPool::from_image(&err).mean()
+    pelt_measure::Flip::new(reference, test)
+        .expect("images of one size")
+        .mean()
 }
 
 /// The fixture creature baked with fur (the demo's asset, smaller textures' config).

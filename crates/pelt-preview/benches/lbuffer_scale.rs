@@ -9,20 +9,9 @@ use pelt_preview::procedural::paper_lbuffer_scale;
 use pelt_preview::{Backend, Image, Mode, Preview, Scene};
 
 fn flip(reference: &Image, test: &Image) -> f32 {
-    let rgb = |i: &Image| {
-        let d: Vec<u8> = i
-            .rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
-        nv_flip::FlipImageRgb8::with_data(i.width, i.height, &d)
-    };
-    nv_flip::FlipPool::from_image(&nv_flip::flip(
-        rgb(reference),
-        rgb(test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    ))
-    .mean()
+    pelt_measure::Flip::new(reference, test)
+        .expect("images of one size")
+        .mean()
 }
 
 #[expect(

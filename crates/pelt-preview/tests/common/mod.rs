@@ -11,6 +11,7 @@ use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, bake_with_fur};
 use pelt_fixtures::build::{BuildOptions, ColorEncoding, document};
 use pelt_fur::{FurConfig, StrandParams};
+use pelt_measure::Flip;
 use pelt_preview::asset::{MeshData, flatten};
 use pelt_preview::fur::TextureSource;
 use pelt_preview::scene::{
@@ -47,45 +48,24 @@ pub fn out_dir() -> PathBuf {
     dir
 }
 
-/// FLIP mean error of `test` against `reference`.
-pub fn flip_mean(reference: &Image, test: &Image) -> (f32, nv_flip::FlipImageFloat) {
-    let rgb = |i: &Image| {
-        let data: Vec<u8> = i
-            .rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
-        nv_flip::FlipImageRgb8::with_data(i.width, i.height, &data)
-    };
-    let err = nv_flip::flip(
-        rgb(reference),
-        rgb(test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    let mean = nv_flip::FlipPool::from_image(&err).mean();
-    (mean, err)
+/// FLIP mean error of `test` against `reference` (pelt-measure's, the one FLIP of the
+/// project), and the comparison for `write_failure`.
+pub fn flip_mean(reference: &Image, test: &Image) -> (f32, Flip) {
+    let f = Flip::new(reference, test).expect("images of one size");
+    (f.mean(), f)
 }
 
 /// Writes the three images of a failed comparison.
-pub fn write_failure(name: &str, reference: &Image, test: &Image, err: &nv_flip::FlipImageFloat) {
+pub fn write_failure(name: &str, reference: &Image, test: &Image, err: &Flip) {
     let dir = out_dir();
     reference
         .save(&dir.join(format!("{name}-reference.png")))
         .expect("write");
     test.save(&dir.join(format!("{name}-actual.png")))
         .expect("write");
-    let rgb = err.apply_color_lut(&nv_flip::magma_lut()).to_vec();
-    let rgba: Vec<u8> = rgb
-        .chunks_exact(3)
-        .flat_map(|p| [p[0], p[1], p[2], 255])
-        .collect();
-    Image {
-        width: err.width(),
-        height: err.height(),
-        rgba,
-    }
-    .save(&dir.join(format!("{name}-diff.png")))
-    .expect("write");
+    err.heat_map()
+        .save(&dir.join(format!("{name}-diff.png")))
+        .expect("write");
 }
 
 /// Asserts FLIP mean ≤ `threshold`, writing the images when it is not. Returns the mean.
