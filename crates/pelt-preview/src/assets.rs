@@ -96,8 +96,10 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
     h.update(&(m.vertices.len() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice(&m.vertices));
     h.update(bytemuck::cast_slice(&m.indices));
-    if m.skin.is_some() {
+    if let Some(skin) = &m.skin {
+        // The fins are rebuilt from these edges: a mesh with other edges is another mesh.
         h.update(b"skinned on the GPU");
+        h.update(bytemuck::cast_slice(&skin.fins));
     }
     for p in &m.parts {
         h.update(
@@ -133,10 +135,19 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
 }
 
 impl AssetCache {
-    /// `m` on the GPU (with its fur when `with_fur`), uploaded now unless it already is.
-    pub fn mesh(&mut self, r: &Renderer, m: &MeshData, with_fur: bool) -> Arc<GpuMesh> {
+    /// `m` on the GPU (with its fur when `with_fur`), uploaded now unless it already is. A
+    /// skinned mesh whose fins could not follow its skin is an error.
+    pub fn mesh(
+        &mut self,
+        r: &Renderer,
+        m: &MeshData,
+        with_fur: bool,
+    ) -> Result<Arc<GpuMesh>, crate::features::skin::SkinError> {
         let key = mesh_key(m, with_fur);
-        Arc::clone(self.meshes.entry(key).or_insert_with(|| {
+        if let Some(g) = self.meshes.get(&key) {
+            return Ok(Arc::clone(g));
+        }
+        let g = {
             let materials: Vec<GpuMaterial> = m
                 .materials
                 .iter()
@@ -158,21 +169,25 @@ impl AssetCache {
                 bytemuck::cast_slice(&m.vertices),
                 wgpu::BufferUsages::VERTEX | extra,
             );
-            let skin = m.skin.as_ref().map(|b| {
-                crate::features::skin::GpuSkinned::new(
-                    r,
-                    Arc::clone(b),
-                    crate::features::skin::SkinTargets {
-                        vertices: &vertices,
-                        fur: fur.as_ref().map(|f| &f.vertices),
-                        fins: fur.as_ref().and_then(|f| {
-                            f.fins
-                                .as_ref()
-                                .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
-                        }),
-                    },
-                )
-            });
+            let skin = m
+                .skin
+                .as_ref()
+                .map(|b| {
+                    crate::features::skin::GpuSkinned::new(
+                        r,
+                        Arc::clone(b),
+                        crate::features::skin::SkinTargets {
+                            vertices: &vertices,
+                            fur: fur.as_ref().map(|f| &f.vertices),
+                            fins: fur.as_ref().and_then(|f| {
+                                f.fins
+                                    .as_ref()
+                                    .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
+                            }),
+                        },
+                    )
+                })
+                .transpose()?;
             Arc::new(GpuMesh {
                 fur,
                 skin,
@@ -193,7 +208,9 @@ impl AssetCache {
                 ),
                 count: m.indices.len() as u32,
             })
-        }))
+        };
+        self.meshes.insert(key, Arc::clone(&g));
+        Ok(g)
     }
 
     /// The explicit strands `m`'s fur plants ([`crate::strands::plant`]), planted and

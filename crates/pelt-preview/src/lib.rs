@@ -69,6 +69,15 @@ pub enum RenderError {
     /// The distance maps cannot be made on this adapter.
     #[error(transparent)]
     Maps(#[from] features::reflect::MapError),
+    /// A skinned asset's fins cannot follow its skin.
+    #[error("{}: {source}", asset.as_ref().map_or("an asset".into(), |a| a.display().to_string()))]
+    Skin {
+        /// The asset (the first object that draws it).
+        asset: Option<std::path::PathBuf>,
+        /// Why.
+        #[source]
+        source: features::skin::SkinError,
+    },
     /// A fur object's strands cannot be planted (strands mode).
     #[error("objects[{object}]: {source}")]
     Strands {
@@ -189,7 +198,17 @@ impl Preview {
                 fur |= o.fur.is_some();
             }
             if any {
-                gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, &meshes[k], fur));
+                let g = self
+                    .assets
+                    .mesh(&self.renderer, &meshes[k], fur)
+                    .map_err(|source| {
+                        let object = mesh_of.iter().position(|&m| m == k).unwrap_or(k);
+                        RenderError::Skin {
+                            asset: scene.objects.get(object).map(|o| o.asset.clone()),
+                            source,
+                        }
+                    })?;
+                gpu_meshes[k] = Some(g);
             }
         }
         let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];

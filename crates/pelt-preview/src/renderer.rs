@@ -388,7 +388,7 @@ impl Layouts {
 
 /// How a feature lays out one of its pipelines; the formats come from the key. Plain data,
 /// so the shader test can check it against the WGSL without a device.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct PipelineSpec {
     /// Bind group layouts by slot, slot 0 first (every slot up to the last present).
     pub groups: Vec<LayoutId>,

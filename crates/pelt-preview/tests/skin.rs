@@ -196,4 +196,20 @@ fn a_gpu_skinned_frame_equals_the_cpu_posed_frame() {
         .expect_err("no Trot")
         .to_string();
     assert!(e.contains("Survey, Walk, Run"), "{e}");
+    // Fins that could not follow the skin (an edge list that is not the drawn fins') are
+    // refused, naming the asset, rather than left at the rest pose while the body moves.
+    let mut torn = gpu.clone();
+    let mut binding = (**torn.skin.as_ref().expect("binding")).clone();
+    assert!(
+        !binding.fins.is_empty(),
+        "the Fox's fins are rebuilt on the GPU"
+    );
+    binding.fins.pop();
+    torn.skin = Some(std::sync::Arc::new(binding));
+    let e = p
+        .prepare_loaded(&scene, &[torn, quad], &[0, 1], Mode::Inferred)
+        .map(|_| ())
+        .expect_err("fins that cannot follow the skin")
+        .to_string();
+    assert!(e.contains("Fox.glb") && e.contains("fins"), "{e}");
 }

@@ -19,8 +19,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

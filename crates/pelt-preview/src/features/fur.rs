@@ -49,11 +49,8 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
     match key.shader {
         Shader::Obliterate => PipelineSpec {
             groups: vec![LayoutId::Textures, LayoutId::ShellTable],
-            vertex_buffers: Vec::new(),
             blends: vec![None, None],
-            depth: None,
-            cull: None,
-            constants: Vec::new(),
+            ..PipelineSpec::default()
         },
         Shader::Shells(lt, _) | Shader::Fins(lt) => PipelineSpec {
             groups: vec![
@@ -100,8 +97,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
             vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
             blends: vec![None, None],
             depth: Some((true, wgpu::CompareFunction::Less)),
-            cull: None,
-            constants: Vec::new(),
+            ..PipelineSpec::default()
         },
     }
 }

@@ -18,8 +18,7 @@ pub fn spec(_key: &PipelineKey) -> PipelineSpec {
         vertex_buffers: vec![vertex_layout()],
         blends: vec![None, None],
         depth: Some((true, wgpu::CompareFunction::Less)),
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

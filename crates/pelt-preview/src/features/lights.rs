@@ -30,11 +30,8 @@ pub fn spec(_key: &PipelineKey) -> PipelineSpec {
             LayoutId::Light,
             LayoutId::ShellTable,
         ],
-        vertex_buffers: Vec::new(),
         blends: vec![Some(ADD)],
-        depth: None,
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

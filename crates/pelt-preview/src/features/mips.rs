@@ -22,11 +22,8 @@ pub mod slot {
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![LayoutId::ArraySource, LayoutId::UpscaleSize],
-        vertex_buffers: Vec::new(),
         blends: vec![None],
-        depth: None,
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

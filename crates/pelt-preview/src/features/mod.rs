@@ -243,20 +243,12 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
                     crate::renderer::LayoutId::Storage,
                     crate::renderer::LayoutId::Storage,
                 ],
-                vertex_buffers: Vec::new(),
-                blends: Vec::new(),
-                depth: None,
-                cull: None,
-                constants: Vec::new(),
+                ..PipelineSpec::default()
             }
         }
         Shader::TangentFrames => PipelineSpec {
             groups: vec![crate::renderer::LayoutId::Storage],
-            vertex_buffers: Vec::new(),
-            blends: Vec::new(),
-            depth: None,
-            cull: None,
-            constants: Vec::new(),
+            ..PipelineSpec::default()
         },
     }
 }

@@ -24,11 +24,8 @@ const PAD: u32 = 4;
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![LayoutId::Text, LayoutId::UpscaleSize],
-        vertex_buffers: Vec::new(),
         blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
-        depth: None,
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

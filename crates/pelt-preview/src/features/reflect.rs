@@ -573,8 +573,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         vertex_buffers,
         blends,
         depth,
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

@@ -199,13 +199,33 @@ pub struct SkinTargets<'a> {
     pub fins: Option<(&'a wgpu::Buffer, &'a [crate::uniforms::FinInstance])>,
 }
 
+/// Why a skinned mesh's fins cannot follow its body: drawn at the rest pose while the body
+/// moves, they would tear away from it, so the mesh is refused instead.
+#[derive(Debug, thiserror::Error)]
+pub enum SkinError {
+    /// The fins the mesh draws and the edges they are rebuilt from are not parallel.
+    #[error(
+        "the skinned mesh draws {instances} fins but has {sources} fin edges to rebuild them from"
+    )]
+    FinCount {
+        /// Fin instances drawn.
+        instances: usize,
+        /// Fin sources in the skin binding.
+        sources: usize,
+    },
+    /// Fins without the fur vertices they are rebuilt from.
+    #[error("the skinned mesh draws fins but has no fur vertices to rebuild them from")]
+    FinsWithoutFur,
+}
+
 impl GpuSkinned {
-    /// Uploads `binding`'s ranges and fin sources, writing into `targets`.
+    /// Uploads `binding`'s ranges and fin sources, writing into `targets`. Fins the mesh draws
+    /// that could not be rebuilt from the skinned vertices are an error, never left behind.
     pub fn new(
         r: &Renderer,
         binding: std::sync::Arc<pelt_scene::skin::SkinBinding>,
         targets: SkinTargets<'_>,
-    ) -> GpuSkinned {
+    ) -> Result<GpuSkinned, SkinError> {
         let storage = wgpu::BufferUsages::STORAGE;
         // Where there are no fur vertices the scatter writes none; a word stands in.
         let no_fur = r.gpu.buffer_init("no fur", &[0; 16], storage);
@@ -231,11 +251,16 @@ impl GpuSkinned {
                 (skin, groups)
             })
             .collect();
-        let fins = targets
-            .fins
-            .filter(|(_, rest)| !rest.is_empty() && rest.len() == binding.fins.len())
-            .and_then(|(buffer, rest)| {
-                let fur = targets.fur?;
+        let fins = match targets.fins.filter(|(_, rest)| !rest.is_empty()) {
+            None => None,
+            Some((_, rest)) if rest.len() != binding.fins.len() => {
+                return Err(SkinError::FinCount {
+                    instances: rest.len(),
+                    sources: binding.fins.len(),
+                });
+            }
+            Some((buffer, rest)) => {
+                let fur = targets.fur.ok_or(SkinError::FinsWithoutFur)?;
                 let mut words: Vec<u32> = Vec::with_capacity(rest.len() * 40);
                 for (s, f) in binding.fins.iter().zip(rest) {
                     words.extend_from_slice(s);
@@ -249,12 +274,13 @@ impl GpuSkinned {
                     r.storage_group(fur, targets.vertices),
                 ];
                 Some((groups, rest.len() as u32))
-            });
-        GpuSkinned {
+            }
+        };
+        Ok(GpuSkinned {
             binding,
             ranges,
             fins,
-        }
+        })
     }
 
     /// Skins the mesh at `matrices` (one entry per range: joint matrices and the unweighted

@@ -24,11 +24,9 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         } else {
             vec![LayoutId::Frame]
         },
-        vertex_buffers: Vec::new(),
         blends: vec![None],
         depth: Some((false, wgpu::CompareFunction::LessEqual)),
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 

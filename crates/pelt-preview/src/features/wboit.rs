@@ -37,11 +37,9 @@ pub fn blends() -> Vec<Option<wgpu::BlendState>> {
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![LayoutId::Oit],
-        vertex_buffers: Vec::new(),
         blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
         depth: Some((false, wgpu::CompareFunction::Always)),
-        cull: None,
-        constants: Vec::new(),
+        ..PipelineSpec::default()
     }
 }
 
