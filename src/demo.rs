@@ -15,52 +15,13 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, bake_with_fur};
-use pelt_fur::{FurConfig, StrandParams};
+use pelt_fur::FurConfig;
+use pelt_measure::demo_creature::{bake_creature, demo_fur};
+use pelt_preview::knobs::Knobs;
 use pelt_preview::procedural::fur_scene;
 use pelt_preview::{Image, Mode, Preview};
 
 use crate::DemoArgs;
-
-/// The demo's fur: `fixtures/fur.json`'s strands and colours, with fur long enough to read at
-/// a glance (the creature is about 4 units long).
-pub fn demo_fur() -> FurConfig {
-    FurConfig {
-        length: 0.09,
-        shells: 16,
-        uv_scale: 6.0,
-        base_color: [0.08, 0.05, 0.03],
-        tip_color: [0.62, 0.47, 0.31],
-        color_from_texture: false,
-        materials: None,
-        textures: StrandParams {
-            seed: 7,
-            size: 512,
-            strands: 12000,
-            radius: 0.0025,
-            radius_jitter: 0.3,
-            height_min: 0.4,
-            height_max: 1.0,
-            tilt: 1.5,
-            ..StrandParams::default()
-        },
-    }
-}
-
-/// Bakes the fixture creature with the demo's fur into `path`.
-pub fn bake_creature(path: &Path) -> anyhow::Result<()> {
-    use pelt_fixtures::build::{BuildOptions, ColorEncoding, document};
-    let mut doc = document(
-        &pelt_fixtures::shapes::creature(64, 128),
-        BuildOptions {
-            colors: ColorEncoding::U8x4,
-            ..BuildOptions::default()
-        },
-    );
-    let assets = FurAssets::new(demo_fur()).context("generating the fur textures")?;
-    bake_with_fur(&mut doc, &BakeOptions::default(), &assets).context("baking the creature")?;
-    pelt_io::glb::write_glb(&doc, path)?;
-    Ok(())
-}
 
 /// The bundled Fox (fixtures/fox/Fox.glb, unchanged; licences in fixtures/fox/README.md).
 const FOX: &[u8] = include_bytes!("../fixtures/fox/Fox.glb");
@@ -110,7 +71,11 @@ fn fox_renders(
     // Three-quarter view from the front left.
     let scene_at = |w, h| {
         let mut s = fur_scene(asset, lo, hi, w, h, 35.0);
-        crate::render::override_fur(&mut s, shells, None);
+        Knobs {
+            shells,
+            ..Knobs::default()
+        }
+        .apply(&mut s);
         s
     };
     let d = preview.prepare_loaded(
@@ -198,7 +163,11 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let scene_at = |w, h, yaw| {
         let mut s = fur_scene(&asset, lo, hi, w, h, yaw);
         s.fur_blend = args.fur_blend;
-        crate::render::override_fur(&mut s, args.shells, None);
+        Knobs {
+            shells: args.shells,
+            ..Knobs::default()
+        }
+        .apply(&mut s);
         s
     };
     let (w, h) = args.size;

@@ -19,16 +19,6 @@ const FAILED: u8 = 1;
 /// Output size of an asset's default scene.
 pub const DEFAULT_SIZE: (u32, u32) = (640, 360);
 
-/// Sets every fur material's shell count and fins switch where given.
-pub fn override_fur(scene: &mut Scene, shells: Option<u32>, fins: Option<bool>) {
-    Knobs {
-        shells,
-        fins,
-        ..Knobs::default()
-    }
-    .apply(scene);
-}
-
 fn fail(e: impl std::fmt::Display) -> ExitCode {
     eprintln!("pelt: {e}");
     ExitCode::from(FAILED)
@@ -328,7 +318,7 @@ fn v_fur(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> {
     let dir = std::env::temp_dir().join(format!("pelt-render-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
     let asset = dir.join("creature.glb");
-    crate::demo::bake_creature(&asset)?;
+    pelt_measure::demo_creature::bake_creature(&asset)?;
     let mesh = pelt_preview::asset::load(&asset)?;
     let _ = std::fs::remove_dir_all(&dir);
     let (lo, hi) = mesh.bounds();
@@ -337,7 +327,12 @@ fn v_fur(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> {
     let at = |shells: u32, fins: bool, blend: FurBlend| {
         let mut s = pelt_preview::procedural::fur_scene(&asset, lo, hi, 1280, 720, 0.0);
         s.fur_blend = blend;
-        override_fur(&mut s, Some(shells), Some(fins));
+        Knobs {
+            shells: Some(shells),
+            fins: Some(fins),
+            ..Knobs::default()
+        }
+        .apply(&mut s);
         s
     };
     for n in [4, 8, 16, 32, 64] {

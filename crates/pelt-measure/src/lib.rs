@@ -4,8 +4,10 @@
 //! renderer's knobs against a converged reference and time them ([`reflections`]: mirrors
 //! and glass from distance maps against the CPU ray tracer; [`sweep`]: every knob against
 //! its reference, `pelt sweep`). [`strands`] accumulates the converged strand reference of
-//! the fur; [`luminance`] compares the fur's brightness with it.
+//! the fur; [`luminance`] compares the fur's brightness with it. [`demo_creature`] makes the
+//! painted asset the fur experiments draw.
 
+pub mod demo_creature;
 pub mod flip;
 pub mod luminance;
 pub mod reflections;
