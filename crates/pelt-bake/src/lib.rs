@@ -10,12 +10,14 @@
 //! - [`asset`]: a whole document, with the per-primitive report.
 //! - [`config`]: the bake config file (its `fur` section).
 //! - [`fur`]: embedding generated fur textures and the fur manifest in a baked asset.
+//! - [`inspect`]: what a file holds, baked or not, as a report (`pelt inspect`).
 
 pub mod asset;
 pub mod comb;
 pub mod config;
 pub use pelt_geom::frame;
 pub mod fur;
+pub mod inspect;
 pub mod options;
 pub mod primitive;
 mod vertex_pass;
