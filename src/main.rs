@@ -16,10 +16,12 @@ mod view;
 #[global_allocator]
 static GLOBAL: pelt_alloc::HugePageAlloc = pelt_alloc::HugePageAlloc;
 
+use std::ops::RangeInclusive;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use pelt_preview::scene::{LBUFFER_SCALE, MAX_SIDE, reflection_limits as limits};
 
 const BAKE_EXAMPLES: &str = "\
 Examples:
@@ -417,7 +419,7 @@ pub struct KnobArgs {
     #[arg(long, value_enum)]
     pub dsf: Option<OnOff>,
     /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    #[arg(long, value_parser = within(pelt_fur::manifest::SHELLS))]
     pub shells: Option<u32>,
     /// Silhouette fins on or off (overrides the scene's).
     #[arg(long, value_enum)]
@@ -440,21 +442,21 @@ pub struct KnobArgs {
     #[arg(long)]
     pub reflections: Option<pelt_preview::scene::Technique>,
     /// Distance-map linear search steps per quarter turn, 1 to 1024.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_name = "N", value_parser = within(limits::LINEAR_STEPS))]
     pub linear_steps: Option<u32>,
     /// Secant refinement steps, 0 to 64.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=64))]
+    #[arg(long, value_name = "N", value_parser = within(limits::SECANT_STEPS))]
     pub secant_steps: Option<u32>,
     /// Distance-map layers, 3 to 8 (object front faces, back faces, and depth-peeled
     /// layers of the rest of the scene).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(3..=8))]
+    #[arg(long, value_name = "N", value_parser = within(limits::LAYERS))]
     pub layers: Option<u32>,
     /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
     /// limit).
     #[arg(long, value_name = "N", value_parser = cube_size)]
     pub cube_size: Option<u32>,
     /// Most specular bounces on a path, 1 to 16.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, value_name = "N", value_parser = within(limits::MAX_DEPTH))]
     pub max_depth: Option<u32>,
     /// Min-max acceleration of the distance-map search on or off.
     #[arg(long, value_enum)]
@@ -491,10 +493,20 @@ impl std::fmt::Display for RenderMode {
     }
 }
 
+/// A count parser for `range`, the range the scene file accepts (pelt-scene's, one home).
+fn within(range: RangeInclusive<u32>) -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(i64::from(*range.start())..=i64::from(*range.end()))
+}
+
 fn cube_size(s: &str) -> Result<u32, String> {
+    let r = limits::CUBE_SIZE;
     match s.parse::<u32>() {
-        Ok(v) if v.is_power_of_two() && (8..=65536).contains(&v) => Ok(v),
-        _ => Err(format!("{s:?} is not a power of two from 8 to 65536")),
+        Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a power of two from {} to {}",
+            r.start(),
+            r.end()
+        )),
     }
 }
 
@@ -538,7 +550,7 @@ pub struct DemoArgs {
     #[arg(long, value_parser = size, default_value = "1280x720")]
     pub size: (u32, u32),
     /// Shells (default: the bake's 16).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    #[arg(long, value_parser = within(pelt_fur::manifest::SHELLS))]
     pub shells: Option<u32>,
     /// How fur is composited: stipple or wboit.
     #[arg(long, default_value = "stipple")]
@@ -612,15 +624,21 @@ fn size(s: &str) -> Result<(u32, u32), String> {
         .split_once(['x', 'X'])
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
     match parsed {
-        Some((w, h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => Ok((w, h)),
-        _ => Err(format!("{s:?} is not WIDTHxHEIGHT with sides 1 to 8192")),
+        Some((w, h)) if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) => Ok((w, h)),
+        _ => Err(format!(
+            "{s:?} is not WIDTHxHEIGHT with sides 1 to {MAX_SIDE}"
+        )),
     }
 }
 
 fn lbuffer_scale(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
-        Ok(v) if (0.1..=1.0).contains(&v) => Ok(v),
-        _ => Err(format!("{s:?} is not a scale from 0.1 to 1")),
+        Ok(v) if LBUFFER_SCALE.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a scale from {} to {}",
+            LBUFFER_SCALE.start(),
+            LBUFFER_SCALE.end()
+        )),
     }
 }
 

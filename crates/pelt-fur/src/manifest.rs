@@ -40,6 +40,9 @@ pub struct FurConfig {
     pub textures: StrandParams,
 }
 
+/// The shell counts a fur config, a scene and every flag accept.
+pub const SHELLS: std::ops::RangeInclusive<u32> = 1..=256;
+
 impl Default for FurConfig {
     fn default() -> Self {
         FurConfig {
@@ -71,8 +74,16 @@ impl FurConfig {
                 format!("must be a positive number, got {}", self.length),
             );
         }
-        if !(1..=256).contains(&self.shells) {
-            return bad("shells", format!("must be 1 to 256, got {}", self.shells));
+        if !SHELLS.contains(&self.shells) {
+            return bad(
+                "shells",
+                format!(
+                    "must be {} to {}, got {}",
+                    SHELLS.start(),
+                    SHELLS.end(),
+                    self.shells
+                ),
+            );
         }
         if !(self.uv_scale.is_finite() && self.uv_scale > 0.0) {
             return bad(

@@ -95,8 +95,11 @@ impl FurSettings {
     }
 }
 
-/// The most shells a fur material draws.
-pub const MAX_SHELLS: u32 = 256;
+/// The most shells a fur material draws (`pelt_fur::manifest::SHELLS`'s end).
+pub const MAX_SHELLS: u32 = *pelt_fur::manifest::SHELLS.end();
+
+/// The L-buffer scales a scene and every flag accept.
+pub const LBUFFER_SCALE: std::ops::RangeInclusive<f32> = 0.1..=1.0;
 
 /// How the fur's shells and fins are composited.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -971,10 +974,15 @@ impl Scene {
                 ),
             ));
         }
-        if !(self.lbuffer_scale >= 0.1 && self.lbuffer_scale <= 1.0) {
+        if !LBUFFER_SCALE.contains(&self.lbuffer_scale) {
             return Err((
                 "lbufferScale".into(),
-                format!("must be from 0.1 to 1, got {}", self.lbuffer_scale),
+                format!(
+                    "must be from {} to {}, got {}",
+                    LBUFFER_SCALE.start(),
+                    LBUFFER_SCALE.end(),
+                    self.lbuffer_scale
+                ),
             ));
         }
         if self.ambient.iter().any(|v| !v.is_finite() || *v < 0.0) {

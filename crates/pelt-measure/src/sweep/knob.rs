@@ -9,7 +9,9 @@ use pelt_bake::options::Quantize;
 use pelt_fur::HeightBits;
 use pelt_scene::Mode;
 use pelt_scene::knobs::Knobs;
-use pelt_scene::scene::{FurBlend, FurCoverage, FurLighting, Technique};
+use pelt_scene::scene::{
+    FurBlend, FurCoverage, FurLighting, Technique, reflection_limits as limits,
+};
 
 /// A knob.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -167,6 +169,11 @@ fn count(s: &str, lo: u32, hi: u32, pow2: bool) -> Option<Value> {
     ((lo..=hi).contains(&v) && (!pow2 || v.is_power_of_two())).then_some(Value::Count(v))
 }
 
+/// A count in `range`, the range the scene file and the flags accept (one home each).
+fn within(s: &str, range: std::ops::RangeInclusive<u32>) -> Option<Value> {
+    count(s, *range.start(), *range.end(), false)
+}
+
 fn switch(s: &str) -> Option<Value> {
     match s {
         "on" | "true" => Some(Value::Switch(true)),
@@ -258,7 +265,7 @@ impl Knob {
     /// Parses one value.
     pub fn value(self, s: &str) -> Result<Value, KnobError> {
         let v = match self {
-            Knob::Shells => count(s, 1, 256, false),
+            Knob::Shells => within(s, pelt_fur::manifest::SHELLS),
             Knob::Fins | Knob::Dsf | Knob::MinMax => switch(s),
             Knob::FurBlend => s.parse().ok().map(Value::Blend),
             Knob::Coverage => s.parse().ok().map(Value::Coverage),
@@ -283,18 +290,18 @@ impl Knob {
             Knob::LbufferScale => s
                 .parse::<f32>()
                 .ok()
-                .filter(|v| (0.1..=1.0).contains(v))
+                .filter(|v| pelt_scene::scene::LBUFFER_SCALE.contains(v))
                 .map(Value::Scale),
             Knob::Size => s.split_once('x').and_then(|(w, h)| {
                 let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
                 ((8..=4096).contains(&w) && (8..=4096).contains(&h)).then_some(Value::Size(w, h))
             }),
             Knob::Reflections => s.parse().ok().map(Value::Technique),
-            Knob::LinearSteps => count(s, 1, 1024, false),
-            Knob::SecantSteps => count(s, 0, 64, false),
-            Knob::Layers => count(s, 3, 8, false),
+            Knob::LinearSteps => within(s, limits::LINEAR_STEPS),
+            Knob::SecantSteps => within(s, limits::SECANT_STEPS),
+            Knob::Layers => within(s, limits::LAYERS),
             Knob::CubeSize => count(s, 8, 2048, true),
-            Knob::MaxDepth => count(s, 1, 16, false),
+            Knob::MaxDepth => within(s, limits::MAX_DEPTH),
         };
         v.ok_or_else(|| KnobError::Value {
             knob: self.name(),
@@ -452,6 +459,30 @@ impl Setting {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_ranges_in_words_are_the_scene_files_ranges() {
+        for (k, r) in [
+            (Knob::Shells, pelt_fur::manifest::SHELLS),
+            (Knob::LinearSteps, limits::LINEAR_STEPS),
+            (Knob::SecantSteps, limits::SECANT_STEPS),
+            (Knob::Layers, limits::LAYERS),
+            (Knob::MaxDepth, limits::MAX_DEPTH),
+        ] {
+            assert_eq!(
+                k.allowed(),
+                format!("{} to {}", r.start(), r.end()),
+                "{k:?}"
+            );
+            assert!(k.value(&r.end().to_string()).is_ok(), "{k:?}");
+            assert!(k.value(&(r.end() + 1).to_string()).is_err(), "{k:?}");
+        }
+        let l = pelt_scene::scene::LBUFFER_SCALE;
+        assert_eq!(
+            Knob::LbufferScale.allowed(),
+            format!("{} to {}", l.start(), l.end())
+        );
+    }
 
     #[test]
     fn names_round_trip_and_bad_ones_name_the_range() {
