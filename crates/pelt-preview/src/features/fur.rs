@@ -118,8 +118,8 @@ fn bind_fur<'a>(
         ),
     })?;
     f.bind_object(r, k);
-    r.push(Step::Vertices(0, &mesh.vertices));
-    r.push(Step::Vertices(1, &fur.vertices));
+    r.push(Step::Vertices(super::vertex_slot::MESH, &mesh.vertices));
+    r.push(Step::Vertices(super::vertex_slot::FUR, &fur.vertices));
     r.push(Step::Indices(&mesh.indices));
     Ok((mesh, fur))
 }
@@ -236,7 +236,7 @@ pub fn layers<'a>(
         // Fins carry their own colour under the fur (FinInstance::albedo): any material's
         // group gives the heightfield and fin texture.
         r.bind(slot::FUR, &fur.textures[0], None);
-        r.push(Step::Vertices(0, fins));
+        r.push(Step::Vertices(super::vertex_slot::INSTANCES, fins));
         r.push(Step::Draw(0..6, 0..fur.fin_count));
     }
     Ok(())

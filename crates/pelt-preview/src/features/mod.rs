@@ -50,6 +50,18 @@ use crate::shaders::Shader;
 use crate::targets::ViewTargets;
 use crate::uniforms::{FurVertex, Vertex};
 
+/// Vertex-buffer slots of the passes that draw meshes: the index of each buffer in the
+/// pipelines' `PipelineSpec::vertex_buffers` (whose layouts the shader-validation test checks
+/// against the shaders' `VertexIn` and `FurIn`); keep the two in step.
+pub mod vertex_slot {
+    /// The mesh's vertex records (`Vertex`), or a pass's one instance buffer (fins, strands).
+    pub const MESH: u32 = 0;
+    /// The fur vertex records (`FurVertex`) beside the mesh's.
+    pub const FUR: u32 = 1;
+    /// The instance records of a pass that draws instances alone (fins, strand roots).
+    pub const INSTANCES: u32 = 0;
+}
+
 /// Bind-group slots of the passes that draw objects (G-buffer, material, forward, shells,
 /// fins). Keep in sync with the `@group` numbers of those shaders (checked by the
 /// shader-validation test).
@@ -163,7 +175,7 @@ impl<'a> Frame<'a> {
         for &k in order {
             let mesh = self.mesh(pass, k)?;
             self.bind_object(recipe, k);
-            recipe.push(Step::Vertices(0, &mesh.vertices));
+            recipe.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
             recipe.push(Step::Indices(&mesh.indices));
             match slot::material(shader) {
                 Some(at) => {

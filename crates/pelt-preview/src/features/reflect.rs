@@ -657,7 +657,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                         &m.objects_group,
                         Some(i as u32 * UNIFORM_STRIDE as u32),
                     );
-                    r.push(Step::Vertices(0, &g.vertices));
+                    r.push(Step::Vertices(super::vertex_slot::MESH, &g.vertices));
                     r.push(Step::Indices(&g.indices));
                     r.push(Step::DrawIndexed(0..g.count, 0..1));
                 }

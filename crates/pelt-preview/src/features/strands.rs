@@ -54,7 +54,10 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
             continue;
         }
         f.bind_object(r, k);
-        r.push(Step::Vertices(0, &strands.roots));
+        r.push(Step::Vertices(
+            super::vertex_slot::INSTANCES,
+            &strands.roots,
+        ));
         r.push(Step::Draw(0..3 * STRAND_SEGMENTS, 0..strands.count));
     }
     Ok(())
