@@ -206,13 +206,13 @@ fn comb_stats(c: impl Iterator<Item = [f32; 4]>) -> Value {
 /// [`describe`]'s report as the lines `pelt inspect` prints.
 pub fn text(v: &Value) -> String {
     let mut out = String::new();
-    macro_rules! println {
+    macro_rules! say {
         ($($t:tt)*) => {{
             out.push_str(&format!($($t)*));
             out.push('\n');
         }};
     }
-    println!(
+    say!(
         "{}: {} meshes, {} primitives, {} vertices, {} triangles, {} nodes, {} materials, {} images",
         v["file"].as_str().unwrap_or("?"),
         v["meshes"],
@@ -224,7 +224,7 @@ pub fn text(v: &Value) -> String {
         v["images"]
     );
     if !v["normal_groups"].is_null() {
-        println!(
+        say!(
             "topology: {} normal groups, {} IDs used, {} split vertices, {} fin edges, {} boundary and {} non-manifold edges",
             v["normal_groups"],
             v["ids_used"],
@@ -241,7 +241,7 @@ pub fn text(v: &Value) -> String {
             .flatten()
             .filter_map(Value::as_str)
             .collect();
-        println!(
+        say!(
             "skin{}: {} joints ({})",
             s["name"]
                 .as_str()
@@ -252,7 +252,7 @@ pub fn text(v: &Value) -> String {
         );
     }
     for a in v["animations"].as_array().into_iter().flatten() {
-        println!(
+        say!(
             "animation {:?}: {:.3} s ({:.3} to {:.3} s), {} channels",
             a["name"].as_str().unwrap_or("?"),
             a["duration"].as_f64().unwrap_or(0.0),
@@ -266,12 +266,16 @@ pub fn text(v: &Value) -> String {
             .as_str()
             .map(|n| format!(" {n:?}"))
             .unwrap_or_default();
-        println!(
+        say!(
             "meshes[{}]{name} primitives[{}]: mode {}, {} vertices, {} triangles",
-            p["mesh"], p["primitive"], p["mode"], p["vertices"], p["triangles"]
+            p["mesh"],
+            p["primitive"],
+            p["mode"],
+            p["vertices"],
+            p["triangles"]
         );
         for (k, a) in p["attributes"].as_object().into_iter().flatten() {
-            println!(
+            say!(
                 "  {k:<13} {} ({} elements, accessor {})",
                 a["encoding"].as_str().unwrap_or("?"),
                 a["count"],
@@ -279,10 +283,10 @@ pub fn text(v: &Value) -> String {
             );
         }
         if let Some(b) = p.get("bounds") {
-            println!("  bounds        min {} max {}", b["min"], b["max"]);
+            say!("  bounds        min {} max {}", b["min"], b["max"]);
         }
         if let Some(c) = p.get("comb") {
-            println!(
+            say!(
                 "  comb          {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
                 c["count"],
                 c["zero_length"],
@@ -294,7 +298,7 @@ pub fn text(v: &Value) -> String {
             );
         }
         if let Some(c) = p.get("color_0_length") {
-            println!(
+            say!(
                 "  COLOR_0 A     {}..{} (mean {:.3}); not baked yet",
                 c["min"],
                 c["max"],

@@ -201,12 +201,13 @@ impl Preview {
                 let g = self
                     .assets
                     .mesh(&self.renderer, &meshes[k], fur)
-                    .map_err(|source| {
-                        let object = mesh_of.iter().position(|&m| m == k).unwrap_or(k);
-                        RenderError::Skin {
-                            asset: scene.objects.get(object).map(|o| o.asset.clone()),
-                            source,
-                        }
+                    .map_err(|source| RenderError::Skin {
+                        asset: mesh_of
+                            .iter()
+                            .position(|&m| m == k)
+                            .and_then(|o| scene.objects.get(o))
+                            .map(|o| o.asset.clone()),
+                        source,
                     })?;
                 gpu_meshes[k] = Some(g);
             }

@@ -54,7 +54,7 @@ use crate::uniforms::{FurVertex, Vertex};
 /// pipelines' `PipelineSpec::vertex_buffers` (whose layouts the shader-validation test checks
 /// against the shaders' `VertexIn` and `FurIn`); keep the two in step.
 pub mod vertex_slot {
-    /// The mesh's vertex records (`Vertex`), or a pass's one instance buffer (fins, strands).
+    /// The mesh's vertex records (`Vertex`).
     pub const MESH: u32 = 0;
     /// The fur vertex records (`FurVertex`) beside the mesh's.
     pub const FUR: u32 = 1;
