@@ -415,7 +415,7 @@ fn gpu_fur(
     let group = |m: &GpuMaterial| {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("fur textures"),
-            layout: &r.layouts.fur,
+            layout: &r.layout(&crate::features::fur::LAYOUT),
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -524,7 +524,7 @@ fn sky_group(r: &Renderer, cube: &CubeImages) -> wgpu::BindGroup {
     });
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("sky"),
-        layout: &r.layouts.sky,
+        layout: &r.layout(&crate::features::sky::LAYOUT),
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,

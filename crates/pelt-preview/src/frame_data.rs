@@ -9,8 +9,9 @@
 
 use glam::{Mat4, Vec3, Vec4Swizzles};
 
+use crate::layout::{self, SHELL_TABLE_BYTES};
 use crate::plan::{Plan, PlannedLight};
-use crate::renderer::{Renderer, SHELL_TABLE_BYTES};
+use crate::renderer::Renderer;
 use crate::scene::{FurCoverage, FurLighting};
 use crate::uniforms::{
     FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, ObjectUniforms, UNIFORM_STRIDE,
@@ -232,38 +233,43 @@ fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
 impl FrameData {
     /// Empty buffers for a frame of a few objects and lights (they grow when needed).
     pub fn new(r: &Renderer) -> FrameData {
-        let l = &r.layouts;
         let slot = |n: u64| n * UNIFORM_STRIDE;
         let light_array = LIGHT_ARRAY_BYTES as u64;
         FrameData {
             frame: Uniform::new(
                 r,
                 "frame",
-                &l.frame,
+                &r.layout(&layout::FRAME),
                 size_of::<FrameUniforms>() as u64,
                 slot(2),
             ),
             objects: Uniform::new(
                 r,
                 "objects",
-                &l.object,
+                &r.layout(&layout::OBJECT),
                 size_of::<ObjectUniforms>() as u64,
                 slot(8),
             ),
             lights: Uniform::new(
                 r,
                 "lights",
-                &l.light,
+                &r.layout(&layout::LIGHT),
                 size_of::<LightUniforms>() as u64,
                 slot(8),
             ),
-            light_array: Uniform::new(r, "light array", &l.light_array, light_array, light_array),
+            light_array: Uniform::new(
+                r,
+                "light array",
+                &r.layout(&layout::LIGHT_ARRAY),
+                light_array,
+                light_array,
+            ),
             shell_table: Uniform::new(
                 r,
                 "shell table",
-                &l.shell_table,
-                SHELL_TABLE_BYTES,
-                SHELL_TABLE_BYTES,
+                &r.layout(&layout::SHELL_TABLE),
+                SHELL_TABLE_BYTES as u64,
+                SHELL_TABLE_BYTES as u64,
             ),
             object_stride: 1,
             light_stride: 1,

@@ -10,8 +10,24 @@ use pelt_io::picture::{Rgba8, WrappingMode};
 use pelt_scene::fur::Level;
 use pelt_scene::material::{Material, Texture, mip_chain};
 
+use crate::layout::{D2, FILTERABLE, LayoutDesc, sampler, texture, uniform};
 use crate::renderer::Renderer;
 use crate::uniforms::MaterialUniforms;
+
+/// One material's textures (base colour, normal, metallic-roughness), their samplers and
+/// its factors (`material` in common.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "material",
+    entries: &[
+        texture(0, FILTERABLE, D2),
+        texture(1, FILTERABLE, D2),
+        texture(2, FILTERABLE, D2),
+        sampler(3),
+        sampler(4),
+        sampler(5),
+        uniform(6, size_of::<MaterialUniforms>(), false),
+    ],
+};
 
 /// sRGB base colour.
 pub const BASE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -139,19 +155,7 @@ pub fn upload(r: &Renderer, m: &Material) -> GpuMaterial {
         sampler(&mr_sampler),
         factors.as_entire_binding(),
     ];
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-        .into_iter()
-        .enumerate()
-        .map(|(binding, resource)| wgpu::BindGroupEntry {
-            binding: binding as u32,
-            resource,
-        })
-        .collect();
-    let group = r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("material"),
-        layout: &r.layouts.material,
-        entries: &entries,
-    });
+    let group = r.group("material", &LAYOUT, &resources);
     GpuMaterial {
         group,
         base_view,

@@ -21,6 +21,7 @@ pub mod frame;
 pub mod frame_data;
 pub mod gpu;
 pub mod gpu_material;
+pub mod layout;
 pub mod progressive;
 pub mod recipe;
 pub mod renderer;

@@ -10,10 +10,8 @@ use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
 use crate::gpu::Gpu;
+use crate::layout::LayoutDesc;
 use crate::shaders::Shader;
-use crate::uniforms::{
-    FrameUniforms, LightUniforms, MAX_FORWARD_LIGHTS, MaterialUniforms, ObjectUniforms,
-};
 
 /// Linear light accumulation (RGB diffuse, A specular): 16-bit float, blendable everywhere.
 pub const LBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -65,333 +63,12 @@ pub struct PipelineKey {
     pub depth: Option<wgpu::TextureFormat>,
 }
 
-/// Bind group layouts shared by the passes. Which slot each takes in a pass is named in the
-/// feature modules (`slot` constants), never by a bare number.
-#[derive(Debug)]
-pub struct Layouts {
-    /// The frame uniforms (dynamic offset: one slot per view and resolution).
-    pub frame: wgpu::BindGroupLayout,
-    /// One object's uniforms (dynamic offset).
-    pub object: wgpu::BindGroupLayout,
-    /// A float texture and the DSF texture (G-buffer or L-buffer reads).
-    pub textures: wgpu::BindGroupLayout,
-    /// One light (dynamic offset).
-    pub light: wgpu::BindGroupLayout,
-    /// Every light (forward; dynamic offset: one array per view).
-    pub light_array: wgpu::BindGroupLayout,
-    /// Heightfield, fin texture, their samplers.
-    pub fur: wgpu::BindGroupLayout,
-    /// Which IDs are outer shells (obliteration).
-    pub shell_table: wgpu::BindGroupLayout,
-    /// Accumulation and revealage (OIT composite).
-    pub oit: wgpu::BindGroupLayout,
-    /// The cube map and its sampler.
-    pub sky: wgpu::BindGroupLayout,
-    /// A frame to scale up and its sampler.
-    pub upscale_source: wgpu::BindGroupLayout,
-    /// The target's size (w, h, 1/w, 1/h).
-    pub upscale_size: wgpu::BindGroupLayout,
-    /// A compute pass's storage buffers: binding 0 read, binding 1 read and written.
-    pub storage: wgpu::BindGroupLayout,
-    /// A 2D-array texture and its sampler (mip generation).
-    pub array_source: wgpu::BindGroupLayout,
-    /// The overlay's text bitmap.
-    pub text: wgpu::BindGroupLayout,
-    /// One distance-map face's constants (dynamic offset).
-    pub face: wgpu::BindGroupLayout,
-    /// The previous distance-map layer (depth peeling).
-    pub peel: wgpu::BindGroupLayout,
-    /// Distance maps, their ranges and the search's knobs (reflect.wgsl).
-    pub reflect_maps: wgpu::BindGroupLayout,
-    /// Distance maps and their ranges, written (minmax.wgsl).
-    pub minmax: wgpu::BindGroupLayout,
-    /// One material's textures, samplers and factors.
-    pub material: wgpu::BindGroupLayout,
-}
-
-fn uniform_entry(size: u64, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding: 0,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: wgpu::BufferSize::new(size),
-        },
-        count: None,
-    }
-}
-
-fn texture_entry(
-    binding: u32,
-    sample_type: wgpu::TextureSampleType,
-    view_dimension: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-        count: None,
-    }
-}
-
-/// Bytes of the obliteration pass's ID table (`array<vec4<u32>, 64>`).
-pub const SHELL_TABLE_BYTES: u64 = 1024;
-
-/// A bind group layout by name: what a pipeline spec lists, slot by slot.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum LayoutId {
-    /// [`Layouts::frame`].
-    Frame,
-    /// [`Layouts::object`].
-    Object,
-    /// [`Layouts::textures`].
-    Textures,
-    /// [`Layouts::light`].
-    Light,
-    /// [`Layouts::light_array`].
-    LightArray,
-    /// [`Layouts::fur`].
-    Fur,
-    /// [`Layouts::shell_table`].
-    ShellTable,
-    /// [`Layouts::oit`].
-    Oit,
-    /// [`Layouts::sky`].
-    Sky,
-    /// [`Layouts::upscale_source`].
-    UpscaleSource,
-    /// [`Layouts::upscale_size`].
-    UpscaleSize,
-    /// [`Layouts::storage`].
-    Storage,
-    /// [`Layouts::array_source`].
-    ArraySource,
-    /// [`Layouts::text`].
-    Text,
-    /// [`Layouts::face`].
-    Face,
-    /// [`Layouts::peel`].
-    Peel,
-    /// [`Layouts::reflect_maps`].
-    ReflectMaps,
-    /// [`Layouts::minmax`].
-    MinMax,
-    /// [`Layouts::material`].
-    Material,
-}
-
-impl LayoutId {
-    /// Every layout.
-    pub const ALL: [LayoutId; 19] = [
-        LayoutId::Frame,
-        LayoutId::Object,
-        LayoutId::Textures,
-        LayoutId::Light,
-        LayoutId::LightArray,
-        LayoutId::Fur,
-        LayoutId::ShellTable,
-        LayoutId::Oit,
-        LayoutId::Sky,
-        LayoutId::UpscaleSource,
-        LayoutId::UpscaleSize,
-        LayoutId::Storage,
-        LayoutId::ArraySource,
-        LayoutId::Text,
-        LayoutId::Face,
-        LayoutId::Peel,
-        LayoutId::ReflectMaps,
-        LayoutId::MinMax,
-        LayoutId::Material,
-    ];
-
-    /// The layout's entries (plain data: the shader test checks them against the WGSL).
-    pub fn entries(self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        let d2 = wgpu::TextureViewDimension::D2;
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
-        let filterable = wgpu::TextureSampleType::Float { filterable: true };
-        let array = wgpu::TextureViewDimension::D2Array;
-        let size = |n: usize| n as u64;
-        match self {
-            LayoutId::Frame => vec![uniform_entry(size(size_of::<FrameUniforms>()), true)],
-            LayoutId::Object => vec![uniform_entry(size(size_of::<ObjectUniforms>()), true)],
-            LayoutId::Textures => vec![
-                texture_entry(0, unfilterable, d2),
-                texture_entry(1, wgpu::TextureSampleType::Uint, d2),
-            ],
-            LayoutId::Light => vec![uniform_entry(size(size_of::<LightUniforms>()), true)],
-            LayoutId::LightArray => vec![uniform_entry(
-                size(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>()),
-                true,
-            )],
-            LayoutId::Fur => vec![
-                texture_entry(0, filterable, d2),
-                texture_entry(1, filterable, d2),
-                sampler_entry(2),
-                sampler_entry(3),
-                texture_entry(4, filterable, d2),
-                sampler_entry(5),
-                texture_entry(6, filterable, d2),
-                texture_entry(7, filterable, d2),
-            ],
-            LayoutId::Material => vec![
-                texture_entry(0, filterable, d2),
-                texture_entry(1, filterable, d2),
-                texture_entry(2, filterable, d2),
-                sampler_entry(3),
-                sampler_entry(4),
-                sampler_entry(5),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 6,
-                    ..uniform_entry(size(size_of::<MaterialUniforms>()), false)
-                },
-            ],
-            LayoutId::ShellTable => vec![uniform_entry(SHELL_TABLE_BYTES, false)],
-            LayoutId::Oit => vec![
-                texture_entry(0, unfilterable, d2),
-                texture_entry(1, unfilterable, d2),
-            ],
-            LayoutId::Sky => vec![
-                texture_entry(0, filterable, wgpu::TextureViewDimension::Cube),
-                sampler_entry(1),
-            ],
-            LayoutId::UpscaleSource => vec![texture_entry(0, filterable, d2), sampler_entry(1)],
-            LayoutId::UpscaleSize => vec![uniform_entry(16, false)],
-            LayoutId::Storage => vec![storage_entry(0, true), storage_entry(1, false)],
-            LayoutId::Text => vec![texture_entry(0, filterable, d2)],
-            LayoutId::Face => vec![uniform_entry(
-                size(size_of::<crate::features::reflect::FaceUniforms>()),
-                true,
-            )],
-            LayoutId::Peel => vec![texture_entry(0, unfilterable, array)],
-            LayoutId::ReflectMaps => vec![
-                texture_entry(0, unfilterable, array),
-                texture_entry(1, unfilterable, array),
-                wgpu::BindGroupLayoutEntry {
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ..storage_entry(2, true)
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ..uniform_entry(
-                        size(size_of::<crate::features::reflect::ReflectUniforms>()),
-                        false,
-                    )
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ..uniform_entry(
-                        size(crate::features::reflect::MAX_MAP_LIGHTS * size_of::<LightUniforms>()),
-                        false,
-                    )
-                },
-            ],
-            LayoutId::MinMax => vec![
-                wgpu::BindGroupLayoutEntry {
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ..texture_entry(0, unfilterable, array)
-                },
-                storage_entry(1, false),
-            ],
-            LayoutId::ArraySource => vec![
-                texture_entry(0, filterable, wgpu::TextureViewDimension::D2Array),
-                sampler_entry(1),
-            ],
-        }
-    }
-}
-
-impl Layouts {
-    fn new(device: &wgpu::Device) -> Layouts {
-        let layout = |id: LayoutId| {
-            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(&format!("{id:?}")),
-                entries: &id.entries(),
-            })
-        };
-        Layouts {
-            frame: layout(LayoutId::Frame),
-            object: layout(LayoutId::Object),
-            textures: layout(LayoutId::Textures),
-            light: layout(LayoutId::Light),
-            light_array: layout(LayoutId::LightArray),
-            fur: layout(LayoutId::Fur),
-            shell_table: layout(LayoutId::ShellTable),
-            oit: layout(LayoutId::Oit),
-            sky: layout(LayoutId::Sky),
-            upscale_source: layout(LayoutId::UpscaleSource),
-            upscale_size: layout(LayoutId::UpscaleSize),
-            storage: layout(LayoutId::Storage),
-            array_source: layout(LayoutId::ArraySource),
-            text: layout(LayoutId::Text),
-            face: layout(LayoutId::Face),
-            peel: layout(LayoutId::Peel),
-            reflect_maps: layout(LayoutId::ReflectMaps),
-            minmax: layout(LayoutId::MinMax),
-            material: layout(LayoutId::Material),
-        }
-    }
-
-    /// The layout named `id`.
-    pub fn get(&self, id: LayoutId) -> &wgpu::BindGroupLayout {
-        match id {
-            LayoutId::Frame => &self.frame,
-            LayoutId::Object => &self.object,
-            LayoutId::Textures => &self.textures,
-            LayoutId::Light => &self.light,
-            LayoutId::LightArray => &self.light_array,
-            LayoutId::Fur => &self.fur,
-            LayoutId::ShellTable => &self.shell_table,
-            LayoutId::Oit => &self.oit,
-            LayoutId::Sky => &self.sky,
-            LayoutId::UpscaleSource => &self.upscale_source,
-            LayoutId::UpscaleSize => &self.upscale_size,
-            LayoutId::Storage => &self.storage,
-            LayoutId::ArraySource => &self.array_source,
-            LayoutId::Text => &self.text,
-            LayoutId::Face => &self.face,
-            LayoutId::Peel => &self.peel,
-            LayoutId::ReflectMaps => &self.reflect_maps,
-            LayoutId::MinMax => &self.minmax,
-            LayoutId::Material => &self.material,
-        }
-    }
-}
-
 /// How a feature lays out one of its pipelines; the formats come from the key. Plain data,
 /// so the shader test can check it against the WGSL without a device.
 #[derive(Debug, Default)]
 pub struct PipelineSpec {
     /// Bind group layouts by slot, slot 0 first (every slot up to the last present).
-    pub groups: Vec<LayoutId>,
+    pub groups: Vec<LayoutDesc>,
     /// Vertex buffers by slot.
     pub vertex_buffers: Vec<wgpu::VertexBufferLayout<'static>>,
     /// Blend of each colour target, in attachment order.
@@ -426,8 +103,7 @@ pub enum PipelineError {
 pub struct Renderer {
     /// The device.
     pub gpu: Gpu,
-    /// Bind group layouts.
-    pub layouts: Layouts,
+    layouts: RefCell<HashMap<LayoutDesc, wgpu::BindGroupLayout>>,
     modules: RefCell<HashMap<Shader, wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
     compute: RefCell<HashMap<Shader, wgpu::ComputePipeline>>,
@@ -439,10 +115,9 @@ pub struct Renderer {
 impl Renderer {
     /// A renderer on `gpu`; nothing is compiled yet.
     pub fn new(gpu: Gpu) -> Renderer {
-        let layouts = Layouts::new(&gpu.device);
         Renderer {
             gpu,
-            layouts,
+            layouts: RefCell::new(HashMap::new()),
             modules: RefCell::new(HashMap::new()),
             pipelines: RefCell::new(HashMap::new()),
             compute: RefCell::new(HashMap::new()),
@@ -489,25 +164,55 @@ impl Renderer {
             .ok_or(PipelineError::NotPrepared(*key))
     }
 
-    /// A bind group of the Storage layout (compute passes): `read` at binding 0, `written`
-    /// at binding 1.
-    pub fn storage_group(&self, read: &wgpu::Buffer, written: &wgpu::Buffer) -> wgpu::BindGroup {
+    /// The layout of `desc`, made on first use (descriptors with equal entries share one).
+    pub fn layout(&self, desc: &LayoutDesc) -> wgpu::BindGroupLayout {
+        self.layouts
+            .borrow_mut()
+            .entry(*desc)
+            .or_insert_with(|| {
+                self.gpu
+                    .device
+                    .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: Some(desc.label),
+                        entries: desc.entries,
+                    })
+            })
+            .clone()
+    }
+
+    /// A bind group of `desc` with one resource per binding, in binding order.
+    pub fn group(
+        &self,
+        label: &str,
+        desc: &LayoutDesc,
+        resources: &[wgpu::BindingResource<'_>],
+    ) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = desc
+            .entries
+            .iter()
+            .zip(resources)
+            .map(|(e, res)| wgpu::BindGroupEntry {
+                binding: e.binding,
+                resource: res.clone(),
+            })
+            .collect();
         self.gpu
             .device
             .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("storage"),
-                layout: &self.layouts.storage,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: read.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: written.as_entire_binding(),
-                    },
-                ],
+                label: Some(label),
+                layout: &self.layout(desc),
+                entries: &entries,
             })
+    }
+
+    /// A bind group of the storage layout (compute passes): `read` at binding 0, `written`
+    /// at binding 1.
+    pub fn storage_group(&self, read: &wgpu::Buffer, written: &wgpu::Buffer) -> wgpu::BindGroup {
+        self.group(
+            "storage",
+            &crate::layout::STORAGE,
+            &[read.as_entire_binding(), written.as_entire_binding()],
+        )
     }
 
     /// The compute pipeline of `shader` (a compute module), compiled on first use.
@@ -528,11 +233,9 @@ impl Renderer {
             });
         }
         let spec = crate::features::spec(&key);
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> = spec
-            .groups
-            .iter()
-            .map(|&g| Some(self.layouts.get(g)))
-            .collect();
+        let layouts: Vec<wgpu::BindGroupLayout> =
+            spec.groups.iter().map(|g| self.layout(g)).collect();
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
         let device = &self.gpu.device;
         let name = shader.module_name();
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -620,11 +323,9 @@ impl Renderer {
         let module = self.module(key.shader);
         let device = &self.gpu.device;
         let name = key.shader.module_name();
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> = spec
-            .groups
-            .iter()
-            .map(|&g| Some(self.layouts.get(g)))
-            .collect();
+        let layouts: Vec<wgpu::BindGroupLayout> =
+            spec.groups.iter().map(|g| self.layout(g)).collect();
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(&name),
             bind_group_layouts: &groups,

@@ -175,7 +175,7 @@ impl ViewTargets {
     /// Creates the targets of `spec`.
     pub fn new(r: &Renderer, spec: TargetSpec) -> ViewTargets {
         let device = &r.gpu.device;
-        let textures = &r.layouts.textures;
+        let textures = &r.layout(&crate::layout::TEXTURES);
         let tex = |label, size, format| Target::new(device, label, size, format);
         let gbuffer = spec.lbuffer.map(|s| {
             let normals = tex("normals", s, r.gpu.normal_format);
@@ -212,7 +212,12 @@ impl ViewTargets {
         let oit = spec.oit.then(|| {
             let accum = tex("oit accum", spec.output, r.gpu.accum_format);
             let reveal = tex("oit reveal", spec.output, REVEAL_FORMAT);
-            let read = pair(r, &r.layouts.oit, &accum.view, &reveal.view);
+            let read = pair(
+                r,
+                &r.layout(&crate::features::wboit::LAYOUT),
+                &accum.view,
+                &reveal.view,
+            );
             Oit {
                 accum,
                 reveal,

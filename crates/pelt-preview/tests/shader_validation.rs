@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
-use pelt_preview::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use pelt_preview::renderer::{Blend, PipelineKey, PipelineSpec};
 use pelt_preview::shaders::{COMMON, FILES, Shader};
 use pelt_preview::uniforms::{
     FinInstance, FrameUniforms, FurVertex, LightUniforms, MaterialUniforms, ObjectUniforms, Vertex,
@@ -133,10 +133,14 @@ fn check_groups(
                 spec.groups.len()
             ))?;
             let entry = id
-                .entries()
-                .into_iter()
+                .entries
+                .iter()
+                .copied()
                 .find(|e| e.binding == rb.binding)
-                .ok_or(format!("{name}: {id:?} has no binding {}", rb.binding))?;
+                .ok_or(format!(
+                    "{name}: {} has no binding {}",
+                    id.label, rb.binding
+                ))?;
             let ok = match (&m.types[g.ty].inner, entry.ty) {
                 (
                     _,
@@ -198,8 +202,8 @@ fn check_groups(
             };
             if !ok {
                 return Err(format!(
-                    "{}: {name} at @group({}) @binding({}) does not match {id:?}",
-                    ep.name, rb.group, rb.binding
+                    "{}: {name} at @group({}) @binding({}) does not match {}",
+                    ep.name, rb.group, rb.binding, id.label
                 ));
             }
         }
@@ -289,7 +293,7 @@ fn a_mismatched_layout_is_caught() {
     let e = check_groups(&m, &info, [vs, fs], &spec).expect_err("swapped groups");
     assert!(e.contains("does not match"), "{e}");
     let mut spec = pelt_preview::features::spec(&key(Shader::SkyCube));
-    spec.groups = vec![LayoutId::Frame];
+    spec.groups = vec![pelt_preview::layout::FRAME];
     let (m, info) = validate_info("sky", &Shader::SkyCube.source());
     let e = check_groups(&m, &info, ["vs_fullscreen", "fs_cube"], &spec).expect_err("missing");
     assert!(e.contains("@group(1)"), "{e}");

@@ -2,19 +2,20 @@
 //! material pass's order; fur is lit per strand with Kajiya-Kay (Revie Listing 2.4).
 
 use crate::features::{Frame, MissingInput, material, object_blends, object_depth, vertex_layout};
+use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
-use crate::renderer::{LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// The pipeline of the forward shader.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![
-            LayoutId::Frame,
-            LayoutId::Object,
-            LayoutId::LightArray,
-            LayoutId::Material,
+            layout::FRAME,
+            layout::OBJECT,
+            layout::LIGHT_ARRAY,
+            crate::gpu_material::LAYOUT,
         ],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),

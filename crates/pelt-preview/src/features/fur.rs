@@ -10,9 +10,10 @@
 use crate::features::{
     Frame, MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
+use crate::layout::{self, D2, FILTERABLE, LayoutDesc, sampler, texture};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::scene::FurCoverage;
 use crate::shaders::{Coverage, Lighting, Shader};
 use crate::uniforms::FinInstance;
@@ -40,25 +41,36 @@ pub fn fin_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
+/// The fur's textures (fur_common.wgsl): heightfield, fin texture, their samplers, the
+/// base colour and its sampler, and the density's two textures.
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "fur textures",
+    entries: &[
+        texture(0, FILTERABLE, D2),
+        texture(1, FILTERABLE, D2),
+        sampler(2),
+        sampler(3),
+        texture(4, FILTERABLE, D2),
+        sampler(5),
+        texture(6, FILTERABLE, D2),
+        texture(7, FILTERABLE, D2),
+    ],
+};
+
 /// The pipelines of the fur shaders.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     let lighting = |lt| match lt {
-        Lighting::Inferred => LayoutId::Textures,
-        Lighting::Forward => LayoutId::LightArray,
+        Lighting::Inferred => layout::TEXTURES,
+        Lighting::Forward => layout::LIGHT_ARRAY,
     };
     match key.shader {
         Shader::Obliterate => PipelineSpec {
-            groups: vec![LayoutId::Textures, LayoutId::ShellTable],
+            groups: vec![layout::TEXTURES, layout::SHELL_TABLE],
             blends: vec![None, None],
             ..PipelineSpec::default()
         },
         Shader::Shells(lt, _) | Shader::Fins(lt) => PipelineSpec {
-            groups: vec![
-                LayoutId::Frame,
-                LayoutId::Object,
-                lighting(lt),
-                LayoutId::Fur,
-            ],
+            groups: vec![layout::FRAME, layout::OBJECT, lighting(lt), LAYOUT],
             vertex_buffers: if matches!(key.shader, Shader::Fins(_)) {
                 vec![fin_layout()]
             } else {
@@ -93,7 +105,7 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         },
         // FurBase, FurOuter: into the G-buffer.
         _ => PipelineSpec {
-            groups: vec![LayoutId::Frame, LayoutId::Object],
+            groups: vec![layout::FRAME, layout::OBJECT],
             vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
             blends: vec![None, None],
             depth: Some((true, wgpu::CompareFunction::Less)),

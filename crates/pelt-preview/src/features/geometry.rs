@@ -6,15 +6,16 @@
 
 use crate::features::{Frame, MissingInput, alpha, fur, vertex_layout};
 use crate::frame_data::Res;
+use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// The pipeline of the G-buffer shader.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::Material],
+        groups: vec![layout::FRAME, layout::OBJECT, crate::gpu_material::LAYOUT],
         vertex_buffers: vec![vertex_layout()],
         blends: vec![None, None],
         depth: Some((true, wgpu::CompareFunction::Less)),

@@ -4,9 +4,10 @@
 
 use crate::features::{ADD, Frame, MissingInput};
 use crate::frame_data::Res;
+use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 
 /// Bind-group slots of light.wgsl.
@@ -25,10 +26,10 @@ pub mod slot {
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![
-            LayoutId::Frame,
-            LayoutId::Textures,
-            LayoutId::Light,
-            LayoutId::ShellTable,
+            layout::FRAME,
+            layout::TEXTURES,
+            layout::LIGHT,
+            layout::SHELL_TABLE,
         ],
         blends: vec![Some(ADD)],
         ..PipelineSpec::default()

@@ -11,9 +11,10 @@ use crate::features::{
     Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot, strands,
 };
 use crate::frame_data::Res;
+use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::scene::FurBlend;
 use crate::shaders::{Lighting, Shader};
 
@@ -29,10 +30,10 @@ pub const BACKGROUND: wgpu::Color = wgpu::Color {
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: vec![
-            LayoutId::Frame,
-            LayoutId::Object,
-            LayoutId::Textures,
-            LayoutId::Material,
+            layout::FRAME,
+            layout::OBJECT,
+            layout::TEXTURES,
+            crate::gpu_material::LAYOUT,
         ],
         vertex_buffers: vec![vertex_layout()],
         blends: object_blends(key.blend),

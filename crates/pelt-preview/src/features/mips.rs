@@ -4,11 +4,21 @@
 //! for sRGB formats). All levels of all layers go in one submission.
 
 use crate::features::Output;
+use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
 use crate::shaders::Shader;
 use crate::targets::LayeredTarget;
+
+/// A 2D-array texture and its sampler: the level above (downsample.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "array source",
+    entries: &[
+        layout::texture(0, FILTERABLE, layout::D2_ARRAY),
+        layout::sampler(1),
+    ],
+};
 
 /// Bind-group slots of downsample.wgsl.
 pub mod slot {
@@ -21,7 +31,7 @@ pub mod slot {
 /// The pipeline of the downsample shader.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::ArraySource, LayoutId::UpscaleSize],
+        groups: vec![LAYOUT, layout::SIZE],
         blends: vec![None],
         ..PipelineSpec::default()
     }
@@ -52,7 +62,7 @@ fn level(r: &Renderer, t: &LayeredTarget, sampler: &wgpu::Sampler, layer: u32, m
     Level {
         source: device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("downsample source"),
-            layout: &r.layouts.array_source,
+            layout: &r.layout(&LAYOUT),
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -66,7 +76,7 @@ fn level(r: &Renderer, t: &LayeredTarget, sampler: &wgpu::Sampler, layer: u32, m
         }),
         params: device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("downsample params"),
-            layout: &r.layouts.upscale_size,
+            layout: &r.layout(&layout::SIZE),
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: params.as_entire_binding(),

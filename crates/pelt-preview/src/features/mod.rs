@@ -43,6 +43,7 @@ use std::sync::Arc;
 
 use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::frame_data::{FrameData, Res};
+use crate::layout;
 use crate::plan::Plan;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{PipelineKey, PipelineSpec};
@@ -251,15 +252,12 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         Shader::Strands => strands::spec(key),
         Shader::FinRecords | Shader::Skin | Shader::SkinScatter | Shader::FinRebuild => {
             PipelineSpec {
-                groups: vec![
-                    crate::renderer::LayoutId::Storage,
-                    crate::renderer::LayoutId::Storage,
-                ],
+                groups: vec![layout::STORAGE, layout::STORAGE],
                 ..PipelineSpec::default()
             }
         }
         Shader::TangentFrames => PipelineSpec {
-            groups: vec![crate::renderer::LayoutId::Storage],
+            groups: vec![layout::STORAGE],
             ..PipelineSpec::default()
         },
     }

@@ -4,10 +4,17 @@
 //! over the finished frame.
 
 use crate::features::Output;
+use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
 use crate::shaders::Shader;
+
+/// The overlay's text bitmap (overlay.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "overlay text",
+    entries: &[layout::texture(0, FILTERABLE, layout::D2)],
+};
 
 /// Bind-group slots of overlay.wgsl.
 pub mod slot {
@@ -23,7 +30,7 @@ const PAD: u32 = 4;
 /// The pipeline of the overlay shader: blended over, no depth.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Text, LayoutId::UpscaleSize],
+        groups: vec![LAYOUT, layout::SIZE],
         blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
         ..PipelineSpec::default()
     }
@@ -79,7 +86,7 @@ impl Overlay {
             group: None,
             params: r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("overlay params"),
-                layout: &r.layouts.upscale_size,
+                layout: &r.layout(&layout::SIZE),
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: buffer.as_entire_binding(),
@@ -127,7 +134,7 @@ impl Overlay {
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         self.group = Some(r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("overlay text"),
-            layout: &r.layouts.text,
+            layout: &r.layout(&LAYOUT),
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::TextureView(&view),

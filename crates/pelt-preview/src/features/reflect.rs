@@ -16,9 +16,10 @@ use glam::{Mat4, Vec3};
 
 use crate::assets::GpuMesh;
 use crate::features::{Frame, MissingInput, vertex_layout};
+use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, DEPTH_FORMAT, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, DEPTH_FORMAT, PipelineKey, PipelineSpec, Renderer};
 use crate::scene::{Sky, Technique};
 use crate::shaders::Shader;
 use crate::targets::{LayeredTarget, Target};
@@ -179,27 +180,6 @@ fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsage
     })
 }
 
-fn group(
-    r: &Renderer,
-    label: &str,
-    layout: LayoutId,
-    resources: &[wgpu::BindingResource<'_>],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-        .iter()
-        .enumerate()
-        .map(|(i, res)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: res.clone(),
-        })
-        .collect();
-    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout: r.layouts.get(layout),
-        entries: &entries,
-    })
-}
-
 fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
     wgpu::BindingResource::Buffer(wgpu::BufferBinding {
         buffer,
@@ -220,16 +200,57 @@ fn no_sky(r: &Renderer) -> wgpu::BindGroup {
         .gpu
         .device
         .create_sampler(&wgpu::SamplerDescriptor::default());
-    group(
-        r,
+    r.group(
         "no sky",
-        LayoutId::Sky,
+        &super::sky::LAYOUT,
         &[
             wgpu::BindingResource::TextureView(&view),
             wgpu::BindingResource::Sampler(&sampler),
         ],
     )
 }
+
+/// One distance-map face's constants (dynamic offset; distance_map.wgsl).
+pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "distance-map face",
+    entries: &[layout::uniform(0, size_of::<FaceUniforms>(), true)],
+};
+
+/// The previous distance-map layer (depth peeling; distance_map.wgsl).
+pub const PEEL_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "peel",
+    entries: &[layout::texture(0, UNFILTERABLE, D2_ARRAY)],
+};
+
+/// Distance maps, their ranges, the search's knobs and the maps' lights (reflect.wgsl).
+pub const MAPS_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "distance maps",
+    entries: &[
+        layout::texture(0, UNFILTERABLE, D2_ARRAY),
+        layout::texture(1, UNFILTERABLE, D2_ARRAY),
+        seen_by(wgpu::ShaderStages::FRAGMENT, layout::storage(2, true)),
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::uniform(3, size_of::<ReflectUniforms>(), false),
+        ),
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::uniform(4, MAX_MAP_LIGHTS * size_of::<LightUniforms>(), false),
+        ),
+    ],
+};
+
+/// Distance maps read and their ranges written (minmax.wgsl).
+pub const MINMAX_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "min-max",
+    entries: &[
+        seen_by(
+            wgpu::ShaderStages::COMPUTE,
+            layout::texture(0, UNFILTERABLE, D2_ARRAY),
+        ),
+        layout::storage(1, false),
+    ],
+};
 
 impl Maps {
     /// The maps of `plan` (which must have at least one), with the scene's cube-map sky
@@ -325,28 +346,24 @@ impl Maps {
         );
         let tex = wgpu::BindingResource::TextureView;
         let maps = Maps {
-            faces_group: group(
-                r,
+            faces_group: r.group(
                 "faces",
-                LayoutId::Face,
+                &FACE_LAYOUT,
                 &[sized(&faces, size_of::<FaceUniforms>())],
             ),
-            objects_group: group(
-                r,
+            objects_group: r.group(
                 "map objects",
-                LayoutId::Object,
+                &layout::OBJECT,
                 &[sized(&objects, size_of::<ObjectUniforms>())],
             ),
-            lights_group: group(
-                r,
+            lights_group: r.group(
                 "map lights",
-                LayoutId::LightArray,
+                &layout::LIGHT_ARRAY,
                 &[sized(&lights, light_bytes)],
             ),
-            read: group(
-                r,
+            read: r.group(
                 "distance maps",
-                LayoutId::ReflectMaps,
+                &MAPS_LAYOUT,
                 &[
                     tex(&material.sampled),
                     tex(&geometry.sampled),
@@ -355,13 +372,12 @@ impl Maps {
                     sized(&lights, light_bytes),
                 ],
             ),
-            minmax: group(
-                r,
+            minmax: r.group(
                 "min-max",
-                LayoutId::MinMax,
+                &MINMAX_LAYOUT,
                 &[tex(&geometry.sampled), ranges.as_entire_binding()],
             ),
-            peel_read: group(r, "peel", LayoutId::Peel, &[tex(&peel.sampled)]),
+            peel_read: r.group("peel", &PEEL_LAYOUT, &[tex(&peel.sampled)]),
             sky: sky.cloned().unwrap_or_else(|| no_sky(r)),
             spec,
             material,
@@ -546,22 +562,22 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
     let (groups, blends, vertex_buffers, depth) = match key.shader {
         Shader::DistanceMap => (
             vec![
-                LayoutId::Face,
-                LayoutId::Object,
-                LayoutId::LightArray,
-                LayoutId::Peel,
+                FACE_LAYOUT,
+                layout::OBJECT,
+                layout::LIGHT_ARRAY,
+                PEEL_LAYOUT,
             ],
             vec![None, None],
             vec![vertex_layout()],
             Some((true, wgpu::CompareFunction::Less)),
         ),
-        Shader::MinMax => (vec![LayoutId::MinMax], Vec::new(), Vec::new(), None),
+        Shader::MinMax => (vec![MINMAX_LAYOUT], Vec::new(), Vec::new(), None),
         _ => (
             vec![
-                LayoutId::Frame,
-                LayoutId::Object,
-                LayoutId::ReflectMaps,
-                LayoutId::Sky,
+                layout::FRAME,
+                layout::OBJECT,
+                MAPS_LAYOUT,
+                super::sky::LAYOUT,
             ],
             crate::features::object_blends(Blend::None),
             vec![vertex_layout()],

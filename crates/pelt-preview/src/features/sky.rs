@@ -3,8 +3,9 @@
 //! or in a procedural sky.
 
 use crate::features::{Frame, MissingInput};
+use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::scene::Sky;
 use crate::shaders::Shader;
 
@@ -16,13 +17,22 @@ pub mod slot {
     pub const CUBE: u32 = 1;
 }
 
+/// The cube map and its sampler (sky.wgsl's `fs_cube`).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "sky cube",
+    entries: &[
+        layout::texture(0, FILTERABLE, wgpu::TextureViewDimension::Cube),
+        layout::sampler(1),
+    ],
+};
+
 /// The pipelines of the sky shaders: depth test "less or equal" at depth 1, no writes.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
         groups: if key.shader == Shader::SkyCube {
-            vec![LayoutId::Frame, LayoutId::Sky]
+            vec![layout::FRAME, LAYOUT]
         } else {
-            vec![LayoutId::Frame]
+            vec![layout::FRAME]
         },
         blends: vec![None],
         depth: Some((false, wgpu::CompareFunction::LessEqual)),

@@ -6,7 +6,7 @@
 
 use crate::features::{Frame, MissingInput, object_blends, object_depth};
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
 use crate::uniforms::StrandRoot;
 
@@ -29,7 +29,11 @@ pub fn layout() -> wgpu::VertexBufferLayout<'static> {
 /// The pipeline of strands.wgsl.
 pub fn spec(key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Frame, LayoutId::Object, LayoutId::LightArray],
+        groups: vec![
+            crate::layout::FRAME,
+            crate::layout::OBJECT,
+            crate::layout::LIGHT_ARRAY,
+        ],
         vertex_buffers: vec![layout()],
         blends: object_blends(key.blend),
         depth: object_depth(key.blend),

@@ -4,11 +4,21 @@
 //! passes through here).
 
 use crate::features::Output;
+use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
 use crate::shaders::Shader;
 use crate::targets::Target;
+
+/// A frame to scale up and its sampler (upscale.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "upscale source",
+    entries: &[
+        layout::texture(0, FILTERABLE, layout::D2),
+        layout::sampler(1),
+    ],
+};
 
 /// Bind-group slots of upscale.wgsl.
 pub mod slot {
@@ -21,7 +31,7 @@ pub mod slot {
 /// The pipeline of the upscale shader.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::UpscaleSource, LayoutId::UpscaleSize],
+        groups: vec![LAYOUT, layout::SIZE],
         blends: vec![None],
         ..PipelineSpec::default()
     }
@@ -58,7 +68,7 @@ impl Upscale {
         Upscale {
             source: device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("upscale source"),
-                layout: &r.layouts.upscale_source,
+                layout: &r.layout(&LAYOUT),
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
@@ -72,7 +82,7 @@ impl Upscale {
             }),
             size: device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("upscale size"),
-                layout: &r.layouts.upscale_size,
+                layout: &r.layout(&layout::SIZE),
                 entries: &[wgpu::BindGroupEntry {
                     binding: 0,
                     resource: buffer.as_entire_binding(),

@@ -6,10 +6,20 @@
 
 use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
 use crate::frame_data::Res;
+use crate::layout::{self, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, LayoutId, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineKey, PipelineSpec};
 use crate::shaders::Shader;
+
+/// The accumulation and revealage targets read by the composite (composite.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "oit",
+    entries: &[
+        layout::texture(0, layout::UNFILTERABLE, layout::D2),
+        layout::texture(1, layout::UNFILTERABLE, layout::D2),
+    ],
+};
 
 /// Bind-group slots of composite.wgsl.
 pub mod slot_composite {
@@ -36,7 +46,7 @@ pub fn blends() -> Vec<Option<wgpu::BlendState>> {
 /// The pipeline of the composite shader.
 pub fn spec(_key: &PipelineKey) -> PipelineSpec {
     PipelineSpec {
-        groups: vec![LayoutId::Oit],
+        groups: vec![LAYOUT],
         blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
         depth: Some((false, wgpu::CompareFunction::Always)),
         ..PipelineSpec::default()
