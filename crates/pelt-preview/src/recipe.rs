@@ -2,14 +2,15 @@
 //! re_renderer's per-frame draw data): its attachments, with their formats, and the steps it
 //! takes (pipeline, bind groups by named slot, buffers, scissor, draws). Feature modules build
 //! recipes; the frame compiles every pipeline the recipes name, then encodes them. A pipeline
-//! is asked for by shader and blend only: its key takes the formats from the recipe's own
+//! is asked for by its descriptor only: its key takes the formats from the recipe's own
 //! attachments, so what is prepared is exactly what is drawn.
 
 use std::ops::Range;
 
 use crate::plan::Pass;
-use crate::renderer::{Blend, MAX_COLOR_TARGETS, PipelineError, PipelineKey, Renderer};
-use crate::shaders::Shader;
+use crate::renderer::{
+    ComputeDesc, MAX_COLOR_TARGETS, PipelineDesc, PipelineError, PipelineKey, Renderer,
+};
 
 /// A colour attachment.
 #[derive(Debug, Clone, Copy)]
@@ -58,7 +59,7 @@ pub enum Step<'a> {
     /// Indexed draw.
     DrawIndexed(Range<u32>, Range<u32>),
     /// Switch to a compute pipeline (compute recipes).
-    Compute(Shader),
+    Compute(ComputeDesc),
     /// Dispatch workgroups (compute recipes).
     Dispatch([u32; 3]),
 }
@@ -143,23 +144,22 @@ impl<'a> Recipe<'a> {
         }
     }
 
-    /// The key of `shader` with `blend` drawn into this pass's attachments.
-    pub fn key(&self, shader: Shader, blend: Blend) -> PipelineKey {
+    /// The key of `desc` drawn into this pass's attachments.
+    pub fn key(&self, desc: PipelineDesc) -> PipelineKey {
         let mut colors = [None; MAX_COLOR_TARGETS];
         for (c, a) in colors.iter_mut().zip(&self.colors) {
             *c = Some(a.format);
         }
         PipelineKey {
-            shader,
-            blend,
+            desc,
             colors,
             depth: self.depth.map(|d| d.format),
         }
     }
 
-    /// Switches to `shader` with `blend`.
-    pub fn pipeline(&mut self, shader: Shader, blend: Blend) {
-        let key = self.key(shader, blend);
+    /// Switches to the pipeline of `desc`.
+    pub fn pipeline(&mut self, desc: PipelineDesc) {
+        let key = self.key(desc);
         self.steps.push(Step::Pipeline(key));
     }
 
@@ -299,7 +299,7 @@ impl<'a> Recipe<'a> {
         });
         for s in &self.steps {
             match s {
-                Step::Compute(shader) => pass.set_pipeline(&r.compute(*shader)?),
+                Step::Compute(desc) => pass.set_pipeline(&r.compute(desc)?),
                 Step::Bind {
                     slot,
                     group,

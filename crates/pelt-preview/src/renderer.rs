@@ -1,17 +1,18 @@
-//! The long-lived half of the renderer (re_renderer's `Renderer`): the device, the bind-group
-//! layouts, shader modules and a cache of render pipelines. A pipeline's key is what the
-//! drawing code asked for: the shader, the blend, and the formats of the targets of the pass
-//! that draws it, read off the pass's own attachments (see [`crate::recipe`]), so the cache
-//! cannot drift from the passes. Each feature module says how its shaders' pipelines are
-//! laid out ([`crate::features::spec`]). Pipelines are compiled before a frame is encoded,
-//! only those the frame uses; a frame never compiles one while encoding.
+//! The long-lived half of the renderer (re_renderer's `Renderer`): the device and three
+//! descriptor → handle caches (re_renderer's `get_or_create`): bind-group layouts, shader
+//! modules and pipelines. The core knows no feature: a pipeline's key is the descriptor the
+//! drawing code asked for ([`PipelineDesc`]: shader, layouts, vertex buffers, blends, depth,
+//! constants) with the formats of the targets of the pass that draws it, read off the pass's
+//! own attachments (see [`crate::recipe`]), so the cache cannot drift from the passes.
+//! Pipelines are compiled before a frame is encoded, only those the frame uses; a frame never
+//! compiles one while encoding.
 
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
 use crate::gpu::Gpu;
 use crate::layout::LayoutDesc;
-use crate::shaders::Shader;
+use crate::shaders::{Entry, ShaderDesc};
 
 /// Linear light accumulation (RGB diffuse, A specular): 16-bit float, blendable everywhere.
 pub const LBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -50,22 +51,40 @@ pub enum Blend {
 /// Most colour targets a pass writes.
 pub const MAX_COLOR_TARGETS: usize = 2;
 
-/// What makes one pipeline differ from another.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
+/// A render pipeline as a feature asks for it: its shader and how it is laid out. The
+/// formats come from the pass that draws it ([`PipelineKey`]).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PipelineDesc {
     /// The shader module and entry points.
-    pub shader: Shader,
-    /// How it blends.
-    pub blend: Blend,
+    pub shader: ShaderDesc,
+    /// Layouts, vertex buffers, blends, depth, culling, constants.
+    pub spec: PipelineSpec,
+}
+
+/// What makes one pipeline differ from another: the descriptor and the formats of the
+/// attachments of the pass that draws it.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    /// What the feature asked for.
+    pub desc: PipelineDesc,
     /// The formats of the pass's colour targets, in attachment order.
     pub colors: [Option<wgpu::TextureFormat>; MAX_COLOR_TARGETS],
     /// The pass's depth format.
     pub depth: Option<wgpu::TextureFormat>,
 }
 
+/// A compute pipeline: its shader and its bind-group layouts by slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ComputeDesc {
+    /// The shader (a compute entry point).
+    pub shader: ShaderDesc,
+    /// Bind group layouts by slot.
+    pub groups: &'static [LayoutDesc],
+}
+
 /// How a feature lays out one of its pipelines; the formats come from the key. Plain data,
 /// so the shader test can check it against the WGSL without a device.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct PipelineSpec {
     /// Bind group layouts by slot, slot 0 first (every slot up to the last present).
     pub groups: Vec<LayoutDesc>,
@@ -82,17 +101,34 @@ pub struct PipelineSpec {
     pub constants: Vec<(&'static str, f64)>,
 }
 
+// The constants are finite numbers (never NaN), so equality is total.
+impl Eq for PipelineSpec {}
+
+impl std::hash::Hash for PipelineSpec {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.groups.hash(state);
+        self.vertex_buffers.hash(state);
+        self.blends.hash(state);
+        self.depth.hash(state);
+        self.cull.hash(state);
+        for (name, value) in &self.constants {
+            name.hash(state);
+            value.to_bits().hash(state);
+        }
+    }
+}
+
 /// Why a pipeline could not be made or found.
 #[derive(Debug, thiserror::Error)]
 pub enum PipelineError {
     /// The frame asked for a pipeline that was not compiled before encoding.
-    #[error("pipeline {0:?} was not prepared before the frame was encoded")]
-    NotPrepared(PipelineKey),
+    #[error("pipeline {0} was not prepared before the frame was encoded")]
+    NotPrepared(String),
     /// The pass's attachments do not fit the pipeline's layout.
-    #[error("pipeline {key:?}: {message}")]
+    #[error("pipeline {module}: {message}")]
     Mismatch {
-        /// The key.
-        key: PipelineKey,
+        /// The shader module.
+        module: String,
         /// What does not fit.
         message: String,
     },
@@ -104,9 +140,9 @@ pub struct Renderer {
     /// The device.
     pub gpu: Gpu,
     layouts: RefCell<HashMap<LayoutDesc, wgpu::BindGroupLayout>>,
-    modules: RefCell<HashMap<Shader, wgpu::ShaderModule>>,
+    modules: RefCell<HashMap<&'static [&'static str], wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
-    compute: RefCell<HashMap<Shader, wgpu::ComputePipeline>>,
+    compute: RefCell<HashMap<ComputeDesc, wgpu::ComputePipeline>>,
     built: Cell<usize>,
     /// Shader files loaded from disk (`pelt view --shaders`), replacing the built-in ones.
     sources: RefCell<Option<Vec<(&'static str, String)>>>,
@@ -147,7 +183,7 @@ impl Renderer {
         for key in keys {
             if !self.pipelines.borrow().contains_key(key) {
                 let p = self.build(key)?;
-                self.pipelines.borrow_mut().insert(*key, p);
+                self.pipelines.borrow_mut().insert(key.clone(), p);
                 self.built.set(self.built.get() + 1);
                 n += 1;
             }
@@ -161,7 +197,7 @@ impl Renderer {
             .borrow()
             .get(key)
             .cloned()
-            .ok_or(PipelineError::NotPrepared(*key))
+            .ok_or_else(|| PipelineError::NotPrepared(key.desc.shader.module_name()))
     }
 
     /// The layout of `desc`, made on first use (descriptors with equal entries share one).
@@ -215,26 +251,20 @@ impl Renderer {
         )
     }
 
-    /// The compute pipeline of `shader` (a compute module), compiled on first use.
-    pub fn compute(&self, shader: Shader) -> Result<wgpu::ComputePipeline, PipelineError> {
-        if let Some(p) = self.compute.borrow().get(&shader) {
+    /// The compute pipeline of `desc`, compiled on first use.
+    pub fn compute(&self, desc: &ComputeDesc) -> Result<wgpu::ComputePipeline, PipelineError> {
+        if let Some(p) = self.compute.borrow().get(desc) {
             return Ok(p.clone());
         }
-        let key = PipelineKey {
-            shader,
-            blend: Blend::None,
-            colors: [None; MAX_COLOR_TARGETS],
-            depth: None,
-        };
-        if !shader.is_compute() {
+        let shader = desc.shader;
+        let Entry::Compute(entry) = shader.entry else {
             return Err(PipelineError::Mismatch {
-                key,
+                module: shader.module_name(),
                 message: "not a compute shader".into(),
             });
-        }
-        let spec = crate::features::spec(&key);
+        };
         let layouts: Vec<wgpu::BindGroupLayout> =
-            spec.groups.iter().map(|g| self.layout(g)).collect();
+            desc.groups.iter().map(|g| self.layout(g)).collect();
         let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
         let device = &self.gpu.device;
         let name = shader.module_name();
@@ -247,11 +277,11 @@ impl Renderer {
             label: Some(&name),
             layout: Some(&layout),
             module: &self.module(shader),
-            entry_point: Some(shader.entry_points().0),
+            entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
         });
-        self.compute.borrow_mut().insert(shader, p.clone());
+        self.compute.borrow_mut().insert(*desc, p.clone());
         self.built.set(self.built.get() + 1);
         Ok(p)
     }
@@ -261,7 +291,7 @@ impl Renderer {
         self.built.get()
     }
 
-    fn module(&self, shader: Shader) -> wgpu::ShaderModule {
+    fn module(&self, shader: ShaderDesc) -> wgpu::ShaderModule {
         let device = &self.gpu.device;
         let source = match &*self.sources.borrow() {
             Some(texts) => shader.source_with(|n| {
@@ -274,7 +304,7 @@ impl Renderer {
         };
         self.modules
             .borrow_mut()
-            .entry(shader)
+            .entry(shader.parts)
             .or_insert_with(|| {
                 device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&shader.module_name()),
@@ -285,8 +315,11 @@ impl Renderer {
     }
 
     fn build(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
-        let spec = crate::features::spec(key);
-        let mismatch = |message: String| PipelineError::Mismatch { key: *key, message };
+        let PipelineDesc { shader, spec } = &key.desc;
+        let mismatch = |message: String| PipelineError::Mismatch {
+            module: shader.module_name(),
+            message,
+        };
         let formats: Vec<wgpu::TextureFormat> = key.colors.iter().flatten().copied().collect();
         if formats.len() != spec.blends.len() {
             return Err(mismatch(format!(
@@ -320,9 +353,9 @@ impl Renderer {
                 })
             })
             .collect();
-        let module = self.module(key.shader);
+        let module = self.module(*shader);
         let device = &self.gpu.device;
-        let name = key.shader.module_name();
+        let name = shader.module_name();
         let layouts: Vec<wgpu::BindGroupLayout> =
             spec.groups.iter().map(|g| self.layout(g)).collect();
         let groups: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
@@ -331,7 +364,9 @@ impl Renderer {
             bind_group_layouts: &groups,
             immediate_size: 0,
         });
-        let (vs, fs) = key.shader.entry_points();
+        let Entry::Render(vs, fs) = shader.entry else {
+            return Err(mismatch("a compute shader in a render pass".into()));
+        };
         let options = wgpu::PipelineCompilationOptions {
             constants: &spec.constants,
             ..Default::default()

@@ -142,149 +142,60 @@ impl Coverage {
     }
 }
 
-/// A shader module (and, for files with several, which entry points a pipeline uses).
+/// The entry points a pipeline uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Shader {
-    /// Geometry pass: normals and DSF buffer (Kircher & Lawrance §2.1).
-    GBuffer,
-    /// Light pass: scissored point lights into the L-buffer (§2.2).
-    Light,
-    /// Material pass with DSF (§2.3, §3, §4).
-    Material,
-    /// Forward reference: per-object light loop.
-    Forward,
-    /// Fur geometry pass 1: the base mesh with grain normals (Revie §2.4.2).
-    FurBase,
-    /// Fur geometry pass 2: the stippled outer shell with rim normals.
-    FurOuter,
-    /// Stipple obliteration into the composition copy (§2.4.4).
-    Obliterate,
-    /// Concentric shells (instance 0: the base mesh).
-    Shells(Lighting, Coverage),
-    /// Silhouette fins.
-    Fins(Lighting),
-    /// Weighted blended OIT resolve.
-    Composite,
-    /// Procedural sky.
-    SkyProcedural,
-    /// Cube-map sky.
-    SkyCube,
-    /// A lower-resolution frame scaled up to the window (`pelt view`'s frame budget).
-    Upscale,
-    /// One mip level of a layered target from the level above.
-    Downsample,
-    /// `pelt view`'s text overlay.
-    Overlay,
-    /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
-    TangentFrames,
-    /// One face of one layer of a distance map (distance_map.wgsl).
-    DistanceMap,
-    /// Compute: each distance-map layer's distance range (minmax.wgsl).
-    MinMax,
-    /// Mirrors and glass through their distance maps (reflect.wgsl).
-    Reflect,
-    /// Explicit strands, Kajiya-Kay per light (strands.wgsl): the converged fur reference.
-    Strands,
-    /// Compute: fin records decoded through the index list (the GPU half of
-    /// `pelt_io::topology::fin_geometry`).
-    FinRecords,
-    /// Compute: linear blend skinning of positions, normals and tangents (skin.wgsl).
-    Skin,
-    /// Compute: skinned vertices into the vertex buffers (skin_scatter.wgsl).
-    SkinScatter,
-    /// Compute: a skinned mesh's fin instances from its vertices (fin_rebuild.wgsl).
-    FinRebuild,
+pub enum Entry {
+    /// A render pipeline's vertex and fragment entry points.
+    Render(&'static str, &'static str),
+    /// A compute pipeline's entry point.
+    Compute(&'static str),
 }
 
-impl Shader {
-    /// Every pipeline shader.
-    pub const ALL: [Shader; 26] = [
-        Shader::GBuffer,
-        Shader::Light,
-        Shader::Material,
-        Shader::Forward,
-        Shader::FurBase,
-        Shader::FurOuter,
-        Shader::Obliterate,
-        Shader::Shells(Lighting::Inferred, Coverage::Medium),
-        Shader::Shells(Lighting::Forward, Coverage::Medium),
-        Shader::Fins(Lighting::Inferred),
-        Shader::Fins(Lighting::Forward),
-        Shader::Composite,
-        Shader::SkyProcedural,
-        Shader::SkyCube,
-        Shader::Upscale,
-        Shader::Downsample,
-        Shader::Overlay,
-        Shader::TangentFrames,
-        Shader::DistanceMap,
-        Shader::MinMax,
-        Shader::Reflect,
-        Shader::Strands,
-        Shader::FinRecords,
-        Shader::Skin,
-        Shader::SkinScatter,
-        Shader::FinRebuild,
-    ];
+/// A shader as a feature declares it: the files its module is made of, in order (the
+/// prelude first, the pass's own file last), and the entry points a pipeline uses. Plain
+/// const data: pipelines are keyed by it, the validation test walks every one a registered
+/// feature declares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ShaderDesc {
+    /// The files, joined in this order.
+    pub parts: &'static [&'static str],
+    /// The entry points.
+    pub entry: Entry,
+}
 
-    /// The pass's own file under `shaders/`.
+impl ShaderDesc {
+    /// A render shader of `parts` with `vs_main` and `fs_main`.
+    pub const fn render(parts: &'static [&'static str]) -> ShaderDesc {
+        ShaderDesc {
+            parts,
+            entry: Entry::Render("vs_main", "fs_main"),
+        }
+    }
+
+    /// A full-screen pass: `parts` after the shared triangle, fragment entry point `fs`.
+    pub const fn fullscreen(parts: &'static [&'static str], fs: &'static str) -> ShaderDesc {
+        ShaderDesc {
+            parts,
+            entry: Entry::Render("vs_fullscreen", fs),
+        }
+    }
+
+    /// A compute shader of `parts` with `cs_main`.
+    pub const fn compute(parts: &'static [&'static str]) -> ShaderDesc {
+        ShaderDesc {
+            parts,
+            entry: Entry::Compute("cs_main"),
+        }
+    }
+
+    /// The pass's own file under `shaders/` (the last part).
     pub fn file(self) -> &'static str {
-        match self {
-            Shader::GBuffer => "gbuffer.wgsl",
-            Shader::Light => "light.wgsl",
-            Shader::Material => "material.wgsl",
-            Shader::Forward => "forward.wgsl",
-            Shader::FurBase | Shader::FurOuter => "fur_gbuffer.wgsl",
-            Shader::Obliterate => "obliterate.wgsl",
-            Shader::Shells(..) => "shells.wgsl",
-            Shader::Fins(_) => "fins.wgsl",
-            Shader::Composite => "composite.wgsl",
-            Shader::SkyProcedural | Shader::SkyCube => "sky.wgsl",
-            Shader::Upscale => "upscale.wgsl",
-            Shader::Downsample => "downsample.wgsl",
-            Shader::Overlay => "overlay.wgsl",
-            Shader::TangentFrames => "tangent_frames.wgsl",
-            Shader::DistanceMap => "distance_map.wgsl",
-            Shader::MinMax => "minmax.wgsl",
-            Shader::Reflect => "reflect.wgsl",
-            Shader::Strands => "strands.wgsl",
-            Shader::FinRecords => "fin_records.wgsl",
-            Shader::Skin => "skin.wgsl",
-            Shader::SkinScatter => "skin_scatter.wgsl",
-            Shader::FinRebuild => "fin_rebuild.wgsl",
-        }
+        self.parts.last().copied().unwrap_or("")
     }
 
-    /// The files the module is made of, in order.
-    pub fn parts(self) -> Vec<&'static str> {
-        let mut p = vec!["common.wgsl"];
-        match self {
-            Shader::FurBase | Shader::FurOuter | Shader::TangentFrames | Shader::FinRebuild => {
-                p.push("fur_common.wgsl");
-            }
-            Shader::Strands => {
-                p.push("fur_common.wgsl");
-                p.push("fur_light_forward.wgsl");
-            }
-            Shader::Shells(l, _) | Shader::Fins(l) => {
-                p.push("fur_common.wgsl");
-                p.push(match l {
-                    Lighting::Inferred => "fur_light_inferred.wgsl",
-                    Lighting::Forward => "fur_light_forward.wgsl",
-                });
-            }
-            _ => {}
-        }
-        if self.fullscreen() {
-            p.push("fullscreen.wgsl");
-        }
-        p.push(self.file());
-        p
-    }
-
-    /// A name for the module (files joined), for labels and errors.
+    /// A name for the module (files after the prelude joined), for labels and errors.
     pub fn module_name(self) -> String {
-        self.parts()[1..].join("+")
+        self.parts[1.min(self.parts.len())..].join("+")
     }
 
     /// The complete module source.
@@ -294,61 +205,23 @@ impl Shader {
 
     /// The module source with each file's text from `text` (hot reload).
     pub fn source_with<'t>(self, text: impl Fn(&str) -> &'t str) -> String {
-        self.parts()
-            .into_iter()
-            .map(text)
+        self.parts
+            .iter()
+            .map(|p| text(p))
             .collect::<Vec<_>>()
             .join("\n")
     }
 
-    /// Whether the module is a compute shader (its one entry point is `cs_main`).
+    /// Whether the module is a compute shader.
     pub fn is_compute(self) -> bool {
-        matches!(
-            self,
-            Shader::TangentFrames
-                | Shader::MinMax
-                | Shader::FinRecords
-                | Shader::Skin
-                | Shader::SkinScatter
-                | Shader::FinRebuild
-        )
+        matches!(self.entry, Entry::Compute(_))
     }
 
-    /// Whether the pass draws fullscreen.wgsl's triangle.
-    pub fn fullscreen(self) -> bool {
-        matches!(
-            self,
-            Shader::Light
-                | Shader::Obliterate
-                | Shader::Composite
-                | Shader::SkyProcedural
-                | Shader::SkyCube
-                | Shader::Upscale
-                | Shader::Downsample
-                | Shader::Overlay
-        )
-    }
-
-    /// The vertex and fragment entry points (one pair per module; the fur shaders' blend
-    /// is an `override` constant, see features/fur.rs).
+    /// The vertex and fragment entry points (a compute shader's twice).
     pub fn entry_points(self) -> (&'static str, &'static str) {
-        if self.is_compute() {
-            return ("cs_main", "cs_main");
-        }
-        if self.fullscreen() {
-            return (
-                "vs_fullscreen",
-                match self {
-                    Shader::SkyProcedural => "fs_procedural",
-                    Shader::SkyCube => "fs_cube",
-                    _ => "fs_main",
-                },
-            );
-        }
-        match self {
-            Shader::FurBase => ("vs_base", "fs_base"),
-            Shader::FurOuter => ("vs_outer", "fs_outer"),
-            _ => ("vs_main", "fs_main"),
+        match self.entry {
+            Entry::Render(vs, fs) => (vs, fs),
+            Entry::Compute(cs) => (cs, cs),
         }
     }
 }
@@ -408,7 +281,7 @@ pub fn load_dir(dir: &std::path::Path) -> Result<Vec<(&'static str, String)>, Sh
             .find(|(t, _)| *t == n)
             .map_or("", |(_, s)| s.as_str())
     };
-    for shader in Shader::ALL {
+    for shader in crate::features::registry::shaders() {
         validate(&shader.module_name(), &shader.source_with(lookup))?;
     }
     Ok(texts)

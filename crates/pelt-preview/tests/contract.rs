@@ -9,15 +9,15 @@ mod common;
 
 use glam::{DVec3, Vec3, Vec4};
 use pelt_geom::frame::Frame;
-use pelt_preview::shaders::Shader;
+use pelt_preview::renderer::ComputeDesc;
 
 use common::preview;
 
-/// Runs `shader` over `n` items (64 a workgroup) with `groups` bound in order, and reads
+/// Runs `shader`'s pipeline over `n` items (64 a workgroup) with `groups` bound in order, and reads
 /// `output` back.
 fn run_compute(
     r: &pelt_preview::renderer::Renderer,
-    shader: Shader,
+    shader: &ComputeDesc,
     groups: &[&wgpu::BindGroup],
     n: usize,
     output: &wgpu::Buffer,
@@ -139,7 +139,13 @@ fn gpu(records: &[[Vec4; 3]]) -> Vec<Vec3> {
     );
     let output = output_buffer(r, "directions", records.len() * 16);
     let group = r.storage_group(&input, &output);
-    let bytes = run_compute(r, Shader::TangentFrames, &[&group], records.len(), &output);
+    let bytes = run_compute(
+        r,
+        &pelt_preview::features::fur::TANGENT_FRAMES,
+        &[&group],
+        records.len(),
+        &output,
+    );
     let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
     out.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect()
 }
@@ -205,7 +211,13 @@ fn the_shaders_fin_decode_is_pelt_ios() {
         r.storage_group(&fins, &output),
         r.storage_group(&idx, &positions),
     );
-    let bytes = run_compute(r, Shader::FinRecords, &[&g0, &g1], records.len(), &output);
+    let bytes = run_compute(
+        r,
+        &pelt_preview::features::fur::FIN_RECORDS,
+        &[&g0, &g1],
+        records.len(),
+        &output,
+    );
     let words: &[u32] = bytemuck::cast_slice(&bytes);
     let mut worst = 0.0_f32;
     for (k, (e, w)) in records.iter().zip(words.chunks_exact(12)).enumerate() {

@@ -7,8 +7,9 @@
 use std::path::Path;
 
 use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
-use pelt_preview::renderer::{Blend, PipelineKey, PipelineSpec};
-use pelt_preview::shaders::{COMMON, FILES, Shader};
+use pelt_preview::features::registry;
+use pelt_preview::renderer::{PipelineDesc, PipelineSpec};
+use pelt_preview::shaders::{COMMON, FILES, ShaderDesc};
 use pelt_preview::uniforms::{
     FinInstance, FrameUniforms, FurVertex, LightUniforms, MaterialUniforms, ObjectUniforms, Vertex,
 };
@@ -29,13 +30,30 @@ fn validate(name: &str, source: &str) -> naga::Module {
     validate_info(name, source).0
 }
 
-fn key(shader: Shader) -> PipelineKey {
-    PipelineKey {
-        shader,
-        blend: Blend::None,
-        colors: [None; 2],
-        depth: None,
-    }
+/// Every pipeline of every registered feature, compute pipelines as specs of their groups.
+fn every_pipeline() -> Vec<PipelineDesc> {
+    let compute = registry::FEATURES.iter().flat_map(|f| {
+        f.compute.iter().map(|c| PipelineDesc {
+            shader: c.shader,
+            spec: PipelineSpec {
+                groups: c.groups.to_vec(),
+                ..PipelineSpec::default()
+            },
+        })
+    });
+    registry::pipelines().into_iter().chain(compute).collect()
+}
+
+fn shader_of(f: &str, file: &str) -> ShaderDesc {
+    registry::FEATURES
+        .iter()
+        .find(|x| x.name == f)
+        .map(|x| (x.pipelines)())
+        .unwrap_or_default()
+        .into_iter()
+        .map(|p| p.shader)
+        .find(|s| s.file() == file)
+        .unwrap_or_else(|| panic!("feature {f} declares {file}"))
 }
 
 /// Whether a vertex format feeds a WGSL input of type `ty`.
@@ -232,13 +250,13 @@ fn every_shader_file_validates_and_is_compiled_by_the_renderer() {
         let on_disk = std::fs::read_to_string(dir.join(name)).expect("read");
         assert_eq!(on_disk, text, "{name}: compiled text is the file");
         assert!(
-            Shader::ALL.iter().any(|s| s.parts().contains(&name)),
-            "{name} is part of some module"
+            registry::shaders().iter().any(|s| s.parts.contains(&name)),
+            "{name} is part of some registered feature's shader"
         );
     }
     // The prelude alone, then each module as compiled, with the entry points its pipelines use.
     validate("common.wgsl", COMMON);
-    for s in Shader::ALL {
+    for s in registry::shaders() {
         let source = s.source();
         let m = validate(&s.module_name(), &source);
         let entries: Vec<&str> = m.entry_points.iter().map(|e| e.name.as_str()).collect();
@@ -253,27 +271,27 @@ fn every_shader_file_validates_and_is_compiled_by_the_renderer() {
 
 #[test]
 fn every_pipeline_layout_matches_its_entry_points() {
-    for s in Shader::ALL {
+    let all = every_pipeline();
+    // Every feature's pipelines, each variant (blends, lightings, coverage codes) once.
+    assert!(all.len() >= 30, "{} pipelines registered", all.len());
+    for PipelineDesc { shader: s, spec } in all {
         let (m, info) = validate_info(&s.module_name(), &s.source());
         let (vs, fs) = s.entry_points();
-        for blend in [Blend::None, Blend::Over, Blend::Wboit] {
-            let spec = pelt_preview::features::spec(&PipelineKey { blend, ..key(s) });
-            if !s.is_compute() {
-                check_vertex(&m, vs, &spec)
-                    .unwrap_or_else(|e| panic!("{} vertex buffers: {e}", s.module_name()));
-            }
-            check_groups(&m, &info, [vs, fs], &spec)
-                .unwrap_or_else(|e| panic!("{} bind groups: {e}", s.module_name()));
-            // Every override constant the pipeline sets exists in the module.
-            for (name, _) in &spec.constants {
-                assert!(
-                    m.overrides
-                        .iter()
-                        .any(|(_, o)| o.name.as_deref() == Some(name)),
-                    "{}: no override {name}",
-                    s.module_name()
-                );
-            }
+        if !s.is_compute() {
+            check_vertex(&m, vs, &spec)
+                .unwrap_or_else(|e| panic!("{} vertex buffers: {e}", s.module_name()));
+        }
+        check_groups(&m, &info, [vs, fs], &spec)
+            .unwrap_or_else(|e| panic!("{} bind groups: {e}", s.module_name()));
+        // Every override constant the pipeline sets exists in the module.
+        for (name, _) in &spec.constants {
+            assert!(
+                m.overrides
+                    .iter()
+                    .any(|(_, o)| o.name.as_deref() == Some(name)),
+                "{}: no override {name}",
+                s.module_name()
+            );
         }
     }
 }
@@ -282,19 +300,19 @@ fn every_pipeline_layout_matches_its_entry_points() {
 /// groups swapped, is caught.
 #[test]
 fn a_mismatched_layout_is_caught() {
-    let s = Shader::GBuffer;
+    let PipelineDesc { shader: s, spec } = pelt_preview::features::geometry::pipeline();
     let (m, info) = validate_info(&s.module_name(), &s.source());
     let (vs, fs) = s.entry_points();
-    let mut spec = pelt_preview::features::spec(&key(s));
-    spec.vertex_buffers = vec![pelt_preview::features::fur_vertex_layout()];
-    assert!(check_vertex(&m, vs, &spec).is_err());
-    let mut spec = pelt_preview::features::spec(&key(s));
-    spec.groups.reverse();
-    let e = check_groups(&m, &info, [vs, fs], &spec).expect_err("swapped groups");
+    let mut wrong = spec.clone();
+    wrong.vertex_buffers = vec![pelt_preview::features::fur_vertex_layout()];
+    assert!(check_vertex(&m, vs, &wrong).is_err());
+    let mut wrong = spec;
+    wrong.groups.reverse();
+    let e = check_groups(&m, &info, [vs, fs], &wrong).expect_err("swapped groups");
     assert!(e.contains("does not match"), "{e}");
-    let mut spec = pelt_preview::features::spec(&key(Shader::SkyCube));
+    let PipelineDesc { shader, mut spec } = pelt_preview::features::sky::pipeline(true);
     spec.groups = vec![pelt_preview::layout::FRAME];
-    let (m, info) = validate_info("sky", &Shader::SkyCube.source());
+    let (m, info) = validate_info("sky", &shader.source());
     let e = check_groups(&m, &info, ["vs_fullscreen", "fs_cube"], &spec).expect_err("missing");
     assert!(e.contains("@group(1)"), "{e}");
 }
@@ -345,8 +363,16 @@ fn uniform_structs_match_the_rust_side() {
     );
     // The distance maps' own uniforms (keep in sync with distance_map.wgsl and reflect.wgsl).
     for (shader, name, size) in [
-        (Shader::DistanceMap, "Face", size_of::<FaceUniforms>()),
-        (Shader::Reflect, "Reflect", size_of::<ReflectUniforms>()),
+        (
+            shader_of("reflect", "distance_map.wgsl"),
+            "Face",
+            size_of::<FaceUniforms>(),
+        ),
+        (
+            shader_of("reflect", "reflect.wgsl"),
+            "Reflect",
+            size_of::<ReflectUniforms>(),
+        ),
     ] {
         let m = validate(shader.file(), &shader.source());
         let mut layouter = naga::proc::Layouter::default();

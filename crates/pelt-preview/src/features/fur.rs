@@ -7,15 +7,16 @@
 //! lit from the L-buffer at root and tip (or per light, forward), blended over or into the
 //! OIT targets.
 
+use crate::features::registry::Feature;
 use crate::features::{
     Frame, MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
 use crate::layout::{self, D2, FILTERABLE, LayoutDesc, sampler, texture};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, ComputeDesc, PipelineDesc, PipelineSpec};
 use crate::scene::FurCoverage;
-use crate::shaders::{Coverage, Lighting, Shader};
+use crate::shaders::{Coverage, Entry, Lighting, ShaderDesc};
 use crate::uniforms::FinInstance;
 
 /// Bind-group slots of obliterate.wgsl.
@@ -57,54 +58,75 @@ pub const LAYOUT: LayoutDesc = LayoutDesc {
     ],
 };
 
-/// The pipelines of the fur shaders.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    let lighting = |lt| match lt {
-        Lighting::Inferred => layout::TEXTURES,
-        Lighting::Forward => layout::LIGHT_ARRAY,
-    };
-    match key.shader {
-        Shader::Obliterate => PipelineSpec {
-            groups: vec![layout::TEXTURES, layout::SHELL_TABLE],
-            blends: vec![None, None],
-            ..PipelineSpec::default()
-        },
-        Shader::Shells(lt, _) | Shader::Fins(lt) => PipelineSpec {
-            groups: vec![layout::FRAME, layout::OBJECT, lighting(lt), LAYOUT],
-            vertex_buffers: if matches!(key.shader, Shader::Fins(_)) {
-                vec![fin_layout()]
-            } else {
-                vec![vertex_layout(), fur_vertex_layout()]
-            },
-            blends: object_blends(key.blend),
-            depth: object_depth(key.blend),
-            // Blended shells show only their outer side (the far side's shells stick out
-            // behind the silhouette, where they would blend in the wrong order).
-            cull: (matches!(key.shader, Shader::Shells(..)) && key.blend != Blend::None)
-                .then_some(wgpu::Face::Back),
-            // One fragment entry point: straight alpha, or with WBOIT the OIT outputs; the
-            // coverage code the object needs (the strand-resolving taps only where the plan
-            // says a pixel may resolve strands).
-            constants: [
-                (key.blend == Blend::Wboit).then_some(("WBOIT", 1.0)),
-                match key.shader {
-                    Shader::Shells(_, c) if c != Coverage::Medium => {
-                        Some(("COVERAGE", c.constant()))
-                    }
-                    _ => None,
-                },
-                // Where the taps give way to the medium: the plan's threshold, one home.
-                matches!(key.shader, Shader::Shells(..)).then_some((
-                    "RESOLVED_BELOW",
-                    f64::from(pelt_scene::footprint::RESOLVED_BELOW),
-                )),
-            ]
-            .into_iter()
-            .flatten()
-            .collect(),
-        },
-        // FurBase, FurOuter: into the G-buffer.
-        _ => PipelineSpec {
+const GBUFFER_PARTS: &[&str] = &["common.wgsl", "fur_common.wgsl", "fur_gbuffer.wgsl"];
+/// Fur geometry pass 1: the base mesh with grain normals (Revie §2.4.2).
+pub const BASE: ShaderDesc = ShaderDesc {
+    parts: GBUFFER_PARTS,
+    entry: Entry::Render("vs_base", "fs_base"),
+};
+/// Fur geometry pass 2: the stippled outer shell with rim normals.
+pub const OUTER: ShaderDesc = ShaderDesc {
+    parts: GBUFFER_PARTS,
+    entry: Entry::Render("vs_outer", "fs_outer"),
+};
+/// Stipple obliteration into the composition copy (§2.4.4).
+pub const OBLITERATE: ShaderDesc = ShaderDesc::fullscreen(
+    &["common.wgsl", "fullscreen.wgsl", "obliterate.wgsl"],
+    "fs_main",
+);
+/// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
+pub const TANGENT_FRAMES: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "fur_common.wgsl", "tangent_frames.wgsl"]),
+    groups: &[layout::STORAGE],
+};
+/// Compute: fin records decoded through the index list (the GPU half of
+/// `pelt_io::topology::fin_geometry`).
+pub const FIN_RECORDS: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "fin_records.wgsl"]),
+    groups: &[layout::STORAGE, layout::STORAGE],
+};
+
+/// The shells (instance 0: the base mesh), lit by `lighting`.
+pub const fn shells(lighting: Lighting) -> ShaderDesc {
+    match lighting {
+        Lighting::Inferred => ShaderDesc::render(&[
+            "common.wgsl",
+            "fur_common.wgsl",
+            "fur_light_inferred.wgsl",
+            "shells.wgsl",
+        ]),
+        Lighting::Forward => ShaderDesc::render(&[
+            "common.wgsl",
+            "fur_common.wgsl",
+            "fur_light_forward.wgsl",
+            "shells.wgsl",
+        ]),
+    }
+}
+
+/// The silhouette fins, lit by `lighting`.
+pub const fn fins(lighting: Lighting) -> ShaderDesc {
+    match lighting {
+        Lighting::Inferred => ShaderDesc::render(&[
+            "common.wgsl",
+            "fur_common.wgsl",
+            "fur_light_inferred.wgsl",
+            "fins.wgsl",
+        ]),
+        Lighting::Forward => ShaderDesc::render(&[
+            "common.wgsl",
+            "fur_common.wgsl",
+            "fur_light_forward.wgsl",
+            "fins.wgsl",
+        ]),
+    }
+}
+
+/// A fur geometry-pass pipeline (`shader`: [`BASE`] or [`OUTER`]).
+pub fn gbuffer_pipeline(shader: ShaderDesc) -> PipelineDesc {
+    PipelineDesc {
+        shader,
+        spec: PipelineSpec {
             groups: vec![layout::FRAME, layout::OBJECT],
             vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
             blends: vec![None, None],
@@ -113,6 +135,103 @@ pub fn spec(key: &PipelineKey) -> PipelineSpec {
         },
     }
 }
+
+/// The obliteration pipeline.
+pub fn obliterate_pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: OBLITERATE,
+        spec: PipelineSpec {
+            groups: vec![layout::TEXTURES, layout::SHELL_TABLE],
+            blends: vec![None, None],
+            ..PipelineSpec::default()
+        },
+    }
+}
+
+/// What a shell or fin pipeline differs by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layer {
+    /// Shells with this coverage code.
+    Shells(Coverage),
+    /// Fins.
+    Fins,
+}
+
+/// The pipeline of shells or fins lit by `lighting`, drawn with `blend`.
+pub fn layer_pipeline(layer: Layer, lighting: Lighting, blend: Blend) -> PipelineDesc {
+    let shells = matches!(layer, Layer::Shells(_));
+    PipelineDesc {
+        shader: match layer {
+            Layer::Shells(_) => self::shells(lighting),
+            Layer::Fins => fins(lighting),
+        },
+        spec: PipelineSpec {
+            groups: vec![
+                layout::FRAME,
+                layout::OBJECT,
+                match lighting {
+                    Lighting::Inferred => layout::TEXTURES,
+                    Lighting::Forward => layout::LIGHT_ARRAY,
+                },
+                LAYOUT,
+            ],
+            vertex_buffers: if shells {
+                vec![vertex_layout(), fur_vertex_layout()]
+            } else {
+                vec![fin_layout()]
+            },
+            blends: object_blends(blend),
+            depth: object_depth(blend),
+            // Blended shells show only their outer side (the far side's shells stick out
+            // behind the silhouette, where they would blend in the wrong order).
+            cull: (shells && blend != Blend::None).then_some(wgpu::Face::Back),
+            // One fragment entry point: straight alpha, or with WBOIT the OIT outputs; the
+            // coverage code the object needs (the strand-resolving taps only where the plan
+            // says a pixel may resolve strands).
+            constants: [
+                (blend == Blend::Wboit).then_some(("WBOIT", 1.0)),
+                match layer {
+                    Layer::Shells(c) if c != Coverage::Medium => Some(("COVERAGE", c.constant())),
+                    _ => None,
+                },
+                // Where the taps give way to the medium: the plan's threshold, one home.
+                shells.then_some((
+                    "RESOLVED_BELOW",
+                    f64::from(pelt_scene::footprint::RESOLVED_BELOW),
+                )),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+        },
+    }
+}
+
+fn pipelines() -> Vec<PipelineDesc> {
+    let mut out = vec![
+        gbuffer_pipeline(BASE),
+        gbuffer_pipeline(OUTER),
+        obliterate_pipeline(),
+    ];
+    for lighting in [Lighting::Inferred, Lighting::Forward] {
+        for blend in [Blend::None, Blend::Over, Blend::Wboit] {
+            for coverage in [Coverage::Medium, Coverage::Resolved, Coverage::Binary] {
+                out.push(layer_pipeline(Layer::Shells(coverage), lighting, blend));
+            }
+            out.push(layer_pipeline(Layer::Fins, lighting, blend));
+        }
+    }
+    out
+}
+
+/// Revie's fur's feature.
+pub const FEATURE: Feature = Feature {
+    name: "fur",
+    explain: "Revie's deferred fur: G-buffer base and stippled outer shell, obliteration, \
+              shells and fins",
+    pipelines,
+    compute: &[TANGENT_FRAMES, FIN_RECORDS],
+};
 
 /// Binds fur object `k`'s mesh, fur vertices and textures.
 fn bind_fur<'a>(
@@ -154,8 +273,8 @@ pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput
     if f.plan.fur.is_empty() {
         return Ok(());
     }
-    for shader in [Shader::FurBase, Shader::FurOuter] {
-        r.pipeline(shader, Blend::None);
+    for shader in [BASE, OUTER] {
+        r.pipeline(gbuffer_pipeline(shader));
         for &k in &f.plan.fur {
             let (mesh, _) = bind_fur(f, r, Pass::Geometry.name(), k)?;
             r.push(Step::DrawIndexed(0..mesh.count, 0..1));
@@ -177,7 +296,7 @@ pub fn obliterate_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
     };
     let mut r = Recipe::new(Pass::Obliterate, vec![clear(&c.light), clear(&c.dsf)], None);
-    r.pipeline(Shader::Obliterate, Blend::None);
+    r.pipeline(obliterate_pipeline());
     r.bind(obliterate_slot::SOURCE, &f.targets.lbuffer_read, None);
     r.bind(obliterate_slot::SHELL_TABLE, f.data.shell_table(), None);
     r.push(Step::Draw(0..3, 0..1));
@@ -191,7 +310,11 @@ pub fn base<'a>(
     pass: &'static str,
     lighting: Lighting,
 ) -> Result<(), MissingInput> {
-    r.pipeline(Shader::Shells(lighting, Coverage::Medium), Blend::None);
+    r.pipeline(layer_pipeline(
+        Layer::Shells(Coverage::Medium),
+        lighting,
+        Blend::None,
+    ));
     for &k in &f.plan.fur {
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
         draw_parts(r, mesh, fur, 0..1);
@@ -216,7 +339,7 @@ pub fn layers<'a>(
             Some(p) if p.resolved => Coverage::Resolved,
             _ => Coverage::Medium,
         };
-        r.pipeline(Shader::Shells(lighting, coverage), blend);
+        r.pipeline(layer_pipeline(Layer::Shells(coverage), lighting, blend));
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
         draw_parts(r, mesh, fur, 1..n + 1);
     }
@@ -230,7 +353,7 @@ pub fn layers<'a>(
     if with_fins.is_empty() {
         return Ok(());
     }
-    r.pipeline(Shader::Fins(lighting), blend);
+    r.pipeline(layer_pipeline(Layer::Fins, lighting, blend));
     for k in with_fins {
         let mesh = f.mesh(pass, k)?;
         let fur = mesh.fur.as_ref();

@@ -4,24 +4,40 @@
 //! feature adds its base mesh and stippled outer shell, the alpha feature its stippled
 //! objects.
 
+use crate::features::registry::Feature;
+use crate::features::slot;
 use crate::features::{Frame, MissingInput, alpha, fur, vertex_layout};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
-use crate::shaders::Shader;
+use crate::renderer::{PipelineDesc, PipelineSpec};
+use crate::shaders::ShaderDesc;
 
-/// The pipeline of the G-buffer shader.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![layout::FRAME, layout::OBJECT, crate::gpu_material::LAYOUT],
-        vertex_buffers: vec![vertex_layout()],
-        blends: vec![None, None],
-        depth: Some((true, wgpu::CompareFunction::Less)),
-        ..PipelineSpec::default()
+/// gbuffer.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "gbuffer.wgsl"]);
+
+/// The G-buffer shader's pipeline.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![layout::FRAME, layout::OBJECT, crate::gpu_material::LAYOUT],
+            vertex_buffers: vec![vertex_layout()],
+            blends: vec![None, None],
+            depth: Some((true, wgpu::CompareFunction::Less)),
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// The geometry pass's feature.
+pub const FEATURE: Feature = Feature {
+    name: "geometry",
+    explain: "opaque geometry into the G-buffer at L-buffer resolution",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 /// The G-buffer's colour and depth attachments, cleared: normals 0, DSF depth code 65535
 /// (no surface) and ID 0, depth 1.
@@ -63,11 +79,11 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f)?;
     f.bind_frame(&mut r, Res::Lbuffer);
     if !f.plan.opaque.is_empty() || !f.plan.reflective.is_empty() {
-        r.pipeline(Shader::GBuffer, Blend::None);
+        r.pipeline(pipeline());
         f.draw_objects(
             &mut r,
             Pass::Geometry.name(),
-            Shader::GBuffer,
+            Some(slot::GBUFFER_MATERIAL),
             &f.plan.opaque,
         )?;
         // Mirrors and glass hold their pixels' depth and IDs (they are shaded later, from
@@ -75,7 +91,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         f.draw_objects(
             &mut r,
             Pass::Geometry.name(),
-            Shader::GBuffer,
+            Some(slot::GBUFFER_MATERIAL),
             &f.plan.reflective,
         )?;
     }

@@ -2,13 +2,14 @@
 //! light adds its diffuse and specular intensity over its scissor rectangle only, reading
 //! position and normal back from the G-buffer.
 
+use crate::features::registry::Feature;
 use crate::features::{ADD, Frame, MissingInput};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
-use crate::shaders::Shader;
+use crate::renderer::{PipelineDesc, PipelineSpec};
+use crate::shaders::ShaderDesc;
 
 /// Bind-group slots of light.wgsl.
 pub mod slot {
@@ -22,19 +23,34 @@ pub mod slot {
     pub const SHELL_TABLE: u32 = 3;
 }
 
-/// The pipeline of the light shader: additive into the L-buffer.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![
-            layout::FRAME,
-            layout::TEXTURES,
-            layout::LIGHT,
-            layout::SHELL_TABLE,
-        ],
-        blends: vec![Some(ADD)],
-        ..PipelineSpec::default()
+/// light.wgsl, a full-screen pass scissored to each light.
+pub const SHADER: ShaderDesc =
+    ShaderDesc::fullscreen(&["common.wgsl", "fullscreen.wgsl", "light.wgsl"], "fs_main");
+
+/// The light shader's pipeline: additive into the L-buffer.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![
+                layout::FRAME,
+                layout::TEXTURES,
+                layout::LIGHT,
+                layout::SHELL_TABLE,
+            ],
+            blends: vec![Some(ADD)],
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// The light pass's feature.
+pub const FEATURE: Feature = Feature {
+    name: "lights",
+    explain: "scissored point lights into the L-buffer",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 /// The light pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
@@ -67,7 +83,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         }],
         None,
     );
-    r.pipeline(Shader::Light, Blend::None);
+    r.pipeline(pipeline());
     r.bind(
         slot::FRAME,
         f.data.frame(),

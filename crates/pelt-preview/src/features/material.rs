@@ -6,6 +6,7 @@
 //! (stipple blend) and the alpha objects back to front, unless the OIT composite draws them.
 //! The forward reference ([`super::forward`]) takes the same order with its own shader.
 
+use crate::features::registry::Feature;
 use crate::features::vertex_layout;
 use crate::features::{
     Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot, strands,
@@ -14,9 +15,9 @@ use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
+use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
 use crate::scene::FurBlend;
-use crate::shaders::{Lighting, Shader};
+use crate::shaders::{Lighting, ShaderDesc};
 
 /// Background of the output (linear; [`pelt_scene::shading::BACKGROUND`]).
 pub const BACKGROUND: wgpu::Color = wgpu::Color {
@@ -26,45 +27,66 @@ pub const BACKGROUND: wgpu::Color = wgpu::Color {
     a: 1.0,
 };
 
-/// The pipeline of the material shader.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![
-            layout::FRAME,
-            layout::OBJECT,
-            layout::TEXTURES,
-            crate::gpu_material::LAYOUT,
-        ],
-        vertex_buffers: vec![vertex_layout()],
-        blends: object_blends(key.blend),
-        depth: object_depth(key.blend),
-        ..PipelineSpec::default()
+/// material.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "material.wgsl"]);
+
+/// The material shader's pipeline with `blend`.
+pub fn pipeline(blend: Blend) -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![
+                layout::FRAME,
+                layout::OBJECT,
+                layout::TEXTURES,
+                crate::gpu_material::LAYOUT,
+            ],
+            vertex_buffers: vec![vertex_layout()],
+            blends: object_blends(blend),
+            depth: object_depth(blend),
+            ..PipelineSpec::default()
+        },
     }
 }
 
-/// The shader ordinary objects are drawn with in `plan`'s mode.
-pub fn object_shader(plan: &crate::plan::Plan) -> Shader {
+/// The material pass's feature.
+pub const FEATURE: Feature = Feature {
+    name: "material",
+    explain: "materials at output resolution, lit from the L-buffer through DSF",
+    pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
+    compute: &[],
+};
+
+/// The pipeline ordinary objects are drawn with, lit by `lighting`, with `blend`.
+pub fn object_pipeline(lighting: Lighting, blend: Blend) -> PipelineDesc {
+    match lighting {
+        Lighting::Inferred => pipeline(blend),
+        Lighting::Forward => super::forward::pipeline(blend),
+    }
+}
+
+/// How ordinary objects are lit in `plan`'s mode.
+pub fn object_lighting(plan: &crate::plan::Plan) -> Lighting {
     if plan.mode.is_forward() {
-        Shader::Forward
+        Lighting::Forward
     } else {
-        Shader::Material
+        Lighting::Inferred
     }
 }
 
-/// How `shader`'s objects and fur are lit: (the objects' lighting group, the fur's, each
-/// with its offset, and the fur's lighting model).
-pub fn lighting<'a>(f: &Frame<'a>, shader: Shader) -> (Bound<'a>, Bound<'a>, Lighting) {
-    if shader == Shader::Forward {
+/// The lighting groups of objects lit by `lighting`: (the objects' lighting group, the
+/// fur's, each with its offset).
+pub fn lighting<'a>(f: &Frame<'a>, lighting: Lighting) -> (Bound<'a>, Bound<'a>) {
+    if lighting == Lighting::Forward {
         let a = (
             f.data.light_array(),
             Some(f.data.light_array_offset(f.view)),
         );
-        (a, a, Lighting::Forward)
+        (a, a)
     } else {
         (
             (&f.targets.material_read, None),
             (&f.targets.lbuffer_read, None),
-            Lighting::Inferred,
         )
     }
 }
@@ -89,15 +111,16 @@ fn attachments<'a>(f: &Frame<'a>, pass: Pass) -> Recipe<'a> {
     )
 }
 
-/// The material pass (or, with `Shader::Forward`, the forward pass).
-pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>, MissingInput> {
+/// The material pass (or, lit forward, the forward pass).
+pub fn shade<'a>(f: &Frame<'a>, pass: Pass, lit: Lighting) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f, pass);
-    let (objects_light, fur_light, fur_lighting) = lighting(f, shader);
+    let (objects_light, fur_light) = lighting(f, lit);
+    let fur_lighting = lit;
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, objects_light.0, objects_light.1);
     if !f.plan.opaque.is_empty() {
-        r.pipeline(shader, Blend::None);
-        f.draw_objects(&mut r, pass.name(), shader, &f.plan.opaque)?;
+        r.pipeline(object_pipeline(lit, Blend::None));
+        f.draw_objects(&mut r, pass.name(), Some(slot::MATERIAL), &f.plan.opaque)?;
     }
     if !f.plan.reflective.is_empty() {
         reflect::draw(f, &mut r, pass.name())?;
@@ -118,12 +141,12 @@ pub fn shade<'a>(f: &Frame<'a>, pass: Pass, shader: Shader) -> Result<Recipe<'a>
         fur::layers(f, &mut r, pass.name(), fur_lighting, Blend::Over)?;
     }
     if !wboit {
-        alpha::draw(f, &mut r, pass.name(), shader)?;
+        alpha::draw(f, &mut r, pass.name(), lit)?;
     }
     Ok(r)
 }
 
 /// The material pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    shade(f, Pass::Material, Shader::Material)
+    shade(f, Pass::Material, Lighting::Inferred)
 }

@@ -4,11 +4,12 @@
 //! for sRGB formats). All levels of all layers go in one submission.
 
 use crate::features::Output;
+use crate::features::registry::Feature;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
-use crate::shaders::Shader;
+use crate::renderer::{PipelineDesc, PipelineSpec, Renderer};
+use crate::shaders::ShaderDesc;
 use crate::targets::LayeredTarget;
 
 /// A 2D-array texture and its sampler: the level above (downsample.wgsl).
@@ -28,14 +29,31 @@ pub mod slot {
     pub const PARAMS: u32 = 1;
 }
 
-/// The pipeline of the downsample shader.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![LAYOUT, layout::SIZE],
-        blends: vec![None],
-        ..PipelineSpec::default()
+/// downsample.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
+    &["common.wgsl", "fullscreen.wgsl", "downsample.wgsl"],
+    "fs_main",
+);
+
+/// The mips shader's pipeline.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![LAYOUT, layout::SIZE],
+            blends: vec![None],
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// The mips feature.
+pub const FEATURE: Feature = Feature {
+    name: "mips",
+    explain: "mip chains of layered targets",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 /// One level of one layer: its source group, its parameters and the view it writes.
 struct Level {
@@ -116,7 +134,7 @@ pub fn mip_chain(r: &Renderer, t: &LayeredTarget) -> Result<(), crate::FrameErro
                 }],
                 None,
             );
-            recipe.pipeline(Shader::Downsample, Blend::None);
+            recipe.pipeline(pipeline());
             recipe.bind(slot::SOURCE, &l.source, None);
             recipe.bind(slot::PARAMS, &l.params, None);
             recipe.push(Step::Draw(0..3, 0..1));

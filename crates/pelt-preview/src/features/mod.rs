@@ -20,8 +20,8 @@
 //! - [`strands`]: explicit strands, the converged fur reference;
 //! - [`skin`]: the skinning compute pass (glTF linear blend skinning) into storage buffers.
 //!
-//! Adding a pass: its WGSL in `shaders/` (and its [`Shader`] variant), a module here with
-//! its `spec` and recipe function, and its place in [`crate::frame::recipe`]'s ordering.
+//! Each module declares its shaders, bind-group layouts and pipelines as descriptors and one
+//! [`registry::Feature`], listed in [`registry::FEATURES`].
 
 pub mod alpha;
 pub mod forward;
@@ -32,6 +32,7 @@ pub mod material;
 pub mod mips;
 pub mod overlay;
 pub mod reflect;
+pub mod registry;
 pub mod resolve;
 pub mod skin;
 pub mod sky;
@@ -43,11 +44,8 @@ use std::sync::Arc;
 
 use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::frame_data::{FrameData, Res};
-use crate::layout;
 use crate::plan::Plan;
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{PipelineKey, PipelineSpec};
-use crate::shaders::Shader;
 use crate::targets::ViewTargets;
 use crate::uniforms::{FurVertex, Vertex};
 
@@ -79,16 +77,6 @@ pub mod slot {
     pub const MATERIAL: u32 = 3;
     /// The material's textures and factors in the G-buffer pass (its normal map).
     pub const GBUFFER_MATERIAL: u32 = 2;
-
-    /// Where `shader` reads the material (None: it reads none).
-    pub fn material(shader: crate::shaders::Shader) -> Option<u32> {
-        use crate::shaders::Shader;
-        match shader {
-            Shader::GBuffer => Some(GBUFFER_MATERIAL),
-            Shader::Material | Shader::Forward => Some(MATERIAL),
-            _ => None,
-        }
-    }
 }
 
 /// A planned pass lacks something it needs.
@@ -164,13 +152,13 @@ impl<'a> Frame<'a> {
         );
     }
 
-    /// Draws each object of `order` with the current pipeline, `shader`'s, part by part,
-    /// binding each part's material where the shader reads one.
+    /// Draws each object of `order` with the current pipeline, part by part, binding each
+    /// part's material at `material` where the shader reads one (None: it reads none).
     pub fn draw_objects(
         &self,
         recipe: &mut Recipe<'a>,
         pass: &'static str,
-        shader: Shader,
+        material: Option<u32>,
         order: &[usize],
     ) -> Result<(), MissingInput> {
         for &k in order {
@@ -178,7 +166,7 @@ impl<'a> Frame<'a> {
             self.bind_object(recipe, k);
             recipe.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
             recipe.push(Step::Indices(&mesh.indices));
-            match slot::material(shader) {
+            match material {
                 Some(at) => {
                     for p in &mesh.parts {
                         recipe.bind(at, &mesh.materials[p.material].group, None);
@@ -230,38 +218,6 @@ pub const ADD: wgpu::BlendState = wgpu::BlendState {
         operation: wgpu::BlendOperation::Add,
     },
 };
-
-/// How the feature that owns `key.shader` lays out its pipeline.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    match key.shader {
-        Shader::GBuffer => geometry::spec(key),
-        Shader::Light => lights::spec(key),
-        Shader::Material => material::spec(key),
-        Shader::Forward => forward::spec(key),
-        Shader::FurBase
-        | Shader::FurOuter
-        | Shader::Obliterate
-        | Shader::Shells(..)
-        | Shader::Fins(_) => fur::spec(key),
-        Shader::Composite => wboit::spec(key),
-        Shader::SkyProcedural | Shader::SkyCube => sky::spec(key),
-        Shader::Upscale => upscale::spec(key),
-        Shader::Downsample => mips::spec(key),
-        Shader::Overlay => overlay::spec(key),
-        Shader::DistanceMap | Shader::MinMax | Shader::Reflect => reflect::spec(key),
-        Shader::Strands => strands::spec(key),
-        Shader::FinRecords | Shader::Skin | Shader::SkinScatter | Shader::FinRebuild => {
-            PipelineSpec {
-                groups: vec![layout::STORAGE, layout::STORAGE],
-                ..PipelineSpec::default()
-            }
-        }
-        Shader::TangentFrames => PipelineSpec {
-            groups: vec![layout::STORAGE],
-            ..PipelineSpec::default()
-        },
-    }
-}
 
 /// Colour blend of an object shader drawn with `blend` into one target (`None`: replace;
 /// `Over`: straight alpha; `Wboit`: accumulation and revealage).

@@ -4,11 +4,12 @@
 //! over the finished frame.
 
 use crate::features::Output;
+use crate::features::registry::Feature;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
-use crate::shaders::Shader;
+use crate::renderer::{PipelineDesc, PipelineSpec, Renderer};
+use crate::shaders::ShaderDesc;
 
 /// The overlay's text bitmap (overlay.wgsl).
 pub const LAYOUT: LayoutDesc = LayoutDesc {
@@ -27,14 +28,31 @@ pub mod slot {
 /// Font pixels of padding around the text.
 const PAD: u32 = 4;
 
-/// The pipeline of the overlay shader: blended over, no depth.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![LAYOUT, layout::SIZE],
-        blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
-        ..PipelineSpec::default()
+/// overlay.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
+    &["common.wgsl", "fullscreen.wgsl", "overlay.wgsl"],
+    "fs_main",
+);
+
+/// The overlay shader's pipeline.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![LAYOUT, layout::SIZE],
+            blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// The overlay feature.
+pub const FEATURE: Feature = Feature {
+    name: "overlay",
+    explain: "pelt view's text overlay",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 /// `lines` rasterized: (width, height, one byte per pixel, 255 where the font has ink), with
 /// [`PAD`] pixels around. Characters outside ASCII draw as `?`.
@@ -154,7 +172,7 @@ impl Overlay {
             }],
             None,
         );
-        r.pipeline(Shader::Overlay, Blend::Over);
+        r.pipeline(pipeline());
         r.bind(slot::TEXT, group, None);
         r.bind(slot::PARAMS, &self.params, None);
         r.push(Step::Draw(0..3, 0..1));

@@ -15,13 +15,14 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::assets::GpuMesh;
+use crate::features::registry::Feature;
 use crate::features::{Frame, MissingInput, vertex_layout};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, DEPTH_FORMAT, PipelineKey, PipelineSpec, Renderer};
+use crate::renderer::{Blend, ComputeDesc, DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::scene::{Sky, Technique};
-use crate::shaders::Shader;
+use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
 
@@ -557,41 +558,61 @@ impl Maps {
     }
 }
 
-/// The pipelines of distance_map.wgsl and reflect.wgsl, and minmax.wgsl's layout.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    let (groups, blends, vertex_buffers, depth) = match key.shader {
-        Shader::DistanceMap => (
-            vec![
+/// distance_map.wgsl: one face of one layer of a distance map.
+pub const DISTANCE_MAP: ShaderDesc = ShaderDesc::render(&["common.wgsl", "distance_map.wgsl"]);
+/// reflect.wgsl: mirrors and glass through their maps.
+pub const REFLECT: ShaderDesc = ShaderDesc::render(&["common.wgsl", "reflect.wgsl"]);
+/// minmax.wgsl: each layer's distance range.
+pub const MINMAX: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "minmax.wgsl"]),
+    groups: &[MINMAX_LAYOUT],
+};
+
+/// The distance-map pipeline (two targets: material and geometry).
+pub fn map_pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: DISTANCE_MAP,
+        spec: PipelineSpec {
+            groups: vec![
                 FACE_LAYOUT,
                 layout::OBJECT,
                 layout::LIGHT_ARRAY,
                 PEEL_LAYOUT,
             ],
-            vec![None, None],
-            vec![vertex_layout()],
-            Some((true, wgpu::CompareFunction::Less)),
-        ),
-        Shader::MinMax => (vec![MINMAX_LAYOUT], Vec::new(), Vec::new(), None),
-        _ => (
-            vec![
+            vertex_buffers: vec![vertex_layout()],
+            blends: vec![None, None],
+            depth: Some((true, wgpu::CompareFunction::Less)),
+            ..PipelineSpec::default()
+        },
+    }
+}
+
+/// The pipeline that draws mirrors and glass in the material and forward passes.
+pub fn reflect_pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: REFLECT,
+        spec: PipelineSpec {
+            groups: vec![
                 layout::FRAME,
                 layout::OBJECT,
                 MAPS_LAYOUT,
                 super::sky::LAYOUT,
             ],
-            crate::features::object_blends(Blend::None),
-            vec![vertex_layout()],
-            crate::features::object_depth(Blend::None),
-        ),
-    };
-    PipelineSpec {
-        groups,
-        vertex_buffers,
-        blends,
-        depth,
-        ..PipelineSpec::default()
+            vertex_buffers: vec![vertex_layout()],
+            blends: crate::features::object_blends(Blend::None),
+            depth: crate::features::object_depth(Blend::None),
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// Mirrors and glass's feature.
+pub const FEATURE: Feature = Feature {
+    name: "reflect",
+    explain: "mirrors and glass from layered distance maps",
+    pipelines: || vec![map_pipeline(), reflect_pipeline()],
+    compute: &[MINMAX],
+};
 
 fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput> {
     f.maps.ok_or_else(|| MissingInput {
@@ -658,7 +679,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                         load: wgpu::LoadOp::Clear(1.0),
                     }),
                 );
-                r.pipeline(Shader::DistanceMap, Blend::None);
+                r.pipeline(map_pipeline());
                 r.bind(
                     slot::FACE,
                     &m.faces_group,
@@ -688,7 +709,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
 pub fn minmax_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let m = maps(f, Pass::MinMax.name())?;
     let mut r = Recipe::compute(Pass::MinMax);
-    r.push(Step::Compute(Shader::MinMax));
+    r.push(Step::Compute(MINMAX));
     r.bind(slot::RANGES, &m.minmax, None);
     r.push(Step::Dispatch([m.spec.maps, m.spec.layers, 1]));
     Ok(r)
@@ -701,8 +722,8 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
         return Ok(());
     }
     let m = maps(f, pass)?;
-    r.pipeline(Shader::Reflect, Blend::None);
+    r.pipeline(reflect_pipeline());
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
-    f.draw_objects(r, pass, Shader::Reflect, &f.plan.reflective)
+    f.draw_objects(r, pass, None, &f.plan.reflective)
 }

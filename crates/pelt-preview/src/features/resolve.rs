@@ -9,12 +9,21 @@
 //! the rounding no longer averages out: on the demo scene the fur grew a fifth brighter from
 //! 4 to 64 shells. Half floats keep 11 significant bits at every brightness.
 
+use crate::features::registry::Feature;
 use crate::features::upscale::Upscale;
 use crate::features::{Frame, MissingInput, Output};
 use crate::plan::Pass;
 use crate::recipe::Recipe;
 use crate::renderer::{Renderer, SCENE_FORMAT};
 use crate::targets::Target;
+
+/// The resolve's feature (it draws the upscale feature's pipeline).
+pub const FEATURE: Feature = Feature {
+    name: "resolve",
+    explain: "the half-float scene colour the fur blends into, to the output",
+    pipelines: Vec::new,
+    compute: &[],
+};
 
 /// The scene colour target and the copy that resolves it.
 #[derive(Debug)]

@@ -13,9 +13,35 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use pelt_anim::posed::SkinJob;
 
+use crate::features::registry::Feature;
 use crate::frame::FrameError;
-use crate::renderer::{PipelineError, Renderer};
-use crate::shaders::Shader;
+use crate::layout::STORAGE;
+use crate::renderer::{ComputeDesc, PipelineError, Renderer};
+use crate::shaders::ShaderDesc;
+
+/// skin.wgsl: linear blend skinning of positions, normals and tangents.
+pub const SKIN: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "skin.wgsl"]),
+    groups: &[STORAGE, STORAGE],
+};
+/// skin_scatter.wgsl: skinned vertices into the vertex buffers.
+pub const SKIN_SCATTER: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "skin_scatter.wgsl"]),
+    groups: &[STORAGE, STORAGE],
+};
+/// fin_rebuild.wgsl: a skinned mesh's fin instances from its vertices.
+pub const FIN_REBUILD: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc::compute(&["common.wgsl", "fur_common.wgsl", "fin_rebuild.wgsl"]),
+    groups: &[STORAGE, STORAGE],
+};
+
+/// The skinning feature.
+pub const FEATURE: Feature = Feature {
+    name: "skin",
+    explain: "GPU skinning of animated meshes, their fins rebuilt from the pose",
+    pipelines: Vec::new,
+    compute: &[SKIN, SKIN_SCATTER, FIN_REBUILD],
+};
 
 /// A vertex at rest. Keep in sync with `SkinVertex` in shaders/skin.wgsl.
 #[repr(C)]
@@ -144,7 +170,7 @@ impl GpuSkin {
         r: &Renderer,
         encoder: &mut wgpu::CommandEncoder,
     ) -> Result<(), PipelineError> {
-        let pipeline = r.compute(Shader::Skin)?;
+        let pipeline = r.compute(&SKIN)?;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("skin"),
             timestamp_writes: None,
@@ -301,12 +327,12 @@ impl GpuSkinned {
             skin.set_pose(r, joints, *unweighted);
             skin.encode(r, &mut enc)?;
         }
-        let scatter = r.compute(Shader::SkinScatter)?;
+        let scatter = r.compute(&SKIN_SCATTER)?;
         for (skin, groups) in &self.ranges {
             dispatch(&mut enc, &scatter, groups, skin.vertex_count());
         }
         if let Some((groups, n)) = &self.fins {
-            let rebuild = r.compute(Shader::FinRebuild)?;
+            let rebuild = r.compute(&FIN_REBUILD)?;
             dispatch(&mut enc, &rebuild, groups, *n);
         }
         r.gpu.queue.submit([enc.finish()]);

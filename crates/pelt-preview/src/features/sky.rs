@@ -2,12 +2,13 @@
 //! nothing else is, looking the pixel's world direction up in a cube map made from six images
 //! or in a procedural sky.
 
+use crate::features::registry::Feature;
 use crate::features::{Frame, MissingInput};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
+use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::Sky;
-use crate::shaders::Shader;
+use crate::shaders::ShaderDesc;
 
 /// Bind-group slots of sky.wgsl.
 pub mod slot {
@@ -26,31 +27,49 @@ pub const LAYOUT: LayoutDesc = LayoutDesc {
     ],
 };
 
-/// The pipelines of the sky shaders: depth test "less or equal" at depth 1, no writes.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: if key.shader == Shader::SkyCube {
-            vec![layout::FRAME, LAYOUT]
-        } else {
-            vec![layout::FRAME]
+const PARTS: &[&str] = &["common.wgsl", "fullscreen.wgsl", "sky.wgsl"];
+/// sky.wgsl's procedural sky.
+pub const PROCEDURAL: ShaderDesc = ShaderDesc::fullscreen(PARTS, "fs_procedural");
+/// sky.wgsl's cube-map sky.
+pub const CUBE: ShaderDesc = ShaderDesc::fullscreen(PARTS, "fs_cube");
+
+/// The pipeline of a sky (`cube`: the cube map's, else the procedural one): depth test
+/// "less or equal" at depth 1, no writes.
+pub fn pipeline(cube: bool) -> PipelineDesc {
+    PipelineDesc {
+        shader: if cube { CUBE } else { PROCEDURAL },
+        spec: PipelineSpec {
+            groups: if cube {
+                vec![layout::FRAME, LAYOUT]
+            } else {
+                vec![layout::FRAME]
+            },
+            blends: vec![None],
+            depth: Some((false, wgpu::CompareFunction::LessEqual)),
+            ..PipelineSpec::default()
         },
-        blends: vec![None],
-        depth: Some((false, wgpu::CompareFunction::LessEqual)),
-        ..PipelineSpec::default()
     }
 }
+
+/// The sky's feature.
+pub const FEATURE: Feature = Feature {
+    name: "sky",
+    explain: "the procedural or cube-map sky where nothing else is",
+    pipelines: || vec![pipeline(false), pipeline(true)],
+    compute: &[],
+};
 
 /// Draws the sky (the frame group at the output's slot must be bound).
 pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
     match f.plan.sky {
         Sky::None => return Ok(()),
-        Sky::Procedural => r.pipeline(Shader::SkyProcedural, Blend::None),
+        Sky::Procedural => r.pipeline(pipeline(false)),
         Sky::Cubemap(_) => {
             let sky = f.sky.ok_or_else(|| MissingInput {
                 pass,
                 what: "the cube-map sky on the GPU".into(),
             })?;
-            r.pipeline(Shader::SkyCube, Blend::None);
+            r.pipeline(pipeline(true));
             r.bind(slot::CUBE, &sky.group, None);
         }
     }

@@ -4,10 +4,11 @@
 //! shaders/strands.wgsl). One frame is one sample: the caller jitters the projection and
 //! accumulates (`pelt_measure::strands`).
 
+use crate::features::registry::Feature;
 use crate::features::{Frame, MissingInput, object_blends, object_depth};
 use crate::recipe::{Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
-use crate::shaders::Shader;
+use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
+use crate::shaders::ShaderDesc;
 use crate::uniforms::StrandRoot;
 
 /// Segments per strand. Keep in sync with `SEGMENTS` in shaders/strands.wgsl.
@@ -26,24 +27,43 @@ pub fn layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
-/// The pipeline of strands.wgsl.
-pub fn spec(key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![
-            crate::layout::FRAME,
-            crate::layout::OBJECT,
-            crate::layout::LIGHT_ARRAY,
-        ],
-        vertex_buffers: vec![layout()],
-        blends: object_blends(key.blend),
-        depth: object_depth(key.blend),
-        ..PipelineSpec::default()
+/// strands.wgsl, lit per light with Kajiya-Kay.
+pub const SHADER: ShaderDesc = ShaderDesc::render(&[
+    "common.wgsl",
+    "fur_common.wgsl",
+    "fur_light_forward.wgsl",
+    "strands.wgsl",
+]);
+
+/// The pipeline of strands.wgsl (opaque strands).
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![
+                crate::layout::FRAME,
+                crate::layout::OBJECT,
+                crate::layout::LIGHT_ARRAY,
+            ],
+            vertex_buffers: vec![layout()],
+            blends: object_blends(Blend::None),
+            depth: object_depth(Blend::None),
+            ..PipelineSpec::default()
+        },
     }
 }
 
+/// The strand reference's feature.
+pub const FEATURE: Feature = Feature {
+    name: "strands",
+    explain: "explicit strands lit per light: the converged fur reference",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
+
 /// Every fur object's strands. The frame and forward light-array groups must be bound.
 pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
-    r.pipeline(Shader::Strands, Blend::None);
+    r.pipeline(pipeline());
     for &k in &f.plan.fur {
         let o = &f.plan.objects[k];
         let strands = f

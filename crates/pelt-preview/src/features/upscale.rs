@@ -4,11 +4,12 @@
 //! passes through here).
 
 use crate::features::Output;
+use crate::features::registry::Feature;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec, Renderer};
-use crate::shaders::Shader;
+use crate::renderer::{PipelineDesc, PipelineSpec, Renderer};
+use crate::shaders::ShaderDesc;
 use crate::targets::Target;
 
 /// A frame to scale up and its sampler (upscale.wgsl).
@@ -28,14 +29,31 @@ pub mod slot {
     pub const SIZE: u32 = 1;
 }
 
-/// The pipeline of the upscale shader.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![LAYOUT, layout::SIZE],
-        blends: vec![None],
-        ..PipelineSpec::default()
+/// upscale.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
+    &["common.wgsl", "fullscreen.wgsl", "upscale.wgsl"],
+    "fs_main",
+);
+
+/// The upscale shader's pipeline.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![LAYOUT, layout::SIZE],
+            blends: vec![None],
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// The upscale feature.
+pub const FEATURE: Feature = Feature {
+    name: "upscale",
+    explain: "a reduced-resolution frame scaled up to the window",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 /// What the pass reads: one source frame into one target size.
 #[derive(Debug)]
@@ -107,7 +125,7 @@ impl Upscale {
             }],
             None,
         );
-        r.pipeline(Shader::Upscale, Blend::None);
+        r.pipeline(pipeline());
         r.bind(slot::SOURCE, &self.source, None);
         r.bind(slot::SIZE, &self.size, None);
         r.push(Step::Draw(0..3, 0..1));

@@ -4,13 +4,14 @@
 //! image's opaque depth without writing it; the composite divides and blends the result over
 //! the image, then draws the alpha objects.
 
+use crate::features::registry::Feature;
 use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, PipelineKey, PipelineSpec};
-use crate::shaders::Shader;
+use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
+use crate::shaders::ShaderDesc;
 
 /// The accumulation and revealage targets read by the composite (composite.wgsl).
 pub const LAYOUT: LayoutDesc = LayoutDesc {
@@ -43,15 +44,32 @@ pub fn blends() -> Vec<Option<wgpu::BlendState>> {
     ]
 }
 
-/// The pipeline of the composite shader.
-pub fn spec(_key: &PipelineKey) -> PipelineSpec {
-    PipelineSpec {
-        groups: vec![LAYOUT],
-        blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
-        depth: Some((false, wgpu::CompareFunction::Always)),
-        ..PipelineSpec::default()
+/// composite.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
+    &["common.wgsl", "fullscreen.wgsl", "composite.wgsl"],
+    "fs_main",
+);
+
+/// The composite shader's pipeline: the resolved layers over the image.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![LAYOUT],
+            blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
+            depth: Some((false, wgpu::CompareFunction::Always)),
+            ..PipelineSpec::default()
+        },
     }
 }
+
+/// Weighted blended OIT's feature (its accumulation draws the fur's pipelines).
+pub const FEATURE: Feature = Feature {
+    name: "wboit",
+    explain: "fur layers accumulated order-independently, then composited",
+    pipelines: || vec![pipeline()],
+    compute: &[],
+};
 
 fn missing(pass: Pass) -> MissingInput {
     MissingInput {
@@ -88,8 +106,8 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         ],
         keep_depth(f),
     );
-    let shader = material::object_shader(f.plan);
-    let (_, fur_light, lighting) = material::lighting(f, shader);
+    let lighting = material::object_lighting(f.plan);
+    let (_, fur_light) = material::lighting(f, lighting);
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
     fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
@@ -112,10 +130,10 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         }],
         keep_depth(f),
     );
-    r.pipeline(Shader::Composite, Blend::Over);
+    r.pipeline(pipeline());
     r.bind(slot_composite::OIT, &oit.read, None);
     r.push(Step::Draw(0..3, 0..1));
-    let shader = material::object_shader(f.plan);
-    alpha::draw(f, &mut r, Pass::Composite.name(), shader)?;
+    let lit = material::object_lighting(f.plan);
+    alpha::draw(f, &mut r, Pass::Composite.name(), lit)?;
     Ok(r)
 }
