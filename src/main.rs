@@ -402,8 +402,10 @@ fn positive_ms(s: &str) -> Result<f64, String> {
 pub struct KnobArgs {
     /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF),
     /// forward (per-object light loop, the reference), strands (explicit strands with
-    /// Kajiya-Kay, accumulated until converged: the fur's reference) or raytrace (`pelt
-    /// render` only: the CPU ray tracer, the ground truth of mirrors and glass).
+    /// Kajiya-Kay, accumulated until converged: the fur's reference), raytrace (`pelt
+    /// render` only: the CPU ray tracer, the ground truth of mirrors and glass), debug-groups
+    /// (each normal group in a flat colour, neighbours distinct) or debug-comb (the decoded
+    /// comb as colour, its length as brightness).
     #[arg(long, default_value = "inferred")]
     pub mode: RenderMode,
     /// wgpu back end: auto, vulkan or gl.
@@ -478,7 +480,7 @@ impl std::str::FromStr for RenderMode {
         match s {
             "raytrace" => Ok(RenderMode::Raytrace),
             _ => s.parse().map(RenderMode::Gpu).map_err(|e: String| {
-                e.replace("forward or strands)", "forward, strands or raytrace)")
+                e.replace("strands, debug-groups", "strands, raytrace, debug-groups")
             }),
         }
     }

@@ -23,7 +23,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         mode: match args.knobs.mode {
             crate::RenderMode::Gpu(m) => m,
             crate::RenderMode::Raytrace => anyhow::bail!(
-                "--mode raytrace is pelt render's (the CPU ray tracer writes a PNG); pelt view takes inferred, deferred or forward"
+                "--mode raytrace is pelt render's (the CPU ray tracer writes a PNG); pelt view takes inferred, deferred, forward, strands, debug-groups or debug-comb"
             ),
         },
         // The size is the window's, not an override of the scene's.

@@ -32,6 +32,18 @@ pub struct GpuMesh {
     pub fur: Option<GpuFur>,
     /// Its GPU skinning, when the mesh was loaded for it ([`crate::asset::skinned`]).
     pub skin: Option<crate::features::skin::GpuSkinned>,
+    /// Each vertex's normal-group colour class ([`crate::debug::group_classes`]), when a
+    /// debug view of the groups draws the mesh.
+    pub groups: Option<wgpu::Buffer>,
+}
+
+/// What a scene draws of a mesh beside its vertices and materials.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Uploads {
+    /// Its fur (fur vertices, fins, textures).
+    pub fur: bool,
+    /// Its normal groups' colour classes (the groups debug view).
+    pub groups: bool,
 }
 
 /// A run of a mesh's indices drawn with one material.
@@ -91,7 +103,7 @@ fn level_bytes<T: bytemuck::Pod>(h: &mut blake3::Hasher, levels: &[Level<T>]) {
     }
 }
 
-fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
+fn mesh_key(m: &MeshData, uploads: Uploads) -> Key {
     let mut h = blake3::Hasher::new();
     h.update(&(m.vertices.len() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice(&m.vertices));
@@ -124,7 +136,10 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
             }
         }
     }
-    if let Some(f) = m.fur.as_ref().filter(|_| with_fur) {
+    if uploads.groups {
+        h.update(b"group classes");
+    }
+    if let Some(f) = m.fur.as_ref().filter(|_| uploads.fur) {
         h.update(b"fur");
         h.update(bytemuck::cast_slice(&f.vertices));
         h.update(bytemuck::cast_slice(&f.fins));
@@ -135,15 +150,15 @@ fn mesh_key(m: &MeshData, with_fur: bool) -> Key {
 }
 
 impl AssetCache {
-    /// `m` on the GPU (with its fur when `with_fur`), uploaded now unless it already is. A
+    /// `m` on the GPU with what `uploads` asks for, uploaded now unless it already is. A
     /// skinned mesh whose fins could not follow its skin is an error.
     pub fn mesh(
         &mut self,
         r: &Renderer,
         m: &MeshData,
-        with_fur: bool,
+        uploads: Uploads,
     ) -> Result<Arc<GpuMesh>, crate::features::skin::SkinError> {
-        let key = mesh_key(m, with_fur);
+        let key = mesh_key(m, uploads);
         if let Some(g) = self.meshes.get(&key) {
             return Ok(Arc::clone(g));
         }
@@ -162,8 +177,16 @@ impl AssetCache {
             let fur = m
                 .fur
                 .as_ref()
-                .filter(|_| with_fur)
+                .filter(|_| uploads.fur)
                 .map(|f| gpu_fur(r, f, &materials, extra));
+            let groups = uploads.groups.then(|| {
+                let classes = crate::debug::group_classes(&m.vertices, &m.indices);
+                r.gpu.buffer_init(
+                    "normal-group classes",
+                    bytemuck::cast_slice(&classes),
+                    wgpu::BufferUsages::VERTEX,
+                )
+            });
             let vertices = r.gpu.buffer_init(
                 "vertices",
                 bytemuck::cast_slice(&m.vertices),
@@ -191,6 +214,7 @@ impl AssetCache {
             Arc::new(GpuMesh {
                 fur,
                 skin,
+                groups,
                 parts: m
                     .parts
                     .iter()
@@ -222,7 +246,13 @@ impl AssetCache {
     ) -> Result<Arc<GpuStrands>, crate::strands::StrandError> {
         let mut h = blake3::Hasher::new();
         h.update(b"strands");
-        h.update(&mesh_key(m, true));
+        h.update(&mesh_key(
+            m,
+            Uploads {
+                fur: true,
+                groups: false,
+            },
+        ));
         if let Some(f) = &m.fur {
             h.update(format!("{:?} {}", f.model, f.look.uv_scale).as_bytes());
         }

@@ -155,6 +155,7 @@ pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, Mis
             Pass::Composite => features::wboit::composite_pass(f),
             Pass::Resolve => features::resolve::pass(outer),
             Pass::MinMax => features::reflect::minmax_pass(f),
+            Pass::Debug => features::debug::pass(f),
             Pass::DistanceMaps => Err(MissingInput {
                 pass: p.name(),
                 what: "its own recipes (one per face and layer)".into(),

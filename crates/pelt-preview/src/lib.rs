@@ -31,7 +31,7 @@ pub mod targets;
 pub mod uniforms;
 
 pub use pelt_scene::{
-    asset, budget, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands, view,
+    asset, budget, debug, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands, view,
 };
 
 use std::sync::Arc;
@@ -199,9 +199,14 @@ impl Preview {
                 fur |= o.fur.is_some();
             }
             if any {
+                let uploads = assets::Uploads {
+                    fur: fur
+                        || (mode == Mode::Debug(plan::DebugView::Comb) && meshes[k].fur.is_some()),
+                    groups: mode == Mode::Debug(plan::DebugView::Groups),
+                };
                 let g = self
                     .assets
-                    .mesh(&self.renderer, &meshes[k], fur)
+                    .mesh(&self.renderer, &meshes[k], uploads)
                     .map_err(|source| RenderError::Skin {
                         asset: mesh_of
                             .iter()

@@ -12,10 +12,12 @@
 //! - [`footprint`]: how fine a pixel can get on a fur object (whether its shells must
 //!   resolve single strands at this view);
 //! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;
-//! - [`sky`]: the cube-map sky's images.
+//! - [`sky`]: the cube-map sky's images;
+//! - [`debug`]: the normal groups' colour classes of the debug views.
 
 pub mod asset;
 pub mod budget;
+pub mod debug;
 pub mod footprint;
 pub mod framing;
 pub mod fur;

@@ -32,6 +32,17 @@ pub enum Mode {
     /// by explicit strands (Kajiya-Kay per light), accumulated over jittered samples by the
     /// caller (`pelt_measure::strands`).
     Strands,
+    /// A debug view: the asset's surfaces unlit, coloured by what the bake wrote.
+    Debug(DebugView),
+}
+
+/// What a debug view shows ([`crate::debug`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DebugView {
+    /// Each normal group in its own flat colour, neighbouring groups always distinct.
+    Groups,
+    /// The decoded asset-space comb: direction as colour, length as brightness.
+    Comb,
 }
 
 impl Mode {
@@ -49,8 +60,10 @@ impl std::str::FromStr for Mode {
             "deferred" => Ok(Mode::Deferred),
             "forward" => Ok(Mode::Forward),
             "strands" => Ok(Mode::Strands),
+            "debug-groups" => Ok(Mode::Debug(DebugView::Groups)),
+            "debug-comb" => Ok(Mode::Debug(DebugView::Comb)),
             _ => Err(format!(
-                "unknown mode {s:?} (expected inferred, deferred, forward or strands)"
+                "unknown mode {s:?} (expected inferred, deferred, forward, strands, debug-groups or debug-comb)"
             )),
         }
     }
@@ -63,6 +76,8 @@ impl fmt::Display for Mode {
             Mode::Deferred => "deferred",
             Mode::Forward => "forward",
             Mode::Strands => "strands",
+            Mode::Debug(DebugView::Groups) => "debug-groups",
+            Mode::Debug(DebugView::Comb) => "debug-comb",
         })
     }
 }
@@ -234,6 +249,8 @@ pub enum Pass {
     Mips,
     /// `pelt view`'s text overlay (never in a plan).
     Overlay,
+    /// A debug view of every object, unlit.
+    Debug,
 }
 
 impl Pass {
@@ -253,6 +270,7 @@ impl Pass {
             Pass::Upscale => "upscale",
             Pass::Mips => "mips",
             Pass::Overlay => "overlay",
+            Pass::Debug => "debug",
         }
     }
 }
@@ -399,7 +417,7 @@ impl ScenePlan {
         let (lbuffer, dsf) = match mode {
             Mode::Inferred => (Some(scene.lbuffer_size()), scene.dsf),
             Mode::Deferred => (Some(output), false),
-            Mode::Forward | Mode::Strands => (None, false),
+            Mode::Forward | Mode::Strands | Mode::Debug(_) => (None, false),
         };
         let mut objects = Vec::new();
         let mut notes = Vec::new();
@@ -468,16 +486,18 @@ impl ScenePlan {
             let (wlo, whi) = world_box(model, info.bounds.0, info.bounds.1);
             scene_lo = scene_lo.min(wlo);
             scene_hi = scene_hi.max(whi);
-            let map = (optics != Optics::Diffuse && scene.reflections.technique != Technique::Off)
-                .then(|| {
-                    maps.push(PlannedMap {
-                        scene_index: i,
-                        reference: reference.map_or((wlo + whi) / 2.0, Vec3::from),
-                        centre: (wlo + whi) / 2.0,
-                        radius: (whi - wlo).length() / 2.0,
-                    });
-                    maps.len() as u32 - 1
+            let map = (optics != Optics::Diffuse
+                && scene.reflections.technique != Technique::Off
+                && !matches!(mode, Mode::Debug(_)))
+            .then(|| {
+                maps.push(PlannedMap {
+                    scene_index: i,
+                    reference: reference.map_or((wlo + whi) / 2.0, Vec3::from),
+                    centre: (wlo + whi) / 2.0,
+                    radius: (whi - wlo).length() / 2.0,
                 });
+                maps.len() as u32 - 1
+            });
             let planned = PlannedObject {
                 scene_index: i,
                 mesh: mesh_of[i],
@@ -655,6 +675,7 @@ impl Plan {
         }
         let (mut passes, lbuffer) = match mode {
             Mode::Forward | Mode::Strands => (vec![Pass::Forward], None),
+            Mode::Debug(_) => (vec![Pass::Debug], None),
             _ if lights.is_empty() || objects.is_empty() => (vec![Pass::Material], None),
             _ if !fur.is_empty() => (
                 vec![
@@ -670,10 +691,11 @@ impl Plan {
                 scene.lbuffer,
             ),
         };
-        if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit {
+        let debug = matches!(mode, Mode::Debug(_));
+        if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit && !debug {
             passes.extend([Pass::FurAccum, Pass::Composite]);
         }
-        if !fur.is_empty() && mode != Mode::Strands {
+        if !fur.is_empty() && mode != Mode::Strands && !debug {
             passes.push(Pass::Resolve);
         }
         if !maps.is_empty() {
@@ -803,6 +825,18 @@ impl Plan {
                 }
                 Pass::Overlay => {
                     let _ = write!(s, "text over the window");
+                }
+                Pass::Debug => {
+                    let _ = write!(
+                        s,
+                        "{w}×{h}: {} objects unlit, {}",
+                        self.objects.len(),
+                        match self.mode {
+                            Mode::Debug(DebugView::Comb) =>
+                                "the decoded comb as colour, its length as brightness",
+                            _ => "each normal group in its class's colour, neighbours distinct",
+                        }
+                    );
                 }
                 Pass::Composite => {
                     let _ = write!(
@@ -973,6 +1007,26 @@ mod tests {
     fn plan(scene: &Scene, mode: Mode) -> Plan {
         let meshes = vec![builtin("cube").expect("cube")];
         Plan::new(scene, &meshes, &vec![0; scene.objects.len()], mode).expect("plan")
+    }
+
+    #[test]
+    fn a_debug_mode_plans_one_unlit_pass_and_round_trips_its_name() {
+        let s = grid_scene(Path::new("builtin:cube"), 3, 2, 1, 64, 48);
+        for (name, view) in [
+            ("debug-groups", DebugView::Groups),
+            ("debug-comb", DebugView::Comb),
+        ] {
+            let mode: Mode = name.parse().expect("a debug mode");
+            assert_eq!(
+                (mode, mode.to_string()),
+                (Mode::Debug(view), name.to_owned())
+            );
+            let p = plan(&s, mode);
+            assert_eq!((p.passes.clone(), p.lbuffer), (vec![Pass::Debug], None));
+            assert!(p.explain().contains("unlit"), "{}", p.explain());
+        }
+        let e = "debug".parse::<Mode>().expect_err("not a mode");
+        assert!(e.contains("debug-groups or debug-comb"), "{e}");
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 use pelt_preview::Mode;
 use pelt_preview::knobs::Knobs;
+use pelt_preview::plan::DebugView;
 use pelt_preview::scene::FurBlend;
 
 /// Radians of orbit per pixel dragged.
@@ -16,6 +17,8 @@ pub const ZOOM_PER_PIXEL: f32 = 1.0 / 40.0;
 pub enum Action {
     /// Next mode: inferred, deferred, forward.
     CycleMode,
+    /// Next debug view: normal groups, the decoded comb, then back to inferred lighting.
+    CycleDebug,
     /// L-buffer scale down (`[`) or up (`]`) by 0.125.
     LbufferScale(i8),
     /// DSF on/off.
@@ -52,6 +55,7 @@ pub enum Action {
 pub fn action(key: &str) -> Option<Action> {
     Some(match key {
         "m" => Action::CycleMode,
+        "g" => Action::CycleDebug,
         "[" => Action::LbufferScale(-1),
         "]" => Action::LbufferScale(1),
         "d" => Action::ToggleDsf,
@@ -80,6 +84,7 @@ pelt view controls:
   left drag        orbit            right drag / shift+left drag   pan
   wheel            zoom             F   frame the asset
   M  mode (inferred, deferred, forward)      [ ]  L-buffer scale -/+ 0.125
+  G  debug view (normal groups, comb, off)
   D  DSF on/off    - =  shells halve/double  I  fins on/off   B  stipple/WBOIT
   P  screenshot    R  reload input and shaders   T  measure pass costs   O  overlay on/off
   Space  play/pause the animation   , .  step a frame back/forward   C  next clip
@@ -108,7 +113,14 @@ impl Settings {
                 self.mode = match self.mode {
                     Mode::Inferred => Mode::Deferred,
                     Mode::Deferred => Mode::Forward,
-                    Mode::Forward | Mode::Strands => Mode::Inferred,
+                    Mode::Forward | Mode::Strands | Mode::Debug(_) => Mode::Inferred,
+                };
+            }
+            Action::CycleDebug => {
+                self.mode = match self.mode {
+                    Mode::Debug(DebugView::Groups) => Mode::Debug(DebugView::Comb),
+                    Mode::Debug(DebugView::Comb) => Mode::Inferred,
+                    _ => Mode::Debug(DebugView::Groups),
                 };
             }
             Action::LbufferScale(d) => {
@@ -146,6 +158,7 @@ mod tests {
         assert_eq!(action("Space"), Some(Action::PlayPause));
         assert_eq!(action(","), Some(Action::Step(-1)));
         assert_eq!(action("c"), Some(Action::NextClip));
+        assert_eq!(action("g"), Some(Action::CycleDebug));
     }
 
     #[test]
@@ -168,6 +181,12 @@ mod tests {
         assert_eq!(s.mode, Mode::Deferred);
         s.apply(Action::CycleMode, &base);
         s.apply(Action::CycleMode, &base);
+        assert_eq!(s.mode, Mode::Inferred);
+        s.apply(Action::CycleDebug, &base);
+        assert_eq!(s.mode, Mode::Debug(DebugView::Groups));
+        s.apply(Action::CycleDebug, &base);
+        assert_eq!(s.mode, Mode::Debug(DebugView::Comb));
+        s.apply(Action::CycleDebug, &base);
         assert_eq!(s.mode, Mode::Inferred);
         s.apply(Action::LbufferScale(1), &base);
         assert_eq!(s.knobs.lbuffer_scale, Some(0.75));

@@ -273,7 +273,7 @@ impl Knob {
             Knob::Mode => s
                 .parse()
                 .ok()
-                .filter(|m| *m != Mode::Strands)
+                .filter(|m| matches!(m, Mode::Inferred | Mode::Deferred | Mode::Forward))
                 .map(Value::Mode),
             Knob::TextureSize => count(s, 16, 4096, true),
             Knob::HeightBits => match s {

@@ -18,12 +18,14 @@
 //! - [`overlay`]: `pelt view`'s text overlay;
 //! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17);
 //! - [`strands`]: explicit strands, the converged fur reference;
-//! - [`skin`]: the skinning compute pass (glTF linear blend skinning) into storage buffers.
+//! - [`skin`]: the skinning compute pass (glTF linear blend skinning) into storage buffers;
+//! - [`debug`]: the debug views (normal groups, the decoded comb).
 //!
 //! Each module declares its shaders, bind-group layouts and pipelines as descriptors and one
 //! [`registry::Feature`], listed in [`registry::FEATURES`].
 
 pub mod alpha;
+pub mod debug;
 pub mod forward;
 pub mod fur;
 pub mod geometry;

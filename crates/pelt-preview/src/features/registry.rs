@@ -37,6 +37,7 @@ pub const FEATURES: &[Feature] = &[
     super::upscale::FEATURE,
     super::mips::FEATURE,
     super::overlay::FEATURE,
+    super::debug::FEATURE,
 ];
 
 /// Every render pipeline of every feature.
