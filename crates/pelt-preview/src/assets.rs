@@ -30,8 +30,6 @@ pub struct GpuMesh {
     pub materials: Vec<GpuMaterial>,
     /// Its fur, when a fur object uses it.
     pub fur: Option<GpuFur>,
-    /// Its GPU skinning, when the mesh was loaded for it ([`crate::asset::skinned`]).
-    pub skin: Option<crate::features::skin::GpuSkinned>,
     /// Each vertex's normal-group colour class ([`crate::debug::group_classes`]), when a
     /// debug view of the groups draws the mesh.
     pub groups: Option<wgpu::Buffer>,
@@ -56,7 +54,7 @@ pub struct GpuPart {
 }
 
 /// A mesh's fur on the GPU.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GpuFur {
     /// Fur vertices (vertex buffer 1 of the fur pipelines).
     pub vertices: wgpu::Buffer,
@@ -108,11 +106,6 @@ fn mesh_key(m: &MeshData, uploads: Uploads) -> Key {
     h.update(&(m.vertices.len() as u64).to_le_bytes());
     h.update(bytemuck::cast_slice(&m.vertices));
     h.update(bytemuck::cast_slice(&m.indices));
-    if let Some(skin) = &m.skin {
-        // The fins are rebuilt from these edges: a mesh with other edges is another mesh.
-        h.update(b"skinned on the GPU");
-        h.update(bytemuck::cast_slice(&skin.fins));
-    }
     for p in &m.parts {
         h.update(
             &[p.first, p.count, p.material]
@@ -151,16 +144,12 @@ fn mesh_key(m: &MeshData, uploads: Uploads) -> Key {
 
 impl AssetCache {
     /// `m` on the GPU with what `uploads` asks for, uploaded now unless it already is. A
-    /// skinned mesh whose fins could not follow its skin is an error.
-    pub fn mesh(
-        &mut self,
-        r: &Renderer,
-        m: &MeshData,
-        uploads: Uploads,
-    ) -> Result<Arc<GpuMesh>, crate::features::skin::SkinError> {
+    /// skinned mesh is uploaded at rest: each object posing it draws its own copy
+    /// ([`crate::poses`]).
+    pub fn mesh(&mut self, r: &Renderer, m: &MeshData, uploads: Uploads) -> Arc<GpuMesh> {
         let key = mesh_key(m, uploads);
         if let Some(g) = self.meshes.get(&key) {
-            return Ok(Arc::clone(g));
+            return Arc::clone(g);
         }
         let g = {
             let materials: Vec<GpuMaterial> = m
@@ -168,17 +157,11 @@ impl AssetCache {
                 .iter()
                 .map(|mat| gpu_material::upload(r, mat))
                 .collect();
-            // A skinned mesh's passes write its vertex, fur vertex and fin buffers.
-            let extra = if m.skin.is_some() {
-                wgpu::BufferUsages::STORAGE
-            } else {
-                wgpu::BufferUsages::empty()
-            };
             let fur = m
                 .fur
                 .as_ref()
                 .filter(|_| uploads.fur)
-                .map(|f| gpu_fur(r, f, &materials, extra));
+                .map(|f| gpu_fur(r, f, &materials));
             let groups = uploads.groups.then(|| {
                 let classes = crate::debug::group_classes(&m.vertices, &m.indices);
                 r.gpu.buffer_init(
@@ -190,30 +173,10 @@ impl AssetCache {
             let vertices = r.gpu.buffer_init(
                 "vertices",
                 bytemuck::cast_slice(&m.vertices),
-                wgpu::BufferUsages::VERTEX | extra,
+                wgpu::BufferUsages::VERTEX,
             );
-            let skin = m
-                .skin
-                .as_ref()
-                .map(|b| {
-                    crate::features::skin::GpuSkinned::new(
-                        r,
-                        Arc::clone(b),
-                        crate::features::skin::SkinTargets {
-                            vertices: &vertices,
-                            fur: fur.as_ref().map(|f| &f.vertices),
-                            fins: fur.as_ref().and_then(|f| {
-                                f.fins
-                                    .as_ref()
-                                    .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
-                            }),
-                        },
-                    )
-                })
-                .transpose()?;
             Arc::new(GpuMesh {
                 fur,
-                skin,
                 groups,
                 parts: m
                     .parts
@@ -234,7 +197,7 @@ impl AssetCache {
             })
         };
         self.meshes.insert(key, Arc::clone(&g));
-        Ok(g)
+        g
     }
 
     /// The explicit strands `m`'s fur plants ([`crate::strands::plant`]), planted and
@@ -411,12 +374,7 @@ fn density_levels(d: &crate::fur::Density, first: usize) -> Vec<Level<[f32; 4]>>
         .collect()
 }
 
-fn gpu_fur(
-    r: &Renderer,
-    fur: &FurData,
-    materials: &[GpuMaterial],
-    extra: wgpu::BufferUsages,
-) -> GpuFur {
+fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let device = &r.gpu.device;
     let height = upload_levels(r, "heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
         f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
@@ -487,13 +445,13 @@ fn gpu_fur(
         vertices: r.gpu.buffer_init(
             "fur vertices",
             bytemuck::cast_slice(&fur.vertices),
-            wgpu::BufferUsages::VERTEX | extra,
+            wgpu::BufferUsages::VERTEX,
         ),
         fins: (!fur.fins.is_empty()).then(|| {
             r.gpu.buffer_init(
                 "fins",
                 bytemuck::cast_slice(&fur.fins),
-                wgpu::BufferUsages::VERTEX | extra,
+                wgpu::BufferUsages::VERTEX,
             )
         }),
         fin_count: fur.fins.len() as u32,

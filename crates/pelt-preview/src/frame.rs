@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::features::{self, Frame, MissingInput};
+use crate::features::{self, Frame, MissingInput, registry};
 use crate::plan::Pass;
 use crate::recipe::Recipe;
 use crate::renderer::{PipelineError, Renderer};
@@ -125,46 +125,30 @@ pub enum Maps {
     Never,
 }
 
-/// The frame's passes in the plan's order, as recipes (this is the frame's ordering: a new
-/// pass gets its place here).
+/// The frame's passes in the plan's order, as recipes: each planned pass built by the
+/// feature that registered it ([`features::registry::builder`]).
 pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let mut out = Vec::new();
     // Every pass before the resolve draws into the scene colour where the plan has one.
-    let f = &features::resolve::inner(outer)?;
+    let inner = &features::resolve::inner(outer)?;
     let fresh = match maps {
-        Maps::IfStale => f.maps.is_some_and(|m| m.fresh()),
+        Maps::IfStale => inner.maps.is_some_and(|m| m.fresh()),
         Maps::Always => false,
         Maps::Never => true,
     };
-    for &p in &f.plan.passes {
-        match p {
-            Pass::DistanceMaps | Pass::MinMax if fresh => continue,
-            Pass::DistanceMaps => {
-                out.extend(features::reflect::map_passes(f)?);
-                continue;
-            }
-            _ => {}
+    for &p in &inner.plan.passes {
+        let b = registry::builder(p).ok_or_else(|| MissingInput {
+            pass: p.name(),
+            what: "a feature that builds it (upscaling, mips and the overlay are drawn on request, never planned)".into(),
+        })?;
+        if b.maps && fresh {
+            continue;
         }
-        out.push(match p {
-            Pass::Geometry => features::geometry::pass(f),
-            Pass::Light => features::lights::pass(f),
-            Pass::Obliterate => features::fur::obliterate_pass(f),
-            Pass::Material => features::material::pass(f),
-            Pass::Forward => features::forward::pass(f),
-            Pass::FurAccum => features::wboit::accum_pass(f),
-            Pass::Composite => features::wboit::composite_pass(f),
-            Pass::Resolve => features::resolve::pass(outer),
-            Pass::MinMax => features::reflect::minmax_pass(f),
-            Pass::Debug => features::debug::pass(f),
-            Pass::DistanceMaps => Err(MissingInput {
-                pass: p.name(),
-                what: "its own recipes (one per face and layer)".into(),
-            }),
-            Pass::Upscale | Pass::Mips | Pass::Overlay => Err(MissingInput {
-                pass: p.name(),
-                what: "a source (upscaling and mips are drawn on request, never planned)".into(),
-            }),
-        }?);
+        let f = match b.into {
+            registry::Into::Scene => inner,
+            registry::Into::Output => outer,
+        };
+        out.extend((b.build)(f)?);
     }
     Ok(out)
 }

@@ -35,7 +35,7 @@ pub const BASE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb
 pub const DATA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// One material on the GPU.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GpuMaterial {
     /// The Material-layout group.
     pub group: wgpu::BindGroup,

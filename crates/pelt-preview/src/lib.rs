@@ -9,7 +9,8 @@
 //!   by content);
 //! - per view: [`targets::ViewTargets`], sized to the view and made for its output format;
 //! - per frame: [`frame_data::FrameData`], the uniforms a camera and its knobs decide, written
-//!   with `queue.write_buffer`.
+//!   with `queue.write_buffer`, and each object's pose ([`poses::ObjectPose`]: its own copy
+//!   of a GPU-skinned mesh's vertex buffers, written by the skinning passes).
 //!
 //! [`scene_view::SceneView`] holds one scene's share of each. Passes are built by the feature
 //! modules ([`features`]) as [`recipe::Recipe`]s, run in the order of [`frame::recipes`].
@@ -22,6 +23,7 @@ pub mod frame_data;
 pub mod gpu;
 pub mod gpu_material;
 pub mod layout;
+pub mod poses;
 pub mod progressive;
 pub mod recipe;
 pub mod renderer;
@@ -99,6 +101,14 @@ pub enum PoseError {
     /// The skinning pipelines could not be built.
     #[error(transparent)]
     Pipeline(#[from] renderer::PipelineError),
+    /// The scene has no such object.
+    #[error("objects[{object}] does not exist (the scene has {count} objects)")]
+    NoObject {
+        /// The index asked for.
+        object: usize,
+        /// How many objects the scene has.
+        count: usize,
+    },
 }
 
 impl From<features::MissingInput> for RenderError {
@@ -189,35 +199,7 @@ impl Preview {
         let infos: Vec<MeshInfo> = meshes.iter().map(MeshInfo::of).collect();
         let scene_plan = ScenePlan::new(scene, &infos, mesh_of, mode);
         let plan = Plan::with_camera(&scene_plan, &view::View::new(scene))?;
-        // Every object's mesh, seen or not: a camera move must not upload.
-        let mut gpu_meshes: Vec<Option<Arc<assets::GpuMesh>>> = vec![None; meshes.len()];
-        for k in 0..meshes.len() {
-            let used = scene_plan.objects.iter().filter(|(o, _)| o.mesh == k);
-            let (mut any, mut fur) = (false, false);
-            for (o, _) in used {
-                any = true;
-                fur |= o.fur.is_some();
-            }
-            if any {
-                let uploads = assets::Uploads {
-                    fur: fur
-                        || (mode == Mode::Debug(plan::DebugView::Comb) && meshes[k].fur.is_some()),
-                    groups: mode == Mode::Debug(plan::DebugView::Groups),
-                };
-                let g = self
-                    .assets
-                    .mesh(&self.renderer, &meshes[k], uploads)
-                    .map_err(|source| RenderError::Skin {
-                        asset: mesh_of
-                            .iter()
-                            .position(|&m| m == k)
-                            .and_then(|o| scene.objects.get(o))
-                            .map(|o| o.asset.clone()),
-                        source,
-                    })?;
-                gpu_meshes[k] = Some(g);
-            }
-        }
+        let (gpu_meshes, poses) = self.upload_meshes(scene, meshes, mesh_of, &scene_plan, mode)?;
         let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];
         if mode == Mode::Strands {
             for (o, _) in &scene_plan.objects {
@@ -259,6 +241,7 @@ impl Preview {
             scene_plan,
             plan,
             meshes: gpu_meshes,
+            poses,
             sky,
             targets: ViewTargets::new(&self.renderer, spec),
             data,
@@ -271,6 +254,55 @@ impl Preview {
             Some(e) => Err(FrameError::Device(e).into()),
             None => Ok(sv),
         }
+    }
+
+    /// Every object's mesh on the GPU, seen or not (a camera move must not upload), by mesh
+    /// index, with what the mode draws of it; and each object's posed copy of a GPU-skinned
+    /// mesh, by scene object.
+    fn upload_meshes(
+        &mut self,
+        scene: &Scene,
+        meshes: &[MeshData],
+        mesh_of: &[usize],
+        scene_plan: &ScenePlan,
+        mode: Mode,
+    ) -> Result<
+        (
+            Vec<Option<Arc<assets::GpuMesh>>>,
+            Vec<Option<poses::ObjectPose>>,
+        ),
+        RenderError,
+    > {
+        let mut gpu_meshes: Vec<Option<Arc<assets::GpuMesh>>> = vec![None; meshes.len()];
+        for (k, m) in meshes.iter().enumerate() {
+            let used = scene_plan.objects.iter().filter(|(o, _)| o.mesh == k);
+            let (mut any, mut fur) = (false, false);
+            for (o, _) in used {
+                any = true;
+                fur |= o.fur.is_some();
+            }
+            if any {
+                let uploads = assets::Uploads {
+                    fur: fur || (mode == Mode::Debug(plan::DebugView::Comb) && m.fur.is_some()),
+                    groups: mode == Mode::Debug(plan::DebugView::Groups),
+                };
+                gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, m, uploads));
+            }
+        }
+        let mut object_poses = Vec::with_capacity(scene.objects.len());
+        for (o, &k) in scene.objects.iter().zip(mesh_of) {
+            let pose =
+                match (&gpu_meshes[k], &meshes[k]) {
+                    (Some(shared), m) => poses::ObjectPose::new(&self.renderer, shared, m)
+                        .map_err(|source| RenderError::Skin {
+                            asset: Some(o.asset.clone()),
+                            source,
+                        })?,
+                    (None, _) => None,
+                };
+            object_poses.push(pose);
+        }
+        Ok((gpu_meshes, object_poses))
     }
 
     /// Knobs or size changed: a new scene plan and plan for `scene` (its camera included),
@@ -387,10 +419,9 @@ impl Preview {
         Ok(frame::wait(&self.renderer)?)
     }
 
-    /// Poses every GPU-skinned mesh of `sv` at `time` s of the clip `animation` (one skinning
-    /// dispatch per skinned primitive, then the fins), before the frames that draw it. Meshes
-    /// are shared between views, so every view drawing them sees the pose. Returns how many
-    /// meshes were posed.
+    /// Poses every object of `sv` that draws a GPU-skinned mesh at `time` s of the clip
+    /// `animation` (one skinning dispatch per skinned primitive, then the fins), before the
+    /// frames that draw it. Returns how many objects were posed.
     pub fn pose(
         &self,
         sv: &SceneView,
@@ -399,14 +430,33 @@ impl Preview {
         path: &std::path::Path,
     ) -> Result<usize, PoseError> {
         let mut n = 0;
-        for mesh in sv.meshes.iter().flatten() {
-            if let Some(skin) = &mesh.skin {
-                let m = skin.binding.matrices(path, animation, time)?;
-                skin.pose(&self.renderer, &m)?;
-                n += 1;
-            }
+        for object in 0..sv.poses.len() {
+            n += usize::from(self.pose_object(sv, object, animation, time, path)?);
         }
         Ok(n)
+    }
+
+    /// Poses scene object `object` alone at `time` s of `animation`: objects sharing one
+    /// animated asset stand at their own times in one frame. Returns whether the object draws
+    /// a GPU-skinned mesh (false: nothing to pose).
+    pub fn pose_object(
+        &self,
+        sv: &SceneView,
+        object: usize,
+        animation: &str,
+        time: f32,
+        path: &std::path::Path,
+    ) -> Result<bool, PoseError> {
+        let pose = sv.poses.get(object).ok_or(PoseError::NoObject {
+            object,
+            count: sv.poses.len(),
+        })?;
+        let Some(pose) = pose else {
+            return Ok(false);
+        };
+        let m = pose.binding().matrices(path, animation, time)?;
+        pose.pose(&self.renderer, &m)?;
+        Ok(true)
     }
 
     /// Renders one frame into `view` (a window's surface texture, in the view's format).

@@ -11,6 +11,7 @@ use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::features::{Frame, MissingInput, Output};
 use crate::frame_data::FrameData;
 use crate::plan::{MeshInfo, Mode, Plan, ScenePlan};
+use crate::poses::ObjectPose;
 use crate::scene::{Camera, Scene};
 use crate::targets::{TargetSpec, ViewTargets};
 use crate::view::View;
@@ -40,6 +41,8 @@ pub struct SceneView {
     pub plan: Plan,
     /// The meshes on the GPU, by mesh index (None: no object draws it).
     pub meshes: Vec<Option<Arc<GpuMesh>>>,
+    /// Each scene object's posed copy of its GPU-skinned mesh (None: not skinned).
+    pub poses: Vec<Option<ObjectPose>>,
     /// The cube-map sky on the GPU.
     pub sky: Option<Arc<GpuSky>>,
     /// The view's targets.
@@ -60,6 +63,7 @@ impl SceneView {
         Frame {
             plan: &self.plan,
             meshes: &self.meshes,
+            poses: &self.poses,
             sky: self.sky.as_deref(),
             targets: &self.targets,
             data: &self.data,
@@ -91,6 +95,7 @@ impl SceneView {
         Ok(Frame {
             plan: &e.plan,
             meshes: &self.meshes,
+            poses: &self.poses,
             sky: self.sky.as_deref(),
             targets: &e.targets,
             data: &self.data,

@@ -213,3 +213,95 @@ fn a_gpu_skinned_frame_equals_the_cpu_posed_frame() {
         .to_string();
     assert!(e.contains("Fox.glb") && e.contains("fins"), "{e}");
 }
+
+#[test]
+fn two_objects_sharing_one_animated_asset_stand_at_their_own_times() {
+    use pelt_preview::asset::{PoseAt, builtin, skinned};
+    use pelt_preview::scene::{Camera, Transform};
+    use pelt_preview::{Image, Mode};
+    let mut p = preview();
+    let fox_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/fox/Fox.glb");
+    let fox = baked(pelt_io::load(&fox_path).expect("fox"), "skin-pair-fox.glb");
+    let rest = PoseAt {
+        animation: "Walk".into(),
+        time: 0.0,
+    };
+    let gpu = skinned(&fox, &rest).expect("skinned");
+    let (lo, hi) = gpu.bounds();
+    let ext = hi - lo;
+    let centre = (lo + hi) / 2.0;
+    // Two foxes nose to tail along z, seen from the side: one fills each half of the image.
+    let mut scene = pelt_preview::procedural::fur_scene(&fox_path, lo, hi, 256, 96, 0.0);
+    let mut second = scene.objects[0].clone();
+    for (o, dz) in [(&mut scene.objects[0], -0.7), (&mut second, 0.7)] {
+        o.transform = Transform {
+            translation: [0.0, 0.0, dz * ext.z],
+            ..Transform::default()
+        };
+    }
+    scene.objects.push(second);
+    scene.camera = Camera {
+        position: [centre.x + 2.6 * ext.z, centre.y + 0.2 * ext.y, centre.z],
+        target: centre.to_array(),
+        up: [0.0, 1.0, 0.0],
+        fov_y_deg: 40.0,
+        near: 0.1 * ext.z,
+        far: 10.0 * ext.z,
+    };
+    let (a, b) = (0.1, 0.6);
+    let meshes = [gpu, builtin("quad").expect("quad")];
+    let mesh_of = [0, 1, 0];
+    let mut frame = |times: [f32; 2], name: &str| -> Image {
+        let d = p
+            .prepare_loaded(&scene, &meshes, &mesh_of, Mode::Inferred)
+            .expect("prepare");
+        for (object, t) in [(0, times[0]), (2, times[1])] {
+            let posed = p
+                .pose_object(&d, object, "Walk", t, &fox_path)
+                .expect("pose");
+            assert!(posed, "objects[{object}] skins on the GPU");
+        }
+        let i = p.render(&d).expect("render");
+        i.save(&out_dir().join(format!("{name}.png")))
+            .expect("write");
+        i
+    };
+    let mixed = frame([a, b], "skin-pair-mixed");
+    let both_a = frame([a, a], "skin-pair-a");
+    let both_b = frame([b, b], "skin-pair-b");
+    // The halves of the image, each holding one fox.
+    let half = |i: &Image, right: bool| -> Image {
+        let w = i.width / 2;
+        let x0 = if right { w } else { 0 };
+        let mut rgba = Vec::with_capacity((w * i.height * 4) as usize);
+        for y in 0..i.height {
+            let row = ((y * i.width + x0) * 4) as usize;
+            rgba.extend_from_slice(&i.rgba[row..row + (w * 4) as usize]);
+        }
+        Image {
+            width: w,
+            height: i.height,
+            rgba,
+        }
+    };
+    // Which half shows which object depends on the camera; try both and take the match.
+    let (l_a, r_b) = (
+        common::flip_mean(&half(&both_a, false), &half(&mixed, false)).0,
+        common::flip_mean(&half(&both_b, true), &half(&mixed, true)).0,
+    );
+    let (l_b, r_a) = (
+        common::flip_mean(&half(&both_b, false), &half(&mixed, false)).0,
+        common::flip_mean(&half(&both_a, true), &half(&mixed, true)).0,
+    );
+    let matched = (l_a.max(r_b)).min(l_b.max(r_a));
+    // Negative control: the two times look different in each half.
+    let apart = common::flip_mean(&half(&both_a, false), &half(&both_b, false))
+        .0
+        .min(common::flip_mean(&half(&both_a, true), &half(&both_b, true)).0);
+    eprintln!("each half against its own time: FLIP {matched:.5}; the two times apart: {apart:.5}");
+    assert!(apart > 0.01, "0.1 s and 0.6 s of Walk look alike: {apart}");
+    assert!(
+        matched <= 0.001,
+        "a fox is not at its own time (FLIP {matched}); images in target/render-tests/"
+    );
+}

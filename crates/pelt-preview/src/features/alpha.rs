@@ -16,6 +16,7 @@ pub const FEATURE: Feature = Feature {
     explain: "stippled alpha objects, lit from their own stipple samples",
     pipelines: Vec::new,
     compute: &[],
+    passes: &[],
 };
 
 /// The alpha objects' stippled G-buffer draws (after opaque and fur).

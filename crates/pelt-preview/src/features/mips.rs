@@ -53,6 +53,7 @@ pub const FEATURE: Feature = Feature {
     explain: "mip chains of layered targets",
     pipelines: || vec![pipeline()],
     compute: &[],
+    passes: &[],
 };
 
 /// One level of one layer: its source group, its parameters and the view it writes.

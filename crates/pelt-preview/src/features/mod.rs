@@ -47,6 +47,7 @@ use std::sync::Arc;
 use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::frame_data::{FrameData, Res};
 use crate::plan::Plan;
+use crate::poses::ObjectPose;
 use crate::recipe::{Recipe, Step};
 use crate::targets::ViewTargets;
 use crate::uniforms::{FurVertex, Vertex};
@@ -107,6 +108,8 @@ pub struct Frame<'a> {
     pub plan: &'a Plan,
     /// The meshes, by the plan's mesh index (None: not uploaded, no object uses it).
     pub meshes: &'a [Option<Arc<GpuMesh>>],
+    /// Each scene object's posed copy of its mesh, by scene index (None: not skinned).
+    pub poses: &'a [Option<ObjectPose>],
     /// The cube-map sky, when the scene has one.
     pub sky: Option<&'a GpuSky>,
     /// The view's targets.
@@ -124,15 +127,29 @@ pub struct Frame<'a> {
 }
 
 impl<'a> Frame<'a> {
-    /// Object `k`'s mesh.
+    /// Object `k`'s mesh (its own posed copy where it has one).
     pub fn mesh(&self, pass: &'static str, k: usize) -> Result<&'a GpuMesh, MissingInput> {
         let o = &self.plan.objects[k];
+        self.object_mesh(pass, o.scene_index, o.mesh)
+    }
+
+    /// The mesh scene object `scene_index` draws: its posed copy where it has one, else the
+    /// shared mesh `mesh`.
+    pub fn object_mesh(
+        &self,
+        pass: &'static str,
+        scene_index: usize,
+        mesh: usize,
+    ) -> Result<&'a GpuMesh, MissingInput> {
+        if let Some(Some(p)) = self.poses.get(scene_index) {
+            return Ok(&p.mesh);
+        }
         self.meshes
-            .get(o.mesh)
+            .get(mesh)
             .and_then(|m| m.as_deref())
             .ok_or_else(|| MissingInput {
                 pass,
-                what: format!("the mesh of objects[{}] on the GPU", o.scene_index),
+                what: format!("the mesh of objects[{scene_index}] on the GPU"),
             })
     }
 

@@ -52,6 +52,7 @@ pub const FEATURE: Feature = Feature {
     explain: "pelt view's text overlay",
     pipelines: || vec![pipeline()],
     compute: &[],
+    passes: &[],
 };
 
 /// `lines` rasterized: (width, height, one byte per pixel, 255 where the font has ink), with

@@ -14,8 +14,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use crate::assets::GpuMesh;
-use crate::features::registry::Feature;
+use crate::features::registry::{Feature, Into, PassDesc};
 use crate::features::{Frame, MissingInput, vertex_layout};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
@@ -162,8 +161,8 @@ pub struct Maps {
     minmax: wgpu::BindGroup,
     peel_read: wgpu::BindGroup,
     sky: wgpu::BindGroup,
-    /// What goes into the maps: (scene index, mesh index).
-    draws: Vec<(usize, usize)>,
+    /// What goes into the maps: (object slot, mesh index, scene index).
+    draws: Vec<(usize, usize, usize)>,
     /// The maps hold the scene as last written (a frame has rendered them since).
     fresh: std::sync::atomic::AtomicBool,
     /// The bytes the maps were last drawn from (faces, objects, lights, draws).
@@ -478,7 +477,7 @@ impl Maps {
             objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
                 .copy_from_slice(bytemuck::bytes_of(&u));
             if o.pattern == 0 {
-                draws.push((i, o.mesh));
+                draws.push((i, o.mesh, o.scene_index));
             }
         }
         let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
@@ -493,7 +492,7 @@ impl Maps {
             bytemuck::cast_slice(
                 &draws
                     .iter()
-                    .map(|&(i, m)| [i as u32, m as u32])
+                    .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
                     .collect::<Vec<_>>(),
             ),
         ]
@@ -612,6 +611,20 @@ pub const FEATURE: Feature = Feature {
     explain: "mirrors and glass from layered distance maps",
     pipelines: || vec![map_pipeline(), reflect_pipeline()],
     compute: &[MINMAX],
+    passes: &[
+        PassDesc {
+            pass: Pass::DistanceMaps,
+            into: Into::Scene,
+            maps: true,
+            build: map_passes,
+        },
+        PassDesc {
+            pass: Pass::MinMax,
+            into: Into::Scene,
+            maps: true,
+            build: build_minmax_pass,
+        },
+    ],
 };
 
 fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput> {
@@ -619,16 +632,6 @@ fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput>
         pass,
         what: "the scene's distance maps".into(),
     })
-}
-
-fn mesh<'a>(f: &Frame<'a>, pass: &'static str, k: usize) -> Result<&'a GpuMesh, MissingInput> {
-    f.meshes
-        .get(k)
-        .and_then(|m| m.as_deref())
-        .ok_or_else(|| MissingInput {
-            pass,
-            what: format!("mesh {k} on the GPU"),
-        })
 }
 
 /// The distance-map pass: every face of every layer of every map, each a render pass (a
@@ -687,8 +690,8 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                 );
                 r.bind(slot::LIGHTS, &m.lights_group, Some(0));
                 r.bind(slot::PEEL, &m.peel_read, None);
-                for &(i, k) in &m.draws {
-                    let g = mesh(f, name, k)?;
+                for &(i, k, scene_index) in &m.draws {
+                    let g = f.object_mesh(name, scene_index, k)?;
                     r.bind(
                         slot::OBJECT,
                         &m.objects_group,
@@ -726,4 +729,8 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
     f.draw_objects(r, pass, None, &f.plan.reflective)
+}
+
+fn build_minmax_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    minmax_pass(f).map(|r| vec![r])
 }

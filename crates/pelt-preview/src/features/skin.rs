@@ -41,6 +41,7 @@ pub const FEATURE: Feature = Feature {
     explain: "GPU skinning of animated meshes, their fins rebuilt from the pose",
     pipelines: Vec::new,
     compute: &[SKIN, SKIN_SCATTER, FIN_REBUILD],
+    passes: &[],
 };
 
 /// A vertex at rest. Keep in sync with `SkinVertex` in shaders/skin.wgsl.

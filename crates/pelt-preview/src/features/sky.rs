@@ -57,6 +57,7 @@ pub const FEATURE: Feature = Feature {
     explain: "the procedural or cube-map sky where nothing else is",
     pipelines: || vec![pipeline(false), pipeline(true)],
     compute: &[],
+    passes: &[],
 };
 
 /// Draws the sky (the frame group at the output's slot must be bound).

@@ -59,6 +59,7 @@ pub const FEATURE: Feature = Feature {
     explain: "explicit strands lit per light: the converged fur reference",
     pipelines: || vec![pipeline()],
     compute: &[],
+    passes: &[],
 };
 
 /// Every fur object's strands. The frame and forward light-array groups must be bound.

@@ -53,6 +53,7 @@ pub const FEATURE: Feature = Feature {
     explain: "a reduced-resolution frame scaled up to the window",
     pipelines: || vec![pipeline()],
     compute: &[],
+    passes: &[],
 };
 
 /// What the pass reads: one source frame into one target size.

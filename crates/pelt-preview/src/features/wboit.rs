@@ -4,7 +4,7 @@
 //! image's opaque depth without writing it; the composite divides and blends the result over
 //! the image, then draws the alpha objects.
 
-use crate::features::registry::Feature;
+use crate::features::registry::{Feature, PassDesc};
 use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
@@ -69,6 +69,10 @@ pub const FEATURE: Feature = Feature {
     explain: "fur layers accumulated order-independently, then composited",
     pipelines: || vec![pipeline()],
     compute: &[],
+    passes: &[
+        PassDesc::new(Pass::FurAccum, build_accum_pass),
+        PassDesc::new(Pass::Composite, build_composite_pass),
+    ],
 };
 
 fn missing(pass: Pass) -> MissingInput {
@@ -136,4 +140,12 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let lit = material::object_lighting(f.plan);
     alpha::draw(f, &mut r, Pass::Composite.name(), lit)?;
     Ok(r)
+}
+
+fn build_accum_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    accum_pass(f).map(|r| vec![r])
+}
+
+fn build_composite_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    composite_pass(f).map(|r| vec![r])
 }
