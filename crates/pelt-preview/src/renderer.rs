@@ -61,6 +61,25 @@ pub struct PipelineDesc {
     pub spec: PipelineSpec,
 }
 
+impl PipelineDesc {
+    /// A full-screen pass of `shader` (no vertex buffers, no depth) reading `groups` by slot,
+    /// into one colour target blended by `blend`.
+    pub fn fullscreen(
+        shader: ShaderDesc,
+        groups: Vec<LayoutDesc>,
+        blend: Option<wgpu::BlendState>,
+    ) -> PipelineDesc {
+        PipelineDesc {
+            shader,
+            spec: PipelineSpec {
+                groups,
+                blends: vec![blend],
+                ..PipelineSpec::default()
+            },
+        }
+    }
+}
+
 /// What makes one pipeline differ from another: the descriptor and the formats of the
 /// attachments of the pass that draws it.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]

@@ -2,11 +2,11 @@
 //! material pass's order; fur is lit per strand with Kajiya-Kay (Revie Listing 2.4).
 
 use crate::features::registry::{Feature, PassDesc};
-use crate::features::{Frame, MissingInput, material, object_blends, object_depth, vertex_layout};
+use crate::features::{Frame, MissingInput, material};
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
-use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
+use crate::renderer::{Blend, PipelineDesc};
 use crate::shaders::{Lighting, ShaderDesc};
 
 /// forward.wgsl.
@@ -14,21 +14,7 @@ pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "forward.wgsl
 
 /// The forward shader's pipeline with `blend`.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
-    PipelineDesc {
-        shader: SHADER,
-        spec: PipelineSpec {
-            groups: vec![
-                layout::FRAME,
-                layout::OBJECT,
-                layout::LIGHT_ARRAY,
-                crate::gpu_material::LAYOUT,
-            ],
-            vertex_buffers: vec![vertex_layout()],
-            blends: object_blends(blend),
-            depth: object_depth(blend),
-            ..PipelineSpec::default()
-        },
-    }
+    material::lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend)
 }
 
 /// The forward reference's feature.

@@ -12,7 +12,7 @@ use crate::features::{
     Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot, strands,
 };
 use crate::frame_data::Res;
-use crate::layout;
+use crate::layout::{self, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
@@ -32,13 +32,19 @@ pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "material.wgs
 
 /// The material shader's pipeline with `blend`.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
+    lit_pipeline(SHADER, layout::TEXTURES, blend)
+}
+
+/// An object shader's pipeline that shades with the object's material, lit through
+/// `lighting` at [`slot::LIGHTING`] (the L-buffer, or the forward light array).
+pub fn lit_pipeline(shader: ShaderDesc, lighting: LayoutDesc, blend: Blend) -> PipelineDesc {
     PipelineDesc {
-        shader: SHADER,
+        shader,
         spec: PipelineSpec {
             groups: vec![
                 layout::FRAME,
                 layout::OBJECT,
-                layout::TEXTURES,
+                lighting,
                 crate::gpu_material::LAYOUT,
             ],
             vertex_buffers: vec![vertex_layout()],

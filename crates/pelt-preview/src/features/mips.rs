@@ -8,7 +8,7 @@ use crate::features::registry::Feature;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{PipelineDesc, PipelineSpec, Renderer};
+use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
 use crate::targets::LayeredTarget;
 
@@ -37,14 +37,7 @@ pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
 
 /// The mips shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
-    PipelineDesc {
-        shader: SHADER,
-        spec: PipelineSpec {
-            groups: vec![LAYOUT, layout::SIZE],
-            blends: vec![None],
-            ..PipelineSpec::default()
-        },
-    }
+    PipelineDesc::fullscreen(SHADER, vec![LAYOUT, layout::SIZE], None)
 }
 
 /// The mips feature.

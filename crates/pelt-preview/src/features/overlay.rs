@@ -8,7 +8,7 @@ use crate::features::registry::Feature;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
-use crate::renderer::{PipelineDesc, PipelineSpec, Renderer};
+use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
 
 /// The overlay's text bitmap (overlay.wgsl).
@@ -36,14 +36,11 @@ pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
 
 /// The overlay shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
-    PipelineDesc {
-        shader: SHADER,
-        spec: PipelineSpec {
-            groups: vec![LAYOUT, layout::SIZE],
-            blends: vec![Some(wgpu::BlendState::ALPHA_BLENDING)],
-            ..PipelineSpec::default()
-        },
-    }
+    PipelineDesc::fullscreen(
+        SHADER,
+        vec![LAYOUT, layout::SIZE],
+        Some(wgpu::BlendState::ALPHA_BLENDING),
+    )
 }
 
 /// The overlay feature.
