@@ -4,16 +4,17 @@
 //! here under its module names.
 //!
 //! Three lifetimes, kept apart as in rerun's re_renderer:
-//! - long-lived: [`Renderer`] (device, layouts, pipelines keyed by shader, blend and target
-//!   formats) and [`assets::AssetCache`] (meshes, fur textures, skies: uploaded once, keyed
-//!   by content);
+//! - long-lived: [`Renderer`] (device, layouts and pipelines built from descriptors, keyed
+//!   by them and the target formats) and [`assets::AssetCache`] (meshes, fur textures, skies:
+//!   uploaded once, keyed by content, never written after);
 //! - per view: [`targets::ViewTargets`], sized to the view and made for its output format;
 //! - per frame: [`frame_data::FrameData`], the uniforms a camera and its knobs decide, written
 //!   with `queue.write_buffer`, and each object's pose ([`poses::ObjectPose`]: its own copy
 //!   of a GPU-skinned mesh's vertex buffers, written by the skinning passes).
 //!
 //! [`scene_view::SceneView`] holds one scene's share of each. Passes are built by the feature
-//! modules ([`features`]) as [`recipe::Recipe`]s, run in the order of [`frame::recipes`].
+//! modules ([`features`]) as [`recipe::Recipe`]s: the plan lists the passes, and
+//! [`frame::recipes`] has the feature registered for each build it.
 
 pub mod assets;
 pub mod bench;
@@ -116,6 +117,12 @@ impl From<features::MissingInput> for RenderError {
         RenderError::Frame(FrameError::Missing(e))
     }
 }
+
+/// A scene's meshes on the GPU by mesh index, and each object's posed copy by scene index.
+type Uploaded = (
+    Vec<Option<Arc<assets::GpuMesh>>>,
+    Vec<Option<poses::ObjectPose>>,
+);
 
 /// Loads each distinct asset of `scene` once; returns the meshes and each object's index
 /// into them.
@@ -266,13 +273,7 @@ impl Preview {
         mesh_of: &[usize],
         scene_plan: &ScenePlan,
         mode: Mode,
-    ) -> Result<
-        (
-            Vec<Option<Arc<assets::GpuMesh>>>,
-            Vec<Option<poses::ObjectPose>>,
-        ),
-        RenderError,
-    > {
+    ) -> Result<Uploaded, RenderError> {
         let mut gpu_meshes: Vec<Option<Arc<assets::GpuMesh>>> = vec![None; meshes.len()];
         for (k, m) in meshes.iter().enumerate() {
             let used = scene_plan.objects.iter().filter(|(o, _)| o.mesh == k);

@@ -6,7 +6,7 @@
 //! dispatch) are kept apart, so a clip plays by writing matrices only. Its input is
 //! `pelt_anim::posed::SkinJob`, the same data `pelt pose` skins on the CPU.
 //!
-//! [`GpuSkinned`] wires it into drawing: the skinned vertices are copied into the mesh's
+//! [`GpuSkinned`] wires it into drawing: the skinned vertices are copied into the object's
 //! vertex buffers and its fins rebuilt from them, so every pass draws the pose.
 
 use bytemuck::{Pod, Zeroable};
@@ -34,6 +34,24 @@ pub const FIN_REBUILD: ComputeDesc = ComputeDesc {
     shader: ShaderDesc::compute(&["common.wgsl", "fur_common.wgsl", "fin_rebuild.wgsl"]),
     groups: &[STORAGE, STORAGE],
 };
+
+/// Bind-group slots of the three skinning shaders: each reads two storage groups, a buffer
+/// read and one written in each (keep in sync with their `@group` numbers; checked by the
+/// shader-validation test against `groups` above).
+pub mod slot {
+    /// skin.wgsl: rest → posed; skin_scatter.wgsl: posed → vertices; fin_rebuild.wgsl: fin
+    /// sources → fin instances.
+    pub const FIRST: u32 = 0;
+    /// skin.wgsl: influences and joints; skin_scatter.wgsl: params → fur vertices;
+    /// fin_rebuild.wgsl: fur vertices and vertices.
+    pub const SECOND: u32 = 1;
+}
+
+/// Binds a skinning shader's two groups at [`slot::FIRST`] and [`slot::SECOND`].
+fn bind_pair(pass: &mut wgpu::ComputePass<'_>, groups: &[wgpu::BindGroup; 2]) {
+    pass.set_bind_group(slot::FIRST, &groups[0], &[]);
+    pass.set_bind_group(slot::SECOND, &groups[1], &[]);
+}
 
 /// The skinning feature.
 pub const FEATURE: Feature = Feature {
@@ -177,9 +195,7 @@ impl GpuSkin {
             timestamp_writes: None,
         });
         pass.set_pipeline(&pipeline);
-        for (k, g) in self.groups.iter().enumerate() {
-            pass.set_bind_group(k as u32, g, &[]);
-        }
+        bind_pair(&mut pass, &self.groups);
         pass.dispatch_workgroups(self.vertices.div_ceil(64), 1, 1);
         Ok(())
     }
@@ -353,8 +369,6 @@ fn dispatch(
         timestamp_writes: None,
     });
     pass.set_pipeline(pipeline);
-    for (k, g) in groups.iter().enumerate() {
-        pass.set_bind_group(k as u32, g, &[]);
-    }
+    bind_pair(&mut pass, groups);
     pass.dispatch_workgroups(n.div_ceil(64), 1, 1);
 }
