@@ -79,6 +79,9 @@ pub struct Viewer {
     animated: Option<pelt_io::Document>,
     /// The pose the meshes were last built at.
     posed_at: Option<pelt_preview::asset::PoseAt>,
+    /// The pose the GPU skinned the views to since the input was loaded (None: the loaded
+    /// pose). Poses belong to each view's objects, so a view prepared later is posed to it.
+    gpu_pose: Option<pelt_preview::asset::PoseAt>,
     full: SceneView,
     reduced: Option<Reduced>,
     refining: Option<Refining>,
@@ -183,6 +186,7 @@ impl Viewer {
             timeline,
             animated,
             posed_at,
+            gpu_pose: None,
             reduced: None,
             refining: None,
             surface,
@@ -205,10 +209,13 @@ impl Viewer {
         // A new pose: the strands mode's mean starts again (its view is prepared anew).
         self.refining = None;
         if self.input.meshes[0].skin.is_some() {
-            // Skinned on the GPU: the mesh stays, only the joint matrices change.
-            preview
-                .pose(&self.full, &pose.animation, pose.time, &self.path)
-                .map_err(|e| ViewError::Animation(e.to_string()))?;
+            // Skinned on the GPU: the meshes stay, only the joint matrices change, in every
+            // view drawn from them.
+            self.gpu_pose = Some(pose.clone());
+            self.catch_up(preview, &self.full)?;
+            if let Some(r) = &self.reduced {
+                self.catch_up(preview, &r.view)?;
+            }
             self.posed_at = Some(pose);
             return Ok(());
         }
@@ -216,6 +223,7 @@ impl Viewer {
         self.input.meshes[0] = pelt_preview::asset::posed(doc, &pose)
             .map_err(|e| ViewError::Animation(e.to_string()))?;
         self.posed_at = Some(pose);
+        self.gpu_pose = None;
         self.full = prepare(
             preview,
             &self.input,
@@ -225,6 +233,17 @@ impl Viewer {
         )?;
         self.reduced = None;
         preview.assets.sweep();
+        Ok(())
+    }
+
+    /// Poses `sv` (prepared from the input, so at the pose it was loaded at) to the pose the
+    /// GPU skinned the views to since, if it did.
+    fn catch_up(&self, preview: &Preview, sv: &SceneView) -> Result<(), ViewError> {
+        if let Some(p) = &self.gpu_pose {
+            preview
+                .pose(sv, &p.animation, p.time, &self.path)
+                .map_err(|e| ViewError::Animation(e.to_string()))?;
+        }
         Ok(())
     }
 
@@ -318,6 +337,7 @@ impl Viewer {
         self.full = full;
         (self.animated, self.timeline) = anim.unzip();
         self.posed_at = posed_at;
+        self.gpu_pose = None;
         self.refresh(preview)?;
         preview.assets.sweep();
         Ok(())
@@ -335,6 +355,7 @@ impl Viewer {
         let mode = self.settings.mode;
         let input = &self.input;
         let mut sv = prepare(preview, input, mode, &scene, ViewOutput::IMAGE)?;
+        self.catch_up(preview, &sv)?;
         let t = preview.time(&sv, 1, 1)?;
         let split = |passes: &[(Pass, f64)]| {
             let lres = |p: Pass| {
@@ -468,6 +489,7 @@ impl Viewer {
                     ViewOutput::IMAGE,
                 )?;
                 let mean = Progressive::new(&preview.renderer, size, self.surface.size);
+                self.catch_up(preview, &view)?;
                 self.refining = Some(Refining { view, mean, scene });
             }
         }
@@ -512,6 +534,7 @@ impl Viewer {
                 }))
             })?;
             let upscale = Upscale::new(&preview.renderer, color, self.surface.size);
+            self.catch_up(preview, &view)?;
             self.reduced = Some(Reduced { view, upscale });
         }
         if let Some(r) = &self.reduced {
@@ -549,6 +572,7 @@ impl Viewer {
             &self.scene(),
             ViewOutput::IMAGE,
         )?;
+        self.catch_up(preview, &sv)?;
         Ok(preview.render(&sv)?)
     }
 
