@@ -52,8 +52,9 @@ Examples:
 
 const VIEW_EXAMPLES: &str = "\
 Controls: left drag orbits, right (or shift) drag pans, the wheel zooms, F frames the asset;
-M mode, [ ] L-buffer scale, D DSF, - = shells, I fins, B stipple/WBOIT, P screenshot,
-R reload, T measure pass costs, O overlay, H help, Q quit. Drop a file on the window to open it.
+M mode, G debug view (normal groups, comb), [ ] L-buffer scale, D DSF, - = shells, I fins,
+B stipple/WBOIT, P screenshot, R reload, T measure pass costs, O overlay, H help, Q quit.
+Drop a file on the window to open it.
 An animated asset plays: Space plays/pauses, , . step a frame, C picks the next clip.
 
 Examples:

@@ -145,10 +145,10 @@ pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, Mis
             continue;
         }
         let f = match b.into {
-            registry::Into::Scene => inner,
-            registry::Into::Output => outer,
+            registry::DrawsInto::Scene => inner,
+            registry::DrawsInto::Output => outer,
         };
-        out.extend((b.build)(f)?);
+        b.build.run(f, &mut out)?;
     }
     Ok(out)
 }

@@ -292,15 +292,14 @@ impl Preview {
         }
         let mut object_poses = Vec::with_capacity(scene.objects.len());
         for (o, &k) in scene.objects.iter().zip(mesh_of) {
-            let pose =
-                match (&gpu_meshes[k], &meshes[k]) {
-                    (Some(shared), m) => poses::ObjectPose::new(&self.renderer, shared, m)
-                        .map_err(|source| RenderError::Skin {
-                            asset: Some(o.asset.clone()),
-                            source,
-                        })?,
-                    (None, _) => None,
-                };
+            let pose = match &gpu_meshes[k] {
+                Some(shared) => poses::ObjectPose::new(&self.renderer, shared, &meshes[k])
+                    .map_err(|source| RenderError::Skin {
+                        asset: Some(o.asset.clone()),
+                        source,
+                    })?,
+                None => None,
+            };
             object_poses.push(pose);
         }
         Ok((gpu_meshes, object_poses))

@@ -6,7 +6,7 @@
 //! as its base mesh, mirrors and glass as plain surfaces: the views show the asset, not the
 //! shading.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::{Frame, MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
 use crate::frame_data::Res;
 use crate::layout;
@@ -69,7 +69,7 @@ pub const FEATURE: Feature = Feature {
     explain: "debug views: normal groups, neighbours distinct; the decoded comb",
     pipelines: || [GROUPS, COMB, PLAIN].map(pipeline).to_vec(),
     compute: &[],
-    passes: &[PassDesc::new(Pass::Debug, build_pass)],
+    passes: &[PassDesc::new(Pass::Debug, Build::One(pass))],
 };
 
 /// The debug pass: every planned object, nearest first within each kind, into the output.
@@ -126,8 +126,4 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         r.push(Step::DrawIndexed(0..mesh.count, 0..1));
     }
     Ok(r)
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

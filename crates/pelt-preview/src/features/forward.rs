@@ -1,7 +1,7 @@
 //! The forward reference: every object loops over every light at output resolution, in the
 //! material pass's order; fur is lit per strand with Kajiya-Kay (Revie Listing 2.4).
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::{Frame, MissingInput, material};
 use crate::layout;
 use crate::plan::Pass;
@@ -23,14 +23,10 @@ pub const FEATURE: Feature = Feature {
     explain: "the forward reference: every object loops over every light",
     pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
     compute: &[],
-    passes: &[PassDesc::new(Pass::Forward, build_pass)],
+    passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
 };
 
 /// The forward pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     material::shade(f, Pass::Forward, Lighting::Forward)
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

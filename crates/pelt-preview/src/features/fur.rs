@@ -7,7 +7,7 @@
 //! lit from the L-buffer at root and tip (or per light, forward), blended over or into the
 //! OIT targets.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::{
     Frame, MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
@@ -231,7 +231,7 @@ pub const FEATURE: Feature = Feature {
               shells and fins",
     pipelines,
     compute: &[TANGENT_FRAMES, FIN_RECORDS],
-    passes: &[PassDesc::new(Pass::Obliterate, build_obliterate_pass)],
+    passes: &[PassDesc::new(Pass::Obliterate, Build::One(obliterate_pass))],
 };
 
 /// Binds fur object `k`'s mesh, fur vertices and textures.
@@ -376,8 +376,4 @@ pub fn layers<'a>(
         r.push(Step::Draw(0..6, 0..fur.fin_count));
     }
     Ok(())
-}
-
-fn build_obliterate_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    obliterate_pass(f).map(|r| vec![r])
 }

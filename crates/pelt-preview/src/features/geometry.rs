@@ -4,7 +4,7 @@
 //! feature adds its base mesh and stippled outer shell, the alpha feature its stippled
 //! objects.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::slot;
 use crate::features::{Frame, MissingInput, alpha, fur, vertex_layout};
 use crate::frame_data::Res;
@@ -37,7 +37,7 @@ pub const FEATURE: Feature = Feature {
     explain: "opaque geometry into the G-buffer at L-buffer resolution",
     pipelines: || vec![pipeline()],
     compute: &[],
-    passes: &[PassDesc::new(Pass::Geometry, build_pass)],
+    passes: &[PassDesc::new(Pass::Geometry, Build::One(pass))],
 };
 
 /// The G-buffer's colour and depth attachments, cleared: normals 0, DSF depth code 65535
@@ -99,8 +99,4 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     fur::gbuffer(f, &mut r)?;
     alpha::gbuffer(f, &mut r)?;
     Ok(r)
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

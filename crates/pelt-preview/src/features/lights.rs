@@ -2,7 +2,7 @@
 //! light adds its diffuse and specular intensity over its scissor rectangle only, reading
 //! position and normal back from the G-buffer.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::{ADD, Frame, MissingInput};
 use crate::frame_data::Res;
 use crate::layout;
@@ -50,7 +50,7 @@ pub const FEATURE: Feature = Feature {
     explain: "scissored point lights into the L-buffer",
     pipelines: || vec![pipeline()],
     compute: &[],
-    passes: &[PassDesc::new(Pass::Light, build_pass)],
+    passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
 };
 
 /// The light pass.
@@ -102,8 +102,4 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         r.push(Step::Draw(0..3, 0..1));
     }
     Ok(r)
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

@@ -6,7 +6,7 @@
 //! (stipple blend) and the alpha objects back to front, unless the OIT composite draws them.
 //! The forward reference ([`super::forward`]) takes the same order with its own shader.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::vertex_layout;
 use crate::features::{
     Frame, MissingInput, alpha, fur, object_blends, object_depth, reflect, sky, slot, strands,
@@ -61,7 +61,7 @@ pub const FEATURE: Feature = Feature {
     explain: "materials at output resolution, lit from the L-buffer through DSF",
     pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
     compute: &[],
-    passes: &[PassDesc::new(Pass::Material, build_pass)],
+    passes: &[PassDesc::new(Pass::Material, Build::One(pass))],
 };
 
 /// The pipeline ordinary objects are drawn with, lit by `lighting`, with `blend`.
@@ -156,8 +156,4 @@ pub fn shade<'a>(f: &Frame<'a>, pass: Pass, lit: Lighting) -> Result<Recipe<'a>,
 /// The material pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     shade(f, Pass::Material, Lighting::Inferred)
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

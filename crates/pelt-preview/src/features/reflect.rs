@@ -14,7 +14,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use crate::features::registry::{Feature, Into, PassDesc};
+use crate::features::registry::{Build, DrawsInto, Feature, PassDesc};
 use crate::features::{Frame, MissingInput, vertex_layout};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
@@ -614,15 +614,15 @@ pub const FEATURE: Feature = Feature {
     passes: &[
         PassDesc {
             pass: Pass::DistanceMaps,
-            into: Into::Scene,
+            into: DrawsInto::Scene,
             maps: true,
-            build: map_passes,
+            build: Build::Many(map_passes),
         },
         PassDesc {
             pass: Pass::MinMax,
-            into: Into::Scene,
+            into: DrawsInto::Scene,
             maps: true,
-            build: build_minmax_pass,
+            build: Build::One(minmax_pass),
         },
     ],
 };
@@ -729,8 +729,4 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
     f.draw_objects(r, pass, None, &f.plan.reflective)
-}
-
-fn build_minmax_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    minmax_pass(f).map(|r| vec![r])
 }

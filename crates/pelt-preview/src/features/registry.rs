@@ -12,11 +12,28 @@ use crate::renderer::{ComputeDesc, PipelineDesc};
 use crate::shaders::ShaderDesc;
 
 /// Builds a planned pass's recipes from the frame.
-pub type Build = for<'a> fn(&Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput>;
+#[derive(Debug, Clone, Copy)]
+pub enum Build {
+    /// One render or compute pass.
+    One(for<'a> fn(&Frame<'a>) -> Result<Recipe<'a>, MissingInput>),
+    /// Several (the distance maps: one per face and layer).
+    Many(for<'a> fn(&Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput>),
+}
+
+impl Build {
+    /// The recipes, appended to `out`.
+    pub fn run<'a>(self, f: &Frame<'a>, out: &mut Vec<Recipe<'a>>) -> Result<(), MissingInput> {
+        match self {
+            Build::One(b) => out.push(b(f)?),
+            Build::Many(b) => out.extend(b(f)?),
+        }
+        Ok(())
+    }
+}
 
 /// Where a pass draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Into {
+pub enum DrawsInto {
     /// The scene colour where the plan blends fur into one ([`super::resolve`]), else the
     /// output: every pass before the resolve.
     Scene,
@@ -30,7 +47,7 @@ pub struct PassDesc {
     /// The pass, as the plan lists it.
     pub pass: Pass,
     /// Where it draws.
-    pub into: Into,
+    pub into: DrawsInto,
     /// Whether it draws the scene's distance maps, skipped while they are fresh.
     pub maps: bool,
     /// Its recipes.
@@ -42,7 +59,7 @@ impl PassDesc {
     pub const fn new(pass: Pass, build: Build) -> PassDesc {
         PassDesc {
             pass,
-            into: Into::Scene,
+            into: DrawsInto::Scene,
             maps: false,
             build,
         }
@@ -142,7 +159,10 @@ mod tests {
         for p in [Pass::Upscale, Pass::Mips, Pass::Overlay] {
             assert!(builder(p).is_none(), "{} is drawn on request", p.name());
         }
-        assert_eq!(builder(Pass::Resolve).map(|d| d.into), Some(Into::Output));
+        assert_eq!(
+            builder(Pass::Resolve).map(|d| d.into),
+            Some(DrawsInto::Output)
+        );
         assert!(builder(Pass::MinMax).is_some_and(|d| d.maps));
     }
 }

@@ -9,7 +9,7 @@
 //! the rounding no longer averages out: on the demo scene the fur grew a fifth brighter from
 //! 4 to 64 shells. Half floats keep 11 significant bits at every brightness.
 
-use crate::features::registry::{Feature, Into, PassDesc};
+use crate::features::registry::{Build, DrawsInto, Feature, PassDesc};
 use crate::features::upscale::Upscale;
 use crate::features::{Frame, MissingInput, Output};
 use crate::plan::Pass;
@@ -25,9 +25,9 @@ pub const FEATURE: Feature = Feature {
     compute: &[],
     passes: &[PassDesc {
         pass: Pass::Resolve,
-        into: Into::Output,
+        into: DrawsInto::Output,
         maps: false,
-        build: build_pass,
+        build: Build::One(pass),
     }],
 };
 
@@ -74,8 +74,4 @@ fn scene_color<'a>(f: &Frame<'a>) -> Result<&'a SceneColor, MissingInput> {
 /// The resolve pass: the scene colour into `f`'s output.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     Ok(scene_color(f)?.copy.pass_as(Pass::Resolve, f.output))
-}
-
-fn build_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    pass(f).map(|r| vec![r])
 }

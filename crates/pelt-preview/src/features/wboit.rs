@@ -4,7 +4,7 @@
 //! image's opaque depth without writing it; the composite divides and blends the result over
 //! the image, then draws the alpha objects.
 
-use crate::features::registry::{Feature, PassDesc};
+use crate::features::registry::{Build, Feature, PassDesc};
 use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
@@ -70,8 +70,8 @@ pub const FEATURE: Feature = Feature {
     pipelines: || vec![pipeline()],
     compute: &[],
     passes: &[
-        PassDesc::new(Pass::FurAccum, build_accum_pass),
-        PassDesc::new(Pass::Composite, build_composite_pass),
+        PassDesc::new(Pass::FurAccum, Build::One(accum_pass)),
+        PassDesc::new(Pass::Composite, Build::One(composite_pass)),
     ],
 };
 
@@ -140,12 +140,4 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let lit = material::object_lighting(f.plan);
     alpha::draw(f, &mut r, Pass::Composite.name(), lit)?;
     Ok(r)
-}
-
-fn build_accum_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    accum_pass(f).map(|r| vec![r])
-}
-
-fn build_composite_pass<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    composite_pass(f).map(|r| vec![r])
 }
