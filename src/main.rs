@@ -7,7 +7,6 @@ mod bake;
 mod demo;
 mod inspect;
 mod pose;
-mod reflect_bench;
 mod render;
 mod sweep;
 mod textures;
@@ -21,6 +20,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use pelt_bake::options::{ColorSpace, Quantize, TangentGenerator, TangentMode, TopologyMode};
 use pelt_preview::scene::{LBUFFER_SCALE, MAX_SIDE, reflection_limits as limits};
 
 const BAKE_EXAMPLES: &str = "\
@@ -206,28 +206,28 @@ pub struct BakeArgs {
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
     /// Keep TANGENT where present, or always generate tangents.
-    #[arg(long, value_enum, default_value_t = Tangents::Keep)]
-    pub tangents: Tangents,
+    #[arg(long, default_value = "keep", value_parser = named::<TangentMode>(TangentMode::NAMES))]
+    pub tangents: TangentMode,
     /// Which generator makes generated tangents: auto = MikkTSpace where the primitive's
     /// material has a normal texture, the one-pass UV-gradient frame elsewhere (the comb
     /// decodes the same in any stored frame; several times faster); mikktspace everywhere;
     /// gradient everywhere.
-    #[arg(long, value_enum, default_value_t = TangentGeneratorArg::Auto)]
-    pub tangent_generator: TangentGeneratorArg,
+    #[arg(long, default_value = "auto", value_parser = named::<TangentGenerator>(TangentGenerator::NAMES))]
+    pub tangent_generator: TangentGenerator,
     /// How COLOR_0 holds the painted direction: linear (glTF's definition) or srgb (8-bit
     /// sRGB paint that an exporter linearized, as Blender does with byte colors).
-    #[arg(long, value_enum, default_value_t = ColorSpaceArg::Linear)]
-    pub comb_color_space: ColorSpaceArg,
+    #[arg(long, default_value = "linear", value_parser = named::<ColorSpace>(ColorSpace::NAMES))]
+    pub comb_color_space: ColorSpace,
     /// Remap the comb's axes, e.g. x,z,-y for a comb painted in a Z-up tool.
     #[arg(long, default_value = "x,y,z")]
     pub comb_axes: pelt_bake::options::AxisMap,
     /// Storage of _FUR_COMB: float, or normalized u16 / u8.
-    #[arg(long, value_enum, default_value_t = QuantizeArg::Float)]
-    pub quantize: QuantizeArg,
+    #[arg(long, default_value = "float", value_parser = named::<Quantize>(Quantize::NAMES))]
+    pub quantize: Quantize,
     /// Topology to write: full (_NORMAL_GROUP and fin edges), groups (_NORMAL_GROUP only) or
     /// off (the comb bake alone, for engines that use neither).
-    #[arg(long, value_enum, default_value_t = TopologyArg::Full)]
-    pub topology: TopologyArg,
+    #[arg(long, default_value = "full", value_parser = named::<TopologyMode>(TopologyMode::NAMES))]
+    pub topology: TopologyMode,
     /// Weld positions closer than this (in the mesh's units) for topology, for exports whose
     /// seams do not meet exactly. 0 welds bit-equal positions only.
     #[arg(long, value_name = "DIST", default_value_t = 0.0, value_parser = non_negative)]
@@ -762,55 +762,13 @@ fn finite(s: &str) -> Result<f32, String> {
     }
 }
 
-/// `--tangents`.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum Tangents {
-    /// Keep TANGENT when present.
-    Keep,
-    /// Always generate.
-    Regenerate,
-}
-
-/// `--tangent-generator`.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum TangentGeneratorArg {
-    /// MikkTSpace for normal-mapped materials, the gradient frame elsewhere.
-    Auto,
-    /// MikkTSpace (bit-identical to the reference) everywhere.
-    Mikktspace,
-    /// The per-vertex UV-gradient frame everywhere.
-    Gradient,
-}
-
-/// `--comb-color-space`.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum ColorSpaceArg {
-    /// As stored.
-    Linear,
-    /// Re-encode to sRGB first.
-    Srgb,
-}
-
-/// `--topology`.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum TopologyArg {
-    /// Normal groups and fin edges.
-    Full,
-    /// Normal groups only.
-    Groups,
-    /// Neither.
-    Off,
-}
-
-/// `--quantize`.
-#[derive(Clone, Copy, ValueEnum)]
-pub enum QuantizeArg {
-    /// VEC4 float.
-    Float,
-    /// VEC4 unsigned short normalized.
-    U16,
-    /// VEC4 unsigned byte normalized.
-    U8,
+/// A parser for an option named in `names` (pelt-bake's `NAMES`, one home for them).
+fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr<Err = pelt_bake::options::NameError> + Clone + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
 }
 
 /// A finite number ≥ 0.

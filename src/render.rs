@@ -1,14 +1,15 @@
 //! `pelt render`: a scene file or one asset (framed by a default scene) to a PNG, with the
-//! plan explained, and frame timing; `pelt render-bench`: the inferred-lighting paper's two
-//! experiments (Kircher & Lawrance §6) timed side by side on this machine's adapter.
+//! plan explained, and frame timing; `pelt render-bench`: the experiments' tables
+//! (`pelt_measure::render_bench`) printed.
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
 use pelt_preview::asset::PoseAt;
-use pelt_preview::knobs::{self, InputError, Knobs};
-use pelt_preview::procedural::{paper_lbuffer_scale, paper_objects_and_lights};
+use pelt_preview::knobs::{self, InputError};
+use pelt_measure::render_bench::{self, Frames};
+use pelt_preview::animate;
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
 
 use crate::{RenderArgs, RenderBenchArgs};
@@ -112,7 +113,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         }
         if let Some(frames) = args.bench {
             let t = preview.time(&d, args.warmup, frames)?;
-            println!("{}", timings_line(&t));
+            println!("{t}");
         }
         Ok(())
     })();
@@ -206,179 +207,42 @@ fn raytrace(
     Ok(ExitCode::SUCCESS)
 }
 
-fn timings_line(t: &pelt_preview::Timings) -> String {
-    let passes: Vec<String> = t
-        .passes
-        .iter()
-        .map(|(p, ms)| format!("{} {ms:.2} ms", p.name()))
-        .collect();
-    format!(
-        "frame {:.2} ms (median of {}); passes ({}): {}",
-        t.frame_ms,
-        t.frames,
-        match t.clock {
-            pelt_preview::PassClock::Gpu => "GPU timestamps",
-            pelt_preview::PassClock::Wall => "wall time, each pass submitted alone",
-        },
-        passes.join(", ")
-    )
-}
-
-/// Runs `pelt render-bench`.
+/// Runs `pelt render-bench`: each experiment's tables (`pelt_measure::render_bench`).
 pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
+    use crate::Experiment::{All, Fur, Lbuffer, Objects, Reflections};
     let mut preview = Preview::new(args.backend).context("opening the GPU device")?;
     println!("adapter: {}", preview.adapter());
-    let asset = Path::new(&args.asset);
-    let runs: Vec<(&str, Scene, Mode, &str)> = {
-        let a = paper_objects_and_lights(asset);
-        let b = paper_lbuffer_scale(asset);
-        let b_full = Scene {
-            lbuffer_scale: 1.0,
-            dsf: false,
-            ..b.clone()
-        };
-        let mut v = Vec::new();
-        if matches!(
-            args.experiment,
-            crate::Experiment::Objects | crate::Experiment::All
-        ) {
-            v.push((
-                "(a) 101 objects, 81 lights, 1280×720",
-                a.clone(),
-                Mode::Inferred,
-                "inferred, L-buffer 800×450, DSF",
-            ));
-            v.push((
-                "(a) 101 objects, 81 lights, 1280×720",
-                a,
-                Mode::Forward,
-                "forward",
-            ));
-        }
-        if matches!(
-            args.experiment,
-            crate::Experiment::Lbuffer | crate::Experiment::All
-        ) {
-            v.push((
-                "(b) 122 lights, 1280×720",
-                b,
-                Mode::Inferred,
-                "L-buffer 800×450 with DSF",
-            ));
-            v.push((
-                "(b) 122 lights, 1280×720",
-                b_full,
-                Mode::Inferred,
-                "L-buffer 1280×720 without DSF",
-            ));
-        }
-        v
+    let frames = Frames {
+        warmup: args.warmup,
+        timed: args.frames,
     };
-    if matches!(
-        args.experiment,
-        crate::Experiment::Reflections | crate::Experiment::All
-    ) {
-        crate::reflect_bench::run(&mut preview, args)?;
-        if args.experiment == crate::Experiment::Reflections {
-            return Ok(ExitCode::SUCCESS);
+    let e = args.experiment;
+    if matches!(e, Reflections | All) {
+        let r = render_bench::reflection_tables(&mut preview, &args.scene, args.mode, frames)
+            .with_context(|| format!("the reflections experiment on {}", args.scene.display()))?;
+        println!("{}", r.intro);
+        r.tables.iter().for_each(|t| print!("{}", t.markdown()));
+        if let Some(dir) = &args.pictures {
+            std::fs::create_dir_all(dir)?;
+            for (name, image) in &r.pictures {
+                image.save(&dir.join(name))?;
+            }
+            println!("\npictures in {}", dir.display());
         }
     }
-    if matches!(
-        args.experiment,
-        crate::Experiment::Fur | crate::Experiment::All
-    ) {
-        v_fur(&mut preview, args)?;
-        if args.experiment == crate::Experiment::Fur {
-            return Ok(ExitCode::SUCCESS);
-        }
+    if matches!(e, Fur | All) {
+        print!("{}", render_bench::fur(&mut preview, frames)?.markdown());
     }
-    println!("| experiment | configuration | frame ms (median) | passes |");
-    println!("|---|---|---|---|");
-    for (name, scene, mode, what) in runs {
-        let d = preview.prepare(&scene, mode)?;
-        let t = preview.time(&d, args.warmup, args.frames)?;
-        let passes: Vec<String> = t
-            .passes
-            .iter()
-            .map(|(p, ms)| format!("{} {ms:.1}", p.name()))
-            .collect();
-        println!(
-            "| {name} | {what} | {:.1} | {} |",
-            t.frame_ms,
-            passes.join(", ")
-        );
+    if matches!(e, Objects | Lbuffer | All) {
+        let which = (matches!(e, Objects | All), matches!(e, Lbuffer | All));
+        let asset = Path::new(&args.asset);
+        print!("{}", render_bench::paper(&mut preview, asset, which, frames)?.markdown());
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// The fur experiment: the demo scene (baked fixture creature, 1280×720) against shell
-/// count, fins on and off, stipple against WBOIT, and the forward Kajiya-Kay reference.
-fn v_fur(preview: &mut Preview, args: &RenderBenchArgs) -> anyhow::Result<()> {
-    use pelt_preview::scene::FurBlend;
-    let dir = std::env::temp_dir().join(format!("pelt-render-bench-{}", std::process::id()));
-    std::fs::create_dir_all(&dir)?;
-    let asset = dir.join("creature.glb");
-    pelt_measure::demo_creature::bake_creature(&asset)?;
-    let mesh = pelt_preview::asset::load(&asset)?;
-    let _ = std::fs::remove_dir_all(&dir);
-    let (lo, hi) = mesh.bounds();
-    let meshes = vec![mesh, pelt_preview::asset::builtin("quad").context("quad")?];
-    let mut runs: Vec<(String, Scene, Mode)> = Vec::new();
-    let at = |shells: u32, fins: bool, blend: FurBlend| {
-        let mut s = pelt_preview::procedural::fur_scene(&asset, lo, hi, 1280, 720, 0.0);
-        s.fur_blend = blend;
-        Knobs {
-            shells: Some(shells),
-            fins: Some(fins),
-            ..Knobs::default()
-        }
-        .apply(&mut s);
-        s
-    };
-    for n in [4, 8, 16, 32, 64] {
-        runs.push((
-            format!("{n} shells, fins, stipple"),
-            at(n, true, FurBlend::Stipple),
-            Mode::Inferred,
-        ));
-    }
-    runs.push((
-        "16 shells, no fins, stipple".into(),
-        at(16, false, FurBlend::Stipple),
-        Mode::Inferred,
-    ));
-    runs.push((
-        "16 shells, fins, WBOIT".into(),
-        at(16, true, FurBlend::Wboit),
-        Mode::Inferred,
-    ));
-    runs.push((
-        "64 shells, fins, WBOIT".into(),
-        at(64, true, FurBlend::Wboit),
-        Mode::Inferred,
-    ));
-    runs.push((
-        "16 shells, fins, forward Kajiya-Kay".into(),
-        at(16, true, FurBlend::Stipple),
-        Mode::Forward,
-    ));
-    println!("| fur demo, 1280×720 | frame ms (median) | passes |");
-    println!("|---|---|---|");
-    for (what, scene, mode) in runs {
-        let d = preview.prepare_loaded(&scene, &meshes, &[0, 1], mode)?;
-        let t = preview.time(&d, args.warmup, args.frames)?;
-        let passes: Vec<String> = t
-            .passes
-            .iter()
-            .map(|(p, ms)| format!("{} {ms:.1}", p.name()))
-            .collect();
-        println!("| {what} | {:.1} | {} |", t.frame_ms, passes.join(", "));
-    }
-    Ok(())
-}
-
 /// `--frames N`: N frames evenly over the clip (from its first key, not repeating the last),
-/// the camera framed on the first, as one contact sheet.
+/// the camera framed on the first, as one contact sheet (`pelt_preview::animate::Clip`).
 fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Result<ExitCode> {
     let Some(out) = &args.output else {
         anyhow::bail!("--frames needs -o FILE.png");
@@ -386,25 +250,23 @@ fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Res
     if knobs::is_scene(&args.input) {
         anyhow::bail!("--frames takes an asset (.glb, .gltf), not a scene file");
     }
-    let clip = match pelt_io::load(&args.input).and_then(|d| {
-        let rig = pelt_anim::Rig::load(&d)?;
-        rig.clip(&d, animation).map(|c| (c.start, c.end))
-    }) {
-        Ok(c) => c,
-        Err(e) => return Ok(fail(e)),
+    let crate::RenderMode::Gpu(mode) = args.knobs.mode else {
+        anyhow::bail!("--frames renders with the GPU modes");
     };
-    let mode = match args.knobs.mode {
-        crate::RenderMode::Gpu(m) => m,
-        crate::RenderMode::Raytrace => anyhow::bail!("--frames renders with the GPU modes"),
+    let loaded = pelt_io::load(&args.input).and_then(|d| {
+        let rig = pelt_anim::Rig::load(&d)?;
+        let clip = rig.clip(&d, animation).map(|c| (c.start, c.end))?;
+        Ok((d, clip))
+    });
+    let (doc, clip) = match loaded {
+        Ok(l) => l,
+        Err(e) => return Ok(fail(e)),
     };
     let mut k = args.knobs.knobs();
     let (w, h) = k.size.unwrap_or(DEFAULT_SIZE);
     k.size = Some(((w / 2).max(1), (h / 2).max(1)));
-    let at = |i: u32| PoseAt {
-        animation: animation.to_owned(),
-        time: clip.0 + (clip.1 - clip.0) * i as f32 / frames as f32,
-    };
-    let first = match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(0))) {
+    let poses = animate::spread(animation, clip, frames);
+    let first = match knobs::load_at(&args.input, &k, DEFAULT_SIZE, poses.first()) {
         Ok(i) => i,
         Err(e) => return Ok(fail(e)),
     };
@@ -412,38 +274,18 @@ fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Res
         Ok(p) => p,
         Err(e) => return Ok(fail(e)),
     };
-    // Prepared once; each frame skins the asset on the GPU (assets the GPU cannot skin, with
-    // morph targets or without NORMAL, are posed on the CPU and uploaded per frame).
-    let gpu_skinned = first.meshes.iter().any(|m| m.skin.is_some());
-    let mut prepared = None;
-    let mut tiles = Vec::new();
-    for i in 0..frames {
-        if prepared.is_none() || !gpu_skinned {
-            let meshes = if i == 0 {
-                first.meshes.clone()
-            } else {
-                match knobs::load_at(&args.input, &k, DEFAULT_SIZE, Some(&at(i))) {
-                    Ok(inp) => inp.meshes,
-                    Err(e) => return Ok(fail(e)),
-                }
-            };
-            match preview.prepare_loaded(&first.scene, &meshes, &first.mesh_of, mode) {
-                Ok(d) => prepared = Some(d),
-                Err(e) => return Ok(fail(e)),
-            }
-        }
-        let Some(d) = &prepared else { continue };
-        if gpu_skinned && i > 0 {
-            let a = at(i);
-            if let Err(e) = preview.pose(d, &a.animation, a.time, &args.input) {
-                return Ok(fail(e));
-            }
-        }
-        match preview.render(d) {
-            Ok(t) => tiles.push(t),
-            Err(e) => return Ok(fail(e)),
-        }
-    }
+    let sheet = animate::Clip {
+        scene: &first.scene,
+        meshes: &first.meshes,
+        mesh_of: &first.mesh_of,
+        doc: &doc,
+        path: &args.input,
+        mode,
+    };
+    let tiles = match sheet.frames(&mut preview, &poses) {
+        Ok(t) => t,
+        Err(e) => return Ok(fail(e)),
+    };
     let sheet = pelt_preview::Image::contact_sheet(&tiles, 4);
     sheet.save(out).map_err(RenderError::Frame)?;
     if !args.quiet {

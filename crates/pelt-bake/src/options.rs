@@ -65,6 +65,56 @@ pub enum TopologyMode {
     Off,
 }
 
+/// A name that is not one of an option's values.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{value:?} is not one of {}", allowed.join(", "))]
+pub struct NameError {
+    /// The name given.
+    pub value: String,
+    /// The names allowed.
+    pub allowed: &'static [&'static str],
+}
+
+/// One home for an option's names: the CLI's values, the report's words, scene and config
+/// files all parse and print them here.
+macro_rules! named {
+    ($t:ty { $($v:ident => $n:literal),+ $(,)? }) => {
+        impl $t {
+            /// Every value's name, in declaration order.
+            pub const NAMES: &'static [&'static str] = &[$($n),+];
+
+            /// This value's name.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Self::$v => $n),+
+                }
+            }
+        }
+
+        impl FromStr for $t {
+            type Err = NameError;
+            fn from_str(s: &str) -> Result<Self, NameError> {
+                match s {
+                    $($n => Ok(Self::$v),)+
+                    _ => Err(NameError { value: s.to_owned(), allowed: Self::NAMES }),
+                }
+            }
+        }
+
+        impl fmt::Display for $t {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+named!(TangentMode { Keep => "keep", Regenerate => "regenerate" });
+named!(TangentGenerator { Auto => "auto", Mikktspace => "mikktspace", Gradient => "gradient" });
+named!(ColorSpace { Linear => "linear", Srgb => "srgb" });
+named!(Quantize { Float => "float", U16 => "u16", U8 => "u8" });
+named!(TopologyMode { Full => "full", Groups => "groups", Off => "off" });
+
 /// A remapping of the comb's axes: output axis i = sign_i · input axis src_i.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisMap {
@@ -301,6 +351,17 @@ impl Default for BakeOptions {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn option_names_round_trip_and_a_bad_one_lists_the_rest() {
+        for n in Quantize::NAMES {
+            assert_eq!(n.parse::<Quantize>().unwrap().name(), *n);
+        }
+        assert_eq!(TopologyMode::Groups.to_string(), "groups");
+        assert_eq!("srgb".parse::<ColorSpace>(), Ok(ColorSpace::Srgb));
+        let e = "mikk".parse::<TangentGenerator>().unwrap_err().to_string();
+        assert_eq!(e, "\"mikk\" is not one of auto, mikktspace, gradient");
+    }
 
     #[test]
     fn axis_maps_parse_and_apply() {

@@ -6,6 +6,23 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// One rule per job: its output depends on every file its bake read, then `also` (the
+/// config, read by every job).
+pub fn rules(
+    jobs: &[crate::Job],
+    outcomes: &[crate::Outcome],
+    also: &[PathBuf],
+) -> Vec<(PathBuf, Vec<PathBuf>)> {
+    jobs.iter()
+        .zip(outcomes)
+        .map(|(j, o)| {
+            let mut deps = o.reads.clone();
+            deps.extend(also.iter().cloned());
+            (j.output.clone(), deps)
+        })
+        .collect()
+}
+
 /// `target: dep dep …` rules, one per output, deps deduplicated in first-read order.
 pub fn render(rules: &[(PathBuf, Vec<PathBuf>)]) -> String {
     let mut out = String::new();

@@ -7,11 +7,15 @@
 //!   so `--incremental` can skip inputs whose output is already up to date.
 //! - [`depfile`]: Make-syntax dependency files listing every file each output was made from.
 //! - [`temp`]: sweeping the temporary files a killed run left behind.
+//! - [`run`]: the batch baked on a thread pool, outcomes reported as they land.
+//! - [`report`]: the report's schema (`pelt bake --report`) and the options' salt.
 
 pub mod depfile;
 pub mod inputs;
 pub mod job;
 pub mod key;
+pub mod report;
+pub mod run;
 pub mod temp;
 
 pub use inputs::{Job, PlanError, plan};

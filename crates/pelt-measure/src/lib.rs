@@ -5,13 +5,17 @@
 //! and glass from distance maps against the CPU ray tracer; [`sweep`]: every knob against
 //! its reference, `pelt sweep`). [`strands`] accumulates the converged strand reference of
 //! the fur; [`luminance`] compares the fur's brightness with it. [`demo_creature`] makes the
-//! painted asset the fur experiments draw.
+//! painted asset the fur experiments draw, [`demo`] runs `pelt demo`, and [`render_bench`]
+//! times the papers' experiments as [`table::Table`]s.
 
+pub mod demo;
 pub mod demo_creature;
 pub mod flip;
 pub mod luminance;
 pub mod reflections;
+pub mod render_bench;
 pub mod strands;
 pub mod sweep;
+pub mod table;
 
 pub use flip::Flip;

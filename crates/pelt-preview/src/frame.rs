@@ -368,6 +368,40 @@ pub struct Timings {
     pub frames: usize,
 }
 
+impl Timings {
+    /// Each pass as `name ms`, to `digits` decimals, comma-separated.
+    pub fn passes_line(&self, digits: usize) -> String {
+        let passes: Vec<String> = self
+            .passes
+            .iter()
+            .map(|(p, ms)| format!("{} {ms:.digits$}", p.name()))
+            .collect();
+        passes.join(", ")
+    }
+}
+
+/// `frame 3.20 ms (median of 15); passes (GPU timestamps): geometry 1.10 ms, …`.
+impl std::fmt::Display for Timings {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let passes: Vec<String> = self
+            .passes
+            .iter()
+            .map(|(p, ms)| format!("{} {ms:.2} ms", p.name()))
+            .collect();
+        write!(
+            f,
+            "frame {:.2} ms (median of {}); passes ({}): {}",
+            self.frame_ms,
+            self.frames,
+            match self.clock {
+                PassClock::Gpu => "GPU timestamps",
+                PassClock::Wall => "wall time, each pass submitted alone",
+            },
+            passes.join(", ")
+        )
+    }
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     if v.is_empty() { 0.0 } else { v[v.len() / 2] }

@@ -16,6 +16,7 @@
 //! modules ([`features`]) as [`recipe::Recipe`]s: the plan lists the passes, and
 //! [`frame::recipes`] has the feature registered for each build it.
 
+pub mod animate;
 pub mod assets;
 pub mod bench;
 pub mod features;

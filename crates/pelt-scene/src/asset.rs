@@ -245,7 +245,7 @@ fn cube() -> MeshData {
 }
 
 /// A unit quad in the XY plane (−0.5..0.5) facing +Z, one normal group.
-fn quad() -> MeshData {
+pub fn quad() -> MeshData {
     let vertices = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
         .into_iter()
         .map(|(x, y)| vertex(Vec3::new(x, y, 0.0), Vec3::Z, 1))

@@ -9,6 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use pelt_preview::animate::{self, Followed};
 use pelt_preview::budget::{Budget, Costs, Quality};
 use pelt_preview::features::Output;
 use pelt_preview::features::upscale::Upscale;
@@ -195,9 +196,8 @@ impl Viewer {
         Ok(v)
     }
 
-    /// Draws the animated asset at the timeline's time: when it moved since the last pose, the
-    /// renderer skins the mesh again on the GPU (or, for assets it cannot skin, the CPU poses
-    /// and uploads it).
+    /// Draws the animated asset at the timeline's time, when it moved since the last pose
+    /// (`pelt_preview::animate::follow` chooses GPU skinning or a CPU pose and upload).
     pub fn follow_timeline(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
         let (Some(doc), Some(t)) = (&self.animated, &self.timeline) else {
             return Ok(());
@@ -208,31 +208,29 @@ impl Viewer {
         }
         // A new pose: the strands mode's mean starts again (its view is prepared anew).
         self.refining = None;
-        if self.input.meshes[0].skin.is_some() {
-            // Skinned on the GPU: the meshes stay, only the joint matrices change, in every
-            // view drawn from them.
-            self.gpu_pose = Some(pose.clone());
-            self.catch_up(preview, &self.full)?;
-            if let Some(r) = &self.reduced {
-                self.catch_up(preview, &r.view)?;
-            }
-            self.posed_at = Some(pose);
-            return Ok(());
-        }
-        // Posed on the CPU (morph targets, or no NORMAL): flattened and uploaded again.
-        self.input.meshes[0] = pelt_preview::asset::posed(doc, &pose)
+        let mut views = vec![&self.full];
+        views.extend(self.reduced.as_ref().map(|r| &r.view));
+        let asset = (&self.input.meshes[0], doc, self.path.as_path());
+        let followed = animate::follow(preview, &views, asset, &pose)
             .map_err(|e| ViewError::Animation(e.to_string()))?;
-        self.posed_at = Some(pose);
-        self.gpu_pose = None;
-        self.full = prepare(
-            preview,
-            &self.input,
-            self.settings.mode,
-            &self.scene(),
-            window_output(self.surface),
-        )?;
-        self.reduced = None;
-        preview.assets.sweep();
+        self.posed_at = Some(pose.clone());
+        match followed {
+            // Skinned on the GPU: views prepared later are posed too (`catch_up`).
+            Followed::Skinned => self.gpu_pose = Some(pose),
+            Followed::Upload(mesh) => {
+                self.input.meshes[0] = mesh;
+                self.gpu_pose = None;
+                self.full = prepare(
+                    preview,
+                    &self.input,
+                    self.settings.mode,
+                    &self.scene(),
+                    window_output(self.surface),
+                )?;
+                self.reduced = None;
+                preview.assets.sweep();
+            }
+        }
         Ok(())
     }
 

@@ -281,12 +281,7 @@ impl Knob {
                 "16" => Some(Value::Bits(HeightBits::Sixteen)),
                 _ => None,
             },
-            Knob::Quantize => match s {
-                "u8" => Some(Value::Quantize(Quantize::U8)),
-                "u16" => Some(Value::Quantize(Quantize::U16)),
-                "float" => Some(Value::Quantize(Quantize::Float)),
-                _ => None,
-            },
+            Knob::Quantize => s.parse().ok().map(Value::Quantize),
             Knob::LbufferScale => s
                 .parse::<f32>()
                 .ok()
