@@ -1,9 +1,11 @@
 // common.wgsl: structs and functions shared by every pass of pelt's preview renderer.
-// Prepended to each pass's file before compilation (see crates/pelt-preview/src/shaders.rs);
-// it declares no bindings, so each pass names its own.
+// Imported by name (`#import pelt::common::{Frame, …}`, composed by naga_oil: see
+// shaders/README.md); it declares no bindings (object_bindings.wgsl holds the shared ones).
 //
 // Keep in sync with crates/pelt-preview/src/uniforms.rs (FrameUniforms, ObjectUniforms,
 // LightUniforms, Vertex).
+
+#define_import_path pelt::common
 
 struct Frame {
     view: mat4x4<f32>,

@@ -3,6 +3,13 @@
 // accumulated weight is the weighted average of every fur layer at the pixel, and its coverage
 // is 1 − revealage (the product of every layer's 1 − alpha). Blended "over" the image.
 
+#import pelt::fullscreen::{fullscreen_position}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(0) @binding(0) var accum: texture_2d<f32>;
 @group(0) @binding(1) var reveal: texture_2d<f32>;
 

@@ -5,8 +5,9 @@
 // direction as colour (x, y, z mapped from [-1, 1] to [0, 1]) and its length as brightness.
 // Surfaces without a comb are drawn dark grey.
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
+#import pelt::common::{VertexIn}
+#import pelt::fur_common::{FurIn, comb_object}
+#import pelt::object_bindings::{frame, object}
 
 struct Flat {
     @builtin(position) clip: vec4<f32>,

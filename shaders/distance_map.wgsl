@@ -13,6 +13,9 @@
 //
 // Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect.rs.
 
+#import pelt::common::{Light, VertexIn, pack_geometry, point_light, texel_distance}
+#import pelt::object_bindings::{object}
+
 struct Face {
     view_proj: mat4x4<f32>,
     // xyz: the reference point (world); w: unused.
@@ -26,7 +29,6 @@ struct Face {
 const MAX_MAP_LIGHTS: u32 = 256u;
 
 @group(0) @binding(0) var<uniform> face: Face;
-@group(1) @binding(0) var<uniform> object: Object;
 @group(2) @binding(0) var<uniform> lights: array<Light, MAX_MAP_LIGHTS>;
 @group(3) @binding(0) var peel: texture_2d_array<f32>;
 

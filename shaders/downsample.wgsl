@@ -5,6 +5,13 @@
 // written is never also read; a layer index picks the face (a D2 view of one layer of an
 // array cannot be sampled on every back end).
 
+#import pelt::fullscreen::{fullscreen_position}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(0) @binding(0) var source: texture_2d_array<f32>;
 @group(0) @binding(1) var source_sampler: sampler;
 // xy: 1 / the written level's size; z: the layer.

@@ -7,6 +7,9 @@
 // loaded instance. The output is FinInstance's layout (fins.wgsl's FinIn, 32 floats). The strides
 // are common.wgsl's VERTEX_FLOATS and FUR_FLOATS; the offsets follow crates/pelt-scene/src/vertex.rs.
 
+#import pelt::common::{FUR_FLOATS, VERTEX_FLOATS}
+#import pelt::fur_common::{comb_object}
+
 const FIN_FLOATS: u32 = 32u;
 // Per fin in `fin_in`: 8 source indices, then the loaded instance's 32 words.
 const FIN_IN_WORDS: u32 = 40u;

@@ -9,8 +9,19 @@
 // like the shells by `fur_lighting`. Keep `FinIn` in sync with `FinInstance` in
 // crates/pelt-preview/src/uniforms.rs.
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
+#import pelt::fur_common::{FurOut, MIN_COS, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#ifdef FORWARD_LIGHT
+#import pelt::fur_light_forward::{fur_lighting}
+#else
+#import pelt::fur_light_inferred::{fur_lighting}
+#endif
+#import pelt::object_bindings::{frame, object}
+
+// Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the layers of the
+// weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
+// point serves both; the revealage output has a target only under WBOIT.
+override WBOIT: bool = false;
+
 @group(3) @binding(0) var heightfield: texture_2d<f32>;
 @group(3) @binding(1) var fin_texture: texture_2d<f32>;
 @group(3) @binding(2) var repeat_sampler: sampler;
@@ -117,5 +128,5 @@ fn fs_main(s: FinOut) -> FurOut {
     if c.a <= 0.002 {
         discard;
     }
-    return fur_out(c, -s.view_pos.z, object.fur_params.w);
+    return fur_out(c, -s.view_pos.z, object.fur_params.w, WBOIT);
 }

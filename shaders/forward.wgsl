@@ -3,18 +3,13 @@
 // full resolution, with the specular colour taken from each light rather than rebuilt, and the
 // same material textures as the G-buffer and material passes read.
 
+#import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, point_light, to_surface}
+#import pelt::object_bindings::{frame, object}
+#import pelt::material_bindings::{base_sampler, base_texture, material, mr_sampler, mr_texture, normal_sampler, normal_texture}
+
 const MAX_FORWARD_LIGHTS: u32 = 256u;
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
 @group(2) @binding(0) var<uniform> lights: array<Light, MAX_FORWARD_LIGHTS>;
-@group(3) @binding(0) var base_texture: texture_2d<f32>;
-@group(3) @binding(1) var normal_texture: texture_2d<f32>;
-@group(3) @binding(2) var mr_texture: texture_2d<f32>;
-@group(3) @binding(3) var base_sampler: sampler;
-@group(3) @binding(4) var normal_sampler: sampler;
-@group(3) @binding(5) var mr_sampler: sampler;
-@group(3) @binding(6) var<uniform> material: MaterialParams;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {

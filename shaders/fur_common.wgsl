@@ -1,9 +1,11 @@
 // fur_common.wgsl: what every fur shader shares (Revie, "Implementing Fur Using Deferred
 // Shading", §2.3–2.4): the per-vertex fur attributes, the comb decoded with the current TBN,
 // the shell offset of Listing 2.1, the grain normal of Listing 2.5 and the rim bend of
-// Listing 2.3. Prepended after common.wgsl to the fur passes (see
-// crates/pelt-preview/src/shaders.rs). Keep `FurIn` in sync with `FurVertex` in
-// crates/pelt-preview/src/uniforms.rs.
+// Listing 2.3, and the layers' output. Imported by the fur passes (shaders/README.md). Keep
+// `FurIn` in sync with `FurVertex` in crates/pelt-preview/src/uniforms.rs.
+
+#define_import_path pelt::fur_common
+#import pelt::common::{Frame, Object}
 
 // The cosine between view ray and normal below which a shell layer's path length stops
 // growing (a shell near the silhouette is crossed along a chord, not an infinite slab);
@@ -181,10 +183,6 @@ struct FurLight {
     specular: vec3<f32>,
 }
 
-// Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the shells and fins
-// of the weighted blended OIT pass, false where they blend straight alpha "over". One
-// fragment entry point serves both; the revealage output has a target only under WBOIT.
-override WBOIT: bool = false;
 
 struct FurOut {
     // Straight colour and alpha ("over"), or Σ colour·α·w and Σ α·w (WBOIT).
@@ -193,11 +191,11 @@ struct FurOut {
     @location(1) reveal: vec4<f32>,
 }
 
-// A layer's output: straight alpha, or its contribution to the weighted blended
+// A layer's output (`wboit`: the shader's WBOIT override): straight alpha, or its contribution to the weighted blended
 // accumulation (McGuire & Bavoil eq. 7 with view depth `depth`).
-fn fur_out(c: vec4<f32>, depth: f32, scale: f32) -> FurOut {
+fn fur_out(c: vec4<f32>, depth: f32, scale: f32, wboit: bool) -> FurOut {
     var o: FurOut;
-    if WBOIT {
+    if wboit {
         let w = wboit_weight(depth, c.a, scale);
         o.color = vec4<f32>(c.rgb * c.a, c.a) * w;
         o.reveal = vec4<f32>(c.a);

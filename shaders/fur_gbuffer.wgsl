@@ -11,8 +11,9 @@
 // light.wgsl lights them with Kajiya-Kay and the shells mix the two by height
 // (fur_light_inferred.wgsl).
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
+#import pelt::common::{VertexIn, depth_code, encode_normal, facing_normal}
+#import pelt::fur_common::{FurIn, comb_object, grain_normal, rim_normal, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#import pelt::object_bindings::{frame, object}
 
 // The heights whose strand tangents the base and outer passes store (Kajiya-Kay lighting).
 // Keep in sync with fur_light_inferred.wgsl.

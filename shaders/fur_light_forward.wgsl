@@ -6,6 +6,11 @@
 //   specular = (sqrt(1 − (L·T)²) · sqrt(1 − (V·T)²) − (L·T)(V·T))^p
 // with the same windowed inverse-square falloff as every other light in the preview.
 
+#define_import_path pelt::fur_light_forward
+#import pelt::common::{Light}
+#import pelt::fur_common::{FurLight, FurQuery}
+#import pelt::object_bindings::{frame}
+
 @group(2) @binding(0) var<uniform> lights: array<Light, 256>;
 
 fn fur_lighting(q: FurQuery) -> FurLight {

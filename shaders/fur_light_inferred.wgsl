@@ -8,6 +8,11 @@
 // taken (the halo of back-lit fur without darkening edges). With none valid, the ambient term. The L-buffer holds light without albedo (inferred lighting), so Revie's
 // division by the albedo is the identity here.
 
+#define_import_path pelt::fur_light_inferred
+#import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, depth_from_code, specular_color}
+#import pelt::fur_common::{FurLight, FurQuery}
+#import pelt::object_bindings::{frame, object}
+
 @group(2) @binding(0) var lbuffer: texture_2d<f32>;
 @group(2) @binding(1) var dsf: texture_2d<u32>;
 

@@ -4,11 +4,9 @@
 // A material's normal texture perturbs the normal (common.wgsl's perturb_normal).
 // Alpha objects write only the pixels of their 2×2 stipple pattern (§4).
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
-@group(2) @binding(1) var normal_texture: texture_2d<f32>;
-@group(2) @binding(4) var normal_sampler: sampler;
-@group(2) @binding(6) var<uniform> material: MaterialParams;
+#import pelt::common::{Surface, VertexIn, depth_code, dsf_id, encode_normal, facing_normal, in_stipple, perturb_normal, to_surface}
+#import pelt::object_bindings::{frame, object}
+#import pelt::material_bindings::{material, normal_sampler, normal_texture}
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {

@@ -5,7 +5,15 @@
 // or, for fur lit as strands (the shell table's STRAND_LIT), the strand tangent stored in its
 // place, lit with Kajiya-Kay (strand_light).
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+#import pelt::common::{DEPTH_EMPTY, Light, STRAND_LIT, decode_normal, depth_from_code, point_light, strand_light}
+#import pelt::fullscreen::{fullscreen_position}
+#import pelt::object_bindings::{frame}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(1) @binding(0) var normals: texture_2d<f32>;
 @group(1) @binding(1) var dsf: texture_2d<u32>;
 @group(2) @binding(0) var<uniform> light: Light;

@@ -7,15 +7,12 @@
 // material's base colour texture multiplies the albedo; its metallic-roughness texture and
 // factors scale the diffuse and specular terms (common.wgsl's metal_rough).
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
+#import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Surface, VertexIn, depth_from_code, dsf_id, metal_rough, specular_color, to_surface}
+#import pelt::object_bindings::{frame, object}
+#import pelt::material_bindings::{base_sampler, base_texture, material, mr_sampler, mr_texture}
+
 @group(2) @binding(0) var lbuffer: texture_2d<f32>;
 @group(2) @binding(1) var dsf: texture_2d<u32>;
-@group(3) @binding(0) var base_texture: texture_2d<f32>;
-@group(3) @binding(2) var mr_texture: texture_2d<f32>;
-@group(3) @binding(3) var base_sampler: sampler;
-@group(3) @binding(5) var mr_sampler: sampler;
-@group(3) @binding(6) var<uniform> material: MaterialParams;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {

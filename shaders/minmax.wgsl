@@ -4,6 +4,8 @@
 // (maps, layers) reduces the six faces of layer m * layers + l. A layer with no surface gets
 // (3.4e38, -1), which the search skips.
 
+#import pelt::common::{texel_distance}
+
 @group(0) @binding(0) var maps: texture_2d_array<f32>;
 @group(0) @binding(1) var<storage, read_write> ranges: array<vec2<f32>>;
 

@@ -6,6 +6,13 @@
 // the image and the depth there is the base mesh's again. The shells themselves still read
 // the original buffers.
 
+#import pelt::fullscreen::{fullscreen_position}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(0) @binding(0) var lbuffer: texture_2d<f32>;
 @group(0) @binding(1) var dsf: texture_2d<u32>;
 // For each object ID (0..255): the base ID of the fur whose outer shell it is, else 0 (the

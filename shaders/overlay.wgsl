@@ -3,6 +3,13 @@
 // text box: white where the CPU-rasterized 8×8 bitmap font has a pixel, a translucent dark
 // box elsewhere, blended "over" the image.
 
+#import pelt::fullscreen::{fullscreen_position}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(0) @binding(0) var text: texture_2d<f32>;
 // xy: the box's top-left corner in pixels; z: pixels per font pixel; w: unused.
 @group(1) @binding(0) var<uniform> params: vec4<f32>;

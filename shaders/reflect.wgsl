@@ -20,6 +20,9 @@
 //
 // Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect.rs.
 
+#import pelt::common::{Light, VertexIn, oct_decode, procedural, texel_distance}
+#import pelt::object_bindings::{frame, object}
+
 const MAX_MAPS: u32 = 64u;
 const MAX_MAP_LIGHTS: u32 = 256u;
 
@@ -40,8 +43,6 @@ struct Reflect {
     objects: array<vec4<f32>, MAX_MAPS>,
 }
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
 @group(2) @binding(0) var material_maps: texture_2d_array<f32>;
 @group(2) @binding(1) var geometry_maps: texture_2d_array<f32>;
 @group(2) @binding(2) var<storage, read> ranges: array<vec2<f32>>;
@@ -273,7 +274,6 @@ fn ratio_at(map: u32, layer: u32, p: vec3<f32>) -> f32 {
     let stored = dist(map, layer, p);
     return select(0.0, length(p) / stored, stored > 0.0);
 }
-
 
 // Listing 17-2 on a bracket: secant steps keeping one undershooting and one overshooting
 // bound; returns (d, |ratio - 1| at d).

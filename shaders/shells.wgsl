@@ -12,6 +12,20 @@
 // slanted by the view. fs_main writes straight alpha for "over" blending (inner shells
 // first) or, with the WBOIT override, weighted blended OIT (McGuire & Bavoil 2013).
 
+#import pelt::common::{VertexIn}
+#import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_object, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#ifdef FORWARD_LIGHT
+#import pelt::fur_light_forward::{fur_lighting}
+#else
+#import pelt::fur_light_inferred::{fur_lighting}
+#endif
+#import pelt::object_bindings::{frame, object}
+
+// Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the layers of the
+// weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
+// point serves both; the revealage output has a target only under WBOIT.
+override WBOIT: bool = false;
+
 // The coverage code this pipeline holds (`Coverage` in shaders.rs): 0 the medium alone,
 // 1 the medium and the strand-resolving taps (only for objects the plan finds near enough
 // for a pixel under 0.75 strand diameters, pelt_scene::footprint), 2 the binary heightfield
@@ -23,8 +37,6 @@ override COVERAGE: u32 = 0u;
 // renderer, so the plan and the shader share one threshold.
 override RESOLVED_BELOW: f32;
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
 @group(3) @binding(0) var heightfield: texture_2d<f32>;
 @group(3) @binding(1) var fin_texture: texture_2d<f32>;
 @group(3) @binding(2) var repeat_sampler: sampler;
@@ -277,5 +289,5 @@ fn fs_main(s: ShellOut) -> FurOut {
     if c.a <= 0.0 {
         discard;
     }
-    return fur_out(c, -s.view_pos.z, object.fur_params.w);
+    return fur_out(c, -s.view_pos.z, object.fur_params.w, WBOIT);
 }

@@ -8,6 +8,8 @@
 // which the preview's tests compare against. Keep SkinVertex (and PosedVertex, in common.wgsl)
 // in sync with crates/pelt-preview/src/features/skin.rs.
 
+#import pelt::common::{PosedVertex}
+
 struct SkinVertex {
     position: vec4<f32>,
     normal: vec4<f32>,

@@ -4,6 +4,7 @@
 // (`FurVertex`, 10 floats), at the primitive's first vertex. Albedo, group, UVs and the comb
 // stay as loaded. The strides are common.wgsl's VERTEX_FLOATS and FUR_FLOATS.
 
+#import pelt::common::{FUR_FLOATS, PosedVertex, VERTEX_FLOATS}
 
 @group(0) @binding(0) var<storage, read> posed: array<PosedVertex>;
 @group(0) @binding(1) var<storage, read_write> vertices: array<f32>;

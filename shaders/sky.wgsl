@@ -4,7 +4,15 @@
 // procedural sky (fs_procedural, common.wgsl's `procedural`): a zenith-to-horizon gradient,
 // a darker ground, and a soft sun glow.
 
-@group(0) @binding(0) var<uniform> frame: Frame;
+#import pelt::common::{procedural}
+#import pelt::fullscreen::{fullscreen_position}
+#import pelt::object_bindings::{frame}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(1) @binding(0) var sky_cube: texture_cube<f32>;
 @group(1) @binding(1) var sky_sampler: sampler;
 

@@ -13,8 +13,9 @@
 // Keep `StrandIn` in sync with `StrandRoot` in crates/pelt-scene/src/vertex.rs and SEGMENTS
 // with `STRAND_SEGMENTS` in crates/pelt-preview/src/features/strands.rs.
 
-@group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> object: Object;
+#import pelt::fur_common::{FurQuery, clip_to_pixel, shell_offset, strand_velocity, view_dir_of}
+#import pelt::fur_light_forward::{fur_lighting}
+#import pelt::object_bindings::{frame, object}
 
 const SEGMENTS: u32 = 4u;
 

@@ -4,6 +4,8 @@
 // pelt_geom::frame on the CPU, so the shaders and the bake cannot drift apart; it is also the
 // renderer's reference compute pass (storage buffer in, storage buffer out).
 
+#import pelt::fur_common::{comb_object}
+
 struct FrameRecord {
     // xyz: vertex normal.
     n: vec4<f32>,

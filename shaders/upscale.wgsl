@@ -3,6 +3,13 @@
 // full-screen triangle of fullscreen.wgsl). The source is sRGB-encoded and sampled as such,
 // so filtering happens in linear light.
 
+#import pelt::fullscreen::{fullscreen_position}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
 @group(0) @binding(0) var source: texture_2d<f32>;
 @group(0) @binding(1) var source_sampler: sampler;
 @group(1) @binding(0) var<uniform> target_size: vec4<f32>;

@@ -7,10 +7,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
+use pelt_bake::BakeOptions;
 use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::FurAssets;
 use pelt_bake::options::{DEFAULT_CREASE_ANGLE_DEG, TopologyOptions};
-use pelt_bake::BakeOptions;
 use pelt_batch::report::{FurRun, InputReport, OptionsReport, Report, Summary};
 use pelt_batch::{Job, Outcome, Settings, Status};
 
@@ -104,7 +104,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     }
     if summary.failed > 0 {
         if jobs.len() > 1 {
-            eprintln!("pelt: {} of {} inputs failed:", summary.failed, summary.inputs);
+            eprintln!(
+                "pelt: {} of {} inputs failed:",
+                summary.failed, summary.inputs
+            );
             for f in &failures {
                 eprintln!("  {f}");
             }
@@ -119,12 +122,23 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
             pelt: env!("CARGO_PKG_VERSION"),
             options: options_report,
             summary,
-            fur: fur.as_ref().zip(args.config.clone()).map(|(f, c)| FurRun::new(f, c)),
-            inputs: jobs.iter().zip(outcomes).map(|(j, o)| InputReport::new(j, o)).collect(),
+            fur: fur
+                .as_ref()
+                .zip(args.config.clone())
+                .map(|(f, c)| FurRun::new(f, c)),
+            inputs: jobs
+                .iter()
+                .zip(outcomes)
+                .map(|(j, o)| InputReport::new(j, o))
+                .collect(),
         };
         crate::write_json_report(path, &report)?;
     }
-    Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 /// Per-input progress: a bar on a terminal, plain lines otherwise, nothing but errors with

@@ -44,10 +44,10 @@ Examples:
 const RENDER_EXAMPLES: &str = "\
 Examples:
   pelt render fixtures/creature.glb -o creature.png
-  pelt render fixtures/scenes/alpha.json -o alpha.png --backend gl
-  pelt render fixtures/scenes/alpha.json --explain
-  pelt render fixtures/scenes/alpha.json -o alpha.png --mode forward --size 320x180
-  pelt render fixtures/scenes/alpha.json --bench 20
+  pelt render fixtures/scenes/showcase.json -o showcase.png --backend gl
+  pelt render fixtures/scenes/showcase.json --explain
+  pelt render fixtures/scenes/showcase.json -o showcase.png --mode forward --size 320x180
+  pelt render fixtures/scenes/showcase.json --bench 20
   pelt render out/demo/creature.glb --bench 30 --orbit 5 --json";
 
 const VIEW_EXAMPLES: &str = "\
@@ -59,7 +59,7 @@ An animated asset plays: Space plays/pauses, , . step a frame, C picks the next 
 
 Examples:
   pelt view out/demo/creature.glb
-  pelt view fixtures/scenes/alpha.json --backend vulkan
+  pelt view fixtures/scenes/showcase.json --backend vulkan
   pelt view out/demo/creature.glb --budget-ms 100
   pelt view out/demo/creature.glb --frames 3 --screenshot shot.png --size 320x180
   pelt view out/demo/creature.glb --frames 24 --orbit 15 --screenshot still.png

@@ -6,10 +6,10 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
-use pelt_preview::asset::PoseAt;
-use pelt_preview::knobs::{self, InputError};
 use pelt_measure::render_bench::{self, Frames};
 use pelt_preview::animate;
+use pelt_preview::asset::PoseAt;
+use pelt_preview::knobs::{self, InputError};
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
 
 use crate::{RenderArgs, RenderBenchArgs};
@@ -236,7 +236,10 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
     if matches!(e, Objects | Lbuffer | All) {
         let which = (matches!(e, Objects | All), matches!(e, Lbuffer | All));
         let asset = Path::new(&args.asset);
-        print!("{}", render_bench::paper(&mut preview, asset, which, frames)?.markdown());
+        print!(
+            "{}",
+            render_bench::paper(&mut preview, asset, which, frames)?.markdown()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

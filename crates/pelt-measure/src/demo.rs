@@ -142,7 +142,11 @@ fn scene_of(o: &DemoOptions, asset: &Path, mesh: &MeshData, (w, h): (u32, u32), 
 
 /// The Fox furred mid-walk, and its walk cycle as a contact sheet (three-quarter view from
 /// the front left).
-fn fox_renders(preview: &mut Preview, o: &DemoOptions, asset: &Path) -> Result<(Image, Image), DemoError> {
+fn fox_renders(
+    preview: &mut Preview,
+    o: &DemoOptions,
+    asset: &Path,
+) -> Result<(Image, Image), DemoError> {
     let walk = |time: f32| PoseAt {
         animation: "Walk".to_owned(),
         time,
@@ -151,7 +155,12 @@ fn fox_renders(preview: &mut Preview, o: &DemoOptions, asset: &Path) -> Result<(
     let quad = asset::quad();
     let (w, h) = o.size;
     let scene = scene_of(o, asset, &mid, (w, h), 35.0);
-    let d = preview.prepare_loaded(&scene, &[mid.clone(), quad.clone()], &[0, 1], Mode::Inferred)?;
+    let d = preview.prepare_loaded(
+        &scene,
+        &[mid.clone(), quad.clone()],
+        &[0, 1],
+        Mode::Inferred,
+    )?;
     let still = preview.render(&d)?;
     let poses = spread("Walk", WALK, o.frames);
     let first = asset::load_at(asset, Some(&poses[0]))?;
@@ -170,7 +179,11 @@ fn fox_renders(preview: &mut Preview, o: &DemoOptions, asset: &Path) -> Result<(
 }
 
 /// The creature (baked at `asset`) beside a mirror, rendered at `size`.
-fn mirror_scene(preview: &mut Preview, asset: &Path, (w, h): (u32, u32)) -> Result<Image, DemoError> {
+fn mirror_scene(
+    preview: &mut Preview,
+    asset: &Path,
+    (w, h): (u32, u32),
+) -> Result<Image, DemoError> {
     let mut scene = Scene::parse(Path::new("creature-mirror.json"), MIRROR_SCENE)?;
     scene.output.width = w;
     scene.output.height = h;
@@ -188,7 +201,11 @@ fn mirror_scene(preview: &mut Preview, asset: &Path, (w, h): (u32, u32)) -> Resu
 fn write_scene(scene: &Scene, path: &Path) -> Result<(), DemoError> {
     let mut s = scene.clone();
     for o in &mut s.objects {
-        if let Some(name) = o.asset.file_name().filter(|_| o.asset.extension().is_some()) {
+        if let Some(name) = o
+            .asset
+            .file_name()
+            .filter(|_| o.asset.extension().is_some())
+        {
             o.asset = name.into();
         }
     }
@@ -213,15 +230,26 @@ pub fn run(preview: &mut Preview, o: &DemoOptions) -> Result<DemoOutputs, DemoEr
     let fox = wrote("fox.glb", "the Fox, generated comb".into());
     bake_fox(&fox)?;
     let (still, walk) = fox_renders(preview, o, &fox)?;
-    still.save(&wrote("demo.png", format!("furred and textured mid-walk, {w}×{h}")))?;
-    walk.save(&wrote("fox-walk.png", format!("{} frames of its walk", o.frames)))?;
+    still.save(&wrote(
+        "demo.png",
+        format!("furred and textured mid-walk, {w}×{h}"),
+    ))?;
+    walk.save(&wrote(
+        "fox-walk.png",
+        format!("{} frames of its walk", o.frames),
+    ))?;
     let asset = wrote("creature.glb", "baked fixture creature".into());
     bake_creature(&asset)?;
     let meshes = vec![asset::load(&asset)?, asset::quad()];
     let at = |size, yaw| scene_of(o, &asset, &meshes[0], size, yaw);
     let d = preview.prepare_loaded(&at((w, h), 0.0), &meshes, &[0, 1], Mode::Inferred)?;
-    preview.render(&d)?.save(&wrote("creature.png", format!("{w}×{h}")))?;
-    write_scene(&at((w, h), 0.0), &wrote("scene.json", "the creature's scene".into()))?;
+    preview
+        .render(&d)?
+        .save(&wrote("creature.png", format!("{w}×{h}")))?;
+    write_scene(
+        &at((w, h), 0.0),
+        &wrote("scene.json", "the creature's scene".into()),
+    )?;
     let tile = ((w / 4).max(1), (h / 4).max(1));
     let mut tiles = Vec::new();
     for k in 0..o.frames {

@@ -69,10 +69,18 @@ pub fn paper(
         dsf: false,
         ..b.clone()
     };
-    let (ea, eb) = ("(a) 101 objects, 81 lights, 1280×720", "(b) 122 lights, 1280×720");
+    let (ea, eb) = (
+        "(a) 101 objects, 81 lights, 1280×720",
+        "(b) 122 lights, 1280×720",
+    );
     let mut runs = Vec::new();
     if objects {
-        runs.push((ea, a.clone(), Mode::Inferred, "inferred, L-buffer 800×450, DSF"));
+        runs.push((
+            ea,
+            a.clone(),
+            Mode::Inferred,
+            "inferred, L-buffer 800×450, DSF",
+        ));
         runs.push((ea, a, Mode::Forward, "forward"));
     }
     if lbuffer {
@@ -127,10 +135,34 @@ pub fn fur(preview: &mut Preview, frames: Frames) -> Result<Table, BenchError> {
         })
         .into();
     for (what, shells, fins, blend, mode) in [
-        ("16 shells, no fins, stipple", 16, false, FurBlend::Stipple, Mode::Inferred),
-        ("16 shells, fins, WBOIT", 16, true, FurBlend::Wboit, Mode::Inferred),
-        ("64 shells, fins, WBOIT", 64, true, FurBlend::Wboit, Mode::Inferred),
-        ("16 shells, fins, forward Kajiya-Kay", 16, true, FurBlend::Stipple, Mode::Forward),
+        (
+            "16 shells, no fins, stipple",
+            16,
+            false,
+            FurBlend::Stipple,
+            Mode::Inferred,
+        ),
+        (
+            "16 shells, fins, WBOIT",
+            16,
+            true,
+            FurBlend::Wboit,
+            Mode::Inferred,
+        ),
+        (
+            "64 shells, fins, WBOIT",
+            64,
+            true,
+            FurBlend::Wboit,
+            Mode::Inferred,
+        ),
+        (
+            "16 shells, fins, forward Kajiya-Kay",
+            16,
+            true,
+            FurBlend::Stipple,
+            Mode::Forward,
+        ),
     ] {
         runs.push((what.into(), at(shells, fins, blend), mode));
     }
@@ -218,12 +250,18 @@ pub fn reflection_tables(
             own = reflections::reference(scene, meshes, of, k.max_depth)?;
             &own
         };
-        Ok(reflections::run(preview, scene, meshes, of, mode, k, r, fr)?)
+        Ok(reflections::run(
+            preview, scene, meshes, of, mode, k, r, fr,
+        )?)
     };
     let mut tables = Vec::new();
     let mut t = section("Defaults and the baseline");
     let default = measure(base)?;
-    t.push(row("distance maps, scene's knobs".into(), &default, shade_base));
+    t.push(row(
+        "distance maps, scene's knobs".into(),
+        &default,
+        shade_base,
+    ));
     let envmap = |technique| Reflections { technique, ..base };
     let env = measure(envmap(Technique::Envmap))?;
     t.push(row("environment map (baseline)".into(), &env, shade_base));

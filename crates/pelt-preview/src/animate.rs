@@ -34,7 +34,7 @@ pub enum Followed {
     Skinned,
     /// The mesh cannot be skinned on the GPU: here it is posed on the CPU; prepare the views
     /// again from it.
-    Upload(MeshData),
+    Upload(Box<MeshData>),
 }
 
 /// Brings the animated `mesh` (loaded from `doc`, at `path`) to `pose` in `views`.
@@ -45,7 +45,7 @@ pub fn follow(
     pose: &PoseAt,
 ) -> Result<Followed, AnimateError> {
     if mesh.skin.is_none() {
-        return Ok(Followed::Upload(asset::posed(doc, pose)?));
+        return Ok(Followed::Upload(Box::new(asset::posed(doc, pose)?)));
     }
     for sv in views {
         preview.pose(sv, &pose.animation, pose.time, path)?;
@@ -73,7 +73,11 @@ pub struct Clip<'a> {
 
 impl Clip<'_> {
     /// One image per pose, in order.
-    pub fn frames(&self, preview: &mut Preview, poses: &[PoseAt]) -> Result<Vec<Image>, AnimateError> {
+    pub fn frames(
+        &self,
+        preview: &mut Preview,
+        poses: &[PoseAt],
+    ) -> Result<Vec<Image>, AnimateError> {
         let mut meshes = self.meshes.to_vec();
         let mut view = preview.prepare_loaded(self.scene, &meshes, self.mesh_of, self.mode)?;
         let mut images = Vec::with_capacity(poses.len());
@@ -83,7 +87,7 @@ impl Clip<'_> {
             if i > 0 || meshes[0].skin.is_some() {
                 let asset = (&meshes[0], self.doc, self.path);
                 if let Followed::Upload(m) = follow(preview, &[&view], asset, pose)? {
-                    meshes[0] = m;
+                    meshes[0] = *m;
                     view = preview.prepare_loaded(self.scene, &meshes, self.mesh_of, self.mode)?;
                 }
             }

@@ -305,55 +305,6 @@ pub fn f16_bits(v: f32) -> u16 {
     sign | r as u16
 }
 
-/// A 2D texture of `format` with `levels` (level 0 first), its view.
-pub(crate) fn upload_levels<T>(
-    r: &Renderer,
-    label: &str,
-    format: wgpu::TextureFormat,
-    levels: &[Level<T>],
-    texel_bytes: impl Fn(&T) -> Vec<u8>,
-) -> wgpu::TextureView {
-    let device = &r.gpu.device;
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: levels[0].width,
-            height: levels[0].height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: levels.len() as u32,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    for (i, l) in levels.iter().enumerate() {
-        let bytes: Vec<u8> = l.texels.iter().flat_map(&texel_bytes).collect();
-        let bpp = bytes.len() as u32 / (l.width * l.height).max(1);
-        r.gpu.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: i as u32,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            &bytes,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(l.width * bpp),
-                rows_per_image: Some(l.height),
-            },
-            wgpu::Extent3d {
-                width: l.width,
-                height: l.height,
-                depth_or_array_layers: 1,
-            },
-        );
-    }
-    texture.create_view(&wgpu::TextureViewDescriptor::default())
-}
-
 /// Four of the density's bins, from `first`, as RGBA levels (shells.wgsl's `density_lo`
 /// and `density_hi`).
 fn density_levels(d: &crate::fur::Density, first: usize) -> Vec<Level<[f32; 4]>> {
@@ -376,15 +327,20 @@ fn density_levels(d: &crate::fur::Density, first: usize) -> Vec<Level<[f32; 4]>>
 
 fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let device = &r.gpu.device;
-    let height = upload_levels(r, "heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
-        f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
-    });
-    let fin = upload_levels(r, "fin texture", FIN_FORMAT, &fur.fin, |t| t.to_vec());
+    let height = r
+        .gpu
+        .upload_levels("heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
+            f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
+        });
+    let fin = r
+        .gpu
+        .upload_levels("fin texture", FIN_FORMAT, &fur.fin, |t| t.to_vec());
     let [density_lo, density_hi] = [0, 4].map(|first| {
         let levels = density_levels(&fur.density, first);
-        upload_levels(r, "fur density", DENSITY_FORMAT, &levels, |t| {
-            t.iter().flat_map(|&v| f16_bits(v).to_le_bytes()).collect()
-        })
+        r.gpu
+            .upload_levels("fur density", DENSITY_FORMAT, &levels, |t| {
+                t.iter().flat_map(|&v| f16_bits(v).to_le_bytes()).collect()
+            })
     });
     let sampler = |v_mode| {
         device.create_sampler(&wgpu::SamplerDescriptor {
@@ -403,7 +359,7 @@ fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let group = |m: &GpuMaterial| {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("fur textures"),
-            layout: &r.layout(&crate::features::fur::LAYOUT),
+            layout: &r.layout(&crate::layout::FUR_TEXTURES),
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -512,7 +468,7 @@ fn sky_group(r: &Renderer, cube: &CubeImages) -> wgpu::BindGroup {
     });
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("sky"),
-        layout: &r.layout(&crate::features::sky::LAYOUT),
+        layout: &r.layout(&crate::layout::SKY_CUBE),
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,

@@ -1,117 +1,21 @@
 //! Running a frame: the passes in order as recipes, their pipelines compiled, encoded,
-//! submitted, the image read back; and timing whole frames (wall clock, after warm-up) and single passes (GPU timestamps where the back end's
-//! are real time, Vulkan; wall time per separately submitted pass elsewhere, as on GL
+//! submitted, the image read back ([`crate::readback`]); and timing whole frames (wall clock,
+//! after warm-up) and single passes (GPU timestamps where the back end's are real time, Vulkan; wall time per separately submitted pass elsewhere, as on GL
 //! llvmpipe whose timestamps are wrong).
 
-use std::path::Path;
 use std::time::Instant;
 
-use crate::features::{self, Frame, MissingInput, registry};
+use crate::draw::MissingInput;
+use crate::feature::{DrawsInto, PassDesc};
+use crate::feature::{Frame, Output};
+use crate::features;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
-use crate::renderer::{PipelineError, Renderer};
+use crate::renderer::Renderer;
 use crate::targets::Target;
 
-/// Errors from the device while rendering.
-#[derive(Debug, thiserror::Error)]
-pub enum FrameError {
-    /// wgpu reported a validation or out-of-memory error.
-    #[error("the GPU device reported an error: {0}")]
-    Device(String),
-    /// Reading the image back failed.
-    #[error("reading the image back failed: {0}")]
-    Readback(String),
-    /// A planned pass lacks a target or resource.
-    #[error(transparent)]
-    Missing(#[from] MissingInput),
-    /// A pipeline could not be made.
-    #[error(transparent)]
-    Pipeline(#[from] PipelineError),
-    /// Writing the PNG failed.
-    #[error("{path}: {message}")]
-    Write {
-        /// The file.
-        path: String,
-        /// What failed.
-        message: String,
-    },
-}
-
-/// An 8-bit sRGB RGBA image.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Image {
-    /// Width.
-    pub width: u32,
-    /// Height.
-    pub height: u32,
-    /// Rows top to bottom, 4 bytes per pixel.
-    pub rgba: Vec<u8>,
-}
-
-impl Image {
-    /// Tiles of one size laid out `cols` to a row, left to right, top to bottom (black where a
-    /// row is short). Empty when there are no tiles.
-    pub fn contact_sheet(tiles: &[Image], cols: u32) -> Image {
-        let (tw, th) = tiles.first().map_or((0, 0), |t| (t.width, t.height));
-        let cols = cols.clamp(1, tiles.len().max(1) as u32);
-        let rows = (tiles.len() as u32).div_ceil(cols);
-        let mut sheet = Image {
-            width: tw * cols,
-            height: th * rows,
-            rgba: vec![0; (tw * cols * th * rows * 4) as usize],
-        };
-        for (k, tile) in tiles.iter().enumerate() {
-            let (x, y) = ((k as u32 % cols) * tw, (k as u32 / cols) * th);
-            for row in 0..tile.height.min(th) {
-                let src = (row * tile.width * 4) as usize;
-                let dst = (((y + row) * sheet.width + x) * 4) as usize;
-                let n = (tile.width.min(tw) * 4) as usize;
-                sheet.rgba[dst..dst + n].copy_from_slice(&tile.rgba[src..src + n]);
-            }
-        }
-        sheet
-    }
-
-    /// Pixel (x, y).
-    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
-        let i = ((y * self.width + x) * 4) as usize;
-        [
-            self.rgba[i],
-            self.rgba[i + 1],
-            self.rgba[i + 2],
-            self.rgba[i + 3],
-        ]
-    }
-
-    /// PNG bytes (deterministic: no timestamps or text chunks).
-    pub fn png(&self) -> Vec<u8> {
-        let mut out = Vec::new();
-        {
-            let mut enc = png::Encoder::new(&mut out, self.width, self.height);
-            enc.set_color(png::ColorType::Rgba);
-            enc.set_depth(png::BitDepth::Eight);
-            #[expect(
-                clippy::expect_used,
-                reason = "encoding into a Vec cannot fail for a well-sized image"
-            )]
-            let mut w = enc.write_header().expect("png header");
-            #[expect(
-                clippy::expect_used,
-                reason = "the buffer holds exactly width × height pixels"
-            )]
-            w.write_image_data(&self.rgba).expect("png data");
-        }
-        out
-    }
-
-    /// Writes the PNG atomically (nothing is left behind on failure).
-    pub fn save(&self, path: &Path) -> Result<(), FrameError> {
-        pelt_io::glb::write_atomic(path, &self.png()).map_err(|e| FrameError::Write {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })
-    }
-}
+pub use crate::readback::{FrameError, Image, read_back, read_back_layer, read_buffer, wait};
+use crate::readback::{encoder, map_read};
 
 /// Whether a frame renders the distance maps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,31 +30,50 @@ pub enum Maps {
 }
 
 /// The frame's passes in the plan's order, as recipes: each planned pass built by the
-/// feature that registered it ([`features::registry::builder`]).
+/// feature that registered it (in the frame's feature table).
 pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let mut out = Vec::new();
     // Every pass before the resolve draws into the scene colour where the plan has one.
     let inner = &features::resolve::inner(outer)?;
-    let fresh = match maps {
-        Maps::IfStale => inner.maps.is_some_and(|m| m.fresh()),
-        Maps::Always => false,
-        Maps::Never => true,
-    };
     for &p in &inner.plan.passes {
-        let b = registry::builder(p).ok_or_else(|| MissingInput {
-            pass: p.name(),
-            what: "a feature that builds it (upscaling, mips and the overlay are drawn on request, never planned)".into(),
-        })?;
-        if b.maps && fresh {
+        let b = builder(inner, p)?;
+        let skip = b.cached.is_some_and(|c| match maps {
+            Maps::IfStale => (c.fresh)(inner),
+            Maps::Always => false,
+            Maps::Never => true,
+        });
+        if skip {
             continue;
         }
         let f = match b.into {
-            registry::DrawsInto::Scene => inner,
-            registry::DrawsInto::Output => outer,
+            DrawsInto::Scene => inner,
+            DrawsInto::Output => outer,
         };
         b.build.run(f, &mut out)?;
     }
     Ok(out)
+}
+
+/// The registered feature pass that builds `p`.
+fn builder(f: &Frame<'_>, p: Pass) -> Result<&'static PassDesc, MissingInput> {
+    f.features
+        .iter()
+        .flat_map(|x| x.passes)
+        .find(|d| d.pass == p)
+        .ok_or_else(|| MissingInput {
+            pass: p.name(),
+            what: "a feature that builds it (upscaling, mips and the overlay are drawn on request, never planned)".into(),
+        })
+}
+
+/// Records that the submitted frame `f` drew (or kept) the planned passes whose output
+/// outlives it.
+fn mark_drawn(f: &Frame<'_>) {
+    for &p in &f.plan.passes {
+        if let Ok(Some(c)) = builder(f, p).map(|b| b.cached) {
+            (c.drawn)(f);
+        }
+    }
 }
 
 /// Builds the frame's recipes and compiles the pipelines they use that are not cached yet.
@@ -158,31 +81,6 @@ fn prepared<'a>(r: &Renderer, f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a
     let recipes = recipes(f, maps)?;
     r.prepare(recipes.iter().flat_map(Recipe::keys))?;
     Ok(recipes)
-}
-
-fn encoder(r: &Renderer) -> wgpu::CommandEncoder {
-    r.gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        })
-}
-
-/// How long a frame may take before the device counts as hung.
-const FRAME_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
-
-/// Waits for the submitted work. wgpu's GL back end gives up on a fence after a few seconds
-/// even when asked to wait indefinitely, which a heavy frame on llvmpipe can take; such
-/// timeouts are waited out again, up to [`FRAME_LIMIT`].
-pub fn wait(r: &Renderer) -> Result<(), FrameError> {
-    let start = Instant::now();
-    loop {
-        match r.gpu.device.poll(wgpu::PollType::wait_indefinitely()) {
-            Ok(_) => return Ok(()),
-            Err(wgpu::PollError::Timeout) if start.elapsed() < FRAME_LIMIT => {}
-            Err(e) => return Err(FrameError::Device(e.to_string())),
-        }
-    }
 }
 
 /// Encodes and submits one whole frame.
@@ -209,8 +107,8 @@ pub fn render_many(r: &Renderer, frames: &[Frame<'_>]) -> Result<Vec<Image>, Fra
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
-    if let Some(m) = frames.first().and_then(|f| f.maps) {
-        m.mark_fresh();
+    if let Some(f) = frames.first() {
+        mark_drawn(f);
     }
     frames
         .iter()
@@ -233,9 +131,7 @@ pub fn draw(r: &Renderer, f: &Frame<'_>) -> Result<(), FrameError> {
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
-    if let Some(m) = f.maps {
-        m.mark_fresh();
-    }
+    mark_drawn(f);
     if let Some(e) = r.gpu.take_error() {
         return Err(FrameError::Device(e));
     }
@@ -246,104 +142,6 @@ pub fn draw(r: &Renderer, f: &Frame<'_>) -> Result<(), FrameError> {
 pub fn render(r: &Renderer, f: &Frame<'_>, target: &Target) -> Result<Image, FrameError> {
     draw(r, f)?;
     read_back(r, &target.texture, f.plan.output)
-}
-
-/// Maps a `MAP_READ` buffer whose copy was submitted, waiting for the device.
-fn map_read(r: &Renderer, buffer: &wgpu::Buffer) -> Result<wgpu::BufferView, FrameError> {
-    let fail = |e: &dyn std::fmt::Display| FrameError::Readback(e.to_string());
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.slice(..).map_async(wgpu::MapMode::Read, move |res| {
-        let _ = tx.send(res);
-    });
-    wait(r)?;
-    rx.recv().map_err(|e| fail(&e))?.map_err(|e| fail(&e))?;
-    buffer.slice(..).get_mapped_range().map_err(|e| fail(&e))
-}
-
-/// The bytes of `buffer` (a buffer with `COPY_SRC` usage), through a mapped copy.
-pub fn read_buffer(r: &Renderer, buffer: &wgpu::Buffer) -> Result<Vec<u8>, FrameError> {
-    let staging = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("read buffer"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = encoder(r);
-    enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
-    r.gpu.queue.submit([enc.finish()]);
-    let bytes = map_read(r, &staging)?.to_vec();
-    staging.unmap();
-    Ok(bytes)
-}
-
-/// Copies a 4-byte-per-texel texture (RGBA8, Rg16Uint, …) to the CPU, rows top to bottom,
-/// removing the 256-byte row padding.
-pub fn read_back(
-    r: &Renderer,
-    texture: &wgpu::Texture,
-    size: (u32, u32),
-) -> Result<Image, FrameError> {
-    read_back_layer(r, texture, 0, 0, size)
-}
-
-/// [`read_back`] of one layer and mip level (`size` is that level's).
-pub fn read_back_layer(
-    r: &Renderer,
-    texture: &wgpu::Texture,
-    layer: u32,
-    mip: u32,
-    (w, h): (u32, u32),
-) -> Result<Image, FrameError> {
-    let device = &r.gpu.device;
-    let row = w * 4;
-    let padded =
-        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: u64::from(padded) * u64::from(h),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = encoder(r);
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: mip,
-            origin: wgpu::Origin3d {
-                x: 0,
-                y: 0,
-                z: layer,
-            },
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    r.gpu.queue.submit([enc.finish()]);
-    let mapped = map_read(r, &buffer)?;
-    let mut rgba = Vec::with_capacity((row * h) as usize);
-    for y in 0..h as usize {
-        let start = y * padded as usize;
-        rgba.extend_from_slice(&mapped[start..start + row as usize]);
-    }
-    drop(mapped);
-    buffer.unmap();
-    Ok(Image {
-        width: w,
-        height: h,
-        rgba,
-    })
 }
 
 /// How pass times were measured.
@@ -539,7 +337,7 @@ fn wall_pass_times(
 pub fn overlay(
     r: &Renderer,
     ov: &features::overlay::Overlay,
-    output: features::Output<'_>,
+    output: Output<'_>,
 ) -> Result<(), FrameError> {
     let Some(recipe) = ov.pass(output) else {
         return Ok(());
@@ -552,7 +350,7 @@ pub fn overlay(
 pub fn upscale(
     r: &Renderer,
     up: &features::upscale::Upscale,
-    output: features::Output<'_>,
+    output: Output<'_>,
 ) -> Result<(), FrameError> {
     let recipe = up.pass(output);
     r.prepare(recipe.keys())?;

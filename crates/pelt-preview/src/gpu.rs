@@ -11,6 +11,8 @@ use std::sync::{Arc, Mutex};
 
 use wgpu::util::DeviceExt as _;
 
+use crate::fur::Level;
+
 /// Which wgpu back end to ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Backend {
@@ -317,4 +319,55 @@ pub fn private_runtime_dir() -> Option<std::path::PathBuf> {
     let m = std::fs::symlink_metadata(&dir).ok()?;
     let private = m.is_dir() && m.uid() == uid && m.permissions().mode() & 0o777 == 0o700;
     private.then_some(dir)
+}
+
+impl Gpu {
+    /// A 2D texture of `format` with `levels` (level 0 first), its view.
+    pub fn upload_levels<T>(
+        &self,
+        label: &str,
+        format: wgpu::TextureFormat,
+        levels: &[Level<T>],
+        texel_bytes: impl Fn(&T) -> Vec<u8>,
+    ) -> wgpu::TextureView {
+        let device = &self.device;
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: levels[0].width,
+                height: levels[0].height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: levels.len() as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for (i, l) in levels.iter().enumerate() {
+            let bytes: Vec<u8> = l.texels.iter().flat_map(&texel_bytes).collect();
+            let bpp = bytes.len() as u32 / (l.width * l.height).max(1);
+            self.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: i as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(l.width * bpp),
+                    rows_per_image: Some(l.height),
+                },
+                wgpu::Extent3d {
+                    width: l.width,
+                    height: l.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        texture.create_view(&wgpu::TextureViewDescriptor::default())
+    }
 }

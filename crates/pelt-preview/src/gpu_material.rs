@@ -4,7 +4,7 @@
 //! normal maps and by the material and forward passes for colour and specular). A slot the
 //! material leaves empty binds a 1×1 neutral texture (white; the flat normal), so every
 //! shader reads the same layout. The base colour view and sampler also go into the fur's
-//! group ([`crate::assets`]), where shells take the colour under each strand.
+//! group (the asset cache), where shells take the colour under each strand.
 
 use pelt_io::picture::{Rgba8, WrappingMode};
 use pelt_scene::fur::Level;
@@ -88,7 +88,7 @@ fn slot(
             [WrappingMode::Repeat; 2],
         ),
     };
-    let view = crate::assets::upload_levels(r, label, format, &lv, |t| t.to_vec());
+    let view = r.gpu.upload_levels(label, format, &lv, |t| t.to_vec());
     let sampler = r.gpu.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some(label),
         address_mode_u: address(wrap[0]),

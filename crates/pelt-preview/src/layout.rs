@@ -164,6 +164,32 @@ pub const SIZE: LayoutDesc = LayoutDesc {
     entries: &[uniform(0, 16, false)],
 };
 
+/// An asset's fur textures (fur_common.wgsl), bound by the asset cache at upload: heightfield,
+/// fin texture, their samplers, the base colour and its sampler, and the density's two
+/// textures.
+pub const FUR_TEXTURES: LayoutDesc = LayoutDesc {
+    label: "fur textures",
+    entries: &[
+        texture(0, FILTERABLE, D2),
+        texture(1, FILTERABLE, D2),
+        sampler(2),
+        sampler(3),
+        texture(4, FILTERABLE, D2),
+        sampler(5),
+        texture(6, FILTERABLE, D2),
+        texture(7, FILTERABLE, D2),
+    ],
+};
+
+/// A cube-map sky and its sampler (sky.wgsl's `fs_cube`), bound by the asset cache at upload.
+pub const SKY_CUBE: LayoutDesc = LayoutDesc {
+    label: "sky cube",
+    entries: &[
+        texture(0, FILTERABLE, wgpu::TextureViewDimension::Cube),
+        sampler(1),
+    ],
+};
+
 /// A compute pass's storage buffers: binding 0 read, binding 1 read and written.
 pub const STORAGE: LayoutDesc = LayoutDesc {
     label: "storage",

@@ -19,18 +19,23 @@
 pub mod animate;
 pub mod assets;
 pub mod bench;
+pub mod draw;
+pub mod feature;
 pub mod features;
 pub mod frame;
 pub mod frame_data;
 pub mod gpu;
 pub mod gpu_material;
 pub mod layout;
+pub mod owned;
 pub mod poses;
 pub mod progressive;
+pub mod readback;
 pub mod recipe;
 pub mod renderer;
 pub mod scene_view;
 pub mod shaders;
+pub mod shading;
 pub mod targets;
 pub mod uniforms;
 
@@ -48,8 +53,12 @@ pub use scene_view::SceneView;
 
 use asset::MeshData;
 use assets::AssetCache;
-use features::Output;
+use feature::Output;
+use features::reflect::Maps;
+use features::registry::targets;
+use features::skin::GpuSkinned;
 use frame_data::FrameData;
+use owned::Owned;
 use plan::{MeshInfo, ScenePlan};
 use targets::{TargetSpec, ViewTargets};
 
@@ -113,16 +122,18 @@ pub enum PoseError {
     },
 }
 
-impl From<features::MissingInput> for RenderError {
-    fn from(e: features::MissingInput) -> Self {
+impl From<draw::MissingInput> for RenderError {
+    fn from(e: draw::MissingInput) -> Self {
         RenderError::Frame(FrameError::Missing(e))
     }
 }
 
-/// A scene's meshes on the GPU by mesh index, and each object's posed copy by scene index.
+/// A scene's meshes on the GPU by mesh index, and each object's posed copy and its
+/// skinning by scene index.
 type Uploaded = (
     Vec<Option<Arc<assets::GpuMesh>>>,
     Vec<Option<poses::ObjectPose>>,
+    Vec<Option<GpuSkinned>>,
 );
 
 /// Loads each distinct asset of `scene` once; returns the meshes and each object's index
@@ -167,7 +178,7 @@ impl Preview {
     /// A preview on an opened device (a window's).
     pub fn on(gpu: Gpu) -> Preview {
         Preview {
-            renderer: Renderer::new(gpu),
+            renderer: Renderer::new(gpu, features::registry::shaders()),
             assets: AssetCache::default(),
         }
     }
@@ -207,7 +218,8 @@ impl Preview {
         let infos: Vec<MeshInfo> = meshes.iter().map(MeshInfo::of).collect();
         let scene_plan = ScenePlan::new(scene, &infos, mesh_of, mode);
         let plan = Plan::with_camera(&scene_plan, &view::View::new(scene))?;
-        let (gpu_meshes, poses) = self.upload_meshes(scene, meshes, mesh_of, &scene_plan, mode)?;
+        let (gpu_meshes, poses, skins) =
+            self.upload_meshes(scene, meshes, mesh_of, &scene_plan, mode)?;
         let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];
         if mode == Mode::Strands {
             for (o, _) in &scene_plan.objects {
@@ -230,17 +242,12 @@ impl Preview {
             }
             _ => None,
         };
-        let maps = if scene_plan.maps.is_empty() {
-            None
-        } else {
+        let mut owned = Owned::default();
+        if !scene_plan.maps.is_empty() {
             let group = sky.as_ref().map(|s| &s.group);
-            Some(features::reflect::Maps::new(
-                &self.renderer,
-                &scene_plan,
-                group,
-            )?)
-        };
-        let spec = TargetSpec::of(&plan, output.format, output.own_color);
+            owned.insert(Maps::new(&self.renderer, &scene_plan, group)?);
+        }
+        let spec = TargetSpec::of(&plan, output.format, output.own_color, &targets());
         let mut data = FrameData::new(&self.renderer);
         data.write(&self.renderer, &plan);
         let sv = SceneView {
@@ -250,11 +257,12 @@ impl Preview {
             plan,
             meshes: gpu_meshes,
             poses,
+            skins,
             sky,
-            targets: ViewTargets::new(&self.renderer, spec),
+            targets: ViewTargets::new(&self.renderer, spec, &targets()),
             data,
             extra: Vec::new(),
-            maps,
+            owned,
             strands: gpu_strands,
         };
         self.assets.sweep();
@@ -291,19 +299,26 @@ impl Preview {
                 gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, m, uploads));
             }
         }
-        let mut object_poses = Vec::with_capacity(scene.objects.len());
+        let (mut object_poses, mut skins) = (Vec::new(), Vec::new());
         for (o, &k) in scene.objects.iter().zip(mesh_of) {
-            let pose = match &gpu_meshes[k] {
-                Some(shared) => poses::ObjectPose::new(&self.renderer, shared, &meshes[k])
-                    .map_err(|source| RenderError::Skin {
-                        asset: Some(o.asset.clone()),
-                        source,
-                    })?,
+            let pose = gpu_meshes[k]
+                .as_ref()
+                .and_then(|shared| poses::ObjectPose::new(&self.renderer, shared, &meshes[k]));
+            let skin = match &pose {
+                Some(p) => {
+                    GpuSkinned::for_pose(&self.renderer, p, &meshes[k]).map_err(|source| {
+                        RenderError::Skin {
+                            asset: Some(o.asset.clone()),
+                            source,
+                        }
+                    })?
+                }
                 None => None,
             };
             object_poses.push(pose);
+            skins.push(skin);
         }
-        Ok((gpu_meshes, object_poses))
+        Ok((gpu_meshes, object_poses, skins))
     }
 
     /// Knobs or size changed: a new scene plan and plan for `scene` (its camera included),
@@ -316,12 +331,13 @@ impl Preview {
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
         let plan = &sv.scene_plan;
-        match &mut sv.maps {
-            _ if plan.maps.is_empty() => sv.maps = None,
+        match sv.owned.get_mut::<Maps>() {
+            _ if plan.maps.is_empty() => sv.owned.remove::<Maps>(),
             Some(m) if m.fits(plan) => m.write(&self.renderer, plan),
             _ => {
                 let group = sv.sky.as_ref().map(|s| &s.group);
-                sv.maps = Some(features::reflect::Maps::new(&self.renderer, plan, group)?);
+                let maps = Maps::new(&self.renderer, plan, group)?;
+                sv.owned.insert(maps);
             }
         }
         self.refresh(sv);
@@ -354,12 +370,12 @@ impl Preview {
     fn refresh(&self, sv: &mut SceneView) {
         let spec = sv.spec();
         if spec != sv.targets.spec {
-            sv.targets = ViewTargets::new(&self.renderer, spec);
+            sv.targets = ViewTargets::new(&self.renderer, spec, &targets());
         }
         for e in &mut sv.extra {
-            let spec = TargetSpec::of(&e.plan, e.targets.spec.color_format, true);
+            let spec = TargetSpec::of(&e.plan, e.targets.spec.color_format, true, &targets());
             if spec != e.targets.spec {
-                e.targets = ViewTargets::new(&self.renderer, spec);
+                e.targets = ViewTargets::new(&self.renderer, spec, &targets());
             }
         }
         let plans: Vec<&Plan> = std::iter::once(&sv.plan)
@@ -382,11 +398,11 @@ impl Preview {
             height: h,
         };
         let plan = Plan::with_camera(&sv.scene_plan, &view::View::of(camera, size))?;
-        let spec = TargetSpec::of(&plan, renderer::OUTPUT_FORMAT, true);
+        let spec = TargetSpec::of(&plan, renderer::OUTPUT_FORMAT, true, &targets());
         sv.extra.push(scene_view::ExtraView {
             camera: *camera,
             plan,
-            targets: ViewTargets::new(&self.renderer, spec),
+            targets: ViewTargets::new(&self.renderer, spec, &targets()),
         });
         self.refresh(sv);
         Ok(sv.view_count() - 1)
@@ -431,7 +447,7 @@ impl Preview {
         path: &std::path::Path,
     ) -> Result<usize, PoseError> {
         let mut n = 0;
-        for object in 0..sv.poses.len() {
+        for object in 0..sv.skins.len() {
             n += usize::from(self.pose_object(sv, object, animation, time, path)?);
         }
         Ok(n)
@@ -448,15 +464,15 @@ impl Preview {
         time: f32,
         path: &std::path::Path,
     ) -> Result<bool, PoseError> {
-        let pose = sv.poses.get(object).ok_or(PoseError::NoObject {
+        let skin = sv.skins.get(object).ok_or(PoseError::NoObject {
             object,
-            count: sv.poses.len(),
+            count: sv.skins.len(),
         })?;
-        let Some(pose) = pose else {
+        let Some(skin) = skin else {
             return Ok(false);
         };
-        let m = pose.binding().matrices(path, animation, time)?;
-        pose.pose(&self.renderer, &m)?;
+        let m = skin.binding.matrices(path, animation, time)?;
+        skin.pose(&self.renderer, &m)?;
         Ok(true)
     }
 

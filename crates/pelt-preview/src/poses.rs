@@ -1,17 +1,15 @@
 //! Poses belong to objects, not to the asset cache. The cache shares one mesh between every
 //! object that draws the same bytes, so the skinning passes must not write into it: each
 //! object drawing a GPU-skinned mesh gets its own vertex, fur-vertex and fin buffers (the
-//! index buffer, materials and fur textures stay shared), and its own skinning bindings that
-//! write them. Two objects sharing one animated asset can then stand at two times of a clip
-//! in one frame. Created with the scene's view ([`crate::SceneView`]), posed per frame by
+//! index buffer, materials and fur textures stay shared) for the skinning feature
+//! (`features::skin::GpuSkinned`, kept beside it by the scene's view) to write. Two objects
+//! sharing one animated asset can then stand at two times of a clip in one frame. Created
+//! with the scene's view ([`crate::SceneView`]), posed per frame by
 //! [`crate::Preview::pose_object`].
-
-use std::sync::Arc;
 
 use crate::asset::MeshData;
 use crate::assets::{GpuFur, GpuMesh};
-use crate::features::skin::{GpuSkinned, SkinError, SkinTargets};
-use crate::renderer::{PipelineError, Renderer};
+use crate::renderer::Renderer;
 
 /// One object's posed copy of a skinned mesh.
 #[derive(Debug)]
@@ -19,17 +17,13 @@ pub struct ObjectPose {
     /// The mesh as this object draws it: its own vertex, fur-vertex and fin buffers, the
     /// shared mesh's indices, materials and fur textures.
     pub mesh: GpuMesh,
-    skinned: GpuSkinned,
 }
 
 impl ObjectPose {
     /// The posed copy of `shared` (the cache's upload of `m`) for one object, at the rest
-    /// pose until [`ObjectPose::pose`]; `None` when `m` is not skinned on the GPU. Fins that
-    /// could not follow the skin are an error.
-    pub fn new(r: &Renderer, shared: &GpuMesh, m: &MeshData) -> Result<Option<Self>, SkinError> {
-        let Some(binding) = &m.skin else {
-            return Ok(None);
-        };
+    /// pose until the skinning feature poses it; `None` when `m` is not skinned on the GPU.
+    pub fn new(r: &Renderer, shared: &GpuMesh, m: &MeshData) -> Option<Self> {
+        m.skin.as_ref()?;
         let usage = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE;
         let upload = |label: &str, bytes: &[u8]| r.gpu.buffer_init(label, bytes, usage);
         let vertices = upload("posed vertices", bytemuck::cast_slice(&m.vertices));
@@ -45,19 +39,6 @@ impl ObjectPose {
             }),
             _ => None,
         };
-        let skinned = GpuSkinned::new(
-            r,
-            Arc::clone(binding),
-            SkinTargets {
-                vertices: &vertices,
-                fur: fur.as_ref().map(|f| &f.vertices),
-                fins: fur.as_ref().and_then(|f| {
-                    f.fins
-                        .as_ref()
-                        .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
-                }),
-            },
-        )?;
         let mesh = GpuMesh {
             vertices,
             indices: shared.indices.clone(),
@@ -67,21 +48,6 @@ impl ObjectPose {
             fur,
             groups: shared.groups.clone(),
         };
-        Ok(Some(ObjectPose { mesh, skinned }))
-    }
-
-    /// The rig this object is posed with.
-    pub fn binding(&self) -> &pelt_scene::skin::SkinBinding {
-        &self.skinned.binding
-    }
-
-    /// Skins this object's copy at `matrices` ([`pelt_scene::skin::SkinBinding::matrices`])
-    /// and rebuilds its fins; submitted now, before the frames that draw it.
-    pub fn pose(
-        &self,
-        r: &Renderer,
-        matrices: &[pelt_scene::skin::RangeMatrices],
-    ) -> Result<(), PipelineError> {
-        self.skinned.pose(r, matrices)
+        Some(ObjectPose { mesh })
     }
 }

@@ -6,8 +6,9 @@
 //! CPU (f64 sums, so thousands of samples lose nothing) and is uploaded once per sample into
 //! an sRGB texture the upscale pass copies to the window.
 
+use crate::draw::MissingInput;
+use crate::feature::Output;
 use crate::features::upscale::Upscale;
-use crate::features::{MissingInput, Output};
 use crate::frame::FrameError;
 use crate::view::View;
 use crate::{Image, Preview, RenderError, Renderer, SceneView};

@@ -143,6 +143,9 @@ pub enum PipelineError {
     /// The frame asked for a pipeline that was not compiled before encoding.
     #[error("pipeline {0} was not prepared before the frame was encoded")]
     NotPrepared(String),
+    /// The shader module could not be composed (or, reloaded, does not validate).
+    #[error(transparent)]
+    Shader(#[from] crate::shaders::ShaderError),
     /// The pass's attachments do not fit the pipeline's layout.
     #[error("pipeline {module}: {message}")]
     Mismatch {
@@ -158,8 +161,10 @@ pub enum PipelineError {
 pub struct Renderer {
     /// The device.
     pub gpu: Gpu,
+    /// The shaders a reload validates.
+    shaders: Vec<ShaderDesc>,
     layouts: RefCell<HashMap<LayoutDesc, wgpu::BindGroupLayout>>,
-    modules: RefCell<HashMap<&'static [&'static str], wgpu::ShaderModule>>,
+    modules: RefCell<HashMap<(&'static str, &'static [(&'static str, u32)]), wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
     compute: RefCell<HashMap<ComputeDesc, wgpu::ComputePipeline>>,
     built: Cell<usize>,
@@ -168,10 +173,12 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// A renderer on `gpu`; nothing is compiled yet.
-    pub fn new(gpu: Gpu) -> Renderer {
+    /// A renderer on `gpu` drawing `shaders` (the registered features' shaders, which a
+    /// shader reload validates); nothing is compiled yet.
+    pub fn new(gpu: Gpu, shaders: Vec<ShaderDesc>) -> Renderer {
         Renderer {
             gpu,
+            shaders,
             layouts: RefCell::new(HashMap::new()),
             modules: RefCell::new(HashMap::new()),
             pipelines: RefCell::new(HashMap::new()),
@@ -185,7 +192,7 @@ impl Renderer {
     /// they replace the current ones and every pipeline is rebuilt on the frame that next
     /// draws it. On an error nothing changes (the last good pipelines stay).
     pub fn load_shaders(&self, dir: &std::path::Path) -> Result<(), crate::shaders::ShaderError> {
-        let texts = crate::shaders::load_dir(dir)?;
+        let texts = crate::shaders::load_dir(dir, &self.shaders)?;
         *self.sources.borrow_mut() = Some(texts);
         self.modules.borrow_mut().clear();
         self.pipelines.borrow_mut().clear();
@@ -295,7 +302,7 @@ impl Renderer {
         let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(&name),
             layout: Some(&layout),
-            module: &self.module(shader),
+            module: &self.module(shader)?,
             entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
@@ -310,27 +317,29 @@ impl Renderer {
         self.built.get()
     }
 
-    fn module(&self, shader: ShaderDesc) -> wgpu::ShaderModule {
-        let device = &self.gpu.device;
-        let source = match &*self.sources.borrow() {
-            Some(texts) => shader.source_with(|n| {
+    fn module(&self, shader: ShaderDesc) -> Result<wgpu::ShaderModule, PipelineError> {
+        let key = (shader.file, shader.defs);
+        if let Some(m) = self.modules.borrow().get(&key) {
+            return Ok(m.clone());
+        }
+        let composed = match &*self.sources.borrow() {
+            Some(texts) => shader.compose_with(|n| {
                 texts
                     .iter()
                     .find(|(t, _)| *t == n)
                     .map_or("", |(_, s)| s.as_str())
             }),
-            None => shader.source(),
-        };
-        self.modules
-            .borrow_mut()
-            .entry(shader.parts)
-            .or_insert_with(|| {
-                device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(&shader.module_name()),
-                    source: wgpu::ShaderSource::Wgsl(source.into()),
-                })
-            })
-            .clone()
+            None => shader.compose(),
+        }?;
+        let module = self
+            .gpu
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&shader.module_name()),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(composed)),
+            });
+        self.modules.borrow_mut().insert(key, module.clone());
+        Ok(module)
     }
 
     fn build(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
@@ -372,7 +381,7 @@ impl Renderer {
                 })
             })
             .collect();
-        let module = self.module(*shader);
+        let module = self.module(*shader)?;
         let device = &self.gpu.device;
         let name = shader.module_name();
         let layouts: Vec<wgpu::BindGroupLayout> =

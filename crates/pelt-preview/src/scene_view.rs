@@ -8,8 +8,12 @@
 use std::sync::Arc;
 
 use crate::assets::{GpuMesh, GpuSky, GpuStrands};
-use crate::features::{Frame, MissingInput, Output};
+use crate::draw::MissingInput;
+use crate::feature::{Frame, Output};
+use crate::features::registry::{FEATURES, targets};
+use crate::features::skin::GpuSkinned;
 use crate::frame_data::FrameData;
+use crate::owned::Owned;
 use crate::plan::{MeshInfo, Mode, Plan, ScenePlan};
 use crate::poses::ObjectPose;
 use crate::scene::{Camera, Scene};
@@ -43,6 +47,8 @@ pub struct SceneView {
     pub meshes: Vec<Option<Arc<GpuMesh>>>,
     /// Each scene object's posed copy of its GPU-skinned mesh (None: not skinned).
     pub poses: Vec<Option<ObjectPose>>,
+    /// The skinning that writes each posed copy, by scene object.
+    pub skins: Vec<Option<GpuSkinned>>,
     /// The cube-map sky on the GPU.
     pub sky: Option<Arc<GpuSky>>,
     /// The view's targets.
@@ -51,8 +57,9 @@ pub struct SceneView {
     pub data: FrameData,
     /// Views after the first, drawn in the same frame.
     pub extra: Vec<ExtraView>,
-    /// The mirror and glass objects' distance maps (scene-wide: every view reads them).
-    pub maps: Option<crate::features::reflect::Maps>,
+    /// State the scene's features own, read by every view (the mirror and glass objects'
+    /// distance maps).
+    pub owned: Owned,
     /// Explicit strands by mesh index (strands mode only).
     pub strands: Vec<Option<Arc<GpuStrands>>>,
 }
@@ -62,6 +69,7 @@ impl SceneView {
     pub fn frame<'a>(&'a self, output: Output<'a>) -> Frame<'a> {
         Frame {
             plan: &self.plan,
+            features: FEATURES,
             meshes: &self.meshes,
             poses: &self.poses,
             sky: self.sky.as_deref(),
@@ -69,7 +77,7 @@ impl SceneView {
             data: &self.data,
             output,
             view: 0,
-            maps: self.maps.as_ref(),
+            scene: &self.owned,
             strands: &self.strands,
         }
     }
@@ -94,6 +102,7 @@ impl SceneView {
         })?;
         Ok(Frame {
             plan: &e.plan,
+            features: FEATURES,
             meshes: &self.meshes,
             poses: &self.poses,
             sky: self.sky.as_deref(),
@@ -104,7 +113,7 @@ impl SceneView {
                 format: color.format,
             },
             view: v,
-            maps: self.maps.as_ref(),
+            scene: &self.owned,
             strands: &self.strands,
         })
     }
@@ -127,6 +136,7 @@ impl SceneView {
             &self.plan,
             self.targets.spec.color_format,
             self.targets.spec.own_color,
+            &targets(),
         )
     }
 

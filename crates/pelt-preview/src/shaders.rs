@@ -1,13 +1,14 @@
 //! The WGSL sources of the preview renderer. Every file lives in the repository's top-level
 //! `shaders/` folder and is compiled into the binary (and, in `pelt view --shaders DIR`,
-//! reloaded from disk). A module is `common.wgsl` (shared structs and functions, no
-//! bindings), then for the fur passes `fur_common.wgsl` and one of the two fur lighting
-//! chunks (from the L-buffer, or forward Kajiya-Kay), for screen-space passes
-//! `fullscreen.wgsl` (the one full-screen triangle), then the pass's own file. See
-//! `shaders/README.md`.
+//! reloaded from disk). A pass's file imports what it shares from the shared modules
+//! (`#import pelt::common::{Frame, …}`: `common.wgsl`, `fur_common.wgsl`, the two fur
+//! lighting chunks, `fullscreen.wgsl`, each declaring its `#define_import_path`), and
+//! naga_oil composes the module (the composer Bevy uses), validated with naga. No list of
+//! files is written in Rust. See `shaders/README.md`.
 
-/// The shared prelude.
-pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
+use naga_oil::compose::{
+    ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue,
+};
 
 // FILES: every `.wgsl` file in `shaders/`, by name, listed by build.rs.
 include!(concat!(env!("OUT_DIR"), "/shader_files.rs"));
@@ -63,65 +64,97 @@ pub enum Entry {
     Compute(&'static str),
 }
 
-/// A shader as a feature declares it: the files its module is made of, in order (the
-/// prelude first, the pass's own file last), and the entry points a pipeline uses. Plain
-/// const data: pipelines are keyed by it, the validation test walks every one a registered
-/// feature declares.
+/// A shader as a feature declares it: the pass's own file under `shaders/` (which imports what
+/// it shares, `#import pelt::common::{…}`, composed by naga_oil), the shader defs it is
+/// composed with (names and values: `#ifdef FORWARD_LIGHT` picks the fur's lighting chunk,
+/// `#{MATERIAL_GROUP}` places the material's bindings), and the entry points a
+/// pipeline uses. Plain const data: modules and pipelines are keyed by it, the validation
+/// test walks every one a registered feature declares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ShaderDesc {
-    /// The files, joined in this order.
-    pub parts: &'static [&'static str],
+    /// The pass's file.
+    pub file: &'static str,
+    /// Shader defs and their values.
+    pub defs: &'static [(&'static str, u32)],
     /// The entry points.
     pub entry: Entry,
 }
 
 impl ShaderDesc {
-    /// A render shader of `parts` with `vs_main` and `fs_main`.
-    pub const fn render(parts: &'static [&'static str]) -> ShaderDesc {
+    /// A render shader of `file` with `vs_main` and `fs_main`.
+    pub const fn render(file: &'static str) -> ShaderDesc {
         ShaderDesc {
-            parts,
+            file,
+            defs: &[],
             entry: Entry::Render("vs_main", "fs_main"),
         }
     }
 
-    /// A full-screen pass: `parts` after the shared triangle, fragment entry point `fs`.
-    pub const fn fullscreen(parts: &'static [&'static str], fs: &'static str) -> ShaderDesc {
+    /// A full-screen pass of `file` (which declares `vs_fullscreen` from
+    /// `pelt::fullscreen`), fragment entry point `fs`.
+    pub const fn fullscreen(file: &'static str, fs: &'static str) -> ShaderDesc {
         ShaderDesc {
-            parts,
+            file,
+            defs: &[],
             entry: Entry::Render("vs_fullscreen", fs),
         }
     }
 
-    /// A compute shader of `parts` with `cs_main`.
-    pub const fn compute(parts: &'static [&'static str]) -> ShaderDesc {
+    /// A compute shader of `file` with `cs_main`.
+    pub const fn compute(file: &'static str) -> ShaderDesc {
         ShaderDesc {
-            parts,
+            file,
+            defs: &[],
             entry: Entry::Compute("cs_main"),
         }
     }
 
-    /// The pass's own file under `shaders/` (the last part).
+    /// The same shader composed with `defs` set.
+    pub const fn with_defs(self, defs: &'static [(&'static str, u32)]) -> ShaderDesc {
+        ShaderDesc { defs, ..self }
+    }
+
+    /// The pass's own file under `shaders/`.
     pub fn file(self) -> &'static str {
-        self.parts.last().copied().unwrap_or("")
+        self.file
     }
 
-    /// A name for the module (files after the prelude joined), for labels and errors.
+    /// A name for the module (the file and its defs), for labels and errors.
     pub fn module_name(self) -> String {
-        self.parts[1.min(self.parts.len())..].join("+")
-    }
-
-    /// The complete module source.
-    pub fn source(self) -> String {
-        self.source_with(file)
-    }
-
-    /// The module source with each file's text from `text` (hot reload).
-    pub fn source_with<'t>(self, text: impl Fn(&str) -> &'t str) -> String {
-        self.parts
-            .iter()
-            .map(|p| text(p))
+        std::iter::once(self.file.to_owned())
+            .chain(self.defs.iter().map(|(d, v)| format!("{d}={v}")))
             .collect::<Vec<_>>()
-            .join("\n")
+            .join("+")
+    }
+
+    /// The composed module, validated.
+    pub fn compose(self) -> Result<naga::Module, ShaderError> {
+        self.compose_with(file)
+    }
+
+    /// The composed module with each file's text from `text` (hot reload).
+    pub fn compose_with<'t>(
+        self,
+        text: impl Fn(&str) -> &'t str,
+    ) -> Result<naga::Module, ShaderError> {
+        let name = self.module_name();
+        let mut composer = library(&text, &name)?;
+        let defs = self
+            .defs
+            .iter()
+            .map(|(d, v)| ((*d).to_owned(), ShaderDefValue::UInt(*v)))
+            .collect();
+        let source = text(self.file);
+        let made = composer.make_naga_module(NagaModuleDescriptor {
+            source,
+            file_path: self.file,
+            shader_defs: defs,
+            ..NagaModuleDescriptor::default()
+        });
+        made.map_err(|e| ShaderError::Invalid {
+            module: name,
+            message: e.emit_to_string(&composer),
+        })
     }
 
     /// Whether the module is a compute shader.
@@ -136,6 +169,82 @@ impl ShaderDesc {
             Entry::Compute(cs) => (cs, cs),
         }
     }
+}
+
+/// The module path a file declares (`#define_import_path`), if it is a shared module.
+fn import_path(text: &str) -> Option<&str> {
+    text.lines()
+        .find_map(|l| l.trim().strip_prefix("#define_import_path"))
+        .map(str::trim)
+}
+
+/// The module paths a file imports (`#import a::b::{…}` names module `a::b`).
+fn imports(text: &str) -> Vec<&str> {
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("#import"))
+        .map(|l| {
+            let path = l.trim().split(['{', ' ']).next().unwrap_or("");
+            path.trim_end_matches(':')
+        })
+        .collect()
+}
+
+/// A composer holding every shared module of [`FILES`] (those that declare
+/// `#define_import_path`), texts from `text`, each added after the modules it imports.
+fn library<'t>(text: &impl Fn(&str) -> &'t str, module: &str) -> Result<Composer, ShaderError> {
+    let mut pending: Vec<(&str, &str, &str)> = FILES
+        .iter()
+        .filter_map(|(name, _)| {
+            let t = text(name);
+            import_path(t).map(|p| (*name, p, t))
+        })
+        .collect();
+    let mut composer = Composer::default();
+    while !pending.is_empty() {
+        let ready = pending
+            .iter()
+            .position(|(_, _, t)| imports(t).iter().all(|i| composer.contains_module(i)))
+            .ok_or_else(|| ShaderError::Invalid {
+                module: module.to_owned(),
+                message: format!(
+                    "the shared modules {:?} import one another or a module no file declares",
+                    pending.iter().map(|p| p.1).collect::<Vec<_>>()
+                ),
+            })?;
+        let (name, _, source) = pending.remove(ready);
+        let added = composer.add_composable_module(ComposableModuleDescriptor {
+            source,
+            file_path: name,
+            ..ComposableModuleDescriptor::default()
+        });
+        if let Err(e) = added {
+            return Err(ShaderError::Invalid {
+                module: name.to_owned(),
+                message: e.emit_to_string(&composer),
+            });
+        }
+    }
+    Ok(composer)
+}
+
+/// `source` (a shader that imports the shared modules, e.g. a test's) composed and validated.
+pub fn compose_str(name: &str, source: &str) -> Result<naga::Module, ShaderError> {
+    let mut composer = library(&file, name)?;
+    let made = composer.make_naga_module(NagaModuleDescriptor {
+        source,
+        file_path: name,
+        ..NagaModuleDescriptor::default()
+    });
+    made.map_err(|e| ShaderError::Invalid {
+        module: name.to_owned(),
+        message: e.emit_to_string(&composer),
+    })
+}
+
+/// The name naga_oil gives item `item` of the shared module `module` in a composed module
+/// (imported items are decorated with their module's path).
+pub fn decorated(module: &str, item: &str) -> String {
+    Composer::decorated_name(Some(module), item)
 }
 
 /// A shader set that failed validation.
@@ -159,27 +268,12 @@ pub enum ShaderError {
     },
 }
 
-/// Parses and validates `source` with naga, the compiler wgpu itself uses; the error is
-/// naga's report with the lines it points at.
-pub fn validate(module: &str, source: &str) -> Result<naga::Module, ShaderError> {
-    let invalid = |message: String| ShaderError::Invalid {
-        module: module.to_owned(),
-        message,
-    };
-    let parsed = naga::front::wgsl::parse_str(source)
-        .map_err(|e| invalid(e.emit_to_string_with_path(source, module)))?;
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&parsed)
-    .map_err(|e| invalid(e.emit_to_string_with_path(source, module)))?;
-    Ok(parsed)
-}
-
-/// Every file of [`FILES`] read from `dir`, each module built from them validated. Returns
-/// the texts by file name, or the first error (nothing is replaced then).
-pub fn load_dir(dir: &std::path::Path) -> Result<Vec<(&'static str, String)>, ShaderError> {
+/// Every file of [`FILES`] read from `dir`, each module of `shaders` built from them
+/// validated. Returns the texts by file name, or the first error (nothing is replaced then).
+pub fn load_dir(
+    dir: &std::path::Path,
+    shaders: &[ShaderDesc],
+) -> Result<Vec<(&'static str, String)>, ShaderError> {
     let mut texts = Vec::with_capacity(FILES.len());
     for (name, _) in FILES {
         let path = dir.join(name);
@@ -193,8 +287,8 @@ pub fn load_dir(dir: &std::path::Path) -> Result<Vec<(&'static str, String)>, Sh
             .find(|(t, _)| *t == n)
             .map_or("", |(_, s)| s.as_str())
     };
-    for shader in crate::features::registry::shaders() {
-        validate(&shader.module_name(), &shader.source_with(lookup))?;
+    for shader in shaders {
+        shader.compose_with(lookup)?;
     }
     Ok(texts)
 }

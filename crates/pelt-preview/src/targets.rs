@@ -1,13 +1,14 @@
 //! Per-view state (re_renderer's view targets): the render targets of one view, sized to it
 //! and made for its output format (a window surface's or the PNG's), and the bind groups that
 //! read them: the G-buffer and L-buffer at L-buffer resolution (Kircher & Lawrance §2.1–2.2),
-//! the obliterated composition copy (Revie §2.4.4), the OIT accumulation (McGuire & Bavoil),
-//! the output's depth and, for PNGs, the output colour. Made from a [`TargetSpec`] the plan
+//! the obliterated composition copy (Revie §2.4.4), the output's depth and, for PNGs, the
+//! output colour; and the targets features own (the OIT accumulation, the scene colour). Made from a [`TargetSpec`] the plan
 //! derives; a view whose spec changes (resize, L-buffer scale, a pass turned on) gets new
 //! targets, and nothing else does.
 
+use crate::owned::Owned;
 use crate::plan::{Pass, Plan};
-use crate::renderer::{DEPTH_FORMAT, DSF_FORMAT, LBUFFER_FORMAT, REVEAL_FORMAT, Renderer};
+use crate::renderer::{DEPTH_FORMAT, DSF_FORMAT, LBUFFER_FORMAT, Renderer};
 
 /// What a view's targets depend on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,25 +24,43 @@ pub struct TargetSpec {
     pub own_color: bool,
     /// The obliteration pass's composition copy is needed (fur with an L-buffer).
     pub composition: bool,
-    /// The OIT targets are needed.
-    pub oit: bool,
-    /// The scene colour target is needed (the plan resolves it into the output).
-    pub scene: bool,
+    /// Which of the features' own targets the view needs (bit i: the i-th registered).
+    pub owned: u64,
 }
 
 impl TargetSpec {
-    /// The targets `plan` needs, with output colour in `color_format`.
-    pub fn of(plan: &Plan, color_format: wgpu::TextureFormat, own_color: bool) -> TargetSpec {
+    /// The targets `plan` needs, with output colour in `color_format`; `owned` are the
+    /// registered features' own targets (those the plan needs are made).
+    pub fn of(
+        plan: &Plan,
+        color_format: wgpu::TextureFormat,
+        own_color: bool,
+        owned: &[TargetsDesc],
+    ) -> TargetSpec {
+        let owned = owned
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| (t.needed)(plan))
+            .fold(0, |bits, (i, _)| bits | 1 << i);
         TargetSpec {
             output: plan.output,
             lbuffer: plan.lbuffer,
             color_format,
             own_color,
             composition: plan.lbuffer.is_some() && plan.passes.contains(&Pass::Obliterate),
-            oit: plan.passes.contains(&Pass::FurAccum),
-            scene: plan.passes.contains(&Pass::Resolve),
+            owned,
         }
     }
+}
+
+/// Per-view targets a feature owns.
+#[derive(Debug, Clone, Copy)]
+pub struct TargetsDesc {
+    /// Whether a view drawing `plan` needs them.
+    pub needed: fn(&Plan) -> bool,
+    /// Makes them for a view of `spec`, kept in the view's [`crate::owned::Owned`] and found
+    /// there by type.
+    pub make: fn(&Renderer, &TargetSpec, &mut Owned),
 }
 
 /// A texture and its default view.
@@ -111,17 +130,6 @@ pub struct Composition {
     pub dsf: Target,
 }
 
-/// Weighted blended OIT targets.
-#[derive(Debug)]
-pub struct Oit {
-    /// Σ colour·α·w, Σ α·w.
-    pub accum: Target,
-    /// Π (1 − α).
-    pub reveal: Target,
-    /// Both, for the composite pass.
-    pub read: wgpu::BindGroup,
-}
-
 /// One view's targets.
 #[derive(Debug)]
 pub struct ViewTargets {
@@ -139,10 +147,9 @@ pub struct ViewTargets {
     /// What the material pass reads: the composition copy when there is one, else
     /// `lbuffer_read`'s textures.
     pub material_read: wgpu::BindGroup,
-    /// OIT targets.
-    pub oit: Option<Oit>,
-    /// The half-float colour the passes draw into before the resolve, when planned.
-    pub scene: Option<crate::features::resolve::SceneColor>,
+    /// The targets features own (the OIT accumulation, the scene colour), made when the
+    /// plan runs the feature ([`crate::feature::TargetsDesc`]).
+    pub owned: Owned,
     /// The output colour, when the view owns it.
     pub color: Option<Target>,
     /// The output's depth.
@@ -172,8 +179,9 @@ fn pair(
 }
 
 impl ViewTargets {
-    /// Creates the targets of `spec`.
-    pub fn new(r: &Renderer, spec: TargetSpec) -> ViewTargets {
+    /// Creates the targets of `spec`, with the features' own targets of `owned` (as `spec`
+    /// was made with).
+    pub fn new(r: &Renderer, spec: TargetSpec, owned: &[TargetsDesc]) -> ViewTargets {
         let device = &r.gpu.device;
         let textures = &r.layout(&crate::layout::TEXTURES);
         let tex = |label, size, format| Target::new(device, label, size, format);
@@ -209,21 +217,12 @@ impl ViewTargets {
             Some(c) => pair(r, textures, &c.light.view, &c.dsf.view),
             None => lbuffer_read.clone(),
         };
-        let oit = spec.oit.then(|| {
-            let accum = tex("oit accum", spec.output, r.gpu.accum_format);
-            let reveal = tex("oit reveal", spec.output, REVEAL_FORMAT);
-            let read = pair(
-                r,
-                &r.layout(&crate::features::wboit::LAYOUT),
-                &accum.view,
-                &reveal.view,
-            );
-            Oit {
-                accum,
-                reveal,
-                read,
+        let mut made = Owned::default();
+        for (i, t) in owned.iter().enumerate() {
+            if spec.owned & (1 << i) != 0 {
+                (t.make)(r, &spec, &mut made);
             }
-        });
+        }
         ViewTargets {
             spec,
             gbuffer,
@@ -231,10 +230,7 @@ impl ViewTargets {
             lbuffer_read,
             composition,
             material_read,
-            oit,
-            scene: spec
-                .scene
-                .then(|| crate::features::resolve::SceneColor::new(r, spec.output)),
+            owned: made,
             color: spec
                 .own_color
                 .then(|| tex("output", spec.output, spec.color_format)),

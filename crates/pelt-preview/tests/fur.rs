@@ -424,11 +424,7 @@ fn a_cube_map_sky_shows_its_faces_and_a_bad_face_is_named() {
 /// (tangent, offset) per input.
 fn gpu_path(p: &Preview, inputs: &[([f32; 3], [f32; 3], f32)]) -> Vec<([f32; 3], [f32; 3])> {
     use wgpu::util::DeviceExt;
-    let source = format!(
-        "{}\n{}\n{}",
-        pelt_preview::shaders::COMMON,
-        include_str!("../../../shaders/fur_common.wgsl"),
-        r"
+    let source = r"#import pelt::fur_common::{shell_offset, strand_tangent}
 @group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
 @compute @workgroup_size(1)
@@ -439,12 +435,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[2u * id.x] = vec4<f32>(strand_tangent(n, c, z), 0.0);
     outputs[2u * id.x + 1u] = vec4<f32>(shell_offset(n, c, z, 1.0, 1.0), 0.0);
 }
-"
-    );
+";
+    let composed =
+        pelt_preview::shaders::compose_str("strand path test", source).expect("composes");
     let device = &p.renderer.gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("strand path test"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(composed)),
     });
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("strand path test"),

@@ -1,6 +1,6 @@
-//! Every WGSL file in the top-level `shaders/` folder parses and validates with naga, no GPU
-//! needed (as re_renderer's tests/shader_validation.rs does); every file there is one the
-//! renderer compiles; the uniform structs have the sizes the Rust side declares; and every
+//! Every WGSL file in the top-level `shaders/` folder is composed from its imports (naga_oil)
+//! and validates with naga, no GPU needed (as re_renderer's tests/shader_validation.rs does);
+//! every file there is one the renderer compiles; the uniform structs have the sizes the Rust side declares; and every
 //! pipeline's vertex-buffer layout and bind-group slots match its entry points' inputs and
 //! `@group` bindings.
 
@@ -9,25 +9,29 @@ use std::path::Path;
 use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
 use pelt_preview::features::registry;
 use pelt_preview::renderer::{PipelineDesc, PipelineSpec};
-use pelt_preview::shaders::{COMMON, FILES, ShaderDesc};
+use pelt_preview::shaders::{FILES, ShaderDesc, compose_str, decorated};
 use pelt_preview::uniforms::{
     FinInstance, FrameUniforms, FurVertex, LightUniforms, MaterialUniforms, ObjectUniforms, Vertex,
 };
 
-fn validate_info(name: &str, source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
-    let module = naga::front::wgsl::parse_str(source)
-        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+/// `s` composed from its imports by naga_oil, and naga's validation of the result.
+fn composed(s: ShaderDesc) -> (naga::Module, naga::valid::ModuleInfo) {
+    let module = s.compose().unwrap_or_else(|e| panic!("{e}"));
     let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::empty(),
     )
     .validate(&module)
-    .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    .unwrap_or_else(|e| panic!("{}: {e:?}", s.module_name()));
     (module, info)
 }
 
-fn validate(name: &str, source: &str) -> naga::Module {
-    validate_info(name, source).0
+/// The type named `name` in `m` (the module's own, or a shared module's, decorated).
+fn type_named(m: &naga::Module, name: &str) -> Option<naga::Handle<naga::Type>> {
+    m.types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .map(|(h, _)| h)
 }
 
 /// Every pipeline of every registered feature, compute pipelines as specs of their groups.
@@ -246,19 +250,29 @@ fn every_shader_file_validates_and_is_compiled_by_the_renderer() {
         files, known,
         "every file in shaders/ is compiled into the renderer"
     );
+    // Each file is a registered shader's, or a shared module another file imports.
+    let shared = |text: &str| {
+        text.lines()
+            .find_map(|l| l.strip_prefix("#define_import_path "))
+            .map(|p| p.trim().to_owned())
+    };
     for (name, text) in FILES {
         let on_disk = std::fs::read_to_string(dir.join(name)).expect("read");
         assert_eq!(on_disk, text, "{name}: compiled text is the file");
+        let registered = registry::shaders().iter().any(|s| s.file == name);
+        let imported = shared(text).is_some_and(|path| {
+            FILES
+                .iter()
+                .any(|(_, t)| t.contains(&format!("#import {path}::")))
+        });
         assert!(
-            registry::shaders().iter().any(|s| s.parts.contains(&name)),
-            "{name} is part of some registered feature's shader"
+            registered || imported,
+            "{name} is a registered shader's file or a shared module some file imports"
         );
     }
-    // The prelude alone, then each module as compiled, with the entry points its pipelines use.
-    validate("common.wgsl", COMMON);
+    // Each module as composed, with the entry points its pipelines use.
     for s in registry::shaders() {
-        let source = s.source();
-        let m = validate(&s.module_name(), &source);
+        let (m, _) = composed(s);
         let entries: Vec<&str> = m.entry_points.iter().map(|e| e.name.as_str()).collect();
         let (vs, fs) = s.entry_points();
         assert!(
@@ -275,7 +289,7 @@ fn every_pipeline_layout_matches_its_entry_points() {
     // Every feature's pipelines, each variant (blends, lightings, coverage codes) once.
     assert!(all.len() >= 30, "{} pipelines registered", all.len());
     for PipelineDesc { shader: s, spec } in all {
-        let (m, info) = validate_info(&s.module_name(), &s.source());
+        let (m, info) = composed(s);
         let (vs, fs) = s.entry_points();
         if !s.is_compute() {
             check_vertex(&m, vs, &spec)
@@ -301,7 +315,7 @@ fn every_pipeline_layout_matches_its_entry_points() {
 #[test]
 fn a_mismatched_layout_is_caught() {
     let PipelineDesc { shader: s, spec } = pelt_preview::features::geometry::pipeline();
-    let (m, info) = validate_info(&s.module_name(), &s.source());
+    let (m, info) = composed(s);
     let (vs, fs) = s.entry_points();
     let mut wrong = spec.clone();
     wrong.vertex_buffers = vec![pelt_preview::features::fur_vertex_layout()];
@@ -312,21 +326,26 @@ fn a_mismatched_layout_is_caught() {
     assert!(e.contains("does not match"), "{e}");
     let PipelineDesc { shader, mut spec } = pelt_preview::features::sky::pipeline(true);
     spec.groups = vec![pelt_preview::layout::FRAME];
-    let (m, info) = validate_info("sky", &shader.source());
+    let (m, info) = composed(shader);
     let e = check_groups(&m, &info, ["vs_fullscreen", "fs_cube"], &spec).expect_err("missing");
     assert!(e.contains("@group(1)"), "{e}");
 }
 
 #[test]
 fn uniform_structs_match_the_rust_side() {
-    let m = validate("common.wgsl", COMMON);
+    // The shared structs as a shader importing them sees them.
+    let m = compose_str(
+        "uniforms.wgsl",
+        "#import pelt::common::{Frame, Object, Light, MaterialParams, VERTEX_FLOATS, FUR_FLOATS}
+fn f(a: Frame, b: Object, c: Light, d: MaterialParams) -> u32 {
+    return VERTEX_FLOATS + FUR_FLOATS;
+}",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     let mut layouter = naga::proc::Layouter::default();
     layouter.update(m.to_ctx()).expect("layout");
     let size_of_struct = |name: &str| -> u32 {
-        let (h, _) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
+        let h = type_named(&m, &decorated("pelt::common", name))
             .unwrap_or_else(|| panic!("struct {name} in common.wgsl"));
         layouter[h].size
     };
@@ -345,6 +364,7 @@ fn uniform_structs_match_the_rust_side() {
     assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
     // The compute passes' view of the same records, in 32-bit words.
     let words = |name: &str| -> usize {
+        let name = &decorated("pelt::common", name);
         let (_, c) = m
             .constants
             .iter()
@@ -374,14 +394,11 @@ fn uniform_structs_match_the_rust_side() {
             size_of::<ReflectUniforms>(),
         ),
     ] {
-        let m = validate(shader.file(), &shader.source());
+        let (m, _) = composed(shader);
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(m.to_ctx()).expect("layout");
-        let (h, _) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("struct {name} in {}", shader.file()));
+        let h =
+            type_named(&m, name).unwrap_or_else(|| panic!("struct {name} in {}", shader.file()));
         assert_eq!(layouter[h].size as usize, size, "{name}");
     }
 }
@@ -390,8 +407,48 @@ fn uniform_structs_match_the_rust_side() {
 #[test]
 #[should_panic(expected = "broken.wgsl")]
 fn a_broken_shader_fails_validation() {
-    validate(
-        "broken.wgsl",
-        &format!("{COMMON}\nfn f() -> f32 {{ return vec2<f32>(1.0); }}"),
-    );
+    let broken = "#import pelt::common::{Frame}\nfn f(a: Frame) -> f32 { return vec2<f32>(1.0); }";
+    compose_str("broken.wgsl", broken).unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// The named slots are where the shaders and pipelines put their groups: the shared frame and
+/// object bindings (object_bindings.wgsl) at `slot::FRAME` and `slot::OBJECT` in every module
+/// that uses them, and each pipeline's frame, object and material layouts at those slots.
+#[test]
+fn named_slots_match_the_shaders_groups() {
+    use pelt_preview::draw::slot;
+    use pelt_preview::layout;
+    let frame = decorated("pelt::object_bindings", "frame");
+    let object = decorated("pelt::object_bindings", "object");
+    let mut seen = 0;
+    for PipelineDesc { shader: s, spec } in every_pipeline() {
+        let (m, _) = composed(s);
+        for (_, g) in m.global_variables.iter() {
+            let (Some(name), Some(rb)) = (&g.name, &g.binding) else {
+                continue;
+            };
+            let want = match name {
+                n if *n == frame => slot::FRAME,
+                n if *n == object => slot::OBJECT,
+                _ => continue,
+            };
+            seen += 1;
+            assert_eq!(rb.group, want, "{}: {name}", s.module_name());
+        }
+        let at = |l: &layout::LayoutDesc| spec.groups.iter().position(|g| g == l);
+        for (l, want) in [(layout::FRAME, slot::FRAME), (layout::OBJECT, slot::OBJECT)] {
+            if let Some(i) = at(&l) {
+                assert_eq!(i as u32, want, "{}: {}", s.module_name(), l.label);
+            }
+        }
+        if let Some(i) = at(&pelt_preview::gpu_material::LAYOUT) {
+            let lit = [slot::MATERIAL, slot::GBUFFER_MATERIAL];
+            assert!(
+                lit.contains(&(i as u32)),
+                "{}: material at {i}",
+                s.module_name()
+            );
+        }
+    }
+    assert!(seen >= 20, "{seen} shared bindings checked");
 }

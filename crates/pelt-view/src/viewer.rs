@@ -218,7 +218,7 @@ impl Viewer {
             // Skinned on the GPU: views prepared later are posed too (`catch_up`).
             Followed::Skinned => self.gpu_pose = Some(pose),
             Followed::Upload(mesh) => {
-                self.input.meshes[0] = mesh;
+                self.input.meshes[0] = *mesh;
                 self.gpu_pose = None;
                 self.full = prepare(
                     preview,

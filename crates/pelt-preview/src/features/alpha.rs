@@ -1,46 +1,68 @@
 //! Stippled alpha (Kircher & Lawrance §4): each alpha object writes only its stipple pattern's
 //! pixel of every 2×2 cell of the G-buffer (patterns assigned in the plan so overlapping
 //! objects differ), and is drawn blended back to front at output resolution, lit from its own
-//! stipple samples by the DSF filter.
+//! stipple samples by the DSF filter. Both are draws in the transparent phase of the passes
+//! features share; with the fur composited by OIT, the composite draws them instead.
 
-use crate::features::registry::Feature;
-use crate::features::{Frame, MissingInput, material, slot};
+use crate::draw::{MissingInput, slot};
+use crate::feature::Frame;
+use crate::feature::{DrawDesc, Feature, Phase, Shade, Shared};
 use crate::frame_data::Res;
 use crate::recipe::Recipe;
 use crate::renderer::Blend;
-use crate::shaders::Lighting;
+use crate::scene::FurBlend;
+use crate::shading;
 
 /// Stippled alpha's feature (its pipelines are the geometry and material passes').
 pub const FEATURE: Feature = Feature {
-    name: "alpha",
-    explain: "stippled alpha objects, lit from their own stipple samples",
-    pipelines: Vec::new,
-    compute: &[],
-    passes: &[],
+    draws: &[
+        DrawDesc {
+            into: Shared::Geometry,
+            phase: Phase::Transparent,
+            draw: gbuffer,
+        },
+        DrawDesc {
+            into: Shared::Shading,
+            phase: Phase::Transparent,
+            draw: transparent,
+        },
+    ],
+    ..Feature::named(
+        "alpha",
+        "stippled alpha objects, lit from their own stipple samples",
+    )
 };
 
 /// The alpha objects' stippled G-buffer draws (after opaque and fur).
-pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput> {
+pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
     if f.plan.alpha.is_empty() {
         return Ok(());
     }
     r.pipeline(super::geometry::pipeline());
-    f.draw_objects(r, "geometry", Some(slot::GBUFFER_MATERIAL), &f.plan.alpha)
+    f.draw_objects(
+        r,
+        s.pass.name(),
+        Some(slot::GBUFFER_MATERIAL),
+        &f.plan.alpha,
+    )
 }
 
-/// The alpha objects back to front, blended over, lit by `lit` (material or forward).
-pub fn draw<'a>(
-    f: &Frame<'a>,
-    r: &mut Recipe<'a>,
-    pass: &'static str,
-    lit: Lighting,
-) -> Result<(), MissingInput> {
+/// The alpha objects in the shading pass, unless the OIT composite draws them.
+fn transparent<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
+    if !f.plan.fur.is_empty() && f.plan.fur_blend == FurBlend::Wboit {
+        return Ok(());
+    }
+    draw(f, r, s)
+}
+
+/// The alpha objects back to front, blended over, with `s`'s object shader and lighting.
+pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
     if f.plan.alpha.is_empty() {
         return Ok(());
     }
     f.bind_frame(r, Res::Output);
-    let (group, offset) = material::lighting(f, lit).0;
+    let (group, offset) = shading::lighting(f, s.lit).0;
     r.bind(slot::LIGHTING, group, offset);
-    r.pipeline(material::object_pipeline(lit, Blend::Over));
-    f.draw_objects(r, pass, Some(slot::MATERIAL), &f.plan.alpha)
+    r.pipeline((s.object)(Blend::Over));
+    f.draw_objects(r, s.pass.name(), Some(slot::MATERIAL), &f.plan.alpha)
 }

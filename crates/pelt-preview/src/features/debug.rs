@@ -6,16 +6,15 @@
 //! as its base mesh, mirrors and glass as plain surfaces: the views show the asset, not the
 //! shading.
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::{Frame, MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
+use crate::draw::{MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
+use crate::feature::Frame;
+use crate::feature::{Build, Feature, PassDesc};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::{DebugView, Mode, Pass};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::shaders::{Entry, ShaderDesc};
-
-const PARTS: &[&str] = &["common.wgsl", "fur_common.wgsl", "debug.wgsl"];
 
 /// The groups view: the mesh's vertices and each vertex's group class.
 pub const GROUPS: ShaderDesc = entries("vs_groups", "fs_groups");
@@ -26,8 +25,8 @@ pub const PLAIN: ShaderDesc = entries("vs_plain", "fs_plain");
 
 const fn entries(vs: &'static str, fs: &'static str) -> ShaderDesc {
     ShaderDesc {
-        parts: PARTS,
         entry: Entry::Render(vs, fs),
+        ..ShaderDesc::render("debug.wgsl")
     }
 }
 
@@ -65,11 +64,12 @@ pub fn pipeline(shader: ShaderDesc) -> PipelineDesc {
 
 /// The debug views' feature.
 pub const FEATURE: Feature = Feature {
-    name: "debug",
-    explain: "debug views: normal groups, neighbours distinct; the decoded comb",
     pipelines: || [GROUPS, COMB, PLAIN].map(pipeline).to_vec(),
-    compute: &[],
     passes: &[PassDesc::new(Pass::Debug, Build::One(pass))],
+    ..Feature::named(
+        "debug",
+        "debug views: normal groups, neighbours distinct; the decoded comb",
+    )
 };
 
 /// The debug pass: every planned object, nearest first within each kind, into the output.

@@ -1,32 +1,43 @@
 //! The forward reference: every object loops over every light at output resolution, in the
-//! material pass's order; fur is lit per strand with Kajiya-Kay (Revie Listing 2.4).
+//! shading pass's phases ([`crate::shading`]) with its own shader; fur is lit per strand
+//! with Kajiya-Kay (Revie Listing 2.4).
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::{Frame, MissingInput, material};
+use crate::draw::{MissingInput, slot};
+use crate::feature::Frame;
+use crate::feature::{Build, Feature, PassDesc, Shade, Shared};
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
 use crate::renderer::{Blend, PipelineDesc};
 use crate::shaders::{Lighting, ShaderDesc};
+use crate::shading::{self, lit_pipeline};
 
 /// forward.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "forward.wgsl"]);
+pub const SHADER: ShaderDesc =
+    ShaderDesc::render("forward.wgsl").with_defs(&[("MATERIAL_GROUP", slot::MATERIAL)]);
 
 /// The forward shader's pipeline with `blend`.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
-    material::lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend)
+    lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend)
 }
 
 /// The forward reference's feature.
 pub const FEATURE: Feature = Feature {
-    name: "forward",
-    explain: "the forward reference: every object loops over every light",
     pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
-    compute: &[],
     passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
+    ..Feature::named(
+        "forward",
+        "the forward reference: every object loops over every light",
+    )
 };
 
 /// The forward pass.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    material::shade(f, Pass::Forward, Lighting::Forward)
+    let s = Shade {
+        shared: Shared::Shading,
+        pass: Pass::Forward,
+        lit: Lighting::Forward,
+        object: pipeline,
+    };
+    shading::shade(f, &s)
 }

@@ -7,16 +7,18 @@
 //! lit from the L-buffer at root and tip (or per light, forward), blended over or into the
 //! OIT targets.
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::{
-    Frame, MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
+use crate::draw::{
+    MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
-use crate::layout::{self, D2, FILTERABLE, LayoutDesc, sampler, texture};
+use crate::feature::Frame;
+use crate::feature::{Build, DrawDesc, Feature, PassDesc, Phase, Shade, Shared};
+use crate::layout::{self, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, PipelineDesc, PipelineSpec};
-use crate::scene::FurCoverage;
+use crate::scene::{FurBlend, FurCoverage};
 use crate::shaders::{Coverage, Entry, Lighting, ShaderDesc};
+use crate::shading;
 use crate::uniforms::FinInstance;
 
 /// Bind-group slots of obliterate.wgsl.
@@ -42,83 +44,50 @@ pub fn fin_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
-/// The fur's textures (fur_common.wgsl): heightfield, fin texture, their samplers, the
-/// base colour and its sampler, and the density's two textures.
-pub const LAYOUT: LayoutDesc = LayoutDesc {
-    label: "fur textures",
-    entries: &[
-        texture(0, FILTERABLE, D2),
-        texture(1, FILTERABLE, D2),
-        sampler(2),
-        sampler(3),
-        texture(4, FILTERABLE, D2),
-        sampler(5),
-        texture(6, FILTERABLE, D2),
-        texture(7, FILTERABLE, D2),
-    ],
-};
+/// The fur's textures, as the asset cache binds them.
+pub const LAYOUT: LayoutDesc = layout::FUR_TEXTURES;
 
-const GBUFFER_PARTS: &[&str] = &["common.wgsl", "fur_common.wgsl", "fur_gbuffer.wgsl"];
 /// Fur geometry pass 1: the base mesh with grain normals (Revie §2.4.2).
 pub const BASE: ShaderDesc = ShaderDesc {
-    parts: GBUFFER_PARTS,
     entry: Entry::Render("vs_base", "fs_base"),
+    ..ShaderDesc::render("fur_gbuffer.wgsl")
 };
 /// Fur geometry pass 2: the stippled outer shell with rim normals.
 pub const OUTER: ShaderDesc = ShaderDesc {
-    parts: GBUFFER_PARTS,
     entry: Entry::Render("vs_outer", "fs_outer"),
+    ..ShaderDesc::render("fur_gbuffer.wgsl")
 };
 /// Stipple obliteration into the composition copy (§2.4.4).
-pub const OBLITERATE: ShaderDesc = ShaderDesc::fullscreen(
-    &["common.wgsl", "fullscreen.wgsl", "obliterate.wgsl"],
-    "fs_main",
-);
+pub const OBLITERATE: ShaderDesc = ShaderDesc::fullscreen("obliterate.wgsl", "fs_main");
 /// Compute: comb directions from tangent frames (the GPU half of `pelt_geom::frame`).
 pub const TANGENT_FRAMES: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "fur_common.wgsl", "tangent_frames.wgsl"]),
+    shader: ShaderDesc::compute("tangent_frames.wgsl"),
     groups: &[layout::STORAGE],
 };
 /// Compute: fin records decoded through the index list (the GPU half of
 /// `pelt_io::topology::fin_geometry`).
 pub const FIN_RECORDS: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "fin_records.wgsl"]),
+    shader: ShaderDesc::compute("fin_records.wgsl"),
     groups: &[layout::STORAGE, layout::STORAGE],
 };
+
+/// The shader def that composes a fur layer shader with the forward lighting chunk
+/// (`pelt::fur_light_forward`: Kajiya-Kay per light) instead of the L-buffer's.
+const FORWARD_LIGHT: &[(&str, u32)] = &[("FORWARD_LIGHT", 1)];
 
 /// The shells (instance 0: the base mesh), lit by `lighting`.
 pub const fn shells(lighting: Lighting) -> ShaderDesc {
     match lighting {
-        Lighting::Inferred => ShaderDesc::render(&[
-            "common.wgsl",
-            "fur_common.wgsl",
-            "fur_light_inferred.wgsl",
-            "shells.wgsl",
-        ]),
-        Lighting::Forward => ShaderDesc::render(&[
-            "common.wgsl",
-            "fur_common.wgsl",
-            "fur_light_forward.wgsl",
-            "shells.wgsl",
-        ]),
+        Lighting::Inferred => ShaderDesc::render("shells.wgsl"),
+        Lighting::Forward => ShaderDesc::render("shells.wgsl").with_defs(FORWARD_LIGHT),
     }
 }
 
 /// The silhouette fins, lit by `lighting`.
 pub const fn fins(lighting: Lighting) -> ShaderDesc {
     match lighting {
-        Lighting::Inferred => ShaderDesc::render(&[
-            "common.wgsl",
-            "fur_common.wgsl",
-            "fur_light_inferred.wgsl",
-            "fins.wgsl",
-        ]),
-        Lighting::Forward => ShaderDesc::render(&[
-            "common.wgsl",
-            "fur_common.wgsl",
-            "fur_light_forward.wgsl",
-            "fins.wgsl",
-        ]),
+        Lighting::Inferred => ShaderDesc::render("fins.wgsl"),
+        Lighting::Forward => ShaderDesc::render("fins.wgsl").with_defs(FORWARD_LIGHT),
     }
 }
 
@@ -226,13 +195,54 @@ fn pipelines() -> Vec<PipelineDesc> {
 
 /// Revie's fur's feature.
 pub const FEATURE: Feature = Feature {
-    name: "fur",
-    explain: "Revie's deferred fur: G-buffer base and stippled outer shell, obliteration, \
-              shells and fins",
     pipelines,
     compute: &[TANGENT_FRAMES, FIN_RECORDS],
     passes: &[PassDesc::new(Pass::Obliterate, Build::One(obliterate_pass))],
+    draws: &[
+        DrawDesc {
+            into: Shared::Geometry,
+            phase: Phase::FurBase,
+            draw: |f, r, _| gbuffer(f, r),
+        },
+        DrawDesc {
+            into: Shared::Shading,
+            phase: Phase::FurBase,
+            draw: shade_base,
+        },
+        DrawDesc {
+            into: Shared::Shading,
+            phase: Phase::FurLayers,
+            draw: shade_layers,
+        },
+    ],
+    ..Feature::named(
+        "fur",
+        "Revie's deferred fur: G-buffer base and stippled outer shell, obliteration, \
+              shells and fins",
+    )
 };
+
+/// The fur's base mesh in the shading pass, lit as fur.
+fn shade_base<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
+    if f.plan.fur.is_empty() {
+        return Ok(());
+    }
+    let (group, offset) = shading::lighting(f, s.lit).1;
+    r.bind(slot::LIGHTING, group, offset);
+    base(f, r, s.pass.name(), s.lit)
+}
+
+/// The shells and fins far to near, blended over, unless the strands are drawn instead or
+/// the OIT passes take them.
+fn shade_layers<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
+    let strands = f.plan.mode == crate::plan::Mode::Strands;
+    if f.plan.fur.is_empty() || strands || f.plan.fur_blend == FurBlend::Wboit {
+        return Ok(());
+    }
+    let (group, offset) = shading::lighting(f, s.lit).1;
+    r.bind(slot::LIGHTING, group, offset);
+    layers(f, r, s.pass.name(), s.lit, Blend::Over)
+}
 
 /// Binds fur object `k`'s mesh, fur vertices and textures.
 fn bind_fur<'a>(
@@ -250,8 +260,11 @@ fn bind_fur<'a>(
         ),
     })?;
     f.bind_object(r, k);
-    r.push(Step::Vertices(super::vertex_slot::MESH, &mesh.vertices));
-    r.push(Step::Vertices(super::vertex_slot::FUR, &fur.vertices));
+    r.push(Step::Vertices(
+        crate::draw::vertex_slot::MESH,
+        &mesh.vertices,
+    ));
+    r.push(Step::Vertices(crate::draw::vertex_slot::FUR, &fur.vertices));
     r.push(Step::Indices(&mesh.indices));
     Ok((mesh, fur))
 }
@@ -372,7 +385,7 @@ pub fn layers<'a>(
         // Fins carry their own colour under the fur (FinInstance::albedo): any material's
         // group gives the heightfield and fin texture.
         r.bind(slot::FUR, &fur.textures[0], None);
-        r.push(Step::Vertices(super::vertex_slot::INSTANCES, fins));
+        r.push(Step::Vertices(crate::draw::vertex_slot::INSTANCES, fins));
         r.push(Step::Draw(0..6, 0..fur.fin_count));
     }
     Ok(())

@@ -4,18 +4,20 @@
 //! feature adds its base mesh and stippled outer shell, the alpha feature its stippled
 //! objects.
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::slot;
-use crate::features::{Frame, MissingInput, alpha, fur, vertex_layout};
+use crate::draw::{MissingInput, slot, vertex_layout};
+use crate::feature::Frame;
+use crate::feature::{Build, DrawDesc, Feature, PassDesc, Phase, Shade, Shared};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{PipelineDesc, PipelineSpec};
-use crate::shaders::ShaderDesc;
+use crate::shaders::{Lighting, ShaderDesc};
+use crate::shading;
 
 /// gbuffer.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::render(&["common.wgsl", "gbuffer.wgsl"]);
+pub const SHADER: ShaderDesc =
+    ShaderDesc::render("gbuffer.wgsl").with_defs(&[("MATERIAL_GROUP", slot::GBUFFER_MATERIAL)]);
 
 /// The G-buffer shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
@@ -33,11 +35,17 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The geometry pass's feature.
 pub const FEATURE: Feature = Feature {
-    name: "geometry",
-    explain: "opaque geometry into the G-buffer at L-buffer resolution",
     pipelines: || vec![pipeline()],
-    compute: &[],
     passes: &[PassDesc::new(Pass::Geometry, Build::One(pass))],
+    draws: &[DrawDesc {
+        into: Shared::Geometry,
+        phase: Phase::Opaque,
+        draw: opaque,
+    }],
+    ..Feature::named(
+        "geometry",
+        "opaque geometry into the G-buffer at L-buffer resolution",
+    )
 };
 
 /// The G-buffer's colour and depth attachments, cleared: normals 0, DSF depth code 65535
@@ -75,28 +83,29 @@ fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     ))
 }
 
-/// The geometry pass.
+/// Opaque objects, then mirrors and glass: they hold their pixels' depth and IDs (they are
+/// shaded later, from their distance maps, not from the L-buffer).
+fn opaque<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
+    if f.plan.opaque.is_empty() && f.plan.reflective.is_empty() {
+        return Ok(());
+    }
+    r.pipeline(pipeline());
+    let material = Some(slot::GBUFFER_MATERIAL);
+    f.draw_objects(r, s.pass.name(), material, &f.plan.opaque)?;
+    f.draw_objects(r, s.pass.name(), material, &f.plan.reflective)
+}
+
+/// The geometry pass: the G-buffer cleared, then the registered features' draws into it
+/// (opaque objects here, the fur's base and outer shell, stippled alpha), phase by phase.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let mut r = attachments(f)?;
     f.bind_frame(&mut r, Res::Lbuffer);
-    if !f.plan.opaque.is_empty() || !f.plan.reflective.is_empty() {
-        r.pipeline(pipeline());
-        f.draw_objects(
-            &mut r,
-            Pass::Geometry.name(),
-            Some(slot::GBUFFER_MATERIAL),
-            &f.plan.opaque,
-        )?;
-        // Mirrors and glass hold their pixels' depth and IDs (they are shaded later, from
-        // their distance maps, not from the L-buffer).
-        f.draw_objects(
-            &mut r,
-            Pass::Geometry.name(),
-            Some(slot::GBUFFER_MATERIAL),
-            &f.plan.reflective,
-        )?;
-    }
-    fur::gbuffer(f, &mut r)?;
-    alpha::gbuffer(f, &mut r)?;
+    let s = Shade {
+        shared: Shared::Geometry,
+        pass: Pass::Geometry,
+        lit: Lighting::Inferred,
+        object: |_| pipeline(),
+    };
+    shading::run_phases(f, &mut r, &s)?;
     Ok(r)
 }

@@ -2,8 +2,9 @@
 //! light adds its diffuse and specular intensity over its scissor rectangle only, reading
 //! position and normal back from the G-buffer.
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::{ADD, Frame, MissingInput};
+use crate::draw::{ADD, MissingInput};
+use crate::feature::Frame;
+use crate::feature::{Build, Feature, PassDesc};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
@@ -24,8 +25,7 @@ pub mod slot {
 }
 
 /// light.wgsl, a full-screen pass scissored to each light.
-pub const SHADER: ShaderDesc =
-    ShaderDesc::fullscreen(&["common.wgsl", "fullscreen.wgsl", "light.wgsl"], "fs_main");
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("light.wgsl", "fs_main");
 
 /// The light shader's pipeline: additive into the L-buffer.
 pub fn pipeline() -> PipelineDesc {
@@ -46,11 +46,9 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The light pass's feature.
 pub const FEATURE: Feature = Feature {
-    name: "lights",
-    explain: "scissored point lights into the L-buffer",
     pipelines: || vec![pipeline()],
-    compute: &[],
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
+    ..Feature::named("lights", "scissored point lights into the L-buffer")
 };
 
 /// The light pass.

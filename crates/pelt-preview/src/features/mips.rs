@@ -3,8 +3,8 @@
 //! bilinear sample at a texel's centre is the 2×2 average above (box filter; in linear light
 //! for sRGB formats). All levels of all layers go in one submission.
 
-use crate::features::Output;
-use crate::features::registry::Feature;
+use crate::feature::Feature;
+use crate::feature::Output;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
@@ -30,10 +30,7 @@ pub mod slot {
 }
 
 /// downsample.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
-    &["common.wgsl", "fullscreen.wgsl", "downsample.wgsl"],
-    "fs_main",
-);
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("downsample.wgsl", "fs_main");
 
 /// The mips shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
@@ -42,11 +39,8 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The mips feature.
 pub const FEATURE: Feature = Feature {
-    name: "mips",
-    explain: "mip chains of layered targets",
     pipelines: || vec![pipeline()],
-    compute: &[],
-    passes: &[],
+    ..Feature::named("mips", "mip chains of layered targets")
 };
 
 /// One level of one layer: its source group, its parameters and the view it writes.

@@ -3,8 +3,8 @@
 //! into an R8 texture (uploaded only when the text changes), drawn by overlay.wgsl as a box
 //! over the finished frame.
 
-use crate::features::Output;
-use crate::features::registry::Feature;
+use crate::feature::Feature;
+use crate::feature::Output;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
@@ -29,10 +29,7 @@ pub mod slot {
 const PAD: u32 = 4;
 
 /// overlay.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
-    &["common.wgsl", "fullscreen.wgsl", "overlay.wgsl"],
-    "fs_main",
-);
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("overlay.wgsl", "fs_main");
 
 /// The overlay shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
@@ -45,11 +42,8 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The overlay feature.
 pub const FEATURE: Feature = Feature {
-    name: "overlay",
-    explain: "pelt view's text overlay",
     pipelines: || vec![pipeline()],
-    compute: &[],
-    passes: &[],
+    ..Feature::named("overlay", "pelt view's text overlay")
 };
 
 /// `lines` rasterized: (width, height, one byte per pixel, 255 where the font has ink), with

@@ -14,8 +14,9 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use crate::features::registry::{Build, DrawsInto, Feature, PassDesc};
-use crate::features::{Frame, MissingInput, vertex_layout};
+use crate::draw::{MissingInput, vertex_layout};
+use crate::feature::Frame;
+use crate::feature::{Build, Cached, DrawDesc, Feature, PassDesc, Phase, Shared};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
@@ -558,12 +559,12 @@ impl Maps {
 }
 
 /// distance_map.wgsl: one face of one layer of a distance map.
-pub const DISTANCE_MAP: ShaderDesc = ShaderDesc::render(&["common.wgsl", "distance_map.wgsl"]);
+pub const DISTANCE_MAP: ShaderDesc = ShaderDesc::render("distance_map.wgsl");
 /// reflect.wgsl: mirrors and glass through their maps.
-pub const REFLECT: ShaderDesc = ShaderDesc::render(&["common.wgsl", "reflect.wgsl"]);
+pub const REFLECT: ShaderDesc = ShaderDesc::render("reflect.wgsl");
 /// minmax.wgsl: each layer's distance range.
 pub const MINMAX: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "minmax.wgsl"]),
+    shader: ShaderDesc::compute("minmax.wgsl"),
     groups: &[MINMAX_LAYOUT],
 };
 
@@ -598,8 +599,8 @@ pub fn reflect_pipeline() -> PipelineDesc {
                 super::sky::LAYOUT,
             ],
             vertex_buffers: vec![vertex_layout()],
-            blends: crate::features::object_blends(Blend::None),
-            depth: crate::features::object_depth(Blend::None),
+            blends: crate::draw::object_blends(Blend::None),
+            depth: crate::draw::object_depth(Blend::None),
             ..PipelineSpec::default()
         },
     }
@@ -607,31 +608,39 @@ pub fn reflect_pipeline() -> PipelineDesc {
 
 /// Mirrors and glass's feature.
 pub const FEATURE: Feature = Feature {
-    name: "reflect",
-    explain: "mirrors and glass from layered distance maps",
     pipelines: || vec![map_pipeline(), reflect_pipeline()],
     compute: &[MINMAX],
     passes: &[
         PassDesc {
-            pass: Pass::DistanceMaps,
-            into: DrawsInto::Scene,
-            maps: true,
-            build: Build::Many(map_passes),
+            cached: Some(CACHED),
+            ..PassDesc::new(Pass::DistanceMaps, Build::Many(map_passes))
         },
         PassDesc {
-            pass: Pass::MinMax,
-            into: DrawsInto::Scene,
-            maps: true,
-            build: Build::One(minmax_pass),
+            cached: Some(CACHED),
+            ..PassDesc::new(Pass::MinMax, Build::One(minmax_pass))
         },
     ],
+    draws: &[DrawDesc {
+        into: Shared::Shading,
+        phase: Phase::Mirrors,
+        draw: |f, r, s| draw(f, r, s.pass.name()),
+    }],
+    ..Feature::named("reflect", "mirrors and glass from layered distance maps")
+};
+
+/// The distance maps outlive the frame: drawn again only when the scene or its knobs
+/// changed.
+const CACHED: Cached = Cached {
+    fresh: |f| f.scene.get::<Maps>().is_some_and(Maps::fresh),
+    drawn: |f| {
+        if let Some(m) = f.scene.get::<Maps>() {
+            m.mark_fresh();
+        }
+    },
 };
 
 fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput> {
-    f.maps.ok_or_else(|| MissingInput {
-        pass,
-        what: "the scene's distance maps".into(),
-    })
+    f.scene.need(pass, "the scene's distance maps")
 }
 
 /// The distance-map pass: every face of every layer of every map, each a render pass (a
@@ -697,7 +706,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                         &m.objects_group,
                         Some(i as u32 * UNIFORM_STRIDE as u32),
                     );
-                    r.push(Step::Vertices(super::vertex_slot::MESH, &g.vertices));
+                    r.push(Step::Vertices(crate::draw::vertex_slot::MESH, &g.vertices));
                     r.push(Step::Indices(&g.indices));
                     r.push(Step::DrawIndexed(0..g.count, 0..1));
                 }

@@ -1,87 +1,17 @@
-//! The table of features. Each feature module declares one [`Feature`]: its name, the line
-//! `--explain` prints for it, every render pipeline it may draw (as descriptors, formats left
-//! to the passes that draw them), its compute pipelines and the planned passes it builds. The
+//! The table of features. Each feature module declares one [`Feature`] ([`crate::feature`]):
+//! its name, the line `--explain` prints for it, every render pipeline it may draw (as
+//! descriptors, formats left to the passes that draw them), its compute pipelines, the
+//! planned passes it builds, its draws in the shading pass and the targets it owns. The
 //! shader-validation test and hot reload walk this table, so a shader a feature declares is
 //! validated and reloaded without being listed anywhere else; the frame looks each planned
 //! pass up here ([`builder`]), so a new pass needs no arm in the frame's code.
 
-use crate::features::{Frame, MissingInput};
+pub use crate::feature::{Build, Cached, DrawDesc, DrawsInto, Feature, PassDesc, TargetsDesc};
 use crate::plan::Pass;
-use crate::recipe::Recipe;
-use crate::renderer::{ComputeDesc, PipelineDesc};
+use crate::renderer::PipelineDesc;
 use crate::shaders::ShaderDesc;
 
-/// Builds a planned pass's recipes from the frame.
-#[derive(Debug, Clone, Copy)]
-pub enum Build {
-    /// One render or compute pass.
-    One(for<'a> fn(&Frame<'a>) -> Result<Recipe<'a>, MissingInput>),
-    /// Several (the distance maps: one per face and layer).
-    Many(for<'a> fn(&Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput>),
-}
-
-impl Build {
-    /// The recipes, appended to `out`.
-    pub fn run<'a>(self, f: &Frame<'a>, out: &mut Vec<Recipe<'a>>) -> Result<(), MissingInput> {
-        match self {
-            Build::One(b) => out.push(b(f)?),
-            Build::Many(b) => out.extend(b(f)?),
-        }
-        Ok(())
-    }
-}
-
-/// Where a pass draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DrawsInto {
-    /// The scene colour where the plan blends fur into one ([`super::resolve`]), else the
-    /// output: every pass before the resolve.
-    Scene,
-    /// The output itself (the resolve).
-    Output,
-}
-
-/// A planned pass a feature builds.
-#[derive(Debug, Clone, Copy)]
-pub struct PassDesc {
-    /// The pass, as the plan lists it.
-    pub pass: Pass,
-    /// Where it draws.
-    pub into: DrawsInto,
-    /// Whether it draws the scene's distance maps, skipped while they are fresh.
-    pub maps: bool,
-    /// Its recipes.
-    pub build: Build,
-}
-
-impl PassDesc {
-    /// A pass drawing into the scene colour.
-    pub const fn new(pass: Pass, build: Build) -> PassDesc {
-        PassDesc {
-            pass,
-            into: DrawsInto::Scene,
-            maps: false,
-            build,
-        }
-    }
-}
-
-/// One feature of the renderer, as registered.
-#[derive(Debug, Clone, Copy)]
-pub struct Feature {
-    /// Its name (the module's).
-    pub name: &'static str,
-    /// What it draws, in one line (`--explain`).
-    pub explain: &'static str,
-    /// Every render pipeline it may draw, each variant once.
-    pub pipelines: fn() -> Vec<PipelineDesc>,
-    /// Its compute pipelines.
-    pub compute: &'static [ComputeDesc],
-    /// The planned passes it builds.
-    pub passes: &'static [PassDesc],
-}
-
-/// Every feature, in the order their passes run within a phase.
+/// Every feature, in the order their draws run within a phase of the shading pass.
 pub const FEATURES: &[Feature] = &[
     super::skin::FEATURE,
     super::reflect::FEATURE,
@@ -108,6 +38,12 @@ pub fn builder(pass: Pass) -> Option<&'static PassDesc> {
         .iter()
         .flat_map(|f| f.passes)
         .find(|p| p.pass == pass)
+}
+
+/// The own targets of every feature that has some, in registry order (a view's
+/// [`crate::targets::TargetSpec`] names them by position).
+pub fn targets() -> Vec<TargetsDesc> {
+    FEATURES.iter().filter_map(|f| f.targets).collect()
 }
 
 /// Every render pipeline of every feature.
@@ -163,6 +99,11 @@ mod tests {
             builder(Pass::Resolve).map(|d| d.into),
             Some(DrawsInto::Output)
         );
-        assert!(builder(Pass::MinMax).is_some_and(|d| d.maps));
+        assert!(builder(Pass::MinMax).is_some_and(|d| d.cached.is_some()));
+        assert!(builder(Pass::Geometry).is_some_and(|d| d.cached.is_none()));
+        assert!(
+            FEATURES.len() <= 64,
+            "a view's own targets are a 64-bit set"
+        );
     }
 }

@@ -9,9 +9,10 @@
 //! the rounding no longer averages out: on the demo scene the fur grew a fifth brighter from
 //! 4 to 64 shells. Half floats keep 11 significant bits at every brightness.
 
-use crate::features::registry::{Build, DrawsInto, Feature, PassDesc};
-use crate::features::upscale::Upscale;
-use crate::features::{Frame, MissingInput, Output};
+use super::upscale::Upscale;
+use crate::draw::MissingInput;
+use crate::feature::{Build, DrawsInto, Feature, PassDesc, TargetsDesc};
+use crate::feature::{Frame, Output};
 use crate::plan::Pass;
 use crate::recipe::Recipe;
 use crate::renderer::{Renderer, SCENE_FORMAT};
@@ -19,16 +20,18 @@ use crate::targets::Target;
 
 /// The resolve's feature (it draws the upscale feature's pipeline).
 pub const FEATURE: Feature = Feature {
-    name: "resolve",
-    explain: "the half-float scene colour the fur blends into, to the output",
-    pipelines: Vec::new,
-    compute: &[],
     passes: &[PassDesc {
-        pass: Pass::Resolve,
         into: DrawsInto::Output,
-        maps: false,
-        build: Build::One(pass),
+        ..PassDesc::new(Pass::Resolve, Build::One(pass))
     }],
+    targets: Some(TargetsDesc {
+        needed: |plan| plan.passes.contains(&Pass::Resolve),
+        make: |r, spec, owned| owned.insert(SceneColor::new(r, spec.output)),
+    }),
+    ..Feature::named(
+        "resolve",
+        "the half-float scene colour the fur blends into, to the output",
+    )
 };
 
 /// The scene colour target and the copy that resolves it.
@@ -65,10 +68,9 @@ pub fn inner<'a>(f: &Frame<'a>) -> Result<Frame<'a>, MissingInput> {
 }
 
 fn scene_color<'a>(f: &Frame<'a>) -> Result<&'a SceneColor, MissingInput> {
-    f.targets.scene.as_ref().ok_or_else(|| MissingInput {
-        pass: Pass::Resolve.name(),
-        what: "the scene colour target".into(),
-    })
+    f.targets
+        .owned
+        .need(Pass::Resolve.name(), "the scene colour target")
 }
 
 /// The resolve pass: the scene colour into `f`'s output.

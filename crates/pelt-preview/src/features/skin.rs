@@ -13,25 +13,25 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 use pelt_anim::posed::SkinJob;
 
-use crate::features::registry::Feature;
-use crate::frame::FrameError;
+use crate::feature::Feature;
 use crate::layout::STORAGE;
+use crate::readback::FrameError;
 use crate::renderer::{ComputeDesc, PipelineError, Renderer};
 use crate::shaders::ShaderDesc;
 
 /// skin.wgsl: linear blend skinning of positions, normals and tangents.
 pub const SKIN: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "skin.wgsl"]),
+    shader: ShaderDesc::compute("skin.wgsl"),
     groups: &[STORAGE, STORAGE],
 };
 /// skin_scatter.wgsl: skinned vertices into the vertex buffers.
 pub const SKIN_SCATTER: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "skin_scatter.wgsl"]),
+    shader: ShaderDesc::compute("skin_scatter.wgsl"),
     groups: &[STORAGE, STORAGE],
 };
 /// fin_rebuild.wgsl: a skinned mesh's fin instances from its vertices.
 pub const FIN_REBUILD: ComputeDesc = ComputeDesc {
-    shader: ShaderDesc::compute(&["common.wgsl", "fur_common.wgsl", "fin_rebuild.wgsl"]),
+    shader: ShaderDesc::compute("fin_rebuild.wgsl"),
     groups: &[STORAGE, STORAGE],
 };
 
@@ -55,11 +55,11 @@ fn bind_pair(pass: &mut wgpu::ComputePass<'_>, groups: &[wgpu::BindGroup; 2]) {
 
 /// The skinning feature.
 pub const FEATURE: Feature = Feature {
-    name: "skin",
-    explain: "GPU skinning of animated meshes, their fins rebuilt from the pose",
-    pipelines: Vec::new,
     compute: &[SKIN, SKIN_SCATTER, FIN_REBUILD],
-    passes: &[],
+    ..Feature::named(
+        "skin",
+        "GPU skinning of animated meshes, their fins rebuilt from the pose",
+    )
 };
 
 /// A vertex at rest. Keep in sync with `SkinVertex` in shaders/skin.wgsl.
@@ -212,7 +212,7 @@ impl GpuSkin {
 
     /// Reads the skinned vertices back (tests, benchmarks).
     pub fn read_back(&self, r: &Renderer) -> Result<Vec<PosedVertex>, FrameError> {
-        let bytes = crate::frame::read_buffer(r, &self.posed)?;
+        let bytes = crate::readback::read_buffer(r, &self.posed)?;
         let n = self.vertices as usize;
         Ok(bytemuck::cast_slice::<u8, PosedVertex>(&bytes)[..n].to_vec())
     }
@@ -262,6 +262,29 @@ pub enum SkinError {
 }
 
 impl GpuSkinned {
+    /// The skinning of `pose` (an object's copy of `m`, which the GPU skins): it writes the
+    /// copy's vertex, fur-vertex and fin buffers. `None` when `m` has no skin binding.
+    pub fn for_pose(
+        r: &Renderer,
+        pose: &crate::poses::ObjectPose,
+        m: &crate::asset::MeshData,
+    ) -> Result<Option<GpuSkinned>, SkinError> {
+        let Some(binding) = &m.skin else {
+            return Ok(None);
+        };
+        let fur = pose.mesh.fur.as_ref();
+        let targets = SkinTargets {
+            vertices: &pose.mesh.vertices,
+            fur: fur.map(|f| &f.vertices),
+            fins: fur.and_then(|f| {
+                f.fins
+                    .as_ref()
+                    .zip(m.fur.as_ref().map(|d| d.fins.as_slice()))
+            }),
+        };
+        GpuSkinned::new(r, std::sync::Arc::clone(binding), targets).map(Some)
+    }
+
     /// Uploads `binding`'s ranges and fin sources, writing into `targets`. Fins the mesh draws
     /// that could not be rebuilt from the skinned vertices are an error, never left behind.
     pub fn new(

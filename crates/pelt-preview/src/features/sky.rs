@@ -2,9 +2,10 @@
 //! nothing else is, looking the pixel's world direction up in a cube map made from six images
 //! or in a procedural sky.
 
-use crate::features::registry::Feature;
-use crate::features::{Frame, MissingInput};
-use crate::layout::{self, FILTERABLE, LayoutDesc};
+use crate::draw::MissingInput;
+use crate::feature::Frame;
+use crate::feature::{DrawDesc, Feature, Phase, Shared};
+use crate::layout::{self, LayoutDesc};
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::Sky;
@@ -18,20 +19,13 @@ pub mod slot {
     pub const CUBE: u32 = 1;
 }
 
-/// The cube map and its sampler (sky.wgsl's `fs_cube`).
-pub const LAYOUT: LayoutDesc = LayoutDesc {
-    label: "sky cube",
-    entries: &[
-        layout::texture(0, FILTERABLE, wgpu::TextureViewDimension::Cube),
-        layout::sampler(1),
-    ],
-};
+/// The cube map and its sampler, as the asset cache binds them.
+pub const LAYOUT: LayoutDesc = layout::SKY_CUBE;
 
-const PARTS: &[&str] = &["common.wgsl", "fullscreen.wgsl", "sky.wgsl"];
 /// sky.wgsl's procedural sky.
-pub const PROCEDURAL: ShaderDesc = ShaderDesc::fullscreen(PARTS, "fs_procedural");
+pub const PROCEDURAL: ShaderDesc = ShaderDesc::fullscreen("sky.wgsl", "fs_procedural");
 /// sky.wgsl's cube-map sky.
-pub const CUBE: ShaderDesc = ShaderDesc::fullscreen(PARTS, "fs_cube");
+pub const CUBE: ShaderDesc = ShaderDesc::fullscreen("sky.wgsl", "fs_cube");
 
 /// The pipeline of a sky (`cube`: the cube map's, else the procedural one): depth test
 /// "less or equal" at depth 1, no writes.
@@ -53,11 +47,16 @@ pub fn pipeline(cube: bool) -> PipelineDesc {
 
 /// The sky's feature.
 pub const FEATURE: Feature = Feature {
-    name: "sky",
-    explain: "the procedural or cube-map sky where nothing else is",
     pipelines: || vec![pipeline(false), pipeline(true)],
-    compute: &[],
-    passes: &[],
+    draws: &[DrawDesc {
+        into: Shared::Shading,
+        phase: Phase::Sky,
+        draw: |f, r, s| draw(f, r, s.pass.name()),
+    }],
+    ..Feature::named(
+        "sky",
+        "the procedural or cube-map sky where nothing else is",
+    )
 };
 
 /// Draws the sky (the frame group at the output's slot must be bound).

@@ -4,11 +4,14 @@
 //! shaders/strands.wgsl). One frame is one sample: the caller jitters the projection and
 //! accumulates (`pelt_measure::strands`).
 
-use crate::features::registry::Feature;
-use crate::features::{Frame, MissingInput, object_blends, object_depth};
+use crate::draw::slot;
+use crate::draw::{MissingInput, object_blends, object_depth};
+use crate::feature::Frame;
+use crate::feature::{DrawDesc, Feature, Phase, Shade, Shared};
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
 use crate::shaders::ShaderDesc;
+use crate::shading;
 use crate::uniforms::StrandRoot;
 
 /// Segments per strand. Keep in sync with `SEGMENTS` in shaders/strands.wgsl.
@@ -28,12 +31,7 @@ pub fn layout() -> wgpu::VertexBufferLayout<'static> {
 }
 
 /// strands.wgsl, lit per light with Kajiya-Kay.
-pub const SHADER: ShaderDesc = ShaderDesc::render(&[
-    "common.wgsl",
-    "fur_common.wgsl",
-    "fur_light_forward.wgsl",
-    "strands.wgsl",
-]);
+pub const SHADER: ShaderDesc = ShaderDesc::render("strands.wgsl");
 
 /// The pipeline of strands.wgsl (opaque strands).
 pub fn pipeline() -> PipelineDesc {
@@ -55,12 +53,27 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The strand reference's feature.
 pub const FEATURE: Feature = Feature {
-    name: "strands",
-    explain: "explicit strands lit per light: the converged fur reference",
     pipelines: || vec![pipeline()],
-    compute: &[],
-    passes: &[],
+    draws: &[DrawDesc {
+        into: Shared::Shading,
+        phase: Phase::FurLayers,
+        draw: shade,
+    }],
+    ..Feature::named(
+        "strands",
+        "explicit strands lit per light: the converged fur reference",
+    )
 };
+
+/// The strands in the shading pass, lit as fur (strands mode only).
+fn shade<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {
+    if f.plan.fur.is_empty() || f.plan.mode != crate::plan::Mode::Strands {
+        return Ok(());
+    }
+    let (group, offset) = shading::lighting(f, s.lit).1;
+    r.bind(slot::LIGHTING, group, offset);
+    draw(f, r, s.pass.name())
+}
 
 /// Every fur object's strands. The frame and forward light-array groups must be bound.
 pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
@@ -80,7 +93,7 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
         }
         f.bind_object(r, k);
         r.push(Step::Vertices(
-            super::vertex_slot::INSTANCES,
+            crate::draw::vertex_slot::INSTANCES,
             &strands.roots,
         ));
         r.push(Step::Draw(0..3 * STRAND_SEGMENTS, 0..strands.count));

@@ -3,8 +3,8 @@
 //! the window (the full-quality still frame is drawn straight into the window and never
 //! passes through here).
 
-use crate::features::Output;
-use crate::features::registry::Feature;
+use crate::feature::Feature;
+use crate::feature::Output;
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
@@ -30,10 +30,7 @@ pub mod slot {
 }
 
 /// upscale.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
-    &["common.wgsl", "fullscreen.wgsl", "upscale.wgsl"],
-    "fs_main",
-);
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("upscale.wgsl", "fs_main");
 
 /// The upscale shader's pipeline.
 pub fn pipeline() -> PipelineDesc {
@@ -42,11 +39,11 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The upscale feature.
 pub const FEATURE: Feature = Feature {
-    name: "upscale",
-    explain: "a reduced-resolution frame scaled up to the window",
     pipelines: || vec![pipeline()],
-    compute: &[],
-    passes: &[],
+    ..Feature::named(
+        "upscale",
+        "a reduced-resolution frame scaled up to the window",
+    )
 };
 
 /// What the pass reads: one source frame into one target size.

@@ -4,14 +4,19 @@
 //! image's opaque depth without writing it; the composite divides and blends the result over
 //! the image, then draws the alpha objects.
 
-use crate::features::registry::{Build, Feature, PassDesc};
-use crate::features::{Frame, MissingInput, alpha, fur, material, slot};
+use super::{alpha, fur};
+use crate::draw::{MissingInput, slot};
+use crate::feature::Frame;
+use crate::feature::{Build, Feature, PassDesc, Shade, Shared, TargetsDesc};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
+use crate::owned::Owned;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
-use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
-use crate::shaders::ShaderDesc;
+use crate::renderer::{Blend, PipelineDesc, PipelineSpec, REVEAL_FORMAT, Renderer};
+use crate::shaders::{Lighting, ShaderDesc};
+use crate::shading;
+use crate::targets::{Target, TargetSpec};
 
 /// The accumulation and revealage targets read by the composite (composite.wgsl).
 pub const LAYOUT: LayoutDesc = LayoutDesc {
@@ -28,27 +33,8 @@ pub mod slot_composite {
     pub const OIT: u32 = 0;
 }
 
-/// Blends of the two OIT targets: additive accumulation, revealage dst × (1 − src).
-pub fn blends() -> Vec<Option<wgpu::BlendState>> {
-    let reveal = wgpu::BlendComponent {
-        src_factor: wgpu::BlendFactor::Zero,
-        dst_factor: wgpu::BlendFactor::OneMinusSrc,
-        operation: wgpu::BlendOperation::Add,
-    };
-    vec![
-        Some(super::ADD),
-        Some(wgpu::BlendState {
-            color: reveal,
-            alpha: reveal,
-        }),
-    ]
-}
-
 /// composite.wgsl.
-pub const SHADER: ShaderDesc = ShaderDesc::fullscreen(
-    &["common.wgsl", "fullscreen.wgsl", "composite.wgsl"],
-    "fs_main",
-);
+pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("composite.wgsl", "fs_main");
 
 /// The composite shader's pipeline: the resolved layers over the image.
 pub fn pipeline() -> PipelineDesc {
@@ -65,20 +51,62 @@ pub fn pipeline() -> PipelineDesc {
 
 /// Weighted blended OIT's feature (its accumulation draws the fur's pipelines).
 pub const FEATURE: Feature = Feature {
-    name: "wboit",
-    explain: "fur layers accumulated order-independently, then composited",
     pipelines: || vec![pipeline()],
-    compute: &[],
     passes: &[
         PassDesc::new(Pass::FurAccum, Build::One(accum_pass)),
         PassDesc::new(Pass::Composite, Build::One(composite_pass)),
     ],
+    targets: Some(TargetsDesc {
+        needed: |plan| plan.passes.contains(&Pass::FurAccum),
+        make: make_targets,
+    }),
+    ..Feature::named(
+        "wboit",
+        "fur layers accumulated order-independently, then composited",
+    )
 };
 
-fn missing(pass: Pass) -> MissingInput {
-    MissingInput {
-        pass: pass.name(),
-        what: "the OIT targets".into(),
+/// Weighted blended OIT targets, at output size (a view's, owned by this feature).
+#[derive(Debug)]
+pub struct Oit {
+    /// Σ colour·α·w, Σ α·w.
+    pub accum: Target,
+    /// Π (1 − α).
+    pub reveal: Target,
+    /// Both, for the composite pass.
+    pub read: wgpu::BindGroup,
+}
+
+/// The OIT targets of a view of `spec`.
+fn make_targets(r: &Renderer, spec: &TargetSpec, owned: &mut Owned) {
+    let device = &r.gpu.device;
+    let accum = Target::new(device, "oit accum", spec.output, r.gpu.accum_format);
+    let reveal = Target::new(device, "oit reveal", spec.output, REVEAL_FORMAT);
+    let views = [&accum.view, &reveal.view].map(wgpu::BindingResource::TextureView);
+    let read = r.group("oit", &LAYOUT, &views);
+    owned.insert(Oit {
+        accum,
+        reveal,
+        read,
+    });
+}
+
+/// The view's OIT targets, or the error `pass` reports without them.
+fn oit<'a>(f: &Frame<'a>, pass: Pass) -> Result<&'a Oit, MissingInput> {
+    f.targets.owned.need(pass.name(), "the OIT targets")
+}
+
+/// The shading of the alpha objects the composite draws: the material or forward shader.
+fn alpha_shade(f: &Frame<'_>) -> Shade {
+    let lit = shading::object_lighting(f.plan);
+    Shade {
+        shared: Shared::Shading,
+        pass: Pass::Composite,
+        lit,
+        object: match lit {
+            Lighting::Inferred => super::material::pipeline,
+            Lighting::Forward => super::forward::pipeline,
+        },
     }
 }
 
@@ -92,12 +120,8 @@ fn keep_depth<'a>(f: &Frame<'a>) -> Option<Depth<'a>> {
 
 /// Fur shells and fins into the OIT targets.
 pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    let oit = f
-        .targets
-        .oit
-        .as_ref()
-        .ok_or_else(|| missing(Pass::FurAccum))?;
-    let target = |t: &'a crate::targets::Target, clear| Color {
+    let oit = oit(f, Pass::FurAccum)?;
+    let target = |t: &'a Target, clear| Color {
         view: &t.view,
         format: t.format,
         load: wgpu::LoadOp::Clear(clear),
@@ -110,8 +134,8 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         ],
         keep_depth(f),
     );
-    let lighting = material::object_lighting(f.plan);
-    let (_, fur_light) = material::lighting(f, lighting);
+    let lighting = shading::object_lighting(f.plan);
+    let (_, fur_light) = shading::lighting(f, lighting);
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
     fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
@@ -120,11 +144,7 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
 
 /// Resolves the OIT accumulation over the image, then draws the alpha objects.
 pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    let oit = f
-        .targets
-        .oit
-        .as_ref()
-        .ok_or_else(|| missing(Pass::Composite))?;
+    let oit = oit(f, Pass::Composite)?;
     let mut r = Recipe::new(
         Pass::Composite,
         vec![Color {
@@ -137,7 +157,6 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     r.pipeline(pipeline());
     r.bind(slot_composite::OIT, &oit.read, None);
     r.push(Step::Draw(0..3, 0..1));
-    let lit = material::object_lighting(f.plan);
-    alpha::draw(f, &mut r, Pass::Composite.name(), lit)?;
+    alpha::draw(f, &mut r, &alpha_shade(f))?;
     Ok(r)
 }

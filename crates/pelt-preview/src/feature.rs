@@ -1,0 +1,293 @@
+//! What a feature declares, in one descriptor ([`Feature`]): its name and `--explain` line,
+//! its render and compute pipelines (descriptors built through the renderer's descriptor →
+//! handle cache), the planned passes it builds ([`PassDesc`]), what it draws inside the
+//! shading pass by [`Phase`] ([`DrawDesc`]), and the per-view targets it owns
+//! ([`TargetsDesc`]); and what every pass draws from, one view's [`Frame`]. Part of the
+//! renderer's core: the registry of features (`features::registry::FEATURES`) lists one per
+//! feature module.
+
+use std::sync::Arc;
+
+use crate::assets::{GpuMesh, GpuSky, GpuStrands};
+use crate::draw::{MissingInput, slot, vertex_slot};
+use crate::frame_data::{FrameData, Res};
+use crate::owned::Owned;
+use crate::plan::{Pass, Plan};
+use crate::poses::ObjectPose;
+use crate::recipe::{Recipe, Step};
+use crate::renderer::{Blend, ComputeDesc, PipelineDesc};
+use crate::shaders::Lighting;
+pub use crate::targets::TargetsDesc;
+use crate::targets::ViewTargets;
+
+/// Builds a planned pass's recipes from the frame.
+#[derive(Debug, Clone, Copy)]
+pub enum Build {
+    /// One render or compute pass.
+    One(for<'a> fn(&Frame<'a>) -> Result<Recipe<'a>, MissingInput>),
+    /// Several (the distance maps: one per face and layer).
+    Many(for<'a> fn(&Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput>),
+}
+
+impl Build {
+    /// The recipes, appended to `out`.
+    pub fn run<'a>(self, f: &Frame<'a>, out: &mut Vec<Recipe<'a>>) -> Result<(), MissingInput> {
+        match self {
+            Build::One(b) => out.push(b(f)?),
+            Build::Many(b) => out.extend(b(f)?),
+        }
+        Ok(())
+    }
+}
+
+/// Where a pass draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawsInto {
+    /// The scene colour where the plan blends fur into one (the resolve feature's), else
+    /// the output: every pass before the resolve.
+    Scene,
+    /// The output itself (the resolve).
+    Output,
+}
+
+/// A planned pass a feature builds.
+#[derive(Debug, Clone, Copy)]
+pub struct PassDesc {
+    /// The pass, as the plan lists it.
+    pub pass: Pass,
+    /// Where it draws.
+    pub into: DrawsInto,
+    /// Whether what it draws outlives the frame (the distance maps depend on the scene, not
+    /// the camera): the frame then skips it while it is fresh, unless asked to draw every
+    /// pass.
+    pub cached: Option<Cached>,
+    /// Its recipes.
+    pub build: Build,
+}
+
+impl PassDesc {
+    /// A pass drawing into the scene colour.
+    pub const fn new(pass: Pass, build: Build) -> PassDesc {
+        PassDesc {
+            pass,
+            into: DrawsInto::Scene,
+            cached: None,
+            build,
+        }
+    }
+}
+
+/// How a pass whose output outlives the frame tracks it.
+#[derive(Debug, Clone, Copy)]
+pub struct Cached {
+    /// Whether the frame's copy is still valid.
+    pub fresh: fn(&Frame<'_>) -> bool,
+    /// Records that a submitted frame drew it.
+    pub drawn: fn(&Frame<'_>),
+}
+
+/// One feature of the renderer, as registered.
+#[derive(Debug, Clone, Copy)]
+pub struct Feature {
+    /// Its name (the module's).
+    pub name: &'static str,
+    /// What it draws, in one line (`--explain`).
+    pub explain: &'static str,
+    /// Every render pipeline it may draw, each variant once.
+    pub pipelines: fn() -> Vec<PipelineDesc>,
+    /// Its compute pipelines.
+    pub compute: &'static [ComputeDesc],
+    /// The planned passes it builds.
+    pub passes: &'static [PassDesc],
+    /// What it draws inside the passes features share (the G-buffer pass, the shading
+    /// pass), by phase.
+    pub draws: &'static [DrawDesc],
+    /// The per-view targets it owns, made with the view's targets.
+    pub targets: Option<TargetsDesc>,
+}
+
+impl Feature {
+    /// A feature with no pipelines, passes, draws or targets yet.
+    pub const fn named(name: &'static str, explain: &'static str) -> Feature {
+        Feature {
+            name,
+            explain,
+            pipelines: Vec::new,
+            compute: &[],
+            passes: &[],
+            draws: &[],
+            targets: None,
+        }
+    }
+}
+
+/// A feature's draw inside a pass that several features draw into.
+#[derive(Debug, Clone, Copy)]
+pub struct DrawDesc {
+    /// The pass it draws into.
+    pub into: Shared,
+    /// When it runs there.
+    pub phase: Phase,
+    /// What it records (nothing when the frame has nothing of it to draw).
+    pub draw: for<'a> fn(&Frame<'a>, &mut Recipe<'a>, &Shade) -> Result<(), MissingInput>,
+}
+
+/// When a draw runs within the shading pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Phase {
+    /// Opaque objects, front to back.
+    Opaque,
+    /// Mirrors and glass, through the distance maps.
+    Mirrors,
+    /// Each fur object's base mesh (the skin under the shells).
+    FurBase,
+    /// The sky, behind everything drawn so far.
+    Sky,
+    /// The fur's shells and fins (or its strands), far to near.
+    FurLayers,
+    /// Alpha-blended objects, back to front.
+    Transparent,
+}
+
+impl Phase {
+    /// Every phase, in the order they run.
+    pub const ALL: [Phase; 6] = [
+        Phase::Opaque,
+        Phase::Mirrors,
+        Phase::FurBase,
+        Phase::Sky,
+        Phase::FurLayers,
+        Phase::Transparent,
+    ];
+}
+
+/// A pass several features draw into, phase by phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shared {
+    /// The G-buffer pass at L-buffer resolution (Kircher & Lawrance §2.1).
+    Geometry,
+    /// The shading pass at output resolution (material or forward).
+    Shading,
+}
+
+/// What the draws of one shared pass share.
+#[derive(Debug, Clone, Copy)]
+pub struct Shade {
+    /// Which shared pass.
+    pub shared: Shared,
+    /// The pass (geometry, material, forward, or the OIT composite's alpha objects).
+    pub pass: Pass,
+    /// How ordinary objects and fur are lit.
+    pub lit: Lighting,
+    /// The pipeline ordinary objects are drawn with (the material or the forward shader's).
+    pub object: fn(Blend) -> PipelineDesc,
+}
+
+/// The output colour a frame renders into.
+#[derive(Debug, Clone, Copy)]
+pub struct Output<'a> {
+    /// The view (a window's surface texture, or the view's own colour target).
+    pub view: &'a wgpu::TextureView,
+    /// Its format.
+    pub format: wgpu::TextureFormat,
+}
+
+/// Everything one frame of one view draws from.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame<'a> {
+    /// The CPU decisions.
+    pub plan: &'a Plan,
+    /// The registered features (their draws make up the shading pass).
+    pub features: &'static [Feature],
+    /// The meshes, by the plan's mesh index (None: not uploaded, no object uses it).
+    pub meshes: &'a [Option<Arc<GpuMesh>>],
+    /// Each scene object's posed copy of its mesh, by scene index (None: not skinned).
+    pub poses: &'a [Option<ObjectPose>],
+    /// The cube-map sky, when the scene has one.
+    pub sky: Option<&'a GpuSky>,
+    /// The view's targets.
+    pub targets: &'a ViewTargets,
+    /// The frame's uniforms.
+    pub data: &'a FrameData,
+    /// Where the image goes.
+    pub output: Output<'a>,
+    /// Which view of the frame's uniforms this is (0 for a single view).
+    pub view: usize,
+    /// State the scene's features own ([`Owned`]: the distance maps of mirrors and glass).
+    pub scene: &'a Owned,
+    /// Explicit strands by mesh index (the strand reference; empty in other modes).
+    pub strands: &'a [Option<Arc<GpuStrands>>],
+}
+
+impl<'a> Frame<'a> {
+    /// Object `k`'s mesh (its own posed copy where it has one).
+    pub fn mesh(&self, pass: &'static str, k: usize) -> Result<&'a GpuMesh, MissingInput> {
+        let o = &self.plan.objects[k];
+        self.object_mesh(pass, o.scene_index, o.mesh)
+    }
+
+    /// The mesh scene object `scene_index` draws: its posed copy where it has one, else the
+    /// shared mesh `mesh`.
+    pub fn object_mesh(
+        &self,
+        pass: &'static str,
+        scene_index: usize,
+        mesh: usize,
+    ) -> Result<&'a GpuMesh, MissingInput> {
+        if let Some(Some(p)) = self.poses.get(scene_index) {
+            return Ok(&p.mesh);
+        }
+        self.meshes
+            .get(mesh)
+            .and_then(|m| m.as_deref())
+            .ok_or_else(|| MissingInput {
+                pass,
+                what: format!("the mesh of objects[{scene_index}] on the GPU"),
+            })
+    }
+
+    /// Binds object `k`'s uniforms.
+    pub fn bind_object(&self, recipe: &mut Recipe<'a>, k: usize) {
+        recipe.bind(
+            slot::OBJECT,
+            self.data.objects(),
+            Some(self.data.object_offset(self.view, k)),
+        );
+    }
+
+    /// Binds this view's frame constants at `res` (at the object passes' frame slot).
+    pub fn bind_frame(&self, recipe: &mut Recipe<'a>, res: Res) {
+        recipe.bind(
+            slot::FRAME,
+            self.data.frame(),
+            Some(self.data.frame_offset(self.view, res)),
+        );
+    }
+
+    /// Draws each object of `order` with the current pipeline, part by part, binding each
+    /// part's material at `material` where the shader reads one (None: it reads none).
+    pub fn draw_objects(
+        &self,
+        recipe: &mut Recipe<'a>,
+        pass: &'static str,
+        material: Option<u32>,
+        order: &[usize],
+    ) -> Result<(), MissingInput> {
+        for &k in order {
+            let mesh = self.mesh(pass, k)?;
+            self.bind_object(recipe, k);
+            recipe.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
+            recipe.push(Step::Indices(&mesh.indices));
+            match material {
+                Some(at) => {
+                    for p in &mesh.parts {
+                        recipe.bind(at, &mesh.materials[p.material].group, None);
+                        recipe.push(Step::DrawIndexed(p.indices.clone(), 0..1));
+                    }
+                }
+                None => recipe.push(Step::DrawIndexed(0..mesh.count, 0..1)),
+            }
+        }
+        Ok(())
+    }
+}
