@@ -156,6 +156,9 @@ pub enum PipelineError {
     },
 }
 
+/// A composed module's key: its file and shader defs.
+type ModuleKey = (&'static str, &'static [(&'static str, u32)]);
+
 /// Device, layouts, modules and pipelines.
 #[derive(Debug)]
 pub struct Renderer {
@@ -164,7 +167,7 @@ pub struct Renderer {
     /// The shaders a reload validates.
     shaders: Vec<ShaderDesc>,
     layouts: RefCell<HashMap<LayoutDesc, wgpu::BindGroupLayout>>,
-    modules: RefCell<HashMap<(&'static str, &'static [(&'static str, u32)]), wgpu::ShaderModule>>,
+    modules: RefCell<HashMap<ModuleKey, wgpu::ShaderModule>>,
     pipelines: RefCell<HashMap<PipelineKey, wgpu::RenderPipeline>>,
     compute: RefCell<HashMap<ComputeDesc, wgpu::ComputePipeline>>,
     built: Cell<usize>,
