@@ -1,9 +1,7 @@
 //! `pelt sweep`: every quality knob's time against its error on this machine's adapter
-//! (the logic, the tables and the plots are `pelt_measure::sweep`'s). Everything is written
-//! into a staging folder inside the output folder and moved into place only when the whole
-//! sweep succeeded, so a failed sweep leaves no partial output.
+//! (the logic, the tables, the plots and the all-or-nothing output folder are
+//! `pelt_measure::sweep`'s).
 
-use std::path::Path;
 use std::process::ExitCode;
 
 use pelt_measure::sweep::knob::Knob;
@@ -12,19 +10,6 @@ use pelt_preview::Preview;
 use pelt_preview::knobs::InputError;
 
 use crate::SweepArgs;
-
-/// Moves every entry of `from` into `to` (replacing same-named ones), then removes `from`.
-fn publish(from: &Path, to: &Path) -> std::io::Result<()> {
-    for e in std::fs::read_dir(from)? {
-        let e = e?;
-        let dst = to.join(e.file_name());
-        if dst.is_dir() {
-            std::fs::remove_dir_all(&dst)?;
-        }
-        std::fs::rename(e.path(), dst)?;
-    }
-    std::fs::remove_dir(from)
-}
 
 /// Runs `pelt sweep`.
 pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
@@ -43,17 +28,13 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     if !args.quiet {
         eprintln!("adapter: {}", preview.adapter());
     }
-    let staging = args.output.join(".sweep-partial");
-    if staging.exists() {
-        std::fs::remove_dir_all(&staging)?;
-    }
     let opts = sweep::Options {
         knobs,
         grid: args.grid,
         frames: args.frames,
         warmup: args.warmup,
         reference: args.reference.options(),
-        out: staging.clone(),
+        out: args.output.clone(),
     };
     let base = pelt_preview::knobs::Knobs {
         size: args.size,
@@ -75,31 +56,19 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             );
         }
     };
-    let result = sweep::run(
-        &mut preview,
-        &args.input,
-        &base,
-        crate::render::DEFAULT_SIZE,
-        &opts,
-        &mut progress,
-    )
-    .and_then(|s| report::write_all(&s, &staging).map(|()| s));
-    let s = match result {
+    let input = (args.input.as_path(), &base, crate::render::DEFAULT_SIZE);
+    let s = match report::run_into(&mut preview, input, opts, &args.output, &mut progress) {
         Ok(s) => s,
+        Err(
+            e @ (SweepError::Knob(_)
+            | SweepError::TooMany(_)
+            | SweepError::Input(InputError::Scene(_))),
+        ) => return Err(e.into()),
         Err(e) => {
-            let _ = std::fs::remove_dir_all(&staging);
-            return match e {
-                SweepError::Knob(_)
-                | SweepError::TooMany(_)
-                | SweepError::Input(InputError::Scene(_)) => Err(e.into()),
-                e => {
-                    eprintln!("pelt: {}: {e}", args.input.display());
-                    Ok(ExitCode::from(1))
-                }
-            };
+            eprintln!("pelt: {}: {e}", args.input.display());
+            return Ok(ExitCode::from(1));
         }
     };
-    publish(&staging, &args.output)?;
     if !quiet {
         for r in &s.references {
             if let Some(f) = r.half_vs_half_flip {

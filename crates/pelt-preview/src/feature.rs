@@ -1,10 +1,10 @@
 //! What a feature declares, in one descriptor ([`Feature`]): its name and `--explain` line,
 //! its render and compute pipelines (descriptors built through the renderer's descriptor →
 //! handle cache), the planned passes it builds ([`PassDesc`]), what it draws inside the
-//! shading pass by [`Phase`] ([`DrawDesc`]), and the per-view targets it owns
-//! ([`TargetsDesc`]); and what every pass draws from, one view's [`Frame`]. Part of the
-//! renderer's core: the registry of features (`features::registry::FEATURES`) lists one per
-//! feature module.
+//! passes features share, by [`Phase`] ([`DrawDesc`]), the per-view targets it owns
+//! ([`TargetsDesc`]) and the quality knobs it reads ([`KnobDesc`]); and what every pass draws
+//! from, one view's [`Frame`]. Part of the renderer's core: the registry of features
+//! (`features::registry::FEATURES`) lists one per feature module.
 
 use std::sync::Arc;
 
@@ -104,6 +104,64 @@ pub struct Feature {
     pub draws: &'static [DrawDesc],
     /// The per-view targets it owns, made with the view's targets.
     pub targets: Option<TargetsDesc>,
+    /// The quality knobs it reads (what `pelt sweep` turns).
+    pub knobs: &'static [KnobDesc],
+}
+
+/// A quality knob a feature reads: a flag of `pelt render` and `pelt view`, a scene-file or
+/// bake setting, and a row of `pelt sweep`'s time-against-error table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KnobDesc {
+    /// Its name (the flag without dashes).
+    pub name: &'static str,
+    /// The values it takes, in words.
+    pub range: &'static str,
+    /// Its default, in words.
+    pub default: &'static str,
+    /// The converged reference `pelt sweep` measures it against.
+    pub reference: Reference,
+    /// Whether a new value needs the asset baked again (fur textures, comb storage).
+    pub rebakes: bool,
+}
+
+impl KnobDesc {
+    /// A knob the renderer applies to the scene (no re-bake).
+    pub const fn new(
+        name: &'static str,
+        range: &'static str,
+        default: &'static str,
+        reference: Reference,
+    ) -> KnobDesc {
+        KnobDesc {
+            name,
+            range,
+            default,
+            reference,
+            rebakes: false,
+        }
+    }
+}
+
+/// What a knob's error is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Reference {
+    /// The converged strand reference (fur).
+    Strands,
+    /// Full-resolution deferred at the reference size (lighting).
+    Deferred,
+    /// The CPU ray tracer (mirrors and glass).
+    RayTracer,
+}
+
+impl Reference {
+    /// Its name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Reference::Strands => "strands",
+            Reference::Deferred => "deferred",
+            Reference::RayTracer => "raytrace",
+        }
+    }
 }
 
 impl Feature {
@@ -117,6 +175,7 @@ impl Feature {
             passes: &[],
             draws: &[],
             targets: None,
+            knobs: &[],
         }
     }
 }

@@ -6,8 +6,7 @@
 use std::time::Instant;
 
 use crate::draw::MissingInput;
-use crate::feature::{DrawsInto, PassDesc};
-use crate::feature::{Frame, Output};
+use crate::feature::{DrawsInto, Frame, Output, PassDesc};
 use crate::features;
 use crate::plan::Pass;
 use crate::recipe::Recipe;

@@ -1,12 +1,15 @@
 //! The quality knobs `pelt sweep` turns: their names (the flags of `pelt render` and `pelt
-//! bake`), the values each takes and the range it allows, the values swept when none are
-//! given, which reference each is measured against, and how a value is applied to a scene,
-//! a mode or a re-bake.
+//! bake`), how each value is parsed, the values swept when none are given, and how a value is
+//! applied to a scene, a mode or a re-bake. The range in words, the default, the reference
+//! each is measured against and whether it re-bakes are declared by the renderer feature
+//! that reads the knob (`pelt_preview::feature::KnobDesc`) and read here.
 
 use std::fmt;
 
 use pelt_bake::options::Quantize;
 use pelt_fur::HeightBits;
+use pelt_preview::feature::KnobDesc;
+use pelt_preview::features::registry;
 use pelt_scene::Mode;
 use pelt_scene::knobs::Knobs;
 use pelt_scene::scene::{
@@ -56,27 +59,8 @@ pub enum Knob {
     MinMax,
 }
 
-/// What a knob is measured against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Truth {
-    /// The converged strand reference (fur knobs).
-    Strands,
-    /// Full-resolution deferred at the reference size (lighting knobs).
-    Deferred,
-    /// The CPU ray tracer (distance-map knobs).
-    RayTracer,
-}
-
-impl Truth {
-    /// Its name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Truth::Strands => "strands",
-            Truth::Deferred => "deferred",
-            Truth::RayTracer => "raytrace",
-        }
-    }
-}
+/// What a knob is measured against (declared with the knob by the feature that reads it).
+pub use pelt_preview::feature::Reference as Truth;
 
 /// One value of a knob.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -182,6 +166,9 @@ fn switch(s: &str) -> Option<Value> {
     }
 }
 
+/// A knob without a registered descriptor (the registry test rules it out).
+const UNREGISTERED: KnobDesc = KnobDesc::new("?", "?", "?", Truth::Strands);
+
 impl Knob {
     /// Every knob, in report order.
     pub const ALL: [Knob; 19] = [
@@ -239,27 +226,15 @@ impl Knob {
             .ok_or_else(|| KnobError::Unknown { name: name.into() })
     }
 
+    /// Its descriptor, as the feature that reads it registered it
+    /// (`pelt_preview::features::registry`): range, default, reference.
+    pub fn desc(self) -> &'static KnobDesc {
+        registry::knob(self.name()).unwrap_or(&UNREGISTERED)
+    }
+
     /// What values it allows, in words.
     pub fn allowed(self) -> &'static str {
-        match self {
-            Knob::Shells => "1 to 256",
-            Knob::Fins | Knob::Dsf | Knob::MinMax => "on or off",
-            Knob::FurBlend => "stipple or wboit",
-            Knob::Coverage => "analytic or binary",
-            Knob::FurLighting => "kajiya-kay or revie",
-            Knob::Mode => "inferred, deferred or forward",
-            Knob::TextureSize => "a power of two from 16 to 4096",
-            Knob::HeightBits => "8 or 16",
-            Knob::Quantize => "u8, u16 or float",
-            Knob::LbufferScale => "0.1 to 1",
-            Knob::Size => "WxH, each 8 to 4096",
-            Knob::Reflections => "distance-maps, envmap or off",
-            Knob::LinearSteps => "1 to 1024",
-            Knob::SecantSteps => "0 to 64",
-            Knob::Layers => "3 to 8",
-            Knob::CubeSize => "a power of two from 8 to 2048",
-            Knob::MaxDepth => "1 to 16",
-        }
+        self.desc().range
     }
 
     /// Parses one value.
@@ -323,30 +298,12 @@ impl Knob {
 
     /// The reference the knob is measured against.
     pub fn truth(self) -> Truth {
-        match self {
-            Knob::Shells
-            | Knob::Fins
-            | Knob::FurBlend
-            | Knob::Coverage
-            | Knob::FurLighting
-            | Knob::Mode
-            | Knob::TextureSize
-            | Knob::HeightBits
-            | Knob::Quantize => Truth::Strands,
-            Knob::LbufferScale | Knob::Dsf | Knob::Size => Truth::Deferred,
-            Knob::Reflections
-            | Knob::LinearSteps
-            | Knob::SecantSteps
-            | Knob::Layers
-            | Knob::CubeSize
-            | Knob::MaxDepth
-            | Knob::MinMax => Truth::RayTracer,
-        }
+        self.desc().reference
     }
 
     /// Whether a value is applied by baking the asset again.
     pub fn rebakes(self) -> bool {
-        matches!(self, Knob::TextureSize | Knob::HeightBits | Knob::Quantize)
+        self.desc().rebakes
     }
 
     /// The values swept when none are given, around the defaults (`size` is the scene's
@@ -454,6 +411,35 @@ impl Setting {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_knob_is_declared_by_the_feature_that_reads_it() {
+        for k in Knob::ALL {
+            assert!(
+                registry::knob(k.name()).is_some(),
+                "{} has no descriptor",
+                k.name()
+            );
+        }
+        for (f, d) in registry::knobs() {
+            assert!(
+                Knob::named(d.name).is_ok(),
+                "{f} declares {}, which the sweep cannot turn",
+                d.name
+            );
+        }
+        let truths = [
+            (Knob::Shells, Truth::Strands),
+            (Knob::Quantize, Truth::Strands),
+            (Knob::Dsf, Truth::Deferred),
+            (Knob::Size, Truth::Deferred),
+            (Knob::MinMax, Truth::RayTracer),
+        ];
+        for (k, t) in truths {
+            assert_eq!(k.truth(), t, "{}", k.name());
+        }
+        assert!(Knob::HeightBits.rebakes() && !Knob::Fins.rebakes());
+    }
 
     #[test]
     fn the_ranges_in_words_are_the_scene_files_ranges() {

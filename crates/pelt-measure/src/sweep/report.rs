@@ -198,6 +198,55 @@ pub fn write_all(s: &Sweep, dir: &Path) -> Result<(), SweepError> {
     Ok(())
 }
 
+/// [`super::run`] with its outputs put into `output` whole: the sweep writes into a staging
+/// folder inside it (`opts.out` is replaced), the report is written there too, and only when
+/// everything succeeded is it moved into place; a failed sweep leaves no partial output.
+pub fn run_into(
+    preview: &mut pelt_preview::Preview,
+    (input, base, default_size): (&Path, &pelt_preview::knobs::Knobs, (u32, u32)),
+    opts: super::Options,
+    output: &Path,
+    progress: &mut dyn FnMut(&Row),
+) -> Result<Sweep, SweepError> {
+    let staging = output.join(".sweep-partial");
+    let io = |path: &Path, e: std::io::Error| SweepError::Write {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    if staging.exists() {
+        std::fs::remove_dir_all(&staging).map_err(|e| io(&staging, e))?;
+    }
+    let opts = super::Options {
+        out: staging.clone(),
+        ..opts
+    };
+    let result = super::run(preview, input, base, default_size, &opts, progress)
+        .and_then(|s| write_all(&s, &staging).map(|()| s));
+    match result {
+        Ok(s) => {
+            publish(&staging, output).map_err(|e| io(output, e))?;
+            Ok(s)
+        }
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&staging);
+            Err(e)
+        }
+    }
+}
+
+/// Moves every entry of `from` into `to` (replacing same-named ones), then removes `from`.
+fn publish(from: &Path, to: &Path) -> std::io::Result<()> {
+    for e in std::fs::read_dir(from)? {
+        let e = e?;
+        let dst = to.join(e.file_name());
+        if dst.is_dir() {
+            std::fs::remove_dir_all(&dst)?;
+        }
+        std::fs::rename(e.path(), dst)?;
+    }
+    std::fs::remove_dir(from)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

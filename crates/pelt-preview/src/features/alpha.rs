@@ -5,8 +5,7 @@
 //! features share; with the fur composited by OIT, the composite draws them instead.
 
 use crate::draw::{MissingInput, slot};
-use crate::feature::Frame;
-use crate::feature::{DrawDesc, Feature, Phase, Shade, Shared};
+use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
 use crate::frame_data::Res;
 use crate::recipe::Recipe;
 use crate::renderer::Blend;

@@ -7,8 +7,7 @@
 //! shading.
 
 use crate::draw::{MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
-use crate::feature::Frame;
-use crate::feature::{Build, Feature, PassDesc};
+use crate::feature::{Build, Feature, Frame, PassDesc};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::{DebugView, Mode, Pass};

@@ -3,8 +3,7 @@
 //! with Kajiya-Kay (Revie Listing 2.4).
 
 use crate::draw::{MissingInput, slot};
-use crate::feature::Frame;
-use crate::feature::{Build, Feature, PassDesc, Shade, Shared};
+use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;

@@ -10,8 +10,9 @@
 use crate::draw::{
     MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
-use crate::feature::Frame;
-use crate::feature::{Build, DrawDesc, Feature, PassDesc, Phase, Shade, Shared};
+use crate::feature::{
+    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
+};
 use crate::layout::{self, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
@@ -195,6 +196,49 @@ fn pipelines() -> Vec<PipelineDesc> {
 
 /// Revie's fur's feature.
 pub const FEATURE: Feature = Feature {
+    knobs: &[
+        KnobDesc::new(
+            "shells",
+            "1 to 256",
+            "the asset's fur manifest (16 from the bake)",
+            Reference::Strands,
+        ),
+        KnobDesc::new(
+            "fins",
+            "on or off",
+            "the asset's fur manifest",
+            Reference::Strands,
+        ),
+        KnobDesc::new(
+            "fur-coverage",
+            "analytic or binary",
+            "analytic",
+            Reference::Strands,
+        ),
+        KnobDesc::new(
+            "fur-lighting",
+            "kajiya-kay or revie",
+            "kajiya-kay",
+            Reference::Strands,
+        ),
+        KnobDesc {
+            rebakes: true,
+            ..KnobDesc::new(
+                "texture-size",
+                "a power of two from 16 to 4096",
+                "the bake config's (1024 without one)",
+                Reference::Strands,
+            )
+        },
+        KnobDesc {
+            rebakes: true,
+            ..KnobDesc::new("height-bits", "8 or 16", "16", Reference::Strands)
+        },
+        KnobDesc {
+            rebakes: true,
+            ..KnobDesc::new("quantize", "u8, u16 or float", "float", Reference::Strands)
+        },
+    ],
     pipelines,
     compute: &[TANGENT_FRAMES, FIN_RECORDS],
     passes: &[PassDesc::new(Pass::Obliterate, Build::One(obliterate_pass))],

@@ -5,8 +5,7 @@
 //! objects.
 
 use crate::draw::{MissingInput, slot, vertex_layout};
-use crate::feature::Frame;
-use crate::feature::{Build, DrawDesc, Feature, PassDesc, Phase, Shade, Shared};
+use crate::feature::{Build, DrawDesc, Feature, Frame, PassDesc, Phase, Shade, Shared};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;

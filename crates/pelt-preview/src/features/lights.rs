@@ -3,8 +3,7 @@
 //! position and normal back from the G-buffer.
 
 use crate::draw::{ADD, MissingInput};
-use crate::feature::Frame;
-use crate::feature::{Build, Feature, PassDesc};
+use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
@@ -46,6 +45,12 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The light pass's feature.
 pub const FEATURE: Feature = Feature {
+    knobs: &[KnobDesc::new(
+        "lbuffer-scale",
+        "0.1 to 1",
+        "the scene's (0.625)",
+        Reference::Deferred,
+    )],
     pipelines: || vec![pipeline()],
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
     ..Feature::named("lights", "scissored point lights into the L-buffer")

@@ -6,8 +6,9 @@
 //! phases with its own shader.
 
 use crate::draw::{MissingInput, slot};
-use crate::feature::Frame;
-use crate::feature::{Build, DrawDesc, Feature, PassDesc, Phase, Shade, Shared};
+use crate::feature::{
+    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
+};
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
@@ -26,6 +27,7 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 
 /// The material pass's feature.
 pub const FEATURE: Feature = Feature {
+    knobs: &[KnobDesc::new("dsf", "on or off", "on", Reference::Deferred)],
     pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
     passes: &[PassDesc::new(Pass::Material, Build::One(pass))],
     draws: &[DrawDesc {

@@ -3,8 +3,7 @@
 //! bilinear sample at a texel's centre is the 2×2 average above (box filter; in linear light
 //! for sRGB formats). All levels of all layers go in one submission.
 
-use crate::feature::Feature;
-use crate::feature::Output;
+use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};

@@ -3,8 +3,7 @@
 //! into an R8 texture (uploaded only when the text changes), drawn by overlay.wgsl as a box
 //! over the finished frame.
 
-use crate::feature::Feature;
-use crate::feature::Output;
+use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};

@@ -15,8 +15,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::draw::{MissingInput, vertex_layout};
-use crate::feature::Frame;
-use crate::feature::{Build, Cached, DrawDesc, Feature, PassDesc, Phase, Shared};
+use crate::feature::{
+    Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared,
+};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
@@ -608,6 +609,25 @@ pub fn reflect_pipeline() -> PipelineDesc {
 
 /// Mirrors and glass's feature.
 pub const FEATURE: Feature = Feature {
+    knobs: &[
+        KnobDesc::new(
+            "reflections",
+            "distance-maps, envmap or off",
+            "distance-maps",
+            Reference::RayTracer,
+        ),
+        KnobDesc::new("linear-steps", "1 to 1024", "32", Reference::RayTracer),
+        KnobDesc::new("secant-steps", "0 to 64", "6", Reference::RayTracer),
+        KnobDesc::new("layers", "3 to 8", "3", Reference::RayTracer),
+        KnobDesc::new(
+            "cube-size",
+            "a power of two from 8 to 2048",
+            "256",
+            Reference::RayTracer,
+        ),
+        KnobDesc::new("max-depth", "1 to 16", "4", Reference::RayTracer),
+        KnobDesc::new("min-max", "on or off", "on", Reference::RayTracer),
+    ],
     pipelines: || vec![map_pipeline(), reflect_pipeline()],
     compute: &[MINMAX],
     passes: &[

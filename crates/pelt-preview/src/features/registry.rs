@@ -1,12 +1,15 @@
 //! The table of features. Each feature module declares one [`Feature`] ([`crate::feature`]):
 //! its name, the line `--explain` prints for it, every render pipeline it may draw (as
 //! descriptors, formats left to the passes that draw them), its compute pipelines, the
-//! planned passes it builds, its draws in the shading pass and the targets it owns. The
+//! planned passes it builds, its draws in the shading pass, the targets it owns and the
+//! quality knobs it reads (with [`CORE_KNOBS`], the ones no one feature owns). The
 //! shader-validation test and hot reload walk this table, so a shader a feature declares is
 //! validated and reloaded without being listed anywhere else; the frame looks each planned
 //! pass up here ([`builder`]), so a new pass needs no arm in the frame's code.
 
-pub use crate::feature::{Build, Cached, DrawDesc, DrawsInto, Feature, PassDesc, TargetsDesc};
+pub use crate::feature::{
+    Build, Cached, DrawDesc, DrawsInto, Feature, KnobDesc, PassDesc, Reference, TargetsDesc,
+};
 use crate::plan::Pass;
 use crate::renderer::PipelineDesc;
 use crate::shaders::ShaderDesc;
@@ -30,6 +33,36 @@ pub const FEATURES: &[Feature] = &[
     super::overlay::FEATURE,
     super::debug::FEATURE,
 ];
+
+/// The knobs the renderer as a whole reads (no one feature owns them).
+pub const CORE_KNOBS: &[KnobDesc] = &[
+    KnobDesc::new(
+        "mode",
+        "inferred, deferred or forward",
+        "inferred",
+        Reference::Strands,
+    ),
+    KnobDesc::new(
+        "size",
+        "WxH, each 8 to 4096",
+        "the scene's",
+        Reference::Deferred,
+    ),
+];
+
+/// Every registered knob with the feature that reads it (`core` for [`CORE_KNOBS`]).
+pub fn knobs() -> Vec<(&'static str, &'static KnobDesc)> {
+    let core = CORE_KNOBS.iter().map(|k| ("core", k));
+    let features = FEATURES
+        .iter()
+        .flat_map(|f| f.knobs.iter().map(move |k| (f.name, k)));
+    core.chain(features).collect()
+}
+
+/// The registered knob called `name`.
+pub fn knob(name: &str) -> Option<&'static KnobDesc> {
+    knobs().into_iter().map(|(_, k)| k).find(|k| k.name == name)
+}
 
 /// The feature pass that builds `pass`, if one does (upscaling, mips and the overlay are
 /// drawn on request, never planned).
@@ -105,5 +138,21 @@ mod tests {
             FEATURES.len() <= 64,
             "a view's own targets are a 64-bit set"
         );
+    }
+
+    #[test]
+    fn every_knob_is_registered_once() {
+        let all = knobs();
+        assert!(all.len() >= 19, "{} knobs", all.len());
+        for (f, k) in &all {
+            let n = all.iter().filter(|(_, x)| x.name == k.name).count();
+            assert_eq!(n, 1, "{} (read by {f}) is registered {n} times", k.name);
+        }
+        assert_eq!(
+            knob("shells").map(|k| k.reference),
+            Some(Reference::Strands)
+        );
+        assert!(knob("texture-size").is_some_and(|k| k.rebakes));
+        assert!(knob("no-such-knob").is_none());
     }
 }

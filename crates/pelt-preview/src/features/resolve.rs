@@ -11,8 +11,7 @@
 
 use super::upscale::Upscale;
 use crate::draw::MissingInput;
-use crate::feature::{Build, DrawsInto, Feature, PassDesc, TargetsDesc};
-use crate::feature::{Frame, Output};
+use crate::feature::{Build, DrawsInto, Feature, Frame, Output, PassDesc, TargetsDesc};
 use crate::plan::Pass;
 use crate::recipe::Recipe;
 use crate::renderer::{Renderer, SCENE_FORMAT};

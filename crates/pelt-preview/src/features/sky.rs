@@ -3,8 +3,7 @@
 //! or in a procedural sky.
 
 use crate::draw::MissingInput;
-use crate::feature::Frame;
-use crate::feature::{DrawDesc, Feature, Phase, Shared};
+use crate::feature::{DrawDesc, Feature, Frame, Phase, Shared};
 use crate::layout::{self, LayoutDesc};
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};

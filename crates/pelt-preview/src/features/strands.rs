@@ -4,10 +4,8 @@
 //! shaders/strands.wgsl). One frame is one sample: the caller jitters the projection and
 //! accumulates (`pelt_measure::strands`).
 
-use crate::draw::slot;
-use crate::draw::{MissingInput, object_blends, object_depth};
-use crate::feature::Frame;
-use crate::feature::{DrawDesc, Feature, Phase, Shade, Shared};
+use crate::draw::{MissingInput, object_blends, object_depth, slot};
+use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
 use crate::shaders::ShaderDesc;

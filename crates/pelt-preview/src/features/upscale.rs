@@ -3,8 +3,7 @@
 //! the window (the full-quality still frame is drawn straight into the window and never
 //! passes through here).
 
-use crate::feature::Feature;
-use crate::feature::Output;
+use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};

@@ -6,8 +6,9 @@
 
 use super::{alpha, fur};
 use crate::draw::{MissingInput, slot};
-use crate::feature::Frame;
-use crate::feature::{Build, Feature, PassDesc, Shade, Shared, TargetsDesc};
+use crate::feature::{
+    Build, Feature, Frame, KnobDesc, PassDesc, Reference, Shade, Shared, TargetsDesc,
+};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
 use crate::owned::Owned;
@@ -51,6 +52,12 @@ pub fn pipeline() -> PipelineDesc {
 
 /// Weighted blended OIT's feature (its accumulation draws the fur's pipelines).
 pub const FEATURE: Feature = Feature {
+    knobs: &[KnobDesc::new(
+        "fur-blend",
+        "stipple or wboit",
+        "stipple",
+        Reference::Strands,
+    )],
     pipelines: || vec![pipeline()],
     passes: &[
         PassDesc::new(Pass::FurAccum, Build::One(accum_pass)),
