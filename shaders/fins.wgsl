@@ -16,16 +16,12 @@
 #import pelt::fur_light_inferred::{fur_lighting}
 #endif
 #import pelt::object_bindings::{frame, object}
+#import pelt::fur_bindings::{fin_sampler, fin_texture, heightfield, repeat_sampler}
 
 // Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the layers of the
 // weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
 // point serves both; the revealage output has a target only under WBOIT.
 override WBOIT: bool = false;
-
-@group(3) @binding(0) var heightfield: texture_2d<f32>;
-@group(3) @binding(1) var fin_texture: texture_2d<f32>;
-@group(3) @binding(2) var repeat_sampler: sampler;
-@group(3) @binding(3) var fin_sampler: sampler;
 
 const FIN_SILHOUETTE: f32 = 0.35;
 

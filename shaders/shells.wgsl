@@ -20,6 +20,7 @@
 #import pelt::fur_light_inferred::{fur_lighting}
 #endif
 #import pelt::object_bindings::{frame, object}
+#import pelt::fur_bindings::{base_sampler, base_texture, density_hi, density_lo, fin_sampler, fin_texture, heightfield, repeat_sampler}
 
 // Set by the pipeline (crates/pelt-preview/src/features/fur.rs): true for the layers of the
 // weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
@@ -36,16 +37,6 @@ override COVERAGE: u32 = 0u;
 // the taps' blend into the medium): pelt_scene::footprint::RESOLVED_BELOW, set by the
 // renderer, so the plan and the shader share one threshold.
 override RESOLVED_BELOW: f32;
-
-@group(3) @binding(0) var heightfield: texture_2d<f32>;
-@group(3) @binding(1) var fin_texture: texture_2d<f32>;
-@group(3) @binding(2) var repeat_sampler: sampler;
-@group(3) @binding(3) var fin_sampler: sampler;
-@group(3) @binding(4) var base_texture: texture_2d<f32>;
-@group(3) @binding(5) var base_sampler: sampler;
-// T(z) of pelt_fur::density at z = 0..3 / 8 and 4..7 / 8, with box-filtered mips.
-@group(3) @binding(6) var density_lo: texture_2d<f32>;
-@group(3) @binding(7) var density_hi: texture_2d<f32>;
 
 struct ShellOut {
     @builtin(position) clip: vec4<f32>,
