@@ -76,14 +76,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
                     ExitCode::SUCCESS
                 }
                 Ok(b) => {
-                    println!(
-                        "orbit {deg}°/frame: {} frames, median {:.2} ms after the first ({:.2} ms, {} bytes uploaded); at most {} bytes uploaded per later frame",
-                        b.frames.len(),
-                        b.median_ms,
-                        b.frames.first().map_or(0.0, |f| f.ms),
-                        b.frames.first().map_or(0, |f| f.upload_bytes),
-                        b.max_upload_after_first
-                    );
+                    println!("{b}");
                     ExitCode::SUCCESS
                 }
                 Err(e) => fail(e),
@@ -135,29 +128,16 @@ fn strands(
         Ok(r) => r,
         Err(e) => return fail(e),
     };
-    if !r.converged {
-        return fail(format!(
-            "the strand reference did not converge: after {} samples the two halves differ by FLIP {:.4} (target {}); raise --max-samples or --target-flip; nothing written",
-            r.samples, r.half_vs_half, opts.target
-        ));
-    }
+    let r = match r.converged(opts.target) {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
     if let Err(e) = r.image.save(out) {
         return fail(e);
     }
     if !args.quiet {
-        eprintln!(
-            "wrote {} ({}×{}, strands mode: {} strands, {} samples per pixel in {} frames of {}×{}, half-vs-half FLIP {:.4}, {:.0} ms per frame)",
-            out.display(),
-            r.image.width,
-            r.image.height,
-            r.strands,
-            r.samples,
-            r.frames,
-            r.grid,
-            r.grid,
-            r.half_vs_half,
-            r.ms_per_frame
-        );
+        let (w, h) = (r.image.width, r.image.height);
+        eprintln!("wrote {} ({w}×{h}, strands mode: {r})", out.display());
     }
     ExitCode::SUCCESS
 }
@@ -256,11 +236,8 @@ fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Res
     let crate::RenderMode::Gpu(mode) = args.knobs.mode else {
         anyhow::bail!("--frames renders with the GPU modes");
     };
-    let loaded = pelt_io::load(&args.input).and_then(|d| {
-        let rig = pelt_anim::Rig::load(&d)?;
-        let clip = rig.clip(&d, animation).map(|c| (c.start, c.end))?;
-        Ok((d, clip))
-    });
+    let loaded =
+        pelt_io::load(&args.input).and_then(|d| animate::clip_range(&d, animation).map(|c| (d, c)));
     let (doc, clip) = match loaded {
         Ok(l) => l,
         Err(e) => return Ok(fail(e)),

@@ -97,6 +97,12 @@ impl Clip<'_> {
     }
 }
 
+/// The time range (first key, last key) of clip `animation` of `doc`, checked against the rig.
+pub fn clip_range(doc: &Document, animation: &str) -> Result<(f32, f32), pelt_io::IoError> {
+    let rig = pelt_anim::Rig::load(doc)?;
+    rig.clip(doc, animation).map(|c| (c.start, c.end))
+}
+
 /// `frames` moments spread evenly over `[start, end)` of `animation` (the last key is not
 /// repeated: a cycle's end is its start).
 pub fn spread(animation: &str, (start, end): (f32, f32), frames: u32) -> Vec<PoseAt> {

@@ -42,6 +42,23 @@ pub struct OrbitBench {
     pub max_upload_after_first: u64,
 }
 
+/// `orbit 5°/frame: 20 frames, median 3.10 ms after the first (…)`: the report in one line.
+impl std::fmt::Display for OrbitBench {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let first = self.frames.first();
+        write!(
+            f,
+            "orbit {}°/frame: {} frames, median {:.2} ms after the first ({:.2} ms, {} bytes uploaded); at most {} bytes uploaded per later frame",
+            self.orbit_deg,
+            self.frames.len(),
+            self.median_ms,
+            first.map_or(0.0, |f| f.ms),
+            first.map_or(0, |f| f.upload_bytes),
+            self.max_upload_after_first
+        )
+    }
+}
+
 /// Renders `frames` frames of `scene`, turning the camera `deg` degrees about its target's
 /// up axis before each frame after the first.
 pub fn orbit(

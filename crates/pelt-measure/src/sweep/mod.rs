@@ -72,17 +72,8 @@ pub enum SweepError {
     #[error(transparent)]
     Rebake(#[from] rebake::RebakeError),
     /// The strand reference did not converge.
-    #[error(
-        "the strand reference did not converge: after {samples} samples the halves differ by FLIP {flip:.4} (target {target})"
-    )]
-    NotConverged {
-        /// Samples taken.
-        samples: u32,
-        /// The last half-vs-half figure.
-        flip: f32,
-        /// The target.
-        target: f32,
-    },
+    #[error(transparent)]
+    NotConverged(#[from] crate::strands::NotConverged),
     /// An output could not be written.
     #[error("{path}: {message}")]
     Write {
@@ -385,14 +376,8 @@ fn references(
         let started = Instant::now();
         let (image, samples, half, per_sample, strands, frames) = match t {
             Truth::Strands => {
-                let r = crate::strands::reference(preview, scene, meshes, of, opts.reference)?;
-                if !r.converged {
-                    return Err(SweepError::NotConverged {
-                        samples: r.samples,
-                        flip: r.half_vs_half,
-                        target: opts.reference.target,
-                    });
-                }
+                let r = crate::strands::reference(preview, scene, meshes, of, opts.reference)?
+                    .converged(opts.reference.target)?;
                 let bare = crate::luminance::bare(preview, scene, meshes, of)?;
                 out.fur = Some(crate::luminance::mask(&r.image, &bare));
                 (
