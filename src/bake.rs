@@ -12,7 +12,7 @@ use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::FurAssets;
 use pelt_bake::options::{DEFAULT_CREASE_ANGLE_DEG, TopologyOptions};
 use pelt_batch::report::{FurRun, InputReport, OptionsReport, Report, Summary};
-use pelt_batch::{Job, Outcome, Settings, Status};
+use pelt_batch::{Job, Outcome, Settings, Status, messages};
 
 use crate::BakeArgs;
 
@@ -46,19 +46,9 @@ fn options(args: &BakeArgs, config: Option<&BakeConfig>) -> anyhow::Result<BakeO
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let jobs = pelt_batch::plan(&args.inputs, &args.output)?;
-    let config_bytes = match &args.config {
-        Some(path) => {
-            Some(std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?)
-        }
-        None => None,
-    };
-    let config = match (&args.config, &config_bytes) {
-        (Some(path), Some(bytes)) => {
-            let text = std::str::from_utf8(bytes)
-                .with_context(|| format!("{} is not UTF-8 text", path.display()))?;
-            Some(BakeConfig::parse(path, text)?)
-        }
-        _ => None,
+    let (config, config_bytes) = match &args.config {
+        Some(path) => BakeConfig::read(path).map(|(c, b)| (Some(c), Some(b)))?,
+        None => (None, None),
     };
     let opts = options(args, config.as_ref())?;
     let fur = match (&args.config, config.as_ref().and_then(|c| c.fur.clone())) {
@@ -79,44 +69,33 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let outcomes = pelt_batch::run::run(&jobs, &settings, threads, |j, o| progress.done(j, o))?;
     progress.finish();
     let summary = Summary::of(&outcomes, threads, ms(started));
-    let failures: Vec<&String> = outcomes
-        .iter()
-        .filter_map(|o| match &o.status {
-            Status::Failed(e) => Some(e),
-            _ => None,
-        })
-        .collect();
     if let Some(path) = &args.depfile {
         let also: Vec<PathBuf> = args.config.iter().cloned().collect();
         let rules = pelt_batch::depfile::rules(&jobs, &outcomes, &also);
         pelt_io::glb::write_atomic(path, pelt_batch::depfile::render(&rules).as_bytes())?;
     }
-    if jobs.len() > 1 && !args.quiet {
-        eprintln!(
-            "pelt: {} inputs: {} baked, {} up to date, {} failed in {:.2} s ({} jobs)",
-            summary.inputs,
-            summary.baked,
-            summary.up_to_date,
-            summary.failed,
-            summary.wall_ms / 1000.0,
-            threads
-        );
-    }
-    if summary.failed > 0 {
-        if jobs.len() > 1 {
-            eprintln!(
-                "pelt: {} of {} inputs failed:",
-                summary.failed, summary.inputs
-            );
-            for f in &failures {
-                eprintln!("  {f}");
+    let failures = messages::failures(&outcomes);
+    match (jobs.len() > 1, args.quiet) {
+        (true, quiet) => {
+            if !quiet {
+                eprintln!("pelt: {summary}");
             }
-        } else if args.quiet {
-            let all: Vec<&str> = failures.iter().map(|s| s.as_str()).collect();
-            eprintln!("pelt: {}", all.join("\n"));
+            if !failures.is_empty() {
+                eprintln!(
+                    "pelt: {} of {} inputs failed:",
+                    summary.failed, summary.inputs
+                );
+                failures.iter().for_each(|f| eprintln!("  {f}"));
+            }
         }
+        (false, true) if !failures.is_empty() => eprintln!("pelt: {}", failures.join("\n")),
+        _ => {}
     }
-    let failed = summary.failed > 0;
+    let code = if failures.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    };
     if let Some(path) = &args.report {
         let report = Report {
             pelt: env!("CARGO_PKG_VERSION"),
@@ -134,11 +113,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
         };
         crate::write_json_report(path, &report)?;
     }
-    Ok(if failed {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    })
+    Ok(code)
 }
 
 /// Per-input progress: a bar on a terminal, plain lines otherwise, nothing but errors with
@@ -175,7 +150,7 @@ impl Progress {
         if self.quiet {
             return; // failures are listed at the end
         }
-        let lines = self.lines(job, o);
+        let lines = messages::outcome_lines(job, o, self.total > 1);
         match &self.bar {
             Some(bar) => {
                 // On a terminal the bar shows progress; only failures and warnings scroll.
@@ -201,32 +176,6 @@ impl Progress {
                 }
                 eprint!("{text}");
             }
-        }
-    }
-
-    fn lines(&self, job: &Job, o: &Outcome) -> Vec<String> {
-        match &o.status {
-            Status::Baked(b) => {
-                let r = &b.bake;
-                let mut v = vec![format!(
-                    "baked {} -> {}: {} primitives, {} vertices, {} triangles, {} warnings",
-                    job.input.display(),
-                    job.output.display(),
-                    r.primitives_baked,
-                    r.vertices,
-                    r.triangles,
-                    r.warnings.len()
-                )];
-                v.extend(
-                    r.warnings
-                        .iter()
-                        .map(|w| format!("warning: {}: {w}", job.input.display())),
-                );
-                v
-            }
-            Status::UpToDate => vec![format!("up to date: {}", job.output.display())],
-            Status::Failed(e) if self.total == 1 => vec![format!("pelt: {e}")],
-            Status::Failed(e) => vec![format!("FAILED {e}")],
         }
     }
 

@@ -21,7 +21,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use pelt_bake::options::{ColorSpace, Quantize, TangentGenerator, TangentMode, TopologyMode};
-use pelt_preview::scene::{LBUFFER_SCALE, MAX_SIDE, reflection_limits as limits};
+use pelt_preview::flags;
+use pelt_preview::scene::reflection_limits as limits;
 
 const BAKE_EXAMPLES: &str = "\
 Examples:
@@ -163,7 +164,7 @@ pub struct SweepArgs {
     #[arg(long, default_value = "auto")]
     pub backend: pelt_preview::Backend,
     /// Output size WxH (overrides the scene's; the references are made at it).
-    #[arg(long, value_parser = size)]
+    #[arg(long, value_parser = flags::size)]
     pub size: Option<(u32, u32)>,
     /// Timed frames per setting (the median is reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(usize))]
@@ -413,10 +414,10 @@ pub struct KnobArgs {
     #[arg(long, default_value = "auto")]
     pub backend: pelt_preview::Backend,
     /// Output size WxH (overrides the scene's).
-    #[arg(long, value_parser = size)]
+    #[arg(long, value_parser = flags::size)]
     pub size: Option<(u32, u32)>,
     /// L-buffer scale, 0.1 to 1 (overrides the scene's).
-    #[arg(long, value_parser = lbuffer_scale)]
+    #[arg(long, value_parser = flags::lbuffer_scale)]
     pub lbuffer_scale: Option<f32>,
     /// Discontinuity sensitive filtering on or off (overrides the scene's).
     #[arg(long, value_enum)]
@@ -456,7 +457,7 @@ pub struct KnobArgs {
     pub layers: Option<u32>,
     /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
     /// limit).
-    #[arg(long, value_name = "N", value_parser = cube_size)]
+    #[arg(long, value_name = "N", value_parser = flags::cube_size)]
     pub cube_size: Option<u32>,
     /// Most specular bounces on a path, 1 to 16.
     #[arg(long, value_name = "N", value_parser = within(limits::MAX_DEPTH))]
@@ -501,18 +502,6 @@ fn within(range: RangeInclusive<u32>) -> clap::builder::RangedI64ValueParser<u32
     clap::value_parser!(u32).range(i64::from(*range.start())..=i64::from(*range.end()))
 }
 
-fn cube_size(s: &str) -> Result<u32, String> {
-    let r = limits::CUBE_SIZE;
-    match s.parse::<u32>() {
-        Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
-        _ => Err(format!(
-            "{s:?} is not a power of two from {} to {}",
-            r.start(),
-            r.end()
-        )),
-    }
-}
-
 impl KnobArgs {
     /// The overrides the flags set.
     pub fn knobs(&self) -> pelt_preview::knobs::Knobs {
@@ -550,7 +539,7 @@ pub struct DemoArgs {
     #[arg(long, default_value = "auto")]
     pub backend: pelt_preview::Backend,
     /// Size of demo.png, WxH (the turntable's frames are a quarter of it).
-    #[arg(long, value_parser = size, default_value = "1280x720")]
+    #[arg(long, value_parser = flags::size, default_value = "1280x720")]
     pub size: (u32, u32),
     /// Shells (default: the bake's 16).
     #[arg(long, value_parser = within(pelt_fur::manifest::SHELLS))]
@@ -620,29 +609,6 @@ pub enum OnOff {
     On,
     /// Off.
     Off,
-}
-
-fn size(s: &str) -> Result<(u32, u32), String> {
-    let parsed = s
-        .split_once(['x', 'X'])
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
-    match parsed {
-        Some((w, h)) if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) => Ok((w, h)),
-        _ => Err(format!(
-            "{s:?} is not WIDTHxHEIGHT with sides 1 to {MAX_SIDE}"
-        )),
-    }
-}
-
-fn lbuffer_scale(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if LBUFFER_SCALE.contains(&v) => Ok(v),
-        _ => Err(format!(
-            "{s:?} is not a scale from {} to {}",
-            LBUFFER_SCALE.start(),
-            LBUFFER_SCALE.end()
-        )),
-    }
 }
 
 /// Arguments of `pelt textures`. Every strand option overrides the config's

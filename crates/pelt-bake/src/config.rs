@@ -138,8 +138,8 @@ impl Default for NormalsConfig {
 /// A config that could not be used.
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
-    /// The file could not be read.
-    #[error("{}: {source}", path.display())]
+    /// The file could not be read (or is not UTF-8 text); the cause is the source.
+    #[error("cannot read {}", path.display())]
     Read {
         /// The file.
         path: PathBuf,
@@ -171,13 +171,26 @@ pub enum ConfigError {
 }
 
 impl BakeConfig {
-    /// Reads and checks a config file.
-    pub fn load(path: &Path) -> Result<BakeConfig, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+    /// Reads and checks a config file, and returns its bytes too (they are part of a batch's
+    /// content key, so a changed config re-bakes).
+    pub fn read(path: &Path) -> Result<(BakeConfig, Vec<u8>), ConfigError> {
+        let read = |source| ConfigError::Read {
             path: path.to_owned(),
             source,
+        };
+        let bytes = std::fs::read(path).map_err(read)?;
+        let text = std::str::from_utf8(&bytes).map_err(|e| {
+            read(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("not UTF-8 text ({e})"),
+            ))
         })?;
-        Self::parse(path, &text)
+        Ok((Self::parse(path, text)?, bytes))
+    }
+
+    /// Reads and checks a config file.
+    pub fn load(path: &Path) -> Result<BakeConfig, ConfigError> {
+        Self::read(path).map(|(config, _)| config)
     }
 
     /// Parses and checks config text (`path` is used in errors).
@@ -241,6 +254,26 @@ impl BakeConfig {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_that_cannot_be_read_names_itself_and_keeps_the_cause() {
+        use std::error::Error as _;
+        let dir = std::env::temp_dir().join(format!("pelt-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let latin1 = dir.join("latin1.json");
+        std::fs::write(&latin1, b"{\"fur\": \xff}").expect("write");
+        let e = BakeConfig::read(&latin1).expect_err("not UTF-8");
+        assert_eq!(e.to_string(), format!("cannot read {}", latin1.display()));
+        let cause = e.source().map(ToString::to_string).unwrap_or_default();
+        assert!(cause.starts_with("not UTF-8 text"), "{cause}");
+        let missing = BakeConfig::load(&dir.join("missing.json")).expect_err("missing");
+        assert!(missing.source().is_some(), "{missing}");
+        let ok = dir.join("ok.json");
+        std::fs::write(&ok, b"{}").expect("write");
+        let (config, bytes) = BakeConfig::read(&ok).expect("reads");
+        assert_eq!((config.fur.is_none(), bytes.as_slice()), (true, &b"{}"[..]));
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 
     #[test]
     fn errors_name_file_place_and_field() {

@@ -9,11 +9,13 @@
 //! - [`temp`]: sweeping the temporary files a killed run left behind.
 //! - [`run`]: the batch baked on a thread pool, outcomes reported as they land.
 //! - [`report`]: the report's schema (`pelt bake --report`) and the options' salt.
+//! - [`messages`]: what a run says as text (each outcome, the summary, the failures).
 
 pub mod depfile;
 pub mod inputs;
 pub mod job;
 pub mod key;
+pub mod messages;
 pub mod report;
 pub mod run;
 pub mod temp;

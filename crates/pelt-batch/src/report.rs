@@ -98,6 +98,22 @@ impl Summary {
     }
 }
 
+impl std::fmt::Display for Summary {
+    /// One line: `3 inputs: 2 baked, 0 up to date, 1 failed in 1.23 s (2 jobs)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} inputs: {} baked, {} up to date, {} failed in {:.2} s ({} jobs)",
+            self.inputs,
+            self.baked,
+            self.up_to_date,
+            self.failed,
+            self.wall_ms / 1000.0,
+            self.jobs
+        )
+    }
+}
+
 /// The bake options as the report states them (angles in degrees).
 #[derive(Debug, Serialize, Clone)]
 pub struct OptionsReport {

@@ -40,7 +40,8 @@ pub mod targets;
 pub mod uniforms;
 
 pub use pelt_scene::{
-    asset, budget, debug, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands, view,
+    asset, budget, debug, flags, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands,
+    view,
 };
 
 use std::sync::Arc;

@@ -13,11 +13,13 @@
 //!   resolve single strands at this view);
 //! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;
 //! - [`sky`]: the cube-map sky's images;
-//! - [`debug`]: the normal groups' colour classes of the debug views.
+//! - [`debug`]: the normal groups' colour classes of the debug views;
+//! - [`flags`]: the scene's values as text (flags, knob lists), checked against its ranges.
 
 pub mod asset;
 pub mod budget;
 pub mod debug;
+pub mod flags;
 pub mod footprint;
 pub mod framing;
 pub mod fur;

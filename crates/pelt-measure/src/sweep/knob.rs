@@ -11,6 +11,7 @@ use pelt_fur::HeightBits;
 use pelt_preview::feature::KnobDesc;
 use pelt_preview::features::registry;
 use pelt_scene::Mode;
+use pelt_scene::flags;
 use pelt_scene::knobs::Knobs;
 use pelt_scene::scene::{
     FurBlend, FurCoverage, FurLighting, Technique, reflection_limits as limits,
@@ -153,17 +154,14 @@ fn count(s: &str, lo: u32, hi: u32, pow2: bool) -> Option<Value> {
     ((lo..=hi).contains(&v) && (!pow2 || v.is_power_of_two())).then_some(Value::Count(v))
 }
 
-/// A count in `range`, the range the scene file and the flags accept (one home each).
+/// A count in `range`, the range the scene file and the flags accept
+/// (`pelt_scene::flags`, one home for each).
 fn within(s: &str, range: std::ops::RangeInclusive<u32>) -> Option<Value> {
-    count(s, *range.start(), *range.end(), false)
+    flags::count(s, range).ok().map(Value::Count)
 }
 
 fn switch(s: &str) -> Option<Value> {
-    match s {
-        "on" | "true" => Some(Value::Switch(true)),
-        "off" | "false" => Some(Value::Switch(false)),
-        _ => None,
-    }
+    flags::switch(s).ok().map(Value::Switch)
 }
 
 /// A knob without a registered descriptor (the registry test rules it out).
@@ -257,15 +255,12 @@ impl Knob {
                 _ => None,
             },
             Knob::Quantize => s.parse().ok().map(Value::Quantize),
-            Knob::LbufferScale => s
-                .parse::<f32>()
+            Knob::LbufferScale => flags::lbuffer_scale(s).ok().map(Value::Scale),
+            // The sweep's sizes stay where its references (strands, ray tracer) finish.
+            Knob::Size => flags::size(s)
                 .ok()
-                .filter(|v| pelt_scene::scene::LBUFFER_SCALE.contains(v))
-                .map(Value::Scale),
-            Knob::Size => s.split_once('x').and_then(|(w, h)| {
-                let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
-                ((8..=4096).contains(&w) && (8..=4096).contains(&h)).then_some(Value::Size(w, h))
-            }),
+                .filter(|&(w, h)| (8..=4096).contains(&w) && (8..=4096).contains(&h))
+                .map(|(w, h)| Value::Size(w, h)),
             Knob::Reflections => s.parse().ok().map(Value::Technique),
             Knob::LinearSteps => within(s, limits::LINEAR_STEPS),
             Knob::SecantSteps => within(s, limits::SECANT_STEPS),

@@ -1,0 +1,91 @@
+//! The scene's values written as text, as flags (`pelt render --size 640x360`) and `pelt
+//! sweep`'s knob lists give them: each parser checks the same range the scene file enforces
+//! ([`crate::scene`]'s constants), so a value the command line accepts is one a scene file
+//! accepts. Errors say what was given and what is allowed.
+
+use std::ops::RangeInclusive;
+
+use crate::scene::{LBUFFER_SCALE, MAX_SIDE, reflection_limits};
+
+/// `WIDTHxHEIGHT`, each side 1 to [`MAX_SIDE`].
+pub fn size(s: &str) -> Result<(u32, u32), String> {
+    let parsed = s
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) => Ok((w, h)),
+        _ => Err(format!(
+            "{s:?} is not WIDTHxHEIGHT with sides 1 to {MAX_SIDE}"
+        )),
+    }
+}
+
+/// An L-buffer scale in [`LBUFFER_SCALE`].
+pub fn lbuffer_scale(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if LBUFFER_SCALE.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a scale from {} to {}",
+            LBUFFER_SCALE.start(),
+            LBUFFER_SCALE.end()
+        )),
+    }
+}
+
+/// A cube-map face size: a power of two in [`reflection_limits::CUBE_SIZE`].
+pub fn cube_size(s: &str) -> Result<u32, String> {
+    let r = reflection_limits::CUBE_SIZE;
+    match s.parse::<u32>() {
+        Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a power of two from {} to {}",
+            r.start(),
+            r.end()
+        )),
+    }
+}
+
+/// A count in `range` (one of the scene's ranges: shells, steps, layers, bounces).
+pub fn count(s: &str, range: RangeInclusive<u32>) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(v) if range.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a whole number from {} to {}",
+            range.start(),
+            range.end()
+        )),
+    }
+}
+
+/// A switch: `on` or `off` (`true` and `false` too).
+pub fn switch(s: &str) -> Result<bool, String> {
+    match s {
+        "on" | "true" => Ok(true),
+        "off" | "false" => Ok(false),
+        _ => Err(format!("{s:?} is not on or off")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::reflection_limits::LAYERS;
+
+    #[test]
+    fn parsers_accept_the_scene_files_ranges_and_nothing_else() {
+        assert_eq!(size("640x360"), Ok((640, 360)));
+        assert_eq!(size("8192X1"), Ok((MAX_SIDE, 1)));
+        for bad in ["8193x10", "0x10", "640", "640x", "axb", "-1x4"] {
+            assert!(size(bad).is_err(), "{bad}");
+        }
+        assert_eq!(lbuffer_scale("0.5"), Ok(0.5));
+        assert!(lbuffer_scale("0.05").is_err() && lbuffer_scale("NaN").is_err());
+        assert_eq!(cube_size("256"), Ok(256));
+        assert!(cube_size("100").is_err() && cube_size("4").is_err());
+        assert_eq!(count("8", LAYERS), Ok(8));
+        let e = count("9", LAYERS).expect_err("9 layers");
+        assert_eq!(e, "\"9\" is not a whole number from 3 to 8");
+        assert_eq!((switch("on"), switch("false")), (Ok(true), Ok(false)));
+        assert!(switch("yes").is_err());
+    }
+}
