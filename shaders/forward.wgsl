@@ -11,6 +11,12 @@ const MAX_FORWARD_LIGHTS: u32 = 256u;
 
 @group(2) @binding(0) var<uniform> lights: array<Light, MAX_FORWARD_LIGHTS>;
 
+// TEXTURED: the pipeline of materials with textures (true) or of those without (false),
+// which read the neutral texel's values (white base colour, metallic-roughness 1, no normal
+// map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
+// values in sync with crates/pelt-preview/src/gpu_material.rs.
+override TEXTURED: bool = true;
+
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
     return to_surface(v, frame, object);
@@ -18,13 +24,18 @@ fn vs_main(v: VertexIn) -> Surface {
 
 @fragment
 fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let albedo = s.albedo * textureSample(base_texture, base_sampler, s.uv);
-    let mr = textureSample(mr_texture, mr_sampler, s.uv);
-    let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
+    var base_color = vec4<f32>(1.0);
+    var mr = vec4<f32>(1.0);
     var n = facing_normal(s.view_normal, front);
-    if material.flags.x == 1u {
-        n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+    if TEXTURED {
+        base_color = textureSample(base_texture, base_sampler, s.uv);
+        mr = textureSample(mr_texture, mr_sampler, s.uv);
+        let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
+        if material.flags.x == 1u {
+            n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+        }
     }
+    let albedo = s.albedo * base_color;
     var diffuse = frame.ambient.rgb;
     var specular = vec3<f32>(0.0);
     let count = min(frame.flags.y, MAX_FORWARD_LIGHTS);

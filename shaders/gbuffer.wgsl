@@ -8,6 +8,12 @@
 #import pelt::object_bindings::{frame, object}
 #import pelt::material_bindings::{material, normal_sampler, normal_texture}
 
+// TEXTURED: the pipeline of materials with textures (true) or of those without (false),
+// which read the neutral texel's values (white base colour, metallic-roughness 1, no normal
+// map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
+// values in sync with crates/pelt-preview/src/gpu_material.rs.
+override TEXTURED: bool = true;
+
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
     return to_surface(v, frame, object);
@@ -25,10 +31,12 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> GBufferOut {
     }
     var out: GBufferOut;
     var n = facing_normal(s.view_normal, front);
-    // Sampled before any branch: derivatives need uniform control flow.
-    let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
-    if material.flags.x == 1u {
-        n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+    if TEXTURED {
+        // Sampled before the material's branch: derivatives need uniform control flow.
+        let stored = textureSample(normal_texture, normal_sampler, s.uv).xyz;
+        if material.flags.x == 1u {
+            n = perturb_normal(n, s.view_pos, s.uv, stored, material.factors.x);
+        }
     }
     out.normal = encode_normal(n);
     out.dsf = vec2<u32>(depth_code(-s.view_pos.z, frame), dsf_id(object, s.group));

@@ -20,6 +20,9 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32>
 // The shell table (obliterate.wgsl): STRAND_LIT marks the IDs whose texels hold a strand
 // tangent instead of a normal (Kajiya-Kay fur).
 @group(3) @binding(0) var<uniform> shell_table: array<vec4<u32>, 64>;
+// STRAND_LIGHTS: whether any object's texels may hold strand tangents (a view with fur lit
+// with Kajiya-Kay); false skips the shell-table lookup (lights.rs's `strand_lit`).
+override STRAND_LIGHTS: bool = true;
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -34,7 +37,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec3<f32>(ndc * frame.proj_params.xy, -1.0) * depth;
     let n = decode_normal(textureLoad(normals, px, 0).xy);
     let id = (d.y >> 8u) & 255u;
-    if (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
+    if STRAND_LIGHTS && (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
         return strand_light(p, n, light, frame.ambient.w);
     }
     return point_light(p, n, light, frame.ambient.w);

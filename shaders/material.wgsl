@@ -14,6 +14,12 @@
 @group(2) @binding(0) var lbuffer: texture_2d<f32>;
 @group(2) @binding(1) var dsf: texture_2d<u32>;
 
+// TEXTURED: the pipeline of materials with textures (true) or of those without (false),
+// which read the neutral texel's values (white base colour, metallic-roughness 1, no normal
+// map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
+// values in sync with crates/pelt-preview/src/gpu_material.rs.
+override TEXTURED: bool = true;
+
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
     return to_surface(v, frame, object);
@@ -29,8 +35,13 @@ fn clamp_tap(t: vec2<i32>, size: vec2<i32>, step: i32) -> vec2<i32> {
 
 @fragment
 fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let albedo = s.albedo * textureSample(base_texture, base_sampler, s.uv);
-    let mr = textureSample(mr_texture, mr_sampler, s.uv);
+    var base_color = vec4<f32>(1.0);
+    var mr = vec4<f32>(1.0);
+    if TEXTURED {
+        base_color = textureSample(base_texture, base_sampler, s.uv);
+        mr = textureSample(mr_texture, mr_sampler, s.uv);
+    }
+    let albedo = s.albedo * base_color;
     let k = metal_rough(material.factors.y * mr.b, material.factors.z * mr.g);
     let depth = -s.view_pos.z;
     let pattern = object.ids.y;

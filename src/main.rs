@@ -580,6 +580,10 @@ pub struct RenderBenchArgs {
     /// the error is the reflections' alone).
     #[arg(long, default_value = "forward")]
     pub mode: pelt_preview::Mode,
+    /// After each experiment's table, each row's profile: per pass, the device's time, the
+    /// CPU's encode time, draws, pipeline and bind-group changes, triangles and vertex bytes.
+    #[arg(long)]
+    pub profile: bool,
     /// Write the reflections experiment's pictures here: ours, the ray tracer's, the
     /// environment map's and FLIP heat maps.
     #[arg(long, value_name = "DIR")]

@@ -107,6 +107,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         if let Some(frames) = args.bench {
             let t = preview.time(&d, args.warmup, frames)?;
             println!("{t}");
+            if !args.quiet {
+                print!("\n{}", t.profile_table());
+            }
         }
         Ok(())
     })();
@@ -210,16 +213,19 @@ pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
             println!("\npictures in {}", dir.display());
         }
     }
+    let print = |t: render_bench::Timed| {
+        print!("{}", t.table.markdown());
+        if args.profile {
+            print!("{}", t.profiles_markdown());
+        }
+    };
     if matches!(e, Fur | All) {
-        print!("{}", render_bench::fur(&mut preview, frames)?.markdown());
+        print(render_bench::fur(&mut preview, frames)?);
     }
     if matches!(e, Objects | Lbuffer | All) {
         let which = (matches!(e, Objects | All), matches!(e, Lbuffer | All));
         let asset = Path::new(&args.asset);
-        print!(
-            "{}",
-            render_bench::paper(&mut preview, asset, which, frames)?.markdown()
-        );
+        print(render_bench::paper(&mut preview, asset, which, frames)?);
     }
     Ok(ExitCode::SUCCESS)
 }

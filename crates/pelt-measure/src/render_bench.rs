@@ -11,7 +11,7 @@ use pelt_preview::asset::AssetError;
 use pelt_preview::knobs::{self, InputError, Knobs};
 use pelt_preview::procedural::{fur_scene, paper_lbuffer_scale, paper_objects_and_lights};
 use pelt_preview::scene::{FurBlend, Reflections, Technique};
-use pelt_preview::{Image, Mode, Preview, RenderError, Scene};
+use pelt_preview::{Image, Mode, Preview, RenderError, Scene, Timings};
 
 use crate::demo_creature::{DemoCreatureError, bake_creature};
 use crate::reflections::{self, MeasureError, Reference, Run};
@@ -55,13 +55,32 @@ pub struct Frames {
     pub timed: usize,
 }
 
+/// An experiment's table and, for each of its rows, the profile of its frame (per pass: the
+/// device's time, the CPU's encode time, draws and state changes).
+pub struct Timed {
+    /// One row per configuration.
+    pub table: Table,
+    /// Each row's configuration and its frame's profile.
+    pub profiles: Vec<(String, Timings)>,
+}
+
+impl Timed {
+    /// Every profile as a titled Markdown table.
+    pub fn profiles_markdown(&self) -> String {
+        self.profiles
+            .iter()
+            .map(|(what, t)| format!("\n{what}: {t}\n\n{}", t.profile_table()))
+            .collect()
+    }
+}
+
 /// The paper's experiment (a) (`objects`) and (b) (`lbuffer`) with `asset` in every cell.
 pub fn paper(
     preview: &mut Preview,
     asset: &Path,
     (objects, lbuffer): (bool, bool),
     frames: Frames,
-) -> Result<Table, BenchError> {
+) -> Result<Timed, BenchError> {
     let a = paper_objects_and_lights(asset);
     let b = paper_lbuffer_scale(asset);
     let b_full = Scene {
@@ -89,6 +108,7 @@ pub fn paper(
     }
     let columns = ["experiment", "configuration", "frame ms (median)", "passes"];
     let mut table = Table::new(None, &columns);
+    let mut profiles = Vec::new();
     for (name, scene, mode, what) in runs {
         let d = preview.prepare(&scene, mode)?;
         let t = preview.time(&d, frames.warmup, frames.timed)?;
@@ -98,13 +118,14 @@ pub fn paper(
             format!("{:.1}", t.frame_ms),
             t.passes_line(1),
         ]);
+        profiles.push((format!("{name}, {what}"), t));
     }
-    Ok(table)
+    Ok(Timed { table, profiles })
 }
 
 /// The fur experiment: the demo scene (the demo creature, 1280×720) against shell count,
 /// fins on and off, stipple against WBOIT, and the forward Kajiya-Kay reference.
-pub fn fur(preview: &mut Preview, frames: Frames) -> Result<Table, BenchError> {
+pub fn fur(preview: &mut Preview, frames: Frames) -> Result<Timed, BenchError> {
     let dir = std::env::temp_dir().join(format!("pelt-render-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|source| BenchError::Io {
         path: dir.clone(),
@@ -167,12 +188,18 @@ pub fn fur(preview: &mut Preview, frames: Frames) -> Result<Table, BenchError> {
         runs.push((what.into(), at(shells, fins, blend), mode));
     }
     let mut table = Table::new(None, &["fur demo, 1280×720", "frame ms (median)", "passes"]);
+    let mut profiles = Vec::new();
     for (what, scene, mode) in runs {
         let d = preview.prepare_loaded(&scene, &meshes, &[0, 1], mode)?;
         let t = preview.time(&d, frames.warmup, frames.timed)?;
-        table.push(vec![what, format!("{:.1}", t.frame_ms), t.passes_line(1)]);
+        table.push(vec![
+            what.clone(),
+            format!("{:.1}", t.frame_ms),
+            t.passes_line(1),
+        ]);
+        profiles.push((format!("fur demo, {what}"), t));
     }
-    Ok(table)
+    Ok(Timed { table, profiles })
 }
 
 /// The reflections experiment's tables, its opening line and its pictures.

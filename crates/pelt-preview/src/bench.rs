@@ -2,7 +2,8 @@
 //! each frame's wall time (plan, uniforms, encode, submit, wait for the device) and the bytes
 //! it wrote to GPU buffers and textures. Frame 0 includes preparing the scene: its meshes,
 //! fur textures and sky uploads and its pipelines; every later frame moves the camera by the
-//! orbit step and may write only uniforms.
+//! orbit step and may write only uniforms. After the orbit, the last view is profiled
+//! ([`Timings`]): per pass, device time, CPU encode time, draws and state changes.
 
 use std::time::Instant;
 
@@ -10,7 +11,7 @@ use serde::Serialize;
 
 use crate::asset::MeshData;
 use crate::orbit::Orbit;
-use crate::{Mode, Preview, RenderError, Scene};
+use crate::{Mode, Preview, RenderError, Scene, Timings};
 
 /// One frame.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -40,6 +41,10 @@ pub struct OrbitBench {
     pub median_ms: f64,
     /// Largest upload of a frame after the first.
     pub max_upload_after_first: u64,
+    /// Where a frame's time goes at the orbit's last view: per pass, the device's time, the
+    /// CPU's encode time and the draws, state changes and triangles; the frame's encode and
+    /// submit time ([`Timings`]).
+    pub profile: Timings,
 }
 
 /// `orbit 5°/frame: 20 frames, median 3.10 ms after the first (…)`: the report in one line.
@@ -88,6 +93,7 @@ pub fn orbit(
             upload_bytes: preview.take_uploaded(),
         });
     }
+    let profile = preview.time(&sv, 0, frames.saturating_sub(1).max(1))?;
     let mut later: Vec<f64> = stats.iter().skip(1).map(|s| s.ms).collect();
     later.sort_by(f64::total_cmp);
     Ok(OrbitBench {
@@ -103,5 +109,6 @@ pub fn orbit(
             .max()
             .unwrap_or(0),
         frames: stats,
+        profile,
     })
 }

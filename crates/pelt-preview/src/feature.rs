@@ -11,6 +11,7 @@ use std::sync::Arc;
 use crate::assets::{GpuMesh, GpuSky, GpuStrands};
 use crate::draw::{MissingInput, slot, vertex_slot};
 use crate::frame_data::{FrameData, Res};
+use crate::gpu_material::TEXTURED;
 use crate::owned::Owned;
 use crate::plan::{Pass, Plan};
 use crate::poses::ObjectPose;
@@ -340,7 +341,9 @@ impl<'a> Frame<'a> {
             match material {
                 Some(at) => {
                     for p in &mesh.parts {
-                        recipe.bind(at, &mesh.materials[p.material].group, None);
+                        let m = &mesh.materials[p.material];
+                        recipe.specialize(TEXTURED, (!m.textured).then_some(0.0));
+                        recipe.bind(at, &m.group, None);
                         recipe.push(Step::DrawIndexed(p.indices.clone(), 0..1));
                     }
                 }

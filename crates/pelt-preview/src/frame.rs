@@ -9,7 +9,7 @@ use crate::draw::MissingInput;
 use crate::feature::{DrawsInto, Frame, Output, PassDesc};
 use crate::features;
 use crate::plan::Pass;
-use crate::recipe::Recipe;
+use crate::recipe::{Counts, Recipe};
 use crate::renderer::Renderer;
 use crate::targets::Target;
 
@@ -144,7 +144,8 @@ pub fn render(r: &Renderer, f: &Frame<'_>, target: &Target) -> Result<Image, Fra
 }
 
 /// How pass times were measured.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum PassClock {
     /// GPU timestamp queries (Vulkan).
     Gpu,
@@ -152,13 +153,35 @@ pub enum PassClock {
     Wall,
 }
 
-/// Medians over timed frames, in milliseconds.
-#[derive(Debug, Clone, PartialEq)]
+/// One pass of the profile: its time on the device, the CPU's time to encode it, and what it
+/// asks of the GPU.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PassProfile {
+    /// The pass.
+    pub pass: &'static str,
+    /// Its time ([`Timings::clock`]), median.
+    pub ms: f64,
+    /// The CPU's time to encode it into the frame's command buffer, median.
+    pub encode_ms: f64,
+    /// Draws, state changes, triangles and vertex bytes.
+    #[serde(flatten)]
+    pub counts: Counts,
+}
+
+/// Medians over timed frames, in milliseconds: where a frame's time goes.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Timings {
     /// Whole frames: encode, submit, wait.
     pub frame_ms: f64,
-    /// Each pass.
+    /// The CPU's part of a frame: encoding every pass and finishing the command buffer.
+    pub encode_ms: f64,
+    /// The CPU's time in `queue.submit` (validation and hand-off to the driver).
+    pub submit_ms: f64,
+    /// Each pass (a pass of several recipes, as a distance map's faces, summed).
+    #[serde(skip)]
     pub passes: Vec<(Pass, f64)>,
+    /// Each pass with its encode time and counts.
+    pub profile: Vec<PassProfile>,
     /// How the pass times were taken.
     pub clock: PassClock,
     /// Frames timed (after warm-up).
@@ -175,9 +198,50 @@ impl Timings {
             .collect();
         passes.join(", ")
     }
+
+    /// The profile as a Markdown table: a row per pass (device time, CPU encode time, draws,
+    /// pipeline and bind-group changes, triangles, vertex bytes) and the frame's CPU rows.
+    pub fn profile_table(&self) -> String {
+        let mut t = String::from(
+            "| pass | ms | encode ms | draws | pipelines | binds | buffers | triangles | vertex bytes |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        );
+        let mut total = Counts::default();
+        for p in &self.profile {
+            let c = &p.counts;
+            total += *c;
+            t += &format!(
+                "| {} | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} |\n",
+                p.pass,
+                p.ms,
+                p.encode_ms,
+                c.draws,
+                c.pipelines,
+                c.binds,
+                c.buffers,
+                c.triangles,
+                c.vertex_bytes
+            );
+        }
+        let c = total;
+        t += &format!(
+            "| all passes | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} |\n| submit (CPU) | | {:.3} | | | | | | |\n| frame (wall) | {:.2} | | | | | | | |\n",
+            self.profile.iter().map(|p| p.ms).sum::<f64>(),
+            self.encode_ms,
+            c.draws,
+            c.pipelines,
+            c.binds,
+            c.buffers,
+            c.triangles,
+            c.vertex_bytes,
+            self.submit_ms,
+            self.frame_ms
+        );
+        t
+    }
 }
 
-/// `frame 3.20 ms (median of 15); passes (GPU timestamps): geometry 1.10 ms, …`.
+/// `frame 3.20 ms (median of 15; CPU: encode 0.40 ms, submit 0.10 ms); passes (GPU
+/// timestamps): geometry 1.10 ms, …`.
 impl std::fmt::Display for Timings {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let passes: Vec<String> = self
@@ -187,9 +251,11 @@ impl std::fmt::Display for Timings {
             .collect();
         write!(
             f,
-            "frame {:.2} ms (median of {}); passes ({}): {}",
+            "frame {:.2} ms (median of {}; CPU: encode {:.2} ms, submit {:.2} ms); passes ({}): {}",
             self.frame_ms,
             self.frames,
+            self.encode_ms,
+            self.submit_ms,
             match self.clock {
                 PassClock::Gpu => "GPU timestamps",
                 PassClock::Wall => "wall time, each pass submitted alone",
@@ -220,9 +286,10 @@ pub fn time(
         wait(r)?;
     }
     let mut whole = Vec::with_capacity(frames);
+    let mut cpu = CpuTimes::new(recipes.len(), frames);
     for _ in 0..frames {
         let t = Instant::now();
-        submit_frame(r, &recipes)?;
+        cpu.submit_frame(r, &recipes)?;
         wait(r)?;
         whole.push(t.elapsed().as_secs_f64() * 1e3);
     }
@@ -235,23 +302,78 @@ pub fn time(
         return Err(FrameError::Device(e.to_string()));
     }
     // A pass of many recipes (a distance map's faces) is their sum.
-    let mut passes: Vec<(Pass, f64)> = Vec::new();
-    for (pass, ms) in recipes
+    let mut profile: Vec<(Pass, PassProfile)> = Vec::new();
+    for ((recipe, ms), encode_ms) in recipes
         .iter()
-        .map(|p| p.pass)
         .zip(per.into_iter().map(median))
+        .zip(cpu.encode.into_iter().map(median))
     {
-        match passes.iter_mut().find(|(p, _)| *p == pass) {
-            Some((_, t)) => *t += ms,
-            None => passes.push((pass, ms)),
-        }
+        let pass = recipe.pass;
+        let at = match profile.iter().position(|(p, _)| *p == pass) {
+            Some(i) => i,
+            None => {
+                profile.push((
+                    pass,
+                    PassProfile {
+                        pass: pass.name(),
+                        ms: 0.0,
+                        encode_ms: 0.0,
+                        counts: Counts::default(),
+                    },
+                ));
+                profile.len() - 1
+            }
+        };
+        let p = &mut profile[at].1;
+        p.ms += ms;
+        p.encode_ms += encode_ms;
+        p.counts += recipe.counts();
     }
     Ok(Timings {
         frame_ms: median(whole),
-        passes,
+        encode_ms: median(cpu.frame_encode),
+        submit_ms: median(cpu.submit),
+        passes: profile.iter().map(|(p, x)| (*p, x.ms)).collect(),
+        profile: profile.into_iter().map(|(_, x)| x).collect(),
         clock,
         frames,
     })
+}
+
+/// The CPU's side of timed frames: each recipe's encode time, the whole frame's encode time
+/// (with the command buffer finished) and the submit call.
+struct CpuTimes {
+    encode: Vec<Vec<f64>>,
+    frame_encode: Vec<f64>,
+    submit: Vec<f64>,
+}
+
+impl CpuTimes {
+    fn new(recipes: usize, frames: usize) -> CpuTimes {
+        CpuTimes {
+            encode: vec![Vec::with_capacity(frames); recipes],
+            frame_encode: Vec::with_capacity(frames),
+            submit: Vec::with_capacity(frames),
+        }
+    }
+
+    /// [`submit_frame`], timed.
+    fn submit_frame(&mut self, r: &Renderer, recipes: &[Recipe<'_>]) -> Result<(), FrameError> {
+        let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+        let start = Instant::now();
+        let mut enc = encoder(r);
+        for (p, times) in recipes.iter().zip(&mut self.encode) {
+            let t = Instant::now();
+            p.encode(r, &mut enc, None)?;
+            times.push(ms(t));
+        }
+        let buffer = enc.finish();
+        self.frame_encode.push(ms(start));
+        let t = Instant::now();
+        r.gpu.queue.submit([buffer]);
+        self.submit.push(ms(t));
+        Ok(())
+    }
 }
 
 /// Each pass's time in each of `frames` frames from GPU timestamps (Vulkan).

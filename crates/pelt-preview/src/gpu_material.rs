@@ -39,6 +39,10 @@ pub const DATA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub struct GpuMaterial {
     /// The Material-layout group.
     pub group: wgpu::BindGroup,
+    /// Whether it has any texture: objects drawn with it use the pipelines whose shader
+    /// samples them; the others read the neutral texels' values without sampling
+    /// ([`TEXTURED`]).
+    pub textured: bool,
     /// The base colour texture (or the white texel).
     pub base_view: wgpu::TextureView,
     /// Its sampler.
@@ -66,6 +70,18 @@ fn levels(image: &Rgba8, srgb: bool) -> Vec<Level<[u8; 4]>> {
                 .collect(),
         })
         .collect()
+}
+
+/// The override constant of the shaders that read a material (gbuffer.wgsl, material.wgsl,
+/// forward.wgsl): true (their default) samples the material's textures, false reads the
+/// neutral texels' values below without a fetch. Keep in sync with those shaders.
+pub const TEXTURED: &str = "TEXTURED";
+
+/// `desc` specialized for materials without textures ([`TEXTURED`] false).
+pub fn untextured(mut desc: crate::renderer::PipelineDesc) -> crate::renderer::PipelineDesc {
+    desc.spec.constants.retain(|(n, _)| *n != TEXTURED);
+    desc.spec.constants.push((TEXTURED, 0.0));
+    desc
 }
 
 /// A texture slot's view and sampler: the material's texture, or the 1×1 `neutral` texel.
@@ -158,6 +174,7 @@ pub fn upload(r: &Renderer, m: &Material) -> GpuMaterial {
     let group = r.group("material", &LAYOUT, &resources);
     GpuMaterial {
         group,
+        textured: m.base_color.is_some() || m.normal.is_some() || m.metallic_roughness.is_some(),
         base_view,
         base_sampler,
     }

@@ -46,7 +46,7 @@ pub use pelt_scene::{
 
 use std::sync::Arc;
 
-pub use frame::{FrameError, Image, PassClock, Timings};
+pub use frame::{FrameError, Image, PassClock, PassProfile, Timings};
 pub use gpu::{Backend, Gpu, GpuError};
 pub use pelt_scene::{Mode, Plan, PlanError, Scene, SceneError};
 pub use renderer::Renderer;

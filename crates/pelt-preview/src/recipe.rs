@@ -64,6 +64,92 @@ pub enum Step<'a> {
     Dispatch([u32; 3]),
 }
 
+/// What a pass asks of the GPU, counted from its steps after redundant state changes are
+/// dropped (what [`Recipe::encode`] submits): the profile's per-pass columns.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Counts {
+    /// Draw calls.
+    pub draws: u32,
+    /// Compute dispatches.
+    pub dispatches: u32,
+    /// Pipeline changes.
+    pub pipelines: u32,
+    /// Bind-group changes.
+    pub binds: u32,
+    /// Vertex- and index-buffer changes.
+    pub buffers: u32,
+    /// Triangles submitted (every pipeline draws triangle lists).
+    pub triangles: u64,
+    /// Vertices fetched: indices (or vertices) drawn, times instances.
+    pub vertices: u64,
+    /// Vertex-buffer bytes those fetches read (each draw's vertices times its pipeline's
+    /// per-vertex stride; storage-buffer reads are not counted).
+    pub vertex_bytes: u64,
+}
+
+impl std::ops::AddAssign for Counts {
+    fn add_assign(&mut self, o: Counts) {
+        self.draws += o.draws;
+        self.dispatches += o.dispatches;
+        self.pipelines += o.pipelines;
+        self.binds += o.binds;
+        self.buffers += o.buffers;
+        self.triangles += o.triangles;
+        self.vertices += o.vertices;
+        self.vertex_bytes += o.vertex_bytes;
+    }
+}
+
+/// The state a pass has set so far, to drop steps that would set it again.
+#[derive(Default)]
+struct State<'s> {
+    pipeline: Option<&'s PipelineKey>,
+    compute: Option<ComputeDesc>,
+    groups: [Option<(*const wgpu::BindGroup, Option<u32>)>; 8],
+    vertices: [Option<*const wgpu::Buffer>; 4],
+    indices: Option<*const wgpu::Buffer>,
+    scissor: Option<[u32; 4]>,
+}
+
+impl<'s> State<'s> {
+    /// Whether `step` changes nothing already set (and records what it sets).
+    fn redundant(&mut self, step: &'s Step<'_>) -> bool {
+        fn same<T: PartialEq + Copy>(slot: Option<&mut Option<T>>, v: T) -> bool {
+            match slot {
+                Some(s) if *s == Some(v) => true,
+                Some(s) => {
+                    *s = Some(v);
+                    false
+                }
+                None => false,
+            }
+        }
+        match step {
+            Step::Pipeline(k) if self.pipeline == Some(k) => true,
+            Step::Pipeline(k) => {
+                self.pipeline = Some(k);
+                false
+            }
+            Step::Compute(d) => same(Some(&mut self.compute), *d),
+            Step::Bind {
+                slot,
+                group,
+                offset,
+            } => same(
+                self.groups.get_mut(*slot as usize),
+                (std::ptr::from_ref(*group), *offset),
+            ),
+            Step::Vertices(slot, b) => same(
+                self.vertices.get_mut(*slot as usize),
+                std::ptr::from_ref(*b),
+            ),
+            Step::Indices(b) => same(Some(&mut self.indices), std::ptr::from_ref(*b)),
+            Step::Scissor(r) => same(Some(&mut self.scissor), *r),
+            Step::Draw(..) | Step::DrawIndexed(..) | Step::Dispatch(_) => false,
+        }
+    }
+}
+
 /// What kind of GPU work a recipe is.
 #[derive(Debug)]
 enum Kind<'a> {
@@ -163,6 +249,28 @@ impl<'a> Recipe<'a> {
         self.steps.push(Step::Pipeline(key));
     }
 
+    /// Switches to a specialization of the current pipeline: the same descriptor with the
+    /// shader's override constant `name` set to `value` (`None`: the shader's default).
+    /// Nothing when that is the current pipeline already, or there is none.
+    pub fn specialize(&mut self, name: &'static str, value: Option<f64>) {
+        let current = self.steps.iter().rev().find_map(|s| match s {
+            Step::Pipeline(k) => Some(k),
+            _ => None,
+        });
+        let Some(current) = current else {
+            return;
+        };
+        let mut key = current.clone();
+        let constants = &mut key.desc.spec.constants;
+        constants.retain(|(n, _)| *n != name);
+        if let Some(v) = value {
+            constants.push((name, v));
+        }
+        if key != *current {
+            self.steps.push(Step::Pipeline(key));
+        }
+    }
+
     /// Binds `group` at `slot`.
     pub fn bind(&mut self, slot: u32, group: &'a wgpu::BindGroup, offset: Option<u32>) {
         self.steps.push(Step::Bind {
@@ -183,6 +291,48 @@ impl<'a> Recipe<'a> {
             Step::Pipeline(k) => Some(k),
             _ => None,
         })
+    }
+
+    /// The steps that change something: a pipeline, bind group, buffer or scissor already
+    /// set is not set again.
+    fn effective(&self) -> impl Iterator<Item = &Step<'a>> {
+        let mut state = State::default();
+        self.steps.iter().filter(move |s| !state.redundant(s))
+    }
+
+    /// What the pass asks of the GPU.
+    pub fn counts(&self) -> Counts {
+        let mut c = Counts::default();
+        let mut stride = 0u64;
+        let draw = |c: &mut Counts, n: &Range<u32>, i: &Range<u32>, stride: u64| {
+            let v = u64::from(n.len() as u32) * u64::from(i.len() as u32);
+            c.draws += 1;
+            c.vertices += v;
+            c.triangles += v / 3;
+            c.vertex_bytes += v * stride;
+        };
+        for s in self.effective() {
+            match s {
+                Step::Pipeline(k) => {
+                    c.pipelines += 1;
+                    stride = k
+                        .desc
+                        .spec
+                        .vertex_buffers
+                        .iter()
+                        .filter(|b| b.step_mode == wgpu::VertexStepMode::Vertex)
+                        .map(|b| b.array_stride)
+                        .sum();
+                }
+                Step::Compute(_) => c.pipelines += 1,
+                Step::Bind { .. } => c.binds += 1,
+                Step::Vertices(..) | Step::Indices(_) => c.buffers += 1,
+                Step::Scissor(_) => {}
+                Step::Draw(n, i) | Step::DrawIndexed(n, i) => draw(&mut c, n, i, stride),
+                Step::Dispatch(_) => c.dispatches += 1,
+            }
+        }
+        c
     }
 
     /// Encodes the pass (its render pipelines must be prepared; compute pipelines are made
@@ -266,7 +416,7 @@ impl<'a> Recipe<'a> {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        for s in &self.steps {
+        for s in self.effective() {
             match s {
                 Step::Pipeline(k) => pass.set_pipeline(&r.pipeline(k)?),
                 Step::Bind {
@@ -297,7 +447,7 @@ impl<'a> Recipe<'a> {
             label: Some(self.pass.name()),
             timestamp_writes: timestamps,
         });
-        for s in &self.steps {
+        for s in self.effective() {
             match s {
                 Step::Compute(desc) => pass.set_pipeline(&r.compute(desc)?),
                 Step::Bind {

@@ -383,3 +383,79 @@ fn shaders_reload_from_a_folder_and_a_broken_set_keeps_the_last_good_pipelines()
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_profile_counts_what_each_pass_draws() {
+    let mut p = preview();
+    let meshes = vec![furry_sphere()];
+    let shells = 8;
+    let s = scene(shells, false, FurBlend::Stipple);
+    let sv = p
+        .prepare_loaded(&s, &meshes, &[0], Mode::Inferred)
+        .expect("prepare");
+    let t = p.time(&sv, 0, 2).expect("profile");
+    let of = |name: &str| {
+        t.profile
+            .iter()
+            .find(|x| x.pass == name)
+            .unwrap_or_else(|| panic!("no {name} pass in {:?}", t.profile))
+    };
+    let tris = meshes[0].indices.len() as u64 / 3;
+    let g = of("geometry").counts;
+    let stride = size_of::<pelt_preview::uniforms::Vertex>() as u64;
+    // The sphere, and its stippled outer shell (Revie's G-buffer fur), each drawn once.
+    assert_eq!(
+        (g.draws, g.pipelines, g.triangles),
+        (2, 2, 2 * tris),
+        "{g:?}"
+    );
+    assert_eq!(g.vertices, 6 * tris, "{g:?}");
+    assert!(g.vertex_bytes >= g.vertices * stride, "{g:?}");
+    let all: u64 = t.profile.iter().map(|x| x.counts.triangles).sum();
+    assert!(
+        all >= (2 + u64::from(shells)) * tris,
+        "geometry, material and {shells} shells draw the sphere: {all} triangles"
+    );
+    assert!(t.encode_ms > 0.0 && t.submit_ms >= 0.0 && t.frame_ms >= t.encode_ms);
+    let table = t.profile_table();
+    assert!(
+        table.contains("| geometry |") && table.contains("| submit (CPU) |"),
+        "{table}"
+    );
+}
+
+#[test]
+fn a_pass_sets_a_pipeline_or_bind_group_once_until_it_changes() {
+    use pelt_preview::plan::Pass;
+    use pelt_preview::recipe::{Recipe, Step};
+    let p = preview();
+    let device = &p.renderer.gpu.device;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[],
+    });
+    let group = || {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &[],
+        })
+    };
+    let (a, b) = (group(), group());
+    let mut r = Recipe::new(Pass::Geometry, vec![], None);
+    let geometry = pelt_preview::features::geometry::pipeline();
+    for _ in 0..3 {
+        r.pipeline(geometry.clone());
+        r.bind(0, &a, None);
+        r.push(Step::Draw(0..3, 0..2));
+    }
+    let c = r.counts();
+    assert_eq!((c.pipelines, c.binds, c.draws), (1, 1, 3), "{c:?}");
+    assert_eq!((c.triangles, c.vertices), (6, 18), "{c:?}");
+    // Another group, another offset or another slot is a change.
+    r.bind(0, &b, None);
+    r.bind(0, &b, Some(256));
+    r.bind(1, &b, Some(256));
+    r.bind(0, &a, None);
+    assert_eq!(r.counts().binds, 5);
+}

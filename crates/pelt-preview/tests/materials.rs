@@ -265,3 +265,56 @@ fn fur_takes_its_colour_from_the_base_colour_texture_when_the_config_says_so() {
     let (up, down) = run(false, "material-fur-own-colour");
     assert!((up - down).abs() < 0.1, "one fur colour: {up} {down}");
 }
+
+/// Whether `sv`'s frame draws with a pipeline specialized for untextured materials.
+fn draws_untextured(sv: &pelt_preview::SceneView) -> bool {
+    let frame = sv.own_frame().expect("frame");
+    let recipes =
+        pelt_preview::frame::recipes(&frame, pelt_preview::frame::Maps::IfStale).expect("recipes");
+    recipes.iter().flat_map(|r| r.keys()).any(|k| {
+        k.desc
+            .spec
+            .constants
+            .contains(&(pelt_preview::gpu_material::TEXTURED, 0.0))
+    })
+}
+
+#[test]
+fn an_untextured_material_skips_the_fetches_and_draws_as_the_neutral_texels_do() {
+    let mut p = preview();
+    let s = scene(Vec3::new(0.3, 0.2, 1.5));
+    let white = |v: u8| texture(halves(2, 2, [v, v, v, 255], [v, v, v, 255]));
+    // The textured pipeline sampling white texels (the neutral values) ...
+    let sampled = quad(material::Material {
+        base_color: white(255),
+        metallic_roughness: white(255),
+        ..material::Material::default()
+    });
+    let plain = quad(material::Material::default());
+    for mode in [Mode::Inferred, Mode::Deferred, Mode::Forward] {
+        let a = p
+            .prepare_loaded(&s, std::slice::from_ref(&plain), &[0], mode)
+            .expect("prepare");
+        assert!(draws_untextured(&a), "{mode}: the untextured pipeline");
+        let b = p
+            .prepare_loaded(&s, std::slice::from_ref(&sampled), &[0], mode)
+            .expect("prepare");
+        assert!(!draws_untextured(&b), "{mode}: the textured pipeline");
+        let (a, b) = (p.render(&a).expect("plain"), p.render(&b).expect("sampled"));
+        // ... and the untextured one reading those values without a fetch: the same bytes.
+        assert!(
+            a.rgba == b.rgba,
+            "{mode}: untextured and white-textured differ"
+        );
+        // Negative control: a texel one step off white is another image.
+        let grey = quad(material::Material {
+            base_color: white(250),
+            ..material::Material::default()
+        });
+        let c = draw(&mut p, &s, &grey, mode);
+        assert!(
+            a.rgba != c.rgba,
+            "{mode}: the comparison cannot tell textures apart"
+        );
+    }
+}

@@ -4,6 +4,7 @@
 
 use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
+use crate::gpu_material::untextured;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
@@ -22,7 +23,10 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 
 /// The forward reference's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || vec![pipeline(Blend::None), pipeline(Blend::Over)],
+    pipelines: || {
+        let lit = [pipeline(Blend::None), pipeline(Blend::Over)];
+        lit.clone().into_iter().chain(lit.map(untextured)).collect()
+    },
     passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
     ..Feature::named(
         "forward",

@@ -7,6 +7,7 @@
 use crate::draw::{MissingInput, slot, vertex_layout};
 use crate::feature::{Build, DrawDesc, Feature, Frame, PassDesc, Phase, Shade, Shared};
 use crate::frame_data::Res;
+use crate::gpu_material::untextured;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
@@ -34,7 +35,7 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The geometry pass's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || vec![pipeline()],
+    pipelines: || vec![pipeline(), untextured(pipeline())],
     passes: &[PassDesc::new(Pass::Geometry, Build::One(pass))],
     draws: &[DrawDesc {
         into: Shared::Geometry,

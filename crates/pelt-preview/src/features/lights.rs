@@ -9,6 +9,7 @@ use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
+use crate::scene::FurLighting;
 use crate::shaders::ShaderDesc;
 
 /// Bind-group slots of light.wgsl.
@@ -43,6 +44,23 @@ pub fn pipeline() -> PipelineDesc {
     }
 }
 
+/// light.wgsl's override: whether any texel may hold a strand tangent.
+const STRAND_LIGHTS: &str = "STRAND_LIGHTS";
+
+/// `desc` for views without fur lit as strands: no shell-table lookup per pixel.
+fn without_strands(mut desc: PipelineDesc) -> PipelineDesc {
+    desc.spec.constants.push((STRAND_LIGHTS, 0.0));
+    desc
+}
+
+/// Whether any object of the view is fur lit with Kajiya-Kay (its texels hold tangents).
+fn strand_lit(f: &Frame<'_>) -> bool {
+    f.plan
+        .objects
+        .iter()
+        .any(|o| o.fur.is_some_and(|x| x.lighting == FurLighting::KajiyaKay))
+}
+
 /// The light pass's feature.
 pub const FEATURE: Feature = Feature {
     knobs: &[KnobDesc::new(
@@ -51,7 +69,7 @@ pub const FEATURE: Feature = Feature {
         "the scene's (0.625)",
         Reference::Deferred,
     )],
-    pipelines: || vec![pipeline()],
+    pipelines: || vec![pipeline(), without_strands(pipeline())],
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
     ..Feature::named("lights", "scissored point lights into the L-buffer")
 };
@@ -87,7 +105,11 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         }],
         None,
     );
-    r.pipeline(pipeline());
+    r.pipeline(if strand_lit(f) {
+        pipeline()
+    } else {
+        without_strands(pipeline())
+    });
     r.bind(
         slot::FRAME,
         f.data.frame(),
