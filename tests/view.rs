@@ -214,6 +214,22 @@ fn an_orbit_bench_uploads_the_asset_once_then_only_uniforms() {
         let b = bytes(f);
         assert!(b > 0 && b <= 16 * 1024, "frame {k} uploaded {b} bytes");
     }
+    // The profile: every pass with its time, encode time and counts; the furry asset's
+    // geometry pass draws its body and outer shell.
+    let profile = v["profile"]["profile"].as_array().expect("profile");
+    let pass = |name: &str| {
+        profile
+            .iter()
+            .find(|p| p["pass"] == name)
+            .unwrap_or_else(|| panic!("no {name} in {profile:?}"))
+    };
+    assert_eq!(pass("geometry")["draws"], 2);
+    assert!(pass("material")["triangles"].as_u64() > pass("geometry")["triangles"].as_u64());
+    assert!(
+        v["profile"]["encode_ms"]
+            .as_f64()
+            .is_some_and(|ms| ms > 0.0)
+    );
 }
 
 #[test]
