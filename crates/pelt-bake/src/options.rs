@@ -355,7 +355,7 @@ mod tests {
     #[test]
     fn option_names_round_trip_and_a_bad_one_lists_the_rest() {
         for n in Quantize::NAMES {
-            assert_eq!(n.parse::<Quantize>().unwrap().name(), *n);
+            assert_eq!(n.parse::<Quantize>().expect("a listed name").name(), *n);
         }
         assert_eq!(TopologyMode::Groups.to_string(), "groups");
         assert_eq!("srgb".parse::<ColorSpace>(), Ok(ColorSpace::Srgb));

@@ -78,10 +78,18 @@ fn levels(image: &Rgba8, srgb: bool) -> Vec<Level<[u8; 4]>> {
 pub const TEXTURED: &str = "TEXTURED";
 
 /// `desc` specialized for materials without textures ([`TEXTURED`] false).
-pub fn untextured(mut desc: crate::renderer::PipelineDesc) -> crate::renderer::PipelineDesc {
-    desc.spec.constants.retain(|(n, _)| *n != TEXTURED);
-    desc.spec.constants.push((TEXTURED, 0.0));
-    desc
+pub fn untextured(desc: crate::renderer::PipelineDesc) -> crate::renderer::PipelineDesc {
+    desc.with_constant(TEXTURED, Some(0.0))
+}
+
+/// `lit`'s pipelines for both kinds of material: as they are (textured) and
+/// [`untextured`].
+pub fn with_untextured(
+    lit: impl IntoIterator<Item = crate::renderer::PipelineDesc>,
+) -> Vec<crate::renderer::PipelineDesc> {
+    lit.into_iter()
+        .flat_map(|d| [d.clone(), untextured(d)])
+        .collect()
 }
 
 /// A texture slot's view and sampler: the material's texture, or the 1×1 `neutral` texel.

@@ -257,18 +257,13 @@ impl<'a> Recipe<'a> {
             Step::Pipeline(k) => Some(k),
             _ => None,
         });
-        let Some(current) = current else {
+        // Drawing code asks once per object part: compare before cloning the key.
+        let Some(current) = current.filter(|k| k.desc.constant(name) != value) else {
             return;
         };
         let mut key = current.clone();
-        let constants = &mut key.desc.spec.constants;
-        constants.retain(|(n, _)| *n != name);
-        if let Some(v) = value {
-            constants.push((name, v));
-        }
-        if key != *current {
-            self.steps.push(Step::Pipeline(key));
-        }
+        key.desc = key.desc.with_constant(name, value);
+        self.steps.push(Step::Pipeline(key));
     }
 
     /// Binds `group` at `slot`.

@@ -62,6 +62,25 @@ pub struct PipelineDesc {
 }
 
 impl PipelineDesc {
+    /// The shader's override constant `name` as this pipeline sets it (`None`: the shader's
+    /// default).
+    pub fn constant(&self, name: &str) -> Option<f64> {
+        self.spec
+            .constants
+            .iter()
+            .find_map(|&(n, v)| (n == name).then_some(v))
+    }
+
+    /// The same pipeline with the override constant `name` set to `value` (`None`: the
+    /// shader's default): one of its specializations.
+    pub fn with_constant(mut self, name: &'static str, value: Option<f64>) -> PipelineDesc {
+        self.spec.constants.retain(|(n, _)| *n != name);
+        if let Some(v) = value {
+            self.spec.constants.push((name, v));
+        }
+        self
+    }
+
     /// A full-screen pass of `shader` (no vertex buffers, no depth) reading `groups` by slot,
     /// into one colour target blended by `blend`.
     pub fn fullscreen(

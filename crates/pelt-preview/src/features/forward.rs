@@ -4,7 +4,7 @@
 
 use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
-use crate::gpu_material::untextured;
+use crate::gpu_material::with_untextured;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
@@ -23,10 +23,7 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 
 /// The forward reference's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || {
-        let lit = [pipeline(Blend::None), pipeline(Blend::Over)];
-        lit.clone().into_iter().chain(lit.map(untextured)).collect()
-    },
+    pipelines: || with_untextured([pipeline(Blend::None), pipeline(Blend::Over)]),
     passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
     ..Feature::named(
         "forward",

@@ -48,9 +48,8 @@ pub fn pipeline() -> PipelineDesc {
 const STRAND_LIGHTS: &str = "STRAND_LIGHTS";
 
 /// `desc` for views without fur lit as strands: no shell-table lookup per pixel.
-fn without_strands(mut desc: PipelineDesc) -> PipelineDesc {
-    desc.spec.constants.push((STRAND_LIGHTS, 0.0));
-    desc
+fn without_strands(desc: PipelineDesc) -> PipelineDesc {
+    desc.with_constant(STRAND_LIGHTS, Some(0.0))
 }
 
 /// Whether any object of the view is fur lit with Kajiya-Kay (its texels hold tangents).

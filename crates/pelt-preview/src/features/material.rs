@@ -9,7 +9,7 @@ use crate::draw::{MissingInput, slot};
 use crate::feature::{
     Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
 };
-use crate::gpu_material::untextured;
+use crate::gpu_material::with_untextured;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::Recipe;
@@ -29,10 +29,7 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 /// The material pass's feature.
 pub const FEATURE: Feature = Feature {
     knobs: &[KnobDesc::new("dsf", "on or off", "on", Reference::Deferred)],
-    pipelines: || {
-        let lit = [pipeline(Blend::None), pipeline(Blend::Over)];
-        lit.clone().into_iter().chain(lit.map(untextured)).collect()
-    },
+    pipelines: || with_untextured([pipeline(Blend::None), pipeline(Blend::Over)]),
     passes: &[PassDesc::new(Pass::Material, Build::One(pass))],
     draws: &[DrawDesc {
         into: Shared::Shading,
