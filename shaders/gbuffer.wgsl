@@ -13,6 +13,11 @@
 // map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
 // values in sync with crates/pelt-preview/src/gpu_material.rs.
 override TEXTURED: bool = true;
+// STIPPLED: the pipeline of stippled alpha objects (true), which discard the pixels outside
+// their pattern, or of opaque ones (false), which keep every pixel: a shader that never
+// discards lets the rasterizer test depth before shading. Keep in sync with
+// crates/pelt-preview/src/features/geometry.rs.
+override STIPPLED: bool = true;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -26,7 +31,7 @@ struct GBufferOut {
 
 @fragment
 fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> GBufferOut {
-    if !in_stipple(vec2<u32>(s.clip.xy), object.ids.y) {
+    if STIPPLED && !in_stipple(vec2<u32>(s.clip.xy), object.ids.y) {
         discard;
     }
     var out: GBufferOut;

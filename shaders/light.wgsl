@@ -1,22 +1,36 @@
 // light.wgsl: the light pass of inferred lighting (Kircher & Lawrance §2.2). One full-screen
 // triangle per point light, clipped by the scissor rectangle of the light's screen-space bounds
-// (set by the CPU) and added into the L-buffer: rgb = diffuse, a = specular intensity. The
+// (set by the CPU) and placed just beyond the far side of the light's sphere of influence, so
+// the depth test against the geometry pass's depth rejects, before shading, every pixel whose
+// surface lies behind the light's reach (or is empty); the rest are added into the L-buffer:
+// rgb = diffuse, a = specular intensity. The
 // view-space position comes from the DSF buffer's linear depth; the normal from eqs. 2 and 3,
 // or, for fur lit as strands (the shell table's STRAND_LIT), the strand tangent stored in its
 // place, lit with Kajiya-Kay (strand_light).
 
-#import pelt::common::{DEPTH_EMPTY, Light, STRAND_LIT, decode_normal, depth_from_code, point_light, strand_light}
+#import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Light, STRAND_LIT, decode_normal, depth_from_code, point_light, strand_light}
 #import pelt::fullscreen::{fullscreen_position}
 #import pelt::object_bindings::{frame}
-
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    return fullscreen_position(vi);
-}
 
 @group(1) @binding(0) var normals: texture_2d<f32>;
 @group(1) @binding(1) var dsf: texture_2d<u32>;
 @group(2) @binding(0) var<uniform> light: Light;
+
+// The full-screen triangle at the depth of the light's far side, pushed back by a thousandth
+// of its radius and four steps of the DSF buffer's depth code (the fragment shader reads the
+// quantised depth, the test compares the exact one): a surface the test rejects is out of the
+// light's reach, where point_light and strand_light add exactly zero. A sphere wholly in
+// front of the near plane lights nothing (depth 0 passes no stored depth).
+@vertex
+fn vs_light(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    var p = fullscreen_position(vi);
+    let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;
+    let r = light.position_radius.w;
+    let far = light.position_radius.z - (1.001 * r + 4.0 * step);
+    let c = frame.proj * vec4<f32>(0.0, 0.0, far, 1.0);
+    p.z = select(0.0, clamp(c.z / c.w, 0.0, 1.0), c.w > 0.0);
+    return p;
+}
 // The shell table (obliterate.wgsl): STRAND_LIT marks the IDs whose texels hold a strand
 // tangent instead of a normal (Kajiya-Kay fur).
 @group(3) @binding(0) var<uniform> shell_table: array<vec4<u32>, 64>;

@@ -91,12 +91,13 @@ pub fn sphere(rings: u32, segs: u32) -> Shape {
     parametric("sphere", rings, segs, false, spherical, spherical)
 }
 
-/// Torus with major radius 1 and minor radius 0.35 (seams in both U and V).
+/// Torus with major radius 1 and minor radius 0.35 (seams in both U and V), its normals and
+/// counter-clockwise faces pointing out of the tube (V runs down the outer equator).
 pub fn torus(rings: u32, segs: u32) -> Shape {
     let f = |u: f32, v: f32| {
         let (a, b) = (u * std::f32::consts::TAU, v * std::f32::consts::TAU);
         let r = 1.0 + 0.35 * b.cos();
-        Vec3::new(r * a.cos(), 0.35 * b.sin(), -r * a.sin())
+        Vec3::new(r * a.cos(), -0.35 * b.sin(), -r * a.sin())
     };
     parametric("torus", rings, segs, true, f, spherical)
 }

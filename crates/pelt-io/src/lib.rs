@@ -57,7 +57,9 @@ pub fn load_bytes(path: &std::path::Path, bytes: Vec<u8>) -> Result<Document, Io
     }
 }
 
-fn is_obj(path: &std::path::Path) -> bool {
+/// Whether `path` is read as Wavefront OBJ (by its extension). OBJ states no facing
+/// convention, so a renderer draws its faces from both sides.
+pub fn is_obj(path: &std::path::Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
 }

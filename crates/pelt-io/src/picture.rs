@@ -162,6 +162,23 @@ pub fn material_factors(doc: &Document, material: usize) -> Result<[f32; 3]> {
     Ok(f)
 }
 
+/// Whether material `material` is double-sided (glTF 2.0 §3.9.5: `doubleSided`, default
+/// false: back faces are culled and a single-sided surface is seen from its front only).
+pub fn double_sided(doc: &Document, material: usize) -> Result<bool> {
+    let Some(m) = doc.array("materials").get(material) else {
+        return Err(doc.invalid(format!("materials[{material}]"), "does not exist"));
+    };
+    match m.get("doubleSided") {
+        None => Ok(false),
+        Some(v) => v.as_bool().ok_or_else(|| {
+            doc.invalid(
+                format!("materials[{material}].doubleSided"),
+                "must be true or false",
+            )
+        }),
+    }
+}
+
 /// Whether material `material` names any texture (so its textures need the typed document).
 pub fn has_textures(doc: &Document, material: usize) -> bool {
     let Some(m) = doc.array("materials").get(material) else {
@@ -239,5 +256,20 @@ mod tests {
         assert_eq!(wrap(-1, 4, WrappingMode::MirroredRepeat), 0);
         assert_eq!(wrap(4, 4, WrappingMode::MirroredRepeat), 3);
         assert_eq!(wrap(5, 4, WrappingMode::Repeat), 1);
+    }
+
+    #[test]
+    fn materials_are_single_sided_unless_they_say_otherwise() {
+        let json = br#"{"asset":{"version":"2.0"},"materials":[{},{"doubleSided":true},{"doubleSided":false},{"doubleSided":1}]}"#;
+        let doc = Document::from_bytes(std::path::Path::new("m.gltf"), json.to_vec()).unwrap();
+        assert!(!double_sided(&doc, 0).unwrap());
+        assert!(double_sided(&doc, 1).unwrap());
+        assert!(!double_sided(&doc, 2).unwrap());
+        let e = double_sided(&doc, 3).unwrap_err().to_string();
+        assert!(
+            e.contains("m.gltf") && e.contains("materials[3].doubleSided"),
+            "{e}"
+        );
+        assert!(double_sided(&doc, 4).is_err());
     }
 }

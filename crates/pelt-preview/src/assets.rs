@@ -115,6 +115,7 @@ fn mesh_key(m: &MeshData, uploads: Uploads) -> Key {
     }
     for mat in &m.materials {
         h.update(bytemuck::bytes_of(&gpu_material::uniforms(mat)));
+        h.update(&[u8::from(mat.double_sided)]);
         for t in [&mat.base_color, &mat.normal, &mat.metallic_roughness] {
             match t {
                 Some(t) => {

@@ -252,6 +252,17 @@ pub struct Output<'a> {
     pub format: wgpu::TextureFormat,
 }
 
+/// Which faces an object draw keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sides {
+    /// Both faces of every triangle (blended layers, whose backs show through, and draws
+    /// that read no material).
+    Both,
+    /// As each part's material says: single-sided materials (glTF's default) cull back
+    /// faces, which an opaque closed surface hides anyway; double-sided ones keep both.
+    Material,
+}
+
 /// Everything one frame of one view draws from.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame<'a> {
@@ -326,11 +337,13 @@ impl<'a> Frame<'a> {
 
     /// Draws each object of `order` with the current pipeline, part by part, binding each
     /// part's material at `material` where the shader reads one (None: it reads none).
+    /// `sides`: whether single-sided materials cull their back faces.
     pub fn draw_objects(
         &self,
         recipe: &mut Recipe<'a>,
         pass: &'static str,
         material: Option<u32>,
+        sides: Sides,
         order: &[usize],
     ) -> Result<(), MissingInput> {
         for &k in order {
@@ -338,16 +351,24 @@ impl<'a> Frame<'a> {
             self.bind_object(recipe, k);
             recipe.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
             recipe.push(Step::Indices(&mesh.indices));
-            match material {
-                Some(at) => {
-                    for p in &mesh.parts {
-                        let m = &mesh.materials[p.material];
-                        recipe.specialize(TEXTURED, (!m.textured).then_some(0.0));
-                        recipe.bind(at, &m.group, None);
-                        recipe.push(Step::DrawIndexed(p.indices.clone(), 0..1));
-                    }
-                }
-                None => recipe.push(Step::DrawIndexed(0..mesh.count, 0..1)),
+            // A mirroring transform turns counter-clockwise triangles clockwise.
+            let front = if self.plan.objects[k].model.determinant() < 0.0 {
+                wgpu::FrontFace::Cw
+            } else {
+                wgpu::FrontFace::Ccw
+            };
+            let Some(at) = material else {
+                recipe.sides(None, front);
+                recipe.push(Step::DrawIndexed(0..mesh.count, 0..1));
+                continue;
+            };
+            for p in &mesh.parts {
+                let m = &mesh.materials[p.material];
+                recipe.specialize(TEXTURED, (!m.textured).then_some(0.0));
+                let single = sides == Sides::Material && !m.double_sided;
+                recipe.sides(single.then_some(wgpu::Face::Back), front);
+                recipe.bind(at, &m.group, None);
+                recipe.push(Step::DrawIndexed(p.indices.clone(), 0..1));
             }
         }
         Ok(())

@@ -43,6 +43,8 @@ pub struct GpuMaterial {
     /// samples them; the others read the neutral texels' values without sampling
     /// ([`TEXTURED`]).
     pub textured: bool,
+    /// glTF's `doubleSided`: opaque draws of a single-sided material cull its back faces.
+    pub double_sided: bool,
     /// The base colour texture (or the white texel).
     pub base_view: wgpu::TextureView,
     /// Its sampler.
@@ -183,6 +185,7 @@ pub fn upload(r: &Renderer, m: &Material) -> GpuMaterial {
     GpuMaterial {
         group,
         textured: m.base_color.is_some() || m.normal.is_some() || m.metallic_roughness.is_some(),
+        double_sided: m.double_sided,
         base_view,
         base_sampler,
     }

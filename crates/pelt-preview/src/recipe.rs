@@ -253,16 +253,41 @@ impl<'a> Recipe<'a> {
     /// shader's override constant `name` set to `value` (`None`: the shader's default).
     /// Nothing when that is the current pipeline already, or there is none.
     pub fn specialize(&mut self, name: &'static str, value: Option<f64>) {
+        self.vary(
+            |d| d.constant(name) != value,
+            |d| d.with_constant(name, value),
+        );
+    }
+
+    /// Switches to the current pipeline with faces `cull` culled and front faces wound
+    /// `front`. Nothing when that is the current pipeline already, or there is none.
+    pub fn sides(&mut self, cull: Option<wgpu::Face>, front: wgpu::FrontFace) {
+        self.vary(
+            |d| d.spec.cull != cull || d.spec.front_face != front,
+            |mut d| {
+                d.spec.cull = cull;
+                d.spec.front_face = front;
+                d
+            },
+        );
+    }
+
+    /// Switches to `change` of the current pipeline's descriptor where `differs` says it is
+    /// not that already. Drawing code asks once per object part: it compares before cloning.
+    fn vary(
+        &mut self,
+        differs: impl Fn(&PipelineDesc) -> bool,
+        change: impl FnOnce(PipelineDesc) -> PipelineDesc,
+    ) {
         let current = self.steps.iter().rev().find_map(|s| match s {
             Step::Pipeline(k) => Some(k),
             _ => None,
         });
-        // Drawing code asks once per object part: compare before cloning the key.
-        let Some(current) = current.filter(|k| k.desc.constant(name) != value) else {
+        let Some(current) = current.filter(|k| differs(&k.desc)) else {
             return;
         };
         let mut key = current.clone();
-        key.desc = key.desc.with_constant(name, value);
+        key.desc = change(key.desc);
         self.steps.push(Step::Pipeline(key));
     }
 

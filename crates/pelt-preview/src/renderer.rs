@@ -135,6 +135,8 @@ pub struct PipelineSpec {
     pub depth: Option<(bool, wgpu::CompareFunction)>,
     /// Faces culled.
     pub cull: Option<wgpu::Face>,
+    /// The winding of front faces (clockwise for objects whose transform mirrors them).
+    pub front_face: wgpu::FrontFace,
     /// Values of the module's `override` constants (by name).
     pub constants: Vec<(&'static str, f64)>,
 }
@@ -149,6 +151,7 @@ impl std::hash::Hash for PipelineSpec {
         self.blends.hash(state);
         self.depth.hash(state);
         self.cull.hash(state);
+        self.front_face.hash(state);
         for (name, value) in &self.constants {
             name.hash(state);
             value.to_bits().hash(state);
@@ -435,6 +438,7 @@ impl Renderer {
                 },
                 primitive: wgpu::PrimitiveState {
                     cull_mode: spec.cull,
+                    front_face: spec.front_face,
                     ..Default::default()
                 },
                 depth_stencil,

@@ -318,3 +318,52 @@ fn an_untextured_material_skips_the_fetches_and_draws_as_the_neutral_texels_do()
         );
     }
 }
+
+/// How far the centre of `i` (where the quad is) is from its corner (background), in RGB.
+fn centre_contrast(i: &Image) -> f32 {
+    (mean(i, 0.4, 0.6, 0.4, 0.6) - mean(i, 0.0, 0.1, 0.0, 0.1)).length()
+}
+
+#[test]
+fn a_single_sided_material_hides_its_back_and_a_mirrored_object_keeps_its_front() {
+    let mut p = preview();
+    let single = quad(material::Material::default());
+    let double = quad(material::Material {
+        double_sided: true,
+        ..material::Material::default()
+    });
+    // Seen from behind, lit from behind.
+    let mut behind = scene(Vec3::new(0.3, 0.2, -1.5));
+    behind.camera.position = [0.0, 0.0, -2.2];
+    // Seen from the front through a mirroring transform (x scaled by -2): its triangles turn
+    // clockwise on screen, and are still its front.
+    let mut mirrored = scene(Vec3::new(0.3, 0.2, 1.5));
+    mirrored.objects[0].transform.scale = [-2.0, 2.0, 1.0];
+    for mode in [Mode::Inferred, Mode::Deferred, Mode::Forward] {
+        let back = draw(&mut p, &behind, &single, mode);
+        let both = draw(&mut p, &behind, &double, mode);
+        let front = draw(&mut p, &mirrored, &single, mode);
+        save(&back, &format!("single-sided-back-{mode}"));
+        save(&front, &format!("single-sided-mirrored-{mode}"));
+        assert!(
+            centre_contrast(&back) < 1.0,
+            "{mode}: the back of a single-sided quad is culled ({})",
+            centre_contrast(&back)
+        );
+        // Negative control: the same view of a double-sided quad shows it.
+        assert!(
+            centre_contrast(&both) > 20.0,
+            "{mode}: a double-sided quad shows its back ({})",
+            centre_contrast(&both)
+        );
+        assert!(
+            centre_contrast(&front) > 20.0,
+            "{mode}: a mirrored single-sided quad shows its front ({})",
+            centre_contrast(&front)
+        );
+        // Mirrored in x, the symmetric quad is the same picture, lit from its front.
+        let plain = draw(&mut p, &scene(Vec3::new(0.3, 0.2, 1.5)), &single, mode);
+        let d = (mean(&front, 0.3, 0.7, 0.3, 0.7) - mean(&plain, 0.3, 0.7, 0.3, 0.7)).length();
+        assert!(d < 2.0, "{mode}: mirrored and plain quads differ by {d}");
+    }
+}

@@ -195,7 +195,8 @@ pub fn posed(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
     flatten(&doc)
 }
 
-/// A built-in shape by name (`cube`, `sphere`, `quad`), white.
+/// A built-in shape by name (`cube`, `sphere`, `quad`), white; the closed shapes are
+/// single-sided, the quad double-sided.
 pub fn builtin(name: &str) -> Option<MeshData> {
     match name {
         "cube" => Some(cube()),
@@ -244,13 +245,16 @@ fn cube() -> MeshData {
     m
 }
 
-/// A unit quad in the XY plane (−0.5..0.5) facing +Z, one normal group.
+/// A unit quad in the XY plane (−0.5..0.5) facing +Z, one normal group, double-sided.
 pub fn quad() -> MeshData {
     let vertices = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
         .into_iter()
         .map(|(x, y)| vertex(Vec3::new(x, y, 0.0), Vec3::Z, 1))
         .collect();
-    MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3])
+    let mut m = MeshData::untextured(vertices, vec![0, 1, 2, 0, 2, 3]);
+    // A plane is seen from both sides (a floor from below, a card from behind).
+    m.materials[0].double_sided = true;
+    m
 }
 
 /// A UV sphere of radius 0.5, one normal group.
@@ -720,5 +724,38 @@ mod tests {
                 .iter()
                 .all(|v| Vec3::from(v.normal).is_normalized())
         );
+    }
+
+    /// Six times the signed volume `m`'s triangles enclose (positive when they face out).
+    fn signed_volume(m: &MeshData) -> f32 {
+        m.indices
+            .chunks_exact(3)
+            .map(|t| {
+                let p = [t[0], t[1], t[2]].map(|i| Vec3::from(m.vertices[i as usize].position));
+                p[0].dot(p[1].cross(p[2]))
+            })
+            .sum()
+    }
+
+    #[test]
+    fn closed_shapes_face_out_and_say_which_sides_are_drawn() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        // glTF's default is single-sided; the committed closed fixtures face out, so culling
+        // their back faces hides nothing.
+        for name in ["sphere.glb", "torus.glb", "creature.glb"] {
+            let m = load(&root.join(name)).expect(name);
+            assert!(signed_volume(&m) > 0.0, "{name} faces out");
+            assert!(m.materials.iter().all(|x| !x.double_sided), "{name}");
+        }
+        for name in ["sphere", "cube"] {
+            let m = builtin(name).expect(name);
+            assert!(signed_volume(&m) > 0.0, "builtin {name} faces out");
+            assert!(!m.materials[0].double_sided, "builtin {name}");
+        }
+        // A plane is seen from both sides, and OBJ states no facing at all.
+        assert!(builtin("quad").expect("quad").materials[0].double_sided);
+        let obj = load(&root.join("edge/painted.obj")).expect("obj");
+        assert!(!obj.materials.is_empty());
+        assert!(obj.materials.iter().all(|x| x.double_sided), "OBJ");
     }
 }

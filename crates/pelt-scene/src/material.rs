@@ -38,12 +38,15 @@ pub struct Material {
     /// The TEXCOORD set every texture of the material is sampled with (the base colour
     /// texture's, else the normal texture's, else the metallic-roughness texture's).
     pub tex_coord: u32,
+    /// glTF's `doubleSided`: false (glTF's default) culls back faces of opaque surfaces,
+    /// whose back is never seen; true draws both sides, the back with its normal flipped.
+    pub double_sided: bool,
 }
 
 impl Default for Material {
     /// The material of a primitive without one and of built-in shapes: no textures, a
     /// dielectric (metallic 0) of roughness 0.5, the preview's neutral surface (its specular
-    /// term unscaled). glTF's own default (metallic 1, roughness 1) would draw such meshes as
+    /// term unscaled), single-sided as glTF's default material is. glTF's own default (metallic 1, roughness 1) would draw such meshes as
     /// unlit black metal in a renderer without environment reflections; materials that exist
     /// get glTF's defaults for the factors they leave out.
     fn default() -> Self {
@@ -55,6 +58,7 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 0.5,
             tex_coord: 0,
+            double_sided: false,
         }
     }
 }
@@ -92,10 +96,12 @@ impl MaterialReader {
         if let Some(k) = self.read.iter().position(|(i, _)| *i == m) {
             return Ok(k as u32);
         }
-        let material = match m {
+        let mut material = match m {
             Some(m) => self.material(doc, m)?,
             None => Material::default(),
         };
+        // OBJ says nothing of which side faces out: draw both.
+        material.double_sided |= pelt_io::is_obj(&doc.path);
         self.read.push((m, material));
         Ok(self.read.len() as u32 - 1)
     }
@@ -128,11 +134,13 @@ impl MaterialReader {
 
     fn material(&mut self, doc: &Document, m: usize) -> Result<Material, IoError> {
         let [normal_scale, metallic, roughness] = picture::material_factors(doc, m)?;
+        let double_sided = picture::double_sided(doc, m)?;
         if !picture::has_textures(doc, m) {
             return Ok(Material {
                 normal_scale,
                 metallic,
                 roughness,
+                double_sided,
                 ..Material::default()
             });
         }
@@ -153,6 +161,7 @@ impl MaterialReader {
             metallic,
             roughness,
             tex_coord,
+            double_sided,
         })
     }
 }

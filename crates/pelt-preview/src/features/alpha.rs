@@ -5,7 +5,7 @@
 //! features share; with the fur composited by OIT, the composite draws them instead.
 
 use crate::draw::{MissingInput, slot};
-use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
+use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared, Sides};
 use crate::frame_data::Res;
 use crate::recipe::Recipe;
 use crate::renderer::Blend;
@@ -42,6 +42,7 @@ pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), M
         r,
         s.pass.name(),
         Some(slot::GBUFFER_MATERIAL),
+        Sides::Both,
         &f.plan.alpha,
     )
 }
@@ -63,5 +64,11 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), Miss
     let (group, offset) = shading::lighting(f, s.lit).0;
     r.bind(slot::LIGHTING, group, offset);
     r.pipeline((s.object)(Blend::Over));
-    f.draw_objects(r, s.pass.name(), Some(slot::MATERIAL), &f.plan.alpha)
+    f.draw_objects(
+        r,
+        s.pass.name(),
+        Some(slot::MATERIAL),
+        Sides::Both,
+        &f.plan.alpha,
+    )
 }

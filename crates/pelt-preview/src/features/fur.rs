@@ -155,6 +155,7 @@ pub fn layer_pipeline(layer: Layer, lighting: Lighting, blend: Blend) -> Pipelin
             // Blended shells show only their outer side (the far side's shells stick out
             // behind the silhouette, where they would blend in the wrong order).
             cull: (shells && blend != Blend::None).then_some(wgpu::Face::Back),
+            front_face: wgpu::FrontFace::Ccw,
             // One fragment entry point: straight alpha, or with WBOIT the OIT outputs; the
             // coverage code the object needs (the strand-resolving taps only where the plan
             // says a pixel may resolve strands).

@@ -5,9 +5,9 @@
 //! objects.
 
 use crate::draw::{MissingInput, slot, vertex_layout};
-use crate::feature::{Build, DrawDesc, Feature, Frame, PassDesc, Phase, Shade, Shared};
+use crate::feature::{Build, DrawDesc, Feature, Frame, PassDesc, Phase, Shade, Shared, Sides};
 use crate::frame_data::Res;
-use crate::gpu_material::untextured;
+use crate::gpu_material::with_untextured;
 use crate::layout;
 use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe};
@@ -33,9 +33,19 @@ pub fn pipeline() -> PipelineDesc {
     }
 }
 
+/// gbuffer.wgsl's override constant: whether the objects drawn are stippled (alpha layers
+/// discard the pixels outside their pattern); keep in sync with gbuffer.wgsl.
+pub const STIPPLED: &str = "STIPPLED";
+
+/// The G-buffer pipeline of opaque objects: every pixel kept, so the shader never discards
+/// and the rasterizer tests depth before shading.
+pub fn opaque_pipeline() -> PipelineDesc {
+    pipeline().with_constant(STIPPLED, Some(0.0))
+}
+
 /// The geometry pass's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || vec![pipeline(), untextured(pipeline())],
+    pipelines: || with_untextured([pipeline(), opaque_pipeline()]),
     passes: &[PassDesc::new(Pass::Geometry, Build::One(pass))],
     draws: &[DrawDesc {
         into: Shared::Geometry,
@@ -89,10 +99,11 @@ fn opaque<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), Missin
     if f.plan.opaque.is_empty() && f.plan.reflective.is_empty() {
         return Ok(());
     }
-    r.pipeline(pipeline());
+    r.pipeline(opaque_pipeline());
     let material = Some(slot::GBUFFER_MATERIAL);
-    f.draw_objects(r, s.pass.name(), material, &f.plan.opaque)?;
-    f.draw_objects(r, s.pass.name(), material, &f.plan.reflective)
+    let sides = Sides::Material;
+    f.draw_objects(r, s.pass.name(), material, sides, &f.plan.opaque)?;
+    f.draw_objects(r, s.pass.name(), material, sides, &f.plan.reflective)
 }
 
 /// The geometry pass: the G-buffer cleared, then the registered features' draws into it

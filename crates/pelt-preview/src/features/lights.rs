@@ -1,16 +1,17 @@
 //! Lights (Kircher & Lawrance §2.2): the L-buffer starts at the ambient term; each point
 //! light adds its diffuse and specular intensity over its scissor rectangle only, reading
-//! position and normal back from the G-buffer.
+//! position and normal back from the G-buffer. The geometry pass's depth, tested read-only
+//! against the far side of each light's reach, rejects the pixels behind it before shading.
 
 use crate::draw::{ADD, MissingInput};
 use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::frame_data::Res;
 use crate::layout;
 use crate::plan::Pass;
-use crate::recipe::{Color, Recipe, Step};
+use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::FurLighting;
-use crate::shaders::ShaderDesc;
+use crate::shaders::{Entry, ShaderDesc};
 
 /// Bind-group slots of light.wgsl.
 pub mod slot {
@@ -24,10 +25,14 @@ pub mod slot {
     pub const SHELL_TABLE: u32 = 3;
 }
 
-/// light.wgsl, a full-screen pass scissored to each light.
-pub const SHADER: ShaderDesc = ShaderDesc::fullscreen("light.wgsl", "fs_main");
+/// light.wgsl, a full-screen triangle per light (at its reach's far depth), scissored to it.
+pub const SHADER: ShaderDesc = ShaderDesc {
+    entry: Entry::Render("vs_light", "fs_main"),
+    ..ShaderDesc::render("light.wgsl")
+};
 
-/// The light shader's pipeline: additive into the L-buffer.
+/// The light shader's pipeline: additive into the L-buffer, where the light's far depth is
+/// at or beyond the surface's (the G-buffer's depth, not written).
 pub fn pipeline() -> PipelineDesc {
     PipelineDesc {
         shader: SHADER,
@@ -39,6 +44,7 @@ pub fn pipeline() -> PipelineDesc {
                 layout::SHELL_TABLE,
             ],
             blends: vec![Some(ADD)],
+            depth: Some((false, wgpu::CompareFunction::GreaterEqual)),
             ..PipelineSpec::default()
         },
     }
@@ -102,7 +108,11 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
                 a: 0.0,
             }),
         }],
-        None,
+        Some(Depth {
+            view: &g.depth.view,
+            format: g.depth.format,
+            load: wgpu::LoadOp::Load,
+        }),
     );
     r.pipeline(if strand_lit(f) {
         pipeline()

@@ -7,7 +7,7 @@
 
 use crate::draw::{MissingInput, slot};
 use crate::feature::{
-    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
+    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared, Sides,
 };
 use crate::gpu_material::with_untextured;
 use crate::layout;
@@ -50,7 +50,13 @@ pub fn opaque<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), Mi
     let (group, offset) = shading::lighting(f, s.lit).0;
     r.bind(slot::LIGHTING, group, offset);
     r.pipeline((s.object)(Blend::None));
-    f.draw_objects(r, s.pass.name(), Some(slot::MATERIAL), &f.plan.opaque)
+    f.draw_objects(
+        r,
+        s.pass.name(),
+        Some(slot::MATERIAL),
+        Sides::Material,
+        &f.plan.opaque,
+    )
 }
 
 /// The material pass.

@@ -16,7 +16,7 @@ use glam::{Mat4, Vec3};
 
 use crate::draw::{MissingInput, vertex_layout};
 use crate::feature::{
-    Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared,
+    Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared, Sides,
 };
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
@@ -757,5 +757,5 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
     r.pipeline(reflect_pipeline());
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
-    f.draw_objects(r, pass, None, &f.plan.reflective)
+    f.draw_objects(r, pass, None, Sides::Both, &f.plan.reflective)
 }
