@@ -279,16 +279,31 @@ impl<'a> Recipe<'a> {
         differs: impl Fn(&PipelineDesc) -> bool,
         change: impl FnOnce(PipelineDesc) -> PipelineDesc,
     ) {
-        let current = self.steps.iter().rev().find_map(|s| match s {
-            Step::Pipeline(k) => Some(k),
-            _ => None,
-        });
-        let Some(current) = current.filter(|k| differs(&k.desc)) else {
+        let Some(at) = self
+            .steps
+            .iter()
+            .rposition(|s| matches!(s, Step::Pipeline(_)))
+        else {
             return;
         };
+        let Step::Pipeline(current) = &self.steps[at] else {
+            return;
+        };
+        if !differs(&current.desc) {
+            return;
+        }
         let mut key = current.clone();
         key.desc = change(key.desc);
-        self.steps.push(Step::Pipeline(key));
+        // A pipeline nothing has drawn with yet is replaced, not followed: it is neither set
+        // nor compiled for nothing.
+        let drawn = self.steps[at..]
+            .iter()
+            .any(|s| matches!(s, Step::Draw(..) | Step::DrawIndexed(..)));
+        if drawn {
+            self.steps.push(Step::Pipeline(key));
+        } else {
+            self.steps[at] = Step::Pipeline(key);
+        }
     }
 
     /// Binds `group` at `slot`.

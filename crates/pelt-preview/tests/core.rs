@@ -458,4 +458,22 @@ fn a_pass_sets_a_pipeline_or_bind_group_once_until_it_changes() {
     r.bind(1, &b, Some(256));
     r.bind(0, &a, None);
     assert_eq!(r.counts().binds, 5);
+    // Varying a pipeline nothing has drawn with yet replaces it (neither set nor compiled);
+    // after a draw it is a new pipeline.
+    let mut r = Recipe::new(Pass::Geometry, vec![], None);
+    r.pipeline(geometry.clone());
+    r.specialize(pelt_preview::gpu_material::TEXTURED, Some(0.0));
+    r.sides(Some(wgpu::Face::Back), wgpu::FrontFace::Ccw);
+    r.push(Step::Draw(0..3, 0..1));
+    assert_eq!(r.keys().count(), 1);
+    let k = r.keys().next().expect("a key");
+    assert_eq!(k.desc.spec.cull, Some(wgpu::Face::Back));
+    assert_eq!(
+        k.desc.constant(pelt_preview::gpu_material::TEXTURED),
+        Some(0.0)
+    );
+    r.sides(None, wgpu::FrontFace::Cw);
+    r.push(Step::Draw(0..3, 0..1));
+    assert_eq!(r.keys().count(), 2);
+    assert_eq!(r.counts().pipelines, 2);
 }
