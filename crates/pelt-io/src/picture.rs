@@ -122,13 +122,18 @@ pub fn material_texture(doc: &Document, material: usize, slot: Slot) -> Result<O
     }))
 }
 
+/// Material `material`'s JSON object, or an error naming it when the document has none.
+fn material_json(doc: &Document, material: usize) -> Result<&serde_json::Value> {
+    doc.array("materials")
+        .get(material)
+        .ok_or_else(|| doc.invalid(format!("materials[{material}]"), "does not exist"))
+}
+
 /// A material's scalar factors: (`normalTexture.scale`, `metallicFactor`, `roughnessFactor`),
 /// glTF's defaults (1, 1, 1) where the material leaves them out. Read from the JSON itself, so
 /// a document still being built (its buffers not yet laid out) has factors too.
 pub fn material_factors(doc: &Document, material: usize) -> Result<[f32; 3]> {
-    let Some(m) = doc.array("materials").get(material) else {
-        return Err(doc.invalid(format!("materials[{material}]"), "does not exist"));
-    };
+    let m = material_json(doc, material)?;
     let field = |path: [&str; 2], name: &str| -> Result<f32> {
         let v = m.get(path[0]).and_then(|p| p.get(path[1]));
         match v {
@@ -165,10 +170,7 @@ pub fn material_factors(doc: &Document, material: usize) -> Result<[f32; 3]> {
 /// Whether material `material` is double-sided (glTF 2.0 §3.9.5: `doubleSided`, default
 /// false: back faces are culled and a single-sided surface is seen from its front only).
 pub fn double_sided(doc: &Document, material: usize) -> Result<bool> {
-    let Some(m) = doc.array("materials").get(material) else {
-        return Err(doc.invalid(format!("materials[{material}]"), "does not exist"));
-    };
-    match m.get("doubleSided") {
+    match material_json(doc, material)?.get("doubleSided") {
         None => Ok(false),
         Some(v) => v.as_bool().ok_or_else(|| {
             doc.invalid(
@@ -261,10 +263,11 @@ mod tests {
     #[test]
     fn materials_are_single_sided_unless_they_say_otherwise() {
         let json = br#"{"asset":{"version":"2.0"},"materials":[{},{"doubleSided":true},{"doubleSided":false},{"doubleSided":1}]}"#;
-        let doc = Document::from_bytes(std::path::Path::new("m.gltf"), json.to_vec()).unwrap();
-        assert!(!double_sided(&doc, 0).unwrap());
-        assert!(double_sided(&doc, 1).unwrap());
-        assert!(!double_sided(&doc, 2).unwrap());
+        let doc = Document::from_bytes(std::path::Path::new("m.gltf"), json.to_vec())
+            .expect("a document");
+        assert!(!double_sided(&doc, 0).expect("a bool"));
+        assert!(double_sided(&doc, 1).expect("a bool"));
+        assert!(!double_sided(&doc, 2).expect("a bool"));
         let e = double_sided(&doc, 3).unwrap_err().to_string();
         assert!(
             e.contains("m.gltf") && e.contains("materials[3].doubleSided"),

@@ -184,7 +184,7 @@ pub fn upload(r: &Renderer, m: &Material) -> GpuMaterial {
     let group = r.group("material", &LAYOUT, &resources);
     GpuMaterial {
         group,
-        textured: m.base_color.is_some() || m.normal.is_some() || m.metallic_roughness.is_some(),
+        textured: m.textured(),
         double_sided: m.double_sided,
         base_view,
         base_sampler,

@@ -177,6 +177,9 @@ pub struct Recipe<'a> {
     colors: Vec<Color<'a>>,
     depth: Option<Depth<'a>>,
     steps: Vec<Step<'a>>,
+    /// The current pipeline: its step's index and whether anything has drawn with it, so
+    /// varying it per object part needs no search through the steps.
+    current: Option<(usize, bool)>,
 }
 
 impl<'a> Recipe<'a> {
@@ -189,6 +192,7 @@ impl<'a> Recipe<'a> {
             colors,
             depth,
             steps: Vec::new(),
+            current: None,
         }
     }
 
@@ -200,6 +204,7 @@ impl<'a> Recipe<'a> {
             colors: Vec::new(),
             depth: None,
             steps: Vec::new(),
+            current: None,
         }
     }
 
@@ -227,6 +232,7 @@ impl<'a> Recipe<'a> {
             colors: Vec::new(),
             depth: None,
             steps: Vec::new(),
+            current: None,
         }
     }
 
@@ -246,7 +252,7 @@ impl<'a> Recipe<'a> {
     /// Switches to the pipeline of `desc`.
     pub fn pipeline(&mut self, desc: PipelineDesc) {
         let key = self.key(desc);
-        self.steps.push(Step::Pipeline(key));
+        self.push(Step::Pipeline(key));
     }
 
     /// Switches to a specialization of the current pipeline: the same descriptor with the
@@ -279,11 +285,7 @@ impl<'a> Recipe<'a> {
         differs: impl Fn(&PipelineDesc) -> bool,
         change: impl FnOnce(PipelineDesc) -> PipelineDesc,
     ) {
-        let Some(at) = self
-            .steps
-            .iter()
-            .rposition(|s| matches!(s, Step::Pipeline(_)))
-        else {
+        let Some((at, drawn)) = self.current else {
             return;
         };
         let Step::Pipeline(current) = &self.steps[at] else {
@@ -296,11 +298,8 @@ impl<'a> Recipe<'a> {
         key.desc = change(key.desc);
         // A pipeline nothing has drawn with yet is replaced, not followed: it is neither set
         // nor compiled for nothing.
-        let drawn = self.steps[at..]
-            .iter()
-            .any(|s| matches!(s, Step::Draw(..) | Step::DrawIndexed(..)));
         if drawn {
-            self.steps.push(Step::Pipeline(key));
+            self.push(Step::Pipeline(key));
         } else {
             self.steps[at] = Step::Pipeline(key);
         }
@@ -308,7 +307,7 @@ impl<'a> Recipe<'a> {
 
     /// Binds `group` at `slot`.
     pub fn bind(&mut self, slot: u32, group: &'a wgpu::BindGroup, offset: Option<u32>) {
-        self.steps.push(Step::Bind {
+        self.push(Step::Bind {
             slot,
             group,
             offset,
@@ -317,6 +316,11 @@ impl<'a> Recipe<'a> {
 
     /// Any other step.
     pub fn push(&mut self, step: Step<'a>) {
+        match (&step, &mut self.current) {
+            (Step::Pipeline(_), c) => *c = Some((self.steps.len(), false)),
+            (Step::Draw(..) | Step::DrawIndexed(..), Some((_, drawn))) => *drawn = true,
+            _ => {}
+        }
         self.steps.push(step);
     }
 
