@@ -11,7 +11,7 @@
 // away, 2 the nearest surfaces of the rest of the scene, 3.. the next ones, each peeled behind
 // the layer before (the previous layer's distances come in as `peel`).
 //
-// Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect.rs.
+// Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
 #import pelt::common::{Light, VertexIn, pack_geometry, point_light, texel_distance}
 #import pelt::object_bindings::{object}

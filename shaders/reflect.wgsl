@@ -18,7 +18,7 @@
 // leaves the scene ends in the sky, and one still on a mirror after MAXDEPTH bounces ends in
 // the sky in its mirror direction (pelt-trace's path.rs follows the same rules).
 //
-// Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect.rs.
+// Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
 #import pelt::common::{Light, VertexIn, oct_decode, procedural, texel_distance}
 #import pelt::object_bindings::{frame, object}

@@ -1,4 +1,4 @@
-//! `pelt bake`: the flags as `BakeOptions`, the batch run by `pelt_batch` (jobs, thread pool,
+//! `pelt bake`: the flags as `BakeOptions` (`pelt_bake::flags`), the batch run by `pelt_batch` (jobs, thread pool,
 //! report schema, depfile), progress shown and the outcome summarized.
 
 use std::path::PathBuf;
@@ -7,40 +7,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use pelt_bake::BakeOptions;
 use pelt_bake::config::BakeConfig;
 use pelt_bake::fur::FurAssets;
-use pelt_bake::options::{DEFAULT_CREASE_ANGLE_DEG, TopologyOptions};
 use pelt_batch::report::{FurRun, InputReport, OptionsReport, Report, Summary};
 use pelt_batch::{Job, Outcome, Settings, Status, messages};
 
 use crate::BakeArgs;
-
-fn options(args: &BakeArgs, config: Option<&BakeConfig>) -> anyhow::Result<BakeOptions> {
-    let comb_config = config.and_then(|c| c.comb.clone()).unwrap_or_default();
-    let comb = comb_config
-        .source(args.comb)
-        .map_err(|e| anyhow::anyhow!("comb.source: {e}"))?;
-    let crease_deg = args.crease_angle.unwrap_or_else(|| {
-        config
-            .and_then(|c| c.normals.as_ref())
-            .map_or(DEFAULT_CREASE_ANGLE_DEG, |n| n.crease_angle)
-    });
-    Ok(BakeOptions {
-        tangents: args.tangents,
-        tangent_generator: args.tangent_generator,
-        color_space: args.comb_color_space,
-        axes: args.comb_axes,
-        quantize: args.quantize,
-        topology_mode: args.topology,
-        topology: TopologyOptions {
-            weld_epsilon: args.weld_epsilon,
-            normal_tolerance: args.normal_tolerance.to_radians(),
-        },
-        comb,
-        crease_angle: crease_deg.to_radians(),
-    })
-}
 
 /// Runs `pelt bake`.
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
@@ -50,7 +22,7 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
         Some(path) => BakeConfig::read(path).map(|(c, b)| (Some(c), Some(b)))?,
         None => (None, None),
     };
-    let opts = options(args, config.as_ref())?;
+    let opts = args.bake.options(config.as_ref())?;
     let fur = match (&args.config, config.as_ref().and_then(|c| c.fur.clone())) {
         (Some(path), Some(fur)) => Some(
             FurAssets::new(fur).with_context(|| format!("fur textures of {}", path.display()))?,

@@ -15,14 +15,11 @@ mod view;
 #[global_allocator]
 static GLOBAL: pelt_alloc::HugePageAlloc = pelt_alloc::HugePageAlloc;
 
-use std::ops::RangeInclusive;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
-use pelt_bake::options::{ColorSpace, Quantize, TangentGenerator, TangentMode, TopologyMode};
+use clap::{Parser, Subcommand};
 use pelt_preview::flags;
-use pelt_preview::scene::reflection_limits as limits;
 
 const BAKE_EXAMPLES: &str = "\
 Examples:
@@ -107,10 +104,10 @@ enum Command {
     /// Open a scene file or an asset in a window: orbit, pan, zoom, every knob on a key,
     /// reload on change, screenshots; or, scripted, draw N frames and save the last.
     #[command(after_help = VIEW_EXAMPLES)]
-    View(ViewArgs),
+    View(pelt_view::ViewArgs),
     /// Time the inferred-lighting paper's two experiments (101 objects × 81 lights against
     /// forward; 800×450 L-buffer with DSF against 1280×720 without) on this adapter.
-    RenderBench(RenderBenchArgs),
+    RenderBench(pelt_measure::bench_run::Settings),
     /// Bake the bundled Khronos Fox with a generated comb and render it furred and textured
     /// mid-walk (demo.png) and over its walk (fox-walk.png); bake the fixture creature and
     /// render it (creature.png), a turntable contact sheet and a mirror scene.
@@ -206,48 +203,9 @@ pub struct BakeArgs {
     /// Write a JSON report to FILE ("-" for standard output).
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
-    /// Keep TANGENT where present, or always generate tangents.
-    #[arg(long, default_value = "keep", value_parser = named::<TangentMode>(TangentMode::NAMES))]
-    pub tangents: TangentMode,
-    /// Which generator makes generated tangents: auto = MikkTSpace where the primitive's
-    /// material has a normal texture, the one-pass UV-gradient frame elsewhere (the comb
-    /// decodes the same in any stored frame; several times faster); mikktspace everywhere;
-    /// gradient everywhere.
-    #[arg(long, default_value = "auto", value_parser = named::<TangentGenerator>(TangentGenerator::NAMES))]
-    pub tangent_generator: TangentGenerator,
-    /// How COLOR_0 holds the painted direction: linear (glTF's definition) or srgb (8-bit
-    /// sRGB paint that an exporter linearized, as Blender does with byte colors).
-    #[arg(long, default_value = "linear", value_parser = named::<ColorSpace>(ColorSpace::NAMES))]
-    pub comb_color_space: ColorSpace,
-    /// Remap the comb's axes, e.g. x,z,-y for a comb painted in a Z-up tool.
-    #[arg(long, default_value = "x,y,z")]
-    pub comb_axes: pelt_bake::options::AxisMap,
-    /// Storage of _FUR_COMB: float, or normalized u16 / u8.
-    #[arg(long, default_value = "float", value_parser = named::<Quantize>(Quantize::NAMES))]
-    pub quantize: Quantize,
-    /// Topology to write: full (_NORMAL_GROUP and fin edges), groups (_NORMAL_GROUP only) or
-    /// off (the comb bake alone, for engines that use neither).
-    #[arg(long, default_value = "full", value_parser = named::<TopologyMode>(TopologyMode::NAMES))]
-    pub topology: TopologyMode,
-    /// Weld positions closer than this (in the mesh's units) for topology, for exports whose
-    /// seams do not meet exactly. 0 welds bit-equal positions only.
-    #[arg(long, value_name = "DIST", default_value_t = 0.0, value_parser = non_negative)]
-    pub weld_epsilon: f32,
-    /// Normals at a shared edge that differ by at most this angle (degrees) keep the two faces
-    /// in one normal group; larger differences are creases.
-    #[arg(long, value_name = "DEG", default_value_t = pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG, value_parser = degrees)]
-    pub normal_tolerance: f32,
-    /// Where the comb comes from: painted (COLOR_0; primitives without it get normal groups
-    /// only) or generate[:AXIS], fur flowing along an object-space axis projected on the
-    /// surface (x, y, z with an optional sign, or three numbers; default -z, toward the back
-    /// in glTF axes). Overrides the config's comb.source.
-    #[arg(long, value_name = "SOURCE")]
-    pub comb: Option<pelt_bake::options::CombSource>,
-    /// Crease angle (degrees) of the smooth normals made for meshes without NORMAL: faces
-    /// whose normals differ by more keep a hard edge; 0 gives flat normals, as glTF clients
-    /// assume (default 60, or the config's normals.creaseAngle).
-    #[arg(long, value_name = "DEG", value_parser = degrees)]
-    pub crease_angle: Option<f32>,
+    /// Tangents, the comb's encoding, topology and normals (pelt-bake's `Flags`).
+    #[command(flatten)]
+    pub bake: pelt_bake::flags::Flags,
     /// Bake config (JSON). Its `fur` section makes the bake generate fur textures and embed
     /// them, with the fur manifest, in each output; `comb` and `normals` set the generated
     /// comb and normals (see docs/format.md).
@@ -274,7 +232,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "NAME")]
     pub animation: Option<String>,
     /// Seconds into --animation (clamped to its keys).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true, requires = "animation")]
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = flags::finite, allow_negative_numbers = true, requires = "animation")]
     pub time: f32,
     /// With --animation and an asset: a contact sheet of N frames evenly over the clip (4 to a
     /// row, each tile half the --size, the camera framed on the first).
@@ -339,65 +297,6 @@ fn target_flip(s: &str) -> Result<f32, String> {
     }
 }
 
-/// Arguments of `pelt view`.
-#[derive(clap::Args)]
-pub struct ViewArgs {
-    /// A scene file (.json) or an asset (.glb, .gltf, .obj).
-    pub input: PathBuf,
-    /// Mode, back end, size (the window's; default: a scene's output size, or 960x540 for
-    /// an asset) and the knobs; M, [ ], D, - =, I and B change them in the window.
-    #[command(flatten)]
-    pub knobs: KnobArgs,
-    /// Target frame time (ms) while the camera moves: L-buffer scale, shells and then
-    /// resolution are lowered to hold it; a still camera gets the full-quality frame.
-    #[arg(long, value_name = "MS", default_value_t = 66.0, value_parser = positive_ms)]
-    pub budget_ms: f64,
-    /// Reload the shaders from this folder when they change (debug builds: the source
-    /// tree's shaders/ by default).
-    #[arg(long, value_name = "DIR")]
-    pub shaders: Option<PathBuf>,
-    /// Scripted: draw this many frames, then exit (with --screenshot, save the last).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-    pub frames: Option<u32>,
-    /// Scripted: write the still, full-quality frame after the last one to this PNG.
-    #[arg(long, value_name = "FILE", requires = "frames")]
-    pub screenshot: Option<PathBuf>,
-    /// Scripted: draw the text overlay too (it is off in scripted mode, so screenshots are
-    /// the plain render).
-    #[arg(long, requires = "frames")]
-    pub overlay: bool,
-    /// Scripted: orbit the camera this many degrees before each frame after the first.
-    #[arg(
-        long,
-        value_name = "DEG",
-        default_value_t = 0.0,
-        requires = "frames",
-        allow_negative_numbers = true
-    )]
-    pub orbit: f32,
-    /// Print nothing but errors.
-    #[arg(short, long)]
-    pub quiet: bool,
-    /// An animated asset's clip to start with (default: its first; `pelt inspect` lists
-    /// them). The window plays it: Space plays and pauses, `,` `.` step a frame, C picks
-    /// the next clip.
-    #[arg(long, value_name = "NAME")]
-    pub animation: Option<String>,
-    /// Seconds into the clip to start at.
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true)]
-    pub time: f32,
-    /// Scripted: advance the clip one 1/30 s frame per frame drawn (the window always plays).
-    #[arg(long, requires = "frames")]
-    pub play: bool,
-}
-
-fn positive_ms(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("{s:?} is not a positive number of milliseconds")),
-    }
-}
-
 /// The renderer's mode, back end, size and knobs: the same flags for `pelt render` and
 /// `pelt view`.
 #[derive(clap::Args)]
@@ -413,58 +312,9 @@ pub struct KnobArgs {
     /// wgpu back end: auto, vulkan or gl.
     #[arg(long, default_value = "auto")]
     pub backend: pelt_preview::Backend,
-    /// Output size WxH (overrides the scene's).
-    #[arg(long, value_parser = flags::size)]
-    pub size: Option<(u32, u32)>,
-    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
-    #[arg(long, value_parser = flags::lbuffer_scale)]
-    pub lbuffer_scale: Option<f32>,
-    /// Discontinuity sensitive filtering on or off (overrides the scene's).
-    #[arg(long, value_enum)]
-    pub dsf: Option<OnOff>,
-    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
-    #[arg(long, value_parser = within(pelt_fur::manifest::SHELLS))]
-    pub shells: Option<u32>,
-    /// Silhouette fins on or off (overrides the scene's).
-    #[arg(long, value_enum)]
-    pub fins: Option<OnOff>,
-    /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
-    /// outer) or wboit (weighted blended order-independent transparency).
-    #[arg(long)]
-    pub fur_blend: Option<pelt_preview::scene::FurBlend>,
-    /// How much of the skin each shell hides: analytic (the strand model's optical depth
-    /// where a pixel holds many strands, the heightfield where it resolves them) or binary
-    /// (the heightfield alone, Revie §2.4.4 as written).
-    #[arg(long)]
-    pub fur_coverage: Option<pelt_preview::scene::FurCoverage>,
-    /// How the deferred and inferred paths light fur: kajiya-kay (the strand tangent in
-    /// the G-buffer, Kajiya-Kay per light) or revie (grain and rim-bent normals).
-    #[arg(long)]
-    pub fur_lighting: Option<pelt_preview::scene::FurLighting>,
-    /// How mirrors and glass are drawn: distance-maps (GPU Gems 3 ch. 17), envmap (the
-    /// classic environment-map baseline) or off (opaque).
-    #[arg(long)]
-    pub reflections: Option<pelt_preview::scene::Technique>,
-    /// Distance-map linear search steps per quarter turn, 1 to 1024.
-    #[arg(long, value_name = "N", value_parser = within(limits::LINEAR_STEPS))]
-    pub linear_steps: Option<u32>,
-    /// Secant refinement steps, 0 to 64.
-    #[arg(long, value_name = "N", value_parser = within(limits::SECANT_STEPS))]
-    pub secant_steps: Option<u32>,
-    /// Distance-map layers, 3 to 8 (object front faces, back faces, and depth-peeled
-    /// layers of the rest of the scene).
-    #[arg(long, value_name = "N", value_parser = within(limits::LAYERS))]
-    pub layers: Option<u32>,
-    /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
-    /// limit).
-    #[arg(long, value_name = "N", value_parser = flags::cube_size)]
-    pub cube_size: Option<u32>,
-    /// Most specular bounces on a path, 1 to 16.
-    #[arg(long, value_name = "N", value_parser = within(limits::MAX_DEPTH))]
-    pub max_depth: Option<u32>,
-    /// Min-max acceleration of the distance-map search on or off.
-    #[arg(long, value_enum)]
-    pub min_max: Option<OnOff>,
+    /// The overrides: size, L-buffer, fur and reflection knobs (pelt-scene's `Knobs`).
+    #[command(flatten)]
+    pub overrides: pelt_preview::knobs::Knobs,
 }
 
 /// The renderer (`--mode`): one of the GPU modes, or the CPU ray tracer.
@@ -497,37 +347,6 @@ impl std::fmt::Display for RenderMode {
     }
 }
 
-/// A count parser for `range`, the range the scene file accepts (pelt-scene's, one home).
-fn within(range: RangeInclusive<u32>) -> clap::builder::RangedI64ValueParser<u32> {
-    clap::value_parser!(u32).range(i64::from(*range.start())..=i64::from(*range.end()))
-}
-
-impl KnobArgs {
-    /// The overrides the flags set.
-    pub fn knobs(&self) -> pelt_preview::knobs::Knobs {
-        let on = |o: Option<OnOff>| o.map(|v| v == OnOff::On);
-        pelt_preview::knobs::Knobs {
-            size: self.size,
-            lbuffer_scale: self.lbuffer_scale,
-            dsf: on(self.dsf),
-            shells: self.shells,
-            fins: on(self.fins),
-            fur_blend: self.fur_blend,
-            fur_coverage: self.fur_coverage,
-            fur_lighting: self.fur_lighting,
-            reflections: pelt_preview::knobs::ReflectionKnobs {
-                technique: self.reflections,
-                linear_steps: self.linear_steps,
-                secant_steps: self.secant_steps,
-                layers: self.layers,
-                cube_size: self.cube_size,
-                max_depth: self.max_depth,
-                min_max: on(self.min_max),
-            },
-        }
-    }
-}
-
 /// Arguments of `pelt demo`.
 #[derive(clap::Args)]
 pub struct DemoArgs {
@@ -542,7 +361,7 @@ pub struct DemoArgs {
     #[arg(long, value_parser = flags::size, default_value = "1280x720")]
     pub size: (u32, u32),
     /// Shells (default: the bake's 16).
-    #[arg(long, value_parser = within(pelt_fur::manifest::SHELLS))]
+    #[arg(long, value_parser = |s: &str| flags::count(s, pelt_fur::manifest::SHELLS))]
     pub shells: Option<u32>,
     /// How fur is composited: stipple or wboit.
     #[arg(long, default_value = "stipple")]
@@ -555,66 +374,6 @@ pub struct DemoArgs {
     pub quiet: bool,
 }
 
-/// Arguments of `pelt render-bench`.
-#[derive(clap::Args)]
-pub struct RenderBenchArgs {
-    /// Which experiment: objects (a), lbuffer (b), fur (shells, fins, blend) or all.
-    #[arg(long, value_enum, default_value_t = Experiment::All)]
-    pub experiment: Experiment,
-    /// wgpu back end: auto, vulkan or gl.
-    #[arg(long, default_value = "auto")]
-    pub backend: pelt_preview::Backend,
-    /// Timed frames per configuration.
-    #[arg(long, default_value_t = 15)]
-    pub frames: usize,
-    /// Untimed frames first.
-    #[arg(long, default_value_t = 3)]
-    pub warmup: usize,
-    /// The object every grid cell holds.
-    #[arg(long, default_value = "builtin:sphere")]
-    pub asset: String,
-    /// The reflections experiment's scene.
-    #[arg(long, default_value = "fixtures/scenes/mirrors.json")]
-    pub scene: PathBuf,
-    /// The reflections experiment's mode (forward: the same lighting as the ray tracer, so
-    /// the error is the reflections' alone).
-    #[arg(long, default_value = "forward")]
-    pub mode: pelt_preview::Mode,
-    /// After each experiment's table, each row's profile: per pass, the device's time, the
-    /// CPU's encode time, draws, pipeline and bind-group changes, triangles and vertex bytes.
-    #[arg(long)]
-    pub profile: bool,
-    /// Write the reflections experiment's pictures here: ours, the ray tracer's, the
-    /// environment map's and FLIP heat maps.
-    #[arg(long, value_name = "DIR")]
-    pub pictures: Option<PathBuf>,
-}
-
-/// The experiments of `pelt render-bench`.
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Experiment {
-    /// 101 objects, 81 lights: inferred against forward.
-    Objects,
-    /// 122 lights: 800×450 L-buffer with DSF against 1280×720 without.
-    Lbuffer,
-    /// The fur demo: shells 4 to 64, fins on and off, stipple against WBOIT, forward.
-    Fur,
-    /// Mirrors and glass against the ray tracer: Figure 17-6's linear/secant steps,
-    /// min-max on and off, cube size, layers, bounces, the environment-map baseline.
-    Reflections,
-    /// All of them.
-    All,
-}
-
-/// on / off.
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum OnOff {
-    /// On.
-    On,
-    /// Off.
-    Off,
-}
-
 /// Arguments of `pelt textures`. Every strand option overrides the config's
 /// `fur.textures` value.
 #[derive(clap::Args)]
@@ -625,54 +384,9 @@ pub struct TexturesArgs {
     /// Bake config whose `fur` section gives the defaults.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// Seed of the strand generator.
-    #[arg(long)]
-    pub seed: Option<u64>,
-    /// Texture side in texels (a power of two, 4 to 16384).
-    #[arg(long)]
-    pub size: Option<u32>,
-    /// Fin texture height in texels (a power of two up to --size; default size/4).
-    #[arg(long)]
-    pub fin_height: Option<u32>,
-    /// Strands per tile.
-    #[arg(long)]
-    pub strands: Option<u32>,
-    /// Mean strand radius in tile widths.
-    #[arg(long)]
-    pub radius: Option<f64>,
-    /// Radius jitter in [0, 1).
-    #[arg(long)]
-    pub radius_jitter: Option<f64>,
-    /// Shortest strand, as a fraction of the fur length.
-    #[arg(long)]
-    pub height_min: Option<f64>,
-    /// Longest strand, as a fraction of the fur length.
-    #[arg(long)]
-    pub height_max: Option<f64>,
-    /// Height distribution exponent: 1 uniform, above 1 more short strands.
-    #[arg(long)]
-    pub height_bias: Option<f64>,
-    /// Lean: tips displaced by up to this many radii per unit height.
-    #[arg(long)]
-    pub tilt: Option<f64>,
-    /// Number of clump centres.
-    #[arg(long)]
-    pub clumps: Option<u32>,
-    /// Fraction of strands in clumps (0 to 1).
-    #[arg(long)]
-    pub clumping: Option<f64>,
-    /// Clump spread (standard deviation, tile widths).
-    #[arg(long)]
-    pub clump_radius: Option<f64>,
-    /// Thickness of the slab the fin texture shows, in tile widths.
-    #[arg(long)]
-    pub fin_depth: Option<f64>,
-    /// Heightfield bits: 16 or 8.
-    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(["8", "16"]))]
-    pub height_bits: Option<String>,
-    /// Skip the mip chains.
-    #[arg(long)]
-    pub no_mips: bool,
+    /// The strand model's parameters (pelt-fur's `StrandFlags`).
+    #[command(flatten)]
+    pub strand: pelt_fur::flags::StrandFlags,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
@@ -701,7 +415,7 @@ pub struct PoseArgs {
     #[arg(long, value_name = "NAME")]
     pub animation: Option<String>,
     /// Time in seconds (clamped to the clip's keys).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = finite, allow_negative_numbers = true)]
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = flags::finite, allow_negative_numbers = true)]
     pub time: f32,
     /// Write a JSON report to FILE ("-" for standard output).
     #[arg(long, value_name = "FILE")]
@@ -722,39 +436,6 @@ pub fn write_json_report(
         pelt_io::glb::write_atomic(path, text.as_bytes())?;
     }
     Ok(())
-}
-
-/// A finite number.
-fn finite(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("{s:?} is not a finite number")),
-    }
-}
-
-/// A parser for an option named in `names` (pelt-bake's `NAMES`, one home for them).
-fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
-where
-    T: std::str::FromStr<Err = pelt_bake::options::NameError> + Clone + Send + Sync + 'static,
-{
-    use clap::builder::TypedValueParser as _;
-    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
-}
-
-/// A finite number ≥ 0.
-fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("{s:?} is not a finite number >= 0")),
-    }
-}
-
-/// An angle in degrees, 0 to 180.
-fn degrees(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if (0.0..=180.0).contains(&v) => Ok(v),
-        _ => Err(format!("{s:?} is not an angle from 0 to 180 degrees")),
-    }
 }
 
 /// Gives Mesa a private `XDG_RUNTIME_DIR` when none is set (see
@@ -781,7 +462,7 @@ fn main() -> ExitCode {
         Command::Textures(args) => textures::run(&args),
         Command::Render(args) => render::run(&args),
         Command::RenderBench(args) => render::bench(&args),
-        Command::View(args) => view::run(&args),
+        Command::View(args) => view::run(args),
         Command::Demo(args) => demo::run(&args),
         Command::Sweep(args) => sweep::run(&args),
     };

@@ -1,18 +1,17 @@
 //! `pelt render`: a scene file or one asset (framed by a default scene) to a PNG, with the
 //! plan explained, and frame timing; `pelt render-bench`: the experiments' tables
-//! (`pelt_measure::render_bench`) printed.
+//! (`pelt_measure::bench_run`) printed.
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
-use pelt_measure::render_bench::{self, Frames};
 use pelt_preview::animate;
 use pelt_preview::asset::PoseAt;
 use pelt_preview::knobs::{self, InputError};
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
 
-use crate::{RenderArgs, RenderBenchArgs};
+use crate::RenderArgs;
 
 /// Exit code for an input that could not be rendered.
 const FAILED: u8 = 1;
@@ -36,7 +35,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
     });
     let input = match knobs::load_at(
         &args.input,
-        &args.knobs.knobs(),
+        &args.knobs.overrides,
         DEFAULT_SIZE,
         pose.as_ref(),
     ) {
@@ -190,43 +189,12 @@ fn raytrace(
     Ok(ExitCode::SUCCESS)
 }
 
-/// Runs `pelt render-bench`: each experiment's tables (`pelt_measure::render_bench`).
-pub fn bench(args: &RenderBenchArgs) -> anyhow::Result<ExitCode> {
-    use crate::Experiment::{All, Fur, Lbuffer, Objects, Reflections};
+/// Runs `pelt render-bench`: the experiments' tables (`pelt_measure::bench_run`) printed.
+pub fn bench(args: &pelt_measure::bench_run::Settings) -> anyhow::Result<ExitCode> {
     let mut preview = Preview::new(args.backend).context("opening the GPU device")?;
     println!("adapter: {}", preview.adapter());
-    let frames = Frames {
-        warmup: args.warmup,
-        timed: args.frames,
-    };
-    let e = args.experiment;
-    if matches!(e, Reflections | All) {
-        let r = render_bench::reflection_tables(&mut preview, &args.scene, args.mode, frames)
-            .with_context(|| format!("the reflections experiment on {}", args.scene.display()))?;
-        println!("{}", r.intro);
-        r.tables.iter().for_each(|t| print!("{}", t.markdown()));
-        if let Some(dir) = &args.pictures {
-            std::fs::create_dir_all(dir)?;
-            for (name, image) in &r.pictures {
-                image.save(&dir.join(name))?;
-            }
-            println!("\npictures in {}", dir.display());
-        }
-    }
-    let print = |t: render_bench::Timed| {
-        print!("{}", t.table.markdown());
-        if args.profile {
-            print!("{}", t.profiles_markdown());
-        }
-    };
-    if matches!(e, Fur | All) {
-        print(render_bench::fur(&mut preview, frames)?);
-    }
-    if matches!(e, Objects | Lbuffer | All) {
-        let which = (matches!(e, Objects | All), matches!(e, Lbuffer | All));
-        let asset = Path::new(&args.asset);
-        print(render_bench::paper(&mut preview, asset, which, frames)?);
-    }
+    pelt_measure::bench_run::run(&mut preview, args, &mut |md| print!("{md}"))
+        .context("render-bench")?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -248,7 +216,7 @@ fn contact_sheet(args: &RenderArgs, animation: &str, frames: u32) -> anyhow::Res
         Ok(l) => l,
         Err(e) => return Ok(fail(e)),
     };
-    let mut k = args.knobs.knobs();
+    let mut k = args.knobs.overrides;
     let (w, h) = k.size.unwrap_or(DEFAULT_SIZE);
     k.size = Some(((w / 2).max(1), (h / 2).max(1)));
     let poses = animate::spread(animation, clip, frames);

@@ -4,7 +4,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use pelt_bake::config::BakeConfig;
-use pelt_fur::{FurConfig, HeightBits};
+use pelt_fur::FurConfig;
 
 use crate::TexturesArgs;
 
@@ -14,36 +14,7 @@ fn config(args: &TexturesArgs) -> anyhow::Result<FurConfig> {
         Some(path) => BakeConfig::load(path)?.fur.unwrap_or_default(),
         None => FurConfig::default(),
     };
-    let t = &mut fur.textures;
-    macro_rules! set {
-        ($($field:ident),*) => { $( if let Some(v) = args.$field { t.$field = v; } )* };
-    }
-    set!(
-        seed,
-        size,
-        fin_height,
-        strands,
-        radius,
-        radius_jitter,
-        height_min,
-        height_max,
-        height_bias,
-        tilt,
-        clumps,
-        clumping,
-        clump_radius,
-        fin_depth
-    );
-    if let Some(b) = &args.height_bits {
-        t.height_bits = if b == "8" {
-            HeightBits::Eight
-        } else {
-            HeightBits::Sixteen
-        };
-    }
-    if args.no_mips {
-        t.mips = false;
-    }
+    args.strand.apply(&mut fur.textures);
     fur.validate()
         .map_err(|e| anyhow::anyhow!("fur.{}: {}", e.field, e.why))?;
     Ok(fur)

@@ -1,10 +1,8 @@
-//! `pelt view`: the flags into [`pelt_view::ViewArgs`]; the window lives in `pelt-view`.
+//! `pelt view`: the window lives in `pelt-view`, whose `ViewArgs` are the flags.
 
 use std::process::ExitCode;
 
-use pelt_preview::knobs::Knobs;
-
-use crate::ViewArgs;
+use pelt_view::ViewArgs;
 
 /// The source tree's shaders, for reloading in debug builds.
 fn default_shaders() -> Option<std::path::PathBuf> {
@@ -16,34 +14,9 @@ fn default_shaders() -> Option<std::path::PathBuf> {
 }
 
 /// Runs `pelt view`.
-pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
-    let view = pelt_view::ViewArgs {
-        input: args.input.clone(),
-        backend: args.knobs.backend,
-        mode: match args.knobs.mode {
-            crate::RenderMode::Gpu(m) => m,
-            crate::RenderMode::Raytrace => anyhow::bail!(
-                "--mode raytrace is pelt render's (the CPU ray tracer writes a PNG); pelt view takes inferred, deferred, forward, strands, debug-groups or debug-comb"
-            ),
-        },
-        // The size is the window's, not an override of the scene's.
-        knobs: Knobs {
-            size: None,
-            ..args.knobs.knobs()
-        },
-        size: args.knobs.size,
-        frames: args.frames,
-        screenshot: args.screenshot.clone(),
-        orbit: args.orbit,
-        budget_ms: args.budget_ms,
-        shaders: args.shaders.clone().or_else(default_shaders),
-        overlay: args.overlay,
-        quiet: args.quiet,
-        animation: args.animation.clone(),
-        time: args.time,
-        play: args.play,
-    };
-    match pelt_view::run(view) {
+pub fn run(mut args: ViewArgs) -> anyhow::Result<ExitCode> {
+    args.shaders = args.shaders.or_else(default_shaders);
+    match pelt_view::run(args) {
         Ok(()) => Ok(ExitCode::SUCCESS),
         Err(e) => {
             eprintln!("pelt: {e}");

@@ -9,12 +9,15 @@
 //!   it can be.
 //! - [`asset`]: a whole document, with the per-primitive report.
 //! - [`config`]: the bake config file (its `fur` section).
+//! - [`flags`]: the options as `pelt bake`'s flags (clap `Args` with the `cli` feature),
+//!   merged with a config.
 //! - [`fur`]: embedding generated fur textures and the fur manifest in a baked asset.
 //! - [`inspect`]: what a file holds, baked or not, as a report (`pelt inspect`).
 
 pub mod asset;
 pub mod comb;
 pub mod config;
+pub mod flags;
 pub use pelt_geom::frame;
 pub mod fur;
 pub mod inspect;

@@ -9,7 +9,8 @@
 //! - [`fin`]: from the side, the **fin texture** for silhouette fins;
 //! - [`mips`]: **coverage-preserving mip chains**, so fur seen from afar keeps its density.
 //!
-//! [`density`] holds the same strands as a medium (the area of strands taller than each
+//! [`flags`] holds the strand model as `pelt textures` flags (clap `Args` with the `cli`
+//! feature). [`density`] holds the same strands as a medium (the area of strands taller than each
 //! height, with mips) for the shells' sub-pixel coverage, [`path`] the curve every strand
 //! follows (Revie Listing 2.1) and its tangent. [`expect`] holds the analytic coverage the tests measure against, [`image`] the PNG
 //! encoding, [`manifest`] the fur parameters written beside the textures or into a `.glb`.
@@ -18,6 +19,7 @@ pub mod density;
 pub mod error;
 pub mod expect;
 pub mod fin;
+pub mod flags;
 pub mod image;
 pub mod manifest;
 pub mod mips;

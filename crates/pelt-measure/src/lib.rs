@@ -6,8 +6,10 @@
 //! its reference, `pelt sweep`). [`strands`] accumulates the converged strand reference of
 //! the fur; [`luminance`] compares the fur's brightness with it. [`demo_creature`] makes the
 //! painted asset the fur experiments draw, [`demo`] runs `pelt demo`, and [`render_bench`]
-//! times the papers' experiments as [`table::Table`]s.
+//! times the papers' experiments as [`table::Table`]s ([`bench_run`]: `pelt render-bench`'s
+//! choice of them, run as one call).
 
+pub mod bench_run;
 pub mod demo;
 pub mod demo_creature;
 pub mod flip;

@@ -57,6 +57,22 @@ pub fn count(s: &str, range: RangeInclusive<u32>) -> Result<u32, String> {
     }
 }
 
+/// A finite number (a time, an angle).
+pub fn finite(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("{s:?} is not a finite number")),
+    }
+}
+
+/// A positive, finite number of milliseconds (a frame budget).
+pub fn positive_ms(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("{s:?} is not a positive number of milliseconds")),
+    }
+}
+
 /// A switch: `on` or `off` (`true` and `false` too).
 pub fn switch(s: &str) -> Result<bool, String> {
     match s {

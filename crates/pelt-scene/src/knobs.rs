@@ -5,49 +5,85 @@
 use std::path::Path;
 
 use crate::asset::{self, AssetError, MeshData};
+#[cfg(feature = "cli")]
+use crate::flags;
+#[cfg(feature = "cli")]
+use crate::scene::reflection_limits as limits;
 use crate::scene::{
     FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, SceneError, Technique,
 };
+#[cfg(feature = "cli")]
+use pelt_fur::manifest::SHELLS;
 
-/// Overrides; `None` keeps the scene's value.
+/// Overrides; `None` keeps the scene's value. With the `cli` feature these are also the
+/// flags of `pelt render`, `pelt view` and `pelt sweep` (clap's `Args`), so each knob's name,
+/// range and help are written here once.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct Knobs {
-    /// Output size.
+    /// Output size WxH (overrides the scene's; `pelt view`: the window's).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = flags::size))]
     pub size: Option<(u32, u32)>,
-    /// L-buffer scale (0.1 to 1).
+    /// L-buffer scale, 0.1 to 1 (overrides the scene's).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = flags::lbuffer_scale))]
     pub lbuffer_scale: Option<f32>,
-    /// Discontinuity sensitive filtering.
+    /// Discontinuity sensitive filtering on or off (overrides the scene's).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
     pub dsf: Option<bool>,
-    /// Shells per fur object.
+    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
+    #[cfg_attr(feature = "cli", arg(long, value_parser = |s: &str| flags::count(s, SHELLS)))]
     pub shells: Option<u32>,
-    /// Silhouette fins.
+    /// Silhouette fins on or off (overrides the scene's).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
     pub fins: Option<bool>,
-    /// How fur is composited.
+    /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
+    /// outer) or wboit (weighted blended order-independent transparency).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub fur_blend: Option<FurBlend>,
-    /// How much of the skin a shell hides.
+    /// How much of the skin each shell hides: analytic (the strand model's optical depth
+    /// where a pixel holds many strands, the heightfield where it resolves them) or binary
+    /// (the heightfield alone, Revie §2.4.4 as written).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub fur_coverage: Option<FurCoverage>,
-    /// How the deferred paths light fur.
+    /// How the deferred and inferred paths light fur: kajiya-kay (the strand tangent in
+    /// the G-buffer, Kajiya-Kay per light) or revie (grain and rim-bent normals).
+    #[cfg_attr(feature = "cli", arg(long))]
     pub fur_lighting: Option<FurLighting>,
     /// Mirrors and glass.
+    #[cfg_attr(feature = "cli", command(flatten))]
     pub reflections: ReflectionKnobs,
 }
 
 /// Overrides of the scene's `reflections` block; `None` keeps the scene's value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct ReflectionKnobs {
-    /// The technique.
+    /// How mirrors and glass are drawn: distance-maps (GPU Gems 3 ch. 17), envmap (the
+    /// classic environment-map baseline) or off (opaque).
+    #[cfg_attr(
+        feature = "cli",
+        arg(id = "reflections", long = "reflections", value_name = "TECHNIQUE")
+    )]
     pub technique: Option<Technique>,
-    /// Linear search steps.
+    /// Distance-map linear search steps per quarter turn, 1 to 1024.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::LINEAR_STEPS)))]
     pub linear_steps: Option<u32>,
-    /// Secant steps.
+    /// Secant refinement steps, 0 to 64.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::SECANT_STEPS)))]
     pub secant_steps: Option<u32>,
-    /// Distance-map layers.
+    /// Distance-map layers, 3 to 8 (object front faces, back faces, and depth-peeled
+    /// layers of the rest of the scene).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::LAYERS)))]
     pub layers: Option<u32>,
-    /// Cube face size.
+    /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
+    /// limit).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = flags::cube_size))]
     pub cube_size: Option<u32>,
-    /// Most bounces.
+    /// Most specular bounces on a path, 1 to 16.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::MAX_DEPTH)))]
     pub max_depth: Option<u32>,
-    /// Min-max acceleration.
+    /// Min-max acceleration of the distance-map search on or off.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
     pub min_max: Option<bool>,
 }
 
@@ -175,6 +211,50 @@ pub fn load_at(
 mod tests {
     use super::*;
     use crate::scene::{FurSettings, Object};
+
+    #[cfg(feature = "cli")]
+    #[test]
+    fn the_flags_parse_into_the_overrides_and_refuse_what_a_scene_file_refuses() {
+        use clap::Parser as _;
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            knobs: Knobs,
+        }
+        let parse = |a: &[&str]| Cli::try_parse_from([&["pelt"], a].concat()).map(|c| c.knobs);
+        let k = parse(&[
+            "--dsf",
+            "off",
+            "--shells",
+            "8",
+            "--size",
+            "64x32",
+            "--reflections",
+            "envmap",
+            "--min-max",
+            "on",
+            "--layers",
+            "4",
+        ])
+        .expect("valid flags");
+        assert_eq!(k.dsf, Some(false));
+        assert_eq!(k.shells, Some(8));
+        assert_eq!(k.size, Some((64, 32)));
+        assert_eq!(k.reflections.technique, Some(Technique::Envmap));
+        assert_eq!(k.reflections.min_max, Some(true));
+        assert_eq!(k.reflections.layers, Some(4));
+        assert_eq!(parse(&[]).expect("no flags"), Knobs::default());
+        for bad in [
+            ["--shells", "0"],
+            ["--shells", "257"],
+            ["--layers", "9"],
+            ["--fins", "maybe"],
+            ["--lbuffer-scale", "0"],
+            ["--cube-size", "100"],
+        ] {
+            assert!(parse(&bad).is_err(), "{bad:?}");
+        }
+    }
 
     #[test]
     fn overrides_reach_every_fur_object_and_leave_the_rest() {

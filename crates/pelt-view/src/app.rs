@@ -7,6 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use pelt_preview::features::overlay::Overlay;
+use pelt_preview::knobs::Knobs;
 use pelt_preview::{Gpu, Preview};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -121,7 +122,11 @@ impl App {
         }
         let settings = Settings {
             mode: a.mode,
-            knobs: a.knobs,
+            // The size is the window's, not an override of the scene's.
+            knobs: Knobs {
+                size: None,
+                ..a.knobs
+            },
         };
         let mut viewer = Viewer::open(
             &mut preview,
@@ -357,7 +362,7 @@ impl Running {
 }
 
 /// The scene's own knob values (what a toggle starts from).
-fn scene_knobs(v: &Viewer) -> pelt_preview::knobs::Knobs {
+fn scene_knobs(v: &Viewer) -> Knobs {
     let s = &v.input.scene;
     let fur = s.objects.iter().find_map(|o| match o.material {
         pelt_preview::scene::Material::Fur(f) => Some(f),
@@ -368,7 +373,7 @@ fn scene_knobs(v: &Viewer) -> pelt_preview::knobs::Knobs {
         .meshes
         .iter()
         .find_map(|m| m.fur.as_ref().map(|f| f.look.shells));
-    pelt_preview::knobs::Knobs {
+    Knobs {
         size: None,
         lbuffer_scale: Some(s.lbuffer_scale),
         dsf: Some(s.dsf),

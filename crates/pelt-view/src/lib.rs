@@ -22,39 +22,69 @@ use pelt_preview::{Backend, Mode};
 
 pub use viewer::ViewError;
 
-/// What `pelt view` was asked to do.
+/// What `pelt view` was asked to do. With the `cli` feature this is `pelt view`'s flags
+/// (clap's `Args`), written here once.
 #[derive(Debug, Clone)]
+#[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct ViewArgs {
-    /// A scene file or an asset.
+    /// A scene file (.json) or an asset (.glb, .gltf, .obj).
     pub input: PathBuf,
-    /// wgpu back end.
-    pub backend: Backend,
-    /// Lighting mode.
+    /// inferred (low-resolution L-buffer, DSF), deferred (full-resolution L-buffer, no DSF),
+    /// forward (per-object light loop, the reference), strands (explicit strands, the fur's
+    /// reference), debug-groups (each normal group in a flat colour, neighbours distinct) or
+    /// debug-comb (the decoded comb as colour, its length as brightness); M cycles them.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "inferred"))]
     pub mode: Mode,
-    /// Knob overrides (`size` is the window's).
+    /// wgpu back end: auto, vulkan or gl.
+    #[cfg_attr(feature = "cli", arg(long, default_value = "auto"))]
+    pub backend: Backend,
+    /// The knobs ([ ], D, - =, I and B change them in the window); `--size` is the window's
+    /// (default: a scene's output size, or 960x540 for an asset).
+    #[cfg_attr(feature = "cli", command(flatten))]
     pub knobs: Knobs,
-    /// Window size (None: a scene file's output size, else [`DEFAULT_SIZE`]).
-    pub size: Option<(u32, u32)>,
-    /// Scripted mode: draw this many frames, then exit.
-    pub frames: Option<u32>,
-    /// Scripted mode: write the still full-quality frame after the last one here.
-    pub screenshot: Option<PathBuf>,
-    /// Scripted mode: degrees to orbit before each frame after the first.
-    pub orbit: f32,
-    /// Target frame time while the camera moves, milliseconds.
+    /// Target frame time (ms) while the camera moves: L-buffer scale, shells and then
+    /// resolution are lowered to hold it; a still camera gets the full-quality frame.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "MS", default_value_t = 66.0, value_parser = pelt_preview::flags::positive_ms))]
     pub budget_ms: f64,
-    /// Folder to reload the shaders from when they change.
+    /// Reload the shaders from this folder when they change (debug builds: the source
+    /// tree's shaders/ by default).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "DIR"))]
     pub shaders: Option<PathBuf>,
-    /// Show the text overlay in scripted mode too (the window always starts with it).
+    /// Scripted: draw this many frames, then exit (with --screenshot, save the last).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..)))]
+    pub frames: Option<u32>,
+    /// Scripted: write the still, full-quality frame after the last one to this PNG.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "FILE", requires = "frames"))]
+    pub screenshot: Option<PathBuf>,
+    /// Scripted: draw the text overlay too (it is off in scripted mode, so screenshots are
+    /// the plain render).
+    #[cfg_attr(feature = "cli", arg(long, requires = "frames"))]
     pub overlay: bool,
-    /// Print only errors.
+    /// Scripted: orbit the camera this many degrees before each frame after the first.
+    #[cfg_attr(
+        feature = "cli",
+        arg(
+            long,
+            value_name = "DEG",
+            default_value_t = 0.0,
+            requires = "frames",
+            allow_negative_numbers = true
+        )
+    )]
+    pub orbit: f32,
+    /// Print nothing but errors.
+    #[cfg_attr(feature = "cli", arg(short, long))]
     pub quiet: bool,
-    /// The clip an animated asset starts with (None: its first).
+    /// An animated asset's clip to start with (default: its first; `pelt inspect` lists
+    /// them). The window plays it: Space plays and pauses, `,` `.` step a frame, C picks
+    /// the next clip.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "NAME"))]
     pub animation: Option<String>,
-    /// Seconds into it.
+    /// Seconds into the clip to start at.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = pelt_preview::flags::finite, allow_negative_numbers = true))]
     pub time: f32,
-    /// Scripted mode: advance the clip one 1/30 s frame per frame drawn (the window always
-    /// starts playing).
+    /// Scripted: advance the clip one 1/30 s frame per frame drawn (the window always plays).
+    #[cfg_attr(feature = "cli", arg(long, requires = "frames"))]
     pub play: bool,
 }
 
@@ -64,7 +94,7 @@ pub const DEFAULT_SIZE: (u32, u32) = (960, 540);
 /// The window size `args` ask for: `--size`, a scene file's output size, or
 /// [`DEFAULT_SIZE`].
 pub fn window_size(args: &ViewArgs) -> (u32, u32) {
-    if let Some(s) = args.size {
+    if let Some(s) = args.knobs.size {
         return s;
     }
     if pelt_preview::knobs::is_scene(&args.input)

@@ -22,10 +22,12 @@ use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
-use crate::scene::{Sky, Technique};
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
-use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
+use crate::uniforms::{LightUniforms, UNIFORM_STRIDE};
+
+mod inputs;
+pub use inputs::MapInputs;
 
 /// Bind-group slots of distance_map.wgsl.
 pub mod slot {
@@ -138,7 +140,9 @@ pub fn face_view(face: u32) -> Mat4 {
     .transpose()
 }
 
-/// The distance maps of one scene and everything that draws and reads them.
+/// The distance maps of one scene and everything that draws and reads them: the targets
+/// (sized by [`MapSpec`], made again when it changes), the bind groups that read them, and
+/// the inputs they are drawn from ([`MapInputs`], written each frame, with their freshness).
 #[derive(Debug)]
 pub struct Maps {
     /// What the textures were made for.
@@ -150,30 +154,22 @@ pub struct Maps {
     depth: Target,
     peel: LayeredTarget,
     views: Vec<(wgpu::TextureView, wgpu::TextureView)>,
-    faces: wgpu::Buffer,
-    faces_group: wgpu::BindGroup,
-    objects: wgpu::Buffer,
-    objects_group: wgpu::BindGroup,
-    lights: wgpu::Buffer,
-    lights_group: wgpu::BindGroup,
     /// Each layer's (min, max) distance.
     pub ranges: wgpu::Buffer,
-    params: wgpu::Buffer,
     read: wgpu::BindGroup,
     minmax: wgpu::BindGroup,
     peel_read: wgpu::BindGroup,
     sky: wgpu::BindGroup,
-    /// What goes into the maps: (object slot, mesh index, scene index).
-    draws: Vec<(usize, usize, usize)>,
-    /// The maps hold the scene as last written (a frame has rendered them since).
-    fresh: std::sync::atomic::AtomicBool,
-    /// The bytes the maps were last drawn from (faces, objects, lights, draws).
-    drawn: Vec<u8>,
-    /// The search's uniforms as last written.
-    params_written: Vec<u8>,
+    /// What the maps are drawn from.
+    pub inputs: MapInputs,
 }
 
-fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+pub(super) fn uniform_buffer(
+    r: &Renderer,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size,
@@ -182,7 +178,7 @@ fn uniform_buffer(r: &Renderer, label: &str, size: u64, usage: wgpu::BufferUsage
     })
 }
 
-fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
+pub(super) fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
     wgpu::BindingResource::Buffer(wgpu::BufferBinding {
         buffer,
         offset: 0,
@@ -313,56 +309,16 @@ impl Maps {
             .map(|i| (material.layer(i, 0), geometry.layer(i, 0)))
             .collect();
         let depth = Target::new(&r.gpu.device, "distance maps: depth", size, DEPTH_FORMAT);
-        let stride = UNIFORM_STRIDE;
-        let faces = uniform_buffer(
-            r,
-            "faces",
-            u64::from(layers) * stride,
-            wgpu::BufferUsages::UNIFORM,
-        );
-        let n_objects = plan.objects.len().max(1) as u64;
-        let objects = uniform_buffer(
-            r,
-            "map objects",
-            n_objects * stride,
-            wgpu::BufferUsages::UNIFORM,
-        );
-        let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
-        let lights = uniform_buffer(
-            r,
-            "map lights",
-            light_bytes as u64,
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let inputs = MapInputs::new(r, plan, layers);
         let ranges = uniform_buffer(
             r,
             "distance ranges",
             u64::from(spec.maps * spec.layers) * 8,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let params = uniform_buffer(
-            r,
-            "reflect params",
-            size_of::<ReflectUniforms>() as u64,
-            wgpu::BufferUsages::UNIFORM,
-        );
         let tex = wgpu::BindingResource::TextureView;
-        let maps = Maps {
-            faces_group: r.group(
-                "faces",
-                &FACE_LAYOUT,
-                &[sized(&faces, size_of::<FaceUniforms>())],
-            ),
-            objects_group: r.group(
-                "map objects",
-                &layout::OBJECT,
-                &[sized(&objects, size_of::<ObjectUniforms>())],
-            ),
-            lights_group: r.group(
-                "map lights",
-                &layout::LIGHT_ARRAY,
-                &[sized(&lights, light_bytes)],
-            ),
+        let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
+        let mut maps = Maps {
             read: r.group(
                 "distance maps",
                 &MAPS_LAYOUT,
@@ -370,8 +326,8 @@ impl Maps {
                     tex(&material.sampled),
                     tex(&geometry.sampled),
                     ranges.as_entire_binding(),
-                    params.as_entire_binding(),
-                    sized(&lights, light_bytes),
+                    inputs.params.as_entire_binding(),
+                    sized(&inputs.lights, light_bytes),
                 ],
             ),
             minmax: r.group(
@@ -387,165 +343,19 @@ impl Maps {
             depth,
             peel,
             views,
-            faces,
-            objects,
-            lights,
             ranges,
-            params,
-            draws: Vec::new(),
-            fresh: std::sync::atomic::AtomicBool::new(false),
-            drawn: Vec::new(),
-            params_written: Vec::new(),
+            inputs,
         };
-        let mut maps = maps;
         maps.write(r, plan);
         Ok(maps)
     }
 }
 
 impl Maps {
-    /// Whether a frame has rendered the maps since the scene was last written.
-    pub fn fresh(&self) -> bool {
-        self.fresh.load(std::sync::atomic::Ordering::Relaxed)
-    }
-
-    /// Records that a submitted frame rendered the maps.
-    pub fn mark_fresh(&self) {
-        self.fresh.store(true, std::sync::atomic::Ordering::Relaxed);
-    }
-
-    /// Writes the faces, objects, lights and knobs of `plan` (its maps must fit the spec);
-    /// when what the maps are drawn from changed, the next frame renders them again.
+    /// Writes what `plan`'s maps are drawn from (its maps must fit the spec); when that
+    /// changed, the next frame renders them again.
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
-        let k = plan.reflections;
-        let (centre, radius) = plan.extent;
-        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
-        let lights: Vec<LightUniforms> = plan
-            .lights
-            .iter()
-            .take(MAX_MAP_LIGHTS)
-            .map(|&(p, radius, color)| LightUniforms {
-                position_radius: p.extend(radius).into(),
-                color: color.extend(lum(color)).into(),
-            })
-            .collect();
-        let stride = UNIFORM_STRIDE as usize;
-        let mut faces = vec![0u8; self.views.len() * stride];
-        for (m, map) in plan.maps.iter().enumerate() {
-            let reach = (map.reference - centre).length() + radius;
-            let proj = Mat4::perspective_rh(
-                std::f32::consts::FRAC_PI_2,
-                1.0,
-                (radius * 1e-4).max(1e-5),
-                (reach * 2.0).max(1e-3),
-            );
-            let to_ref = Mat4::from_translation(-map.reference);
-            for layer in 0..k.layers {
-                for face in 0..6u32 {
-                    let i = (m as u32 * k.layers + layer) * 6 + face;
-                    let u = FaceUniforms {
-                        view_proj: (proj * face_view(face) * to_ref).to_cols_array_2d(),
-                        reference: map.reference.extend(0.0).into(),
-                        ambient: plan
-                            .ambient
-                            .extend(crate::frame_data::SPECULAR_POWER)
-                            .into(),
-                        ids: [layer, lights.len() as u32, map.scene_index as u32, face],
-                    };
-                    let at = i as usize * stride;
-                    faces[at..at + size_of::<FaceUniforms>()]
-                        .copy_from_slice(bytemuck::bytes_of(&u));
-                }
-            }
-        }
-        let mut objects = vec![0u8; plan.objects.len() * stride];
-        let mut draws = Vec::new();
-        for (i, (o, _)) in plan.objects.iter().enumerate() {
-            let u = ObjectUniforms {
-                model: o.model.to_cols_array_2d(),
-                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
-                tint: o.color.extend(1.0).into(),
-                params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
-                // Fur shows in the maps as its base mesh in the fur's mean colour.
-                fur_base: o.fur.map_or([0.0; 4], |f| {
-                    ((f.base_color + f.tip_color) / 2.0).extend(f.length).into()
-                }),
-                fur_tip: [0.0; 4],
-                fur_params: [0.0; 4],
-                fur_model: [0.0; 4],
-                ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
-                optics: o.optics.encoded(),
-            };
-            objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
-                .copy_from_slice(bytemuck::bytes_of(&u));
-            if o.pattern == 0 {
-                draws.push((i, o.mesh, o.scene_index));
-            }
-        }
-        let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
-        let lb: &[u8] = bytemuck::cast_slice(&lights);
-        light_bytes[..lb.len()].copy_from_slice(lb);
-        // What the maps are drawn from; a change (not a camera move, an L-buffer scale, a
-        // search knob) makes them stale.
-        let drawn = [
-            faces.as_slice(),
-            &objects,
-            &light_bytes,
-            bytemuck::cast_slice(
-                &draws
-                    .iter()
-                    .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
-                    .collect::<Vec<_>>(),
-            ),
-        ]
-        .concat();
-        if drawn != self.drawn {
-            r.gpu.write_buffer(&self.faces, 0, &faces);
-            if !objects.is_empty() {
-                r.gpu.write_buffer(&self.objects, 0, &objects);
-            }
-            r.gpu.write_buffer(&self.lights, 0, &light_bytes);
-            self.draws = draws;
-            self.drawn = drawn;
-            self.fresh
-                .store(false, std::sync::atomic::Ordering::Relaxed);
-        }
-        let mut refs = [[0.0f32; 4]; MAX_MAPS];
-        let mut bounds = [[0.0f32; 4]; MAX_MAPS];
-        for ((slot, b), m) in refs.iter_mut().zip(bounds.iter_mut()).zip(&plan.maps) {
-            let reach = (m.reference - centre).length() + radius;
-            *slot = m.reference.extend(reach * 1.01).into();
-            *b = m.centre.extend(m.radius).into();
-        }
-        let params = ReflectUniforms {
-            knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
-            flags: [
-                u32::from(k.min_max) | (plan.maps.len() as u32) << 8,
-                u32::from(k.technique == Technique::Envmap),
-                match plan.sky {
-                    Sky::None => 0,
-                    Sky::Procedural => 1,
-                    Sky::Cubemap(_) => 2,
-                },
-                k.cube_size,
-            ],
-            background: Vec3::from(pelt_scene::shading::BACKGROUND)
-                .extend(radius.max(1e-3))
-                .into(),
-            shading: [
-                crate::frame_data::SPECULAR_STRENGTH,
-                crate::frame_data::SPECULAR_POWER,
-                lights.len() as f32,
-                0.0,
-            ],
-            maps: refs,
-            objects: bounds,
-        };
-        if bytemuck::bytes_of(&params) != self.params_written.as_slice() {
-            r.gpu
-                .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-            self.params_written = bytemuck::bytes_of(&params).to_vec();
-        }
+        self.inputs.write(r, plan, self.views.len());
     }
 
     /// Whether these maps fit `plan`'s knobs and map count.
@@ -651,10 +461,10 @@ pub const FEATURE: Feature = Feature {
 /// The distance maps outlive the frame: drawn again only when the scene or its knobs
 /// changed.
 const CACHED: Cached = Cached {
-    fresh: |f| f.scene.get::<Maps>().is_some_and(Maps::fresh),
+    fresh: |f| f.scene.get::<Maps>().is_some_and(|m| m.inputs.fresh()),
     drawn: |f| {
         if let Some(m) = f.scene.get::<Maps>() {
-            m.mark_fresh();
+            m.inputs.mark_fresh();
         }
     },
 };
@@ -714,16 +524,16 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                 r.pipeline(map_pipeline());
                 r.bind(
                     slot::FACE,
-                    &m.faces_group,
+                    &m.inputs.faces_group,
                     Some((base + face) * UNIFORM_STRIDE as u32),
                 );
-                r.bind(slot::LIGHTS, &m.lights_group, Some(0));
+                r.bind(slot::LIGHTS, &m.inputs.lights_group, Some(0));
                 r.bind(slot::PEEL, &m.peel_read, None);
-                for &(i, k, scene_index) in &m.draws {
+                for &(i, k, scene_index) in &m.inputs.draws {
                     let g = f.object_mesh(name, scene_index, k)?;
                     r.bind(
                         slot::OBJECT,
-                        &m.objects_group,
+                        &m.inputs.objects_group,
                         Some(i as u32 * UNIFORM_STRIDE as u32),
                     );
                     r.push(Step::Vertices(crate::draw::vertex_slot::MESH, &g.vertices));

@@ -1,0 +1,226 @@
+//! What the distance maps are drawn from, the per-frame half of [`super::Maps`]: each face's
+//! camera, every object's constants and the scene's lights (GPU Gems 3 §17.2.1), the
+//! search's knobs (§17.2.2), and whether a frame has drawn the maps since these last
+//! changed. Written every frame and uploaded only when they changed, so a camera move, an
+//! L-buffer scale or a search knob leaves the maps as they are.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use glam::{Mat4, Vec3};
+
+use super::{
+    FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, ReflectUniforms, face_view, sized,
+    uniform_buffer,
+};
+use crate::layout;
+use crate::plan::ScenePlan;
+use crate::renderer::Renderer;
+use crate::scene::{Sky, Technique};
+use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
+
+/// The maps' inputs: uniforms and the draw list, with their last written bytes.
+#[derive(Debug)]
+pub struct MapInputs {
+    faces: wgpu::Buffer,
+    pub(super) faces_group: wgpu::BindGroup,
+    objects: wgpu::Buffer,
+    pub(super) objects_group: wgpu::BindGroup,
+    pub(super) lights: wgpu::Buffer,
+    pub(super) lights_group: wgpu::BindGroup,
+    pub(super) params: wgpu::Buffer,
+    /// What goes into the maps: (object slot, mesh index, scene index).
+    pub(super) draws: Vec<(usize, usize, usize)>,
+    /// The maps hold the scene as last written (a frame has rendered them since).
+    fresh: AtomicBool,
+    /// The bytes the maps were last drawn from (faces, objects, lights, draws).
+    drawn: Vec<u8>,
+    /// The search's uniforms as last written.
+    params_written: Vec<u8>,
+}
+
+impl MapInputs {
+    /// Buffers for `faces` faces (maps × layers × 6) and `plan`'s objects, not yet written.
+    pub fn new(r: &Renderer, plan: &ScenePlan, faces: u32) -> MapInputs {
+        let stride = UNIFORM_STRIDE;
+        let uniform = wgpu::BufferUsages::UNIFORM;
+        let face_buf = uniform_buffer(r, "faces", u64::from(faces) * stride, uniform);
+        let n_objects = plan.objects.len().max(1) as u64;
+        let objects = uniform_buffer(r, "map objects", n_objects * stride, uniform);
+        let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
+        let lights = uniform_buffer(r, "map lights", light_bytes as u64, uniform);
+        let params = uniform_buffer(
+            r,
+            "reflect params",
+            size_of::<ReflectUniforms>() as u64,
+            uniform,
+        );
+        MapInputs {
+            faces_group: r.group(
+                "faces",
+                &FACE_LAYOUT,
+                &[sized(&face_buf, size_of::<FaceUniforms>())],
+            ),
+            objects_group: r.group(
+                "map objects",
+                &layout::OBJECT,
+                &[sized(&objects, size_of::<ObjectUniforms>())],
+            ),
+            lights_group: r.group(
+                "map lights",
+                &layout::LIGHT_ARRAY,
+                &[sized(&lights, light_bytes)],
+            ),
+            faces: face_buf,
+            objects,
+            lights,
+            params,
+            draws: Vec::new(),
+            fresh: AtomicBool::new(false),
+            drawn: Vec::new(),
+            params_written: Vec::new(),
+        }
+    }
+
+    /// Whether a frame has rendered the maps since the scene was last written.
+    pub fn fresh(&self) -> bool {
+        self.fresh.load(Ordering::Relaxed)
+    }
+
+    /// Records that a submitted frame rendered the maps.
+    pub fn mark_fresh(&self) {
+        self.fresh.store(true, Ordering::Relaxed);
+    }
+
+    /// Writes the faces, objects, lights and knobs of `plan` for `views` map faces; when what
+    /// the maps are drawn from changed, the next frame renders them again.
+    pub fn write(&mut self, r: &Renderer, plan: &ScenePlan, views: usize) {
+        let k = plan.reflections;
+        let (centre, radius) = plan.extent;
+        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let lights: Vec<LightUniforms> = plan
+            .lights
+            .iter()
+            .take(MAX_MAP_LIGHTS)
+            .map(|&(p, radius, color)| LightUniforms {
+                position_radius: p.extend(radius).into(),
+                color: color.extend(lum(color)).into(),
+            })
+            .collect();
+        let stride = UNIFORM_STRIDE as usize;
+        let mut faces = vec![0u8; views * stride];
+        for (m, map) in plan.maps.iter().enumerate() {
+            let reach = (map.reference - centre).length() + radius;
+            let proj = Mat4::perspective_rh(
+                std::f32::consts::FRAC_PI_2,
+                1.0,
+                (radius * 1e-4).max(1e-5),
+                (reach * 2.0).max(1e-3),
+            );
+            let to_ref = Mat4::from_translation(-map.reference);
+            for layer in 0..k.layers {
+                for face in 0..6u32 {
+                    let i = (m as u32 * k.layers + layer) * 6 + face;
+                    let u = FaceUniforms {
+                        view_proj: (proj * face_view(face) * to_ref).to_cols_array_2d(),
+                        reference: map.reference.extend(0.0).into(),
+                        ambient: plan
+                            .ambient
+                            .extend(crate::frame_data::SPECULAR_POWER)
+                            .into(),
+                        ids: [layer, lights.len() as u32, map.scene_index as u32, face],
+                    };
+                    let at = i as usize * stride;
+                    faces[at..at + size_of::<FaceUniforms>()]
+                        .copy_from_slice(bytemuck::bytes_of(&u));
+                }
+            }
+        }
+        let mut objects = vec![0u8; plan.objects.len() * stride];
+        let mut draws = Vec::new();
+        for (i, (o, _)) in plan.objects.iter().enumerate() {
+            let u = ObjectUniforms {
+                model: o.model.to_cols_array_2d(),
+                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
+                tint: o.color.extend(1.0).into(),
+                params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
+                // Fur shows in the maps as its base mesh in the fur's mean colour.
+                fur_base: o.fur.map_or([0.0; 4], |f| {
+                    ((f.base_color + f.tip_color) / 2.0).extend(f.length).into()
+                }),
+                fur_tip: [0.0; 4],
+                fur_params: [0.0; 4],
+                fur_model: [0.0; 4],
+                ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
+                optics: o.optics.encoded(),
+            };
+            objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
+                .copy_from_slice(bytemuck::bytes_of(&u));
+            if o.pattern == 0 {
+                draws.push((i, o.mesh, o.scene_index));
+            }
+        }
+        let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
+        let lb: &[u8] = bytemuck::cast_slice(&lights);
+        light_bytes[..lb.len()].copy_from_slice(lb);
+        // What the maps are drawn from; a change (not a camera move, an L-buffer scale, a
+        // search knob) makes them stale.
+        let drawn = [
+            faces.as_slice(),
+            &objects,
+            &light_bytes,
+            bytemuck::cast_slice(
+                &draws
+                    .iter()
+                    .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
+                    .collect::<Vec<_>>(),
+            ),
+        ]
+        .concat();
+        if drawn != self.drawn {
+            r.gpu.write_buffer(&self.faces, 0, &faces);
+            if !objects.is_empty() {
+                r.gpu.write_buffer(&self.objects, 0, &objects);
+            }
+            r.gpu.write_buffer(&self.lights, 0, &light_bytes);
+            self.draws = draws;
+            self.drawn = drawn;
+            self.fresh.store(false, Ordering::Relaxed);
+        }
+        let mut refs = [[0.0f32; 4]; MAX_MAPS];
+        let mut bounds = [[0.0f32; 4]; MAX_MAPS];
+        for ((slot, b), m) in refs.iter_mut().zip(bounds.iter_mut()).zip(&plan.maps) {
+            let reach = (m.reference - centre).length() + radius;
+            *slot = m.reference.extend(reach * 1.01).into();
+            *b = m.centre.extend(m.radius).into();
+        }
+        let params = ReflectUniforms {
+            knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
+            flags: [
+                u32::from(k.min_max) | (plan.maps.len() as u32) << 8,
+                u32::from(k.technique == Technique::Envmap),
+                match plan.sky {
+                    Sky::None => 0,
+                    Sky::Procedural => 1,
+                    Sky::Cubemap(_) => 2,
+                },
+                k.cube_size,
+            ],
+            background: Vec3::from(pelt_scene::shading::BACKGROUND)
+                .extend(radius.max(1e-3))
+                .into(),
+            shading: [
+                crate::frame_data::SPECULAR_STRENGTH,
+                crate::frame_data::SPECULAR_POWER,
+                lights.len() as f32,
+                0.0,
+            ],
+            maps: refs,
+            objects: bounds,
+        };
+        if bytemuck::bytes_of(&params) != self.params_written.as_slice() {
+            r.gpu
+                .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            self.params_written = bytemuck::bytes_of(&params).to_vec();
+        }
+    }
+}
