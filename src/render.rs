@@ -156,8 +156,9 @@ fn raytrace(
     }
     let Some(out) = &args.output else {
         if args.explain {
+            let casting = scene.lights.iter().filter(|l| l.shadows).count();
             println!(
-                "mode raytrace: one ray per pixel centre through a BVH, up to {} specular bounces, on the CPU",
+                "mode raytrace: one ray per pixel centre through a BVH, up to {} specular bounces, shadow rays toward {casting} shadow-casting light(s), on the CPU",
                 scene.reflections.max_depth
             );
         }

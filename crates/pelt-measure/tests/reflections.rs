@@ -105,6 +105,7 @@ fn light(position: [f32; 3], intensity: f32, radius: f32) -> PointLight {
         color: [1.0, 0.95, 0.9],
         intensity: NonNegative(intensity),
         radius: Positive(radius),
+        shadows: false,
     }
 }
 

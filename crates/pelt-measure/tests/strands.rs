@@ -111,6 +111,7 @@ fn light(position: Vec3, intensity: f32, radius: f32) -> PointLight {
         color: [1.0; 3],
         intensity: NonNegative(intensity),
         radius: Positive(radius),
+        shadows: false,
     }
 }
 

@@ -88,6 +88,7 @@ fn lit_scene(light_at: Vec3, intensity: f32) -> Scene {
             color: [1.0; 3],
             intensity: NonNegative(intensity),
             radius: Positive(8.0),
+            shadows: false,
         }],
         ..Scene::default()
     }

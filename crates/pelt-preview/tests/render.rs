@@ -36,6 +36,7 @@ fn light(at: Vec3, color: Vec3, intensity: f32, radius: f32) -> PointLight {
         color: color.into(),
         intensity: NonNegative(intensity),
         radius: Positive(radius),
+        shadows: false,
     }
 }
 

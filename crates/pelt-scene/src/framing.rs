@@ -83,6 +83,7 @@ pub fn light_around(
         color,
         intensity: NonNegative(intensity * radius * radius),
         radius: Positive(radius * reach),
+        shadows: false,
     }
 }
 

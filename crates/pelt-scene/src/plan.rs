@@ -357,6 +357,19 @@ impl MeshInfo {
     }
 }
 
+/// A light of the scene that gives any light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneLight {
+    /// World position.
+    pub position: Vec3,
+    /// Radius where its light reaches zero.
+    pub radius: f32,
+    /// Linear colour × intensity.
+    pub color: Vec3,
+    /// Whether it casts shadows.
+    pub shadows: bool,
+}
+
 /// The part of a plan that depends on the scene, its assets, the mode and the knobs, but not
 /// on the camera: every object that can be drawn with its material decisions, IDs and fur,
 /// and the lights. A camera move keeps it; a knob change makes a new one (no asset is read).
@@ -372,8 +385,8 @@ pub struct ScenePlan {
     pub dsf: bool,
     /// Every object (pattern and depth are filled in per camera), with its mesh bounds.
     pub objects: Vec<(PlannedObject, (Vec3, Vec3))>,
-    /// Lights that give any light (world position, radius, colour × intensity).
-    pub lights: Vec<(Vec3, f32, Vec3)>,
+    /// Lights that give any light.
+    pub lights: Vec<SceneLight>,
     /// How fur is composited.
     pub fur_blend: FurBlend,
     /// The background.
@@ -524,14 +537,19 @@ impl ScenePlan {
             .lights
             .iter()
             .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
-            .map(|l| {
-                (
-                    Vec3::from(l.position),
-                    l.radius.0,
-                    Vec3::from(l.color) * l.intensity.0,
-                )
+            .map(|l| SceneLight {
+                position: Vec3::from(l.position),
+                radius: l.radius.0,
+                color: Vec3::from(l.color) * l.intensity.0,
+                shadows: l.shadows,
             })
             .collect();
+        // The rasterizing modes draw no shadows yet: said, not skipped silently.
+        if let Some(i) = scene.lights.iter().position(|l| l.shadows) {
+            notes.push(format!(
+                "lights[{i}].shadows: only --mode raytrace traces shadows; this mode lights every surface the light reaches"
+            ));
+        }
         ScenePlan {
             mode,
             output,
@@ -657,12 +675,12 @@ impl Plan {
         let lights: Vec<PlannedLight> = scene
             .lights
             .iter()
-            .filter_map(|&(position, radius, color)| {
+            .filter_map(|l| {
                 Some(PlannedLight {
-                    position,
-                    radius,
-                    color,
-                    rect: view.light_rect(position, radius, light_target)?,
+                    position: l.position,
+                    radius: l.radius,
+                    color: l.color,
+                    rect: view.light_rect(l.position, l.radius, light_target)?,
                 })
             })
             .collect();

@@ -56,6 +56,7 @@ pub fn random_lights(
                 color,
                 intensity: NonNegative(intensity),
                 radius: Positive(radius.0 + (radius.1 - radius.0) * u()),
+                shadows: false,
             }
         })
         .collect()

@@ -636,6 +636,14 @@ pub struct PointLight {
     /// Radius of influence (the light falls to zero there; its screen-space bounds come from
     /// it).
     pub radius: Positive,
+    /// Whether the light casts shadows: surfaces it cannot see directly get none of its light
+    /// (the ray tracer traces a shadow ray toward it).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub shadows: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn white() -> [f32; 3] {

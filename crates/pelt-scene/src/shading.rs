@@ -22,6 +22,8 @@ pub struct Light {
     pub radius: f32,
     /// Linear colour × intensity.
     pub color: Vec3,
+    /// Whether it casts shadows (the ray tracer's shadow rays).
+    pub shadows: bool,
 }
 
 /// One light at point `p` with unit normal `n` seen from direction `v` (unit, from `p`
@@ -48,10 +50,29 @@ pub fn point_light(p: Vec3, n: Vec3, v: Vec3, light: &Light) -> (Vec3, f32) {
 /// viewer, `v` toward it): ambient plus every light's diffuse times the albedo, plus the
 /// specular in each light's colour (the forward pass's sum).
 pub fn shade(albedo: Vec3, p: Vec3, n: Vec3, v: Vec3, ambient: Vec3, lights: &[Light]) -> Vec3 {
+    shade_seen(albedo, p, n, v, ambient, lights, |_| true)
+}
+
+/// [`shade`] with each light's contribution kept only where `sees(light)` (asked only of
+/// lights that reach `p` and face it): a shadowed point gets the ambient term and the lights
+/// it sees.
+pub fn shade_seen(
+    albedo: Vec3,
+    p: Vec3,
+    n: Vec3,
+    v: Vec3,
+    ambient: Vec3,
+    lights: &[Light],
+    sees: impl Fn(&Light) -> bool,
+) -> Vec3 {
     let mut diffuse = ambient;
     let mut specular = Vec3::ZERO;
     for l in lights {
         let (d, s) = point_light(p, n, v, l);
+        // Only a light that would add something is asked whether it is seen.
+        if (d == Vec3::ZERO && s == 0.0) || !sees(l) {
+            continue;
+        }
         diffuse += d;
         specular += s * l.color;
     }
@@ -151,6 +172,7 @@ mod tests {
             position: Vec3::new(0.0, 2.0, 0.0),
             radius: 3.0,
             color: Vec3::ONE,
+            shadows: false,
         };
         let up = Vec3::Y;
         let (d, s) = point_light(Vec3::ZERO, up, up, &l);

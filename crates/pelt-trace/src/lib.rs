@@ -1,8 +1,8 @@
 //! `pelt render --mode raytrace`: the ground truth the distance-map reflections (GPU Gems 3
 //! ch. 17) are measured against. A CPU ray tracer over the same scene: the same triangles
 //! (two-sided, with interpolated vertex normals), the same local lighting
-//! ([`pelt_scene::shading`]: ambient, point lights, Blinn-Phong, no shadow rays, as the
-//! rasterizer has no shadows), colours, sky, and the same specular paths as the GPU's
+//! ([`pelt_scene::shading`]: ambient, point lights, Blinn-Phong; a shadow ray toward each
+//! light that casts shadows, `"shadows": true`, [`World::sees`]), colours, sky, and the same specular paths as the GPU's
 //! Listing 17-5 loop ([`path`]): Schlick's Fresnel with F0, refraction with total internal
 //! reflection, and the bounce limit. Where the GPU searches its distance maps for the next
 //! hit, this traces the real triangles through a BVH (`obvhs`), so the difference between

@@ -8,7 +8,8 @@
 //!   ray leaves it (Listing 17-5); its F is the exact dielectric Fresnel, which vanishes at
 //!   IOR 1 as Schlick's does not;
 //! - at the surface the camera sees, glass both reflects (F) and refracts (1 − F): two paths;
-//! - a diffuse hit ends the path with its local lighting seen from the ray;
+//! - a diffuse hit ends the path with its local lighting seen from the ray (a shadow-casting
+//!   light only where a shadow ray reaches it: [`World::sees`]);
 //! - a ray that leaves the scene ends in the sky;
 //! - a path still on a specular surface after `max_depth` bounces ends in the sky in the
 //!   direction of its mirror reflection.
@@ -86,11 +87,14 @@ impl Tracer<'_> {
     }
 
     /// The local lighting of a diffuse hit seen along `d`, its normal facing the ray as the
-    /// rasterizer's two-sided faces do.
+    /// rasterizer's two-sided faces do; a shadow-casting light adds nothing where a shadow
+    /// ray toward it meets a surface first.
     fn diffuse(&self, h: &Hit, d: Vec3) -> Vec3 {
         let n = if h.g.dot(d) < 0.0 { h.n } else { -h.n };
         let w = self.world;
-        shading::shade(h.albedo, h.p, n, -d, w.ambient, &w.lights)
+        shading::shade_seen(h.albedo, h.p, n, -d, w.ambient, &w.lights, |l| {
+            !l.shadows || w.sees(h.p, h.g.normalize_or_zero(), l.position)
+        })
     }
 
     /// Listing 17-5 from a point `x` of surface `s` (unit normal `n`) reached along `v`;

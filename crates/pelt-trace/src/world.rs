@@ -204,10 +204,11 @@ impl World {
             lights: plan
                 .lights
                 .iter()
-                .map(|&(position, radius, color)| Light {
-                    position,
-                    radius,
-                    color,
+                .map(|l| Light {
+                    position: l.position,
+                    radius: l.radius,
+                    color: l.color,
+                    shadows: l.shadows,
                 })
                 .collect(),
             ambient: plan.ambient,
@@ -215,6 +216,22 @@ impl World {
             epsilon: radius.max(1e-3) * 1e-4,
             bvh,
         }
+    }
+
+    /// Whether the point `p` of a surface with geometric normal `g` sees the point `light`:
+    /// the shadow ray leaves `p` offset along `g` toward the light's side (so it cannot hit
+    /// its own triangle) and must reach the light before meeting any traced surface (mirrors
+    /// and glass included, as their meshes cast in a shadow map).
+    pub fn sees(&self, p: Vec3, g: Vec3, light: Vec3) -> bool {
+        let to = light - p;
+        let side = if g.dot(to) >= 0.0 { g } else { -g };
+        let o = p + side * self.epsilon;
+        let to = light - o;
+        let dist = to.length();
+        if dist <= self.epsilon {
+            return true;
+        }
+        self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
     }
 
     /// The first hit of the ray `o + d t` (unit `d`) with `t` in `(tmin, tmax)`.

@@ -118,6 +118,7 @@ pub fn light(p: Vec3, color: Vec3, intensity: f32, radius: f32) -> PointLight {
         color: color.into(),
         intensity: NonNegative(intensity),
         radius: Positive(radius),
+        shadows: false,
     }
 }
 

@@ -101,9 +101,9 @@ impl MapInputs {
             .lights
             .iter()
             .take(MAX_MAP_LIGHTS)
-            .map(|&(p, radius, color)| LightUniforms {
-                position_radius: p.extend(radius).into(),
-                color: color.extend(lum(color)).into(),
+            .map(|l| LightUniforms {
+                position_radius: l.position.extend(l.radius).into(),
+                color: l.color.extend(lum(l.color)).into(),
             })
             .collect();
         let stride = UNIFORM_STRIDE as usize;
