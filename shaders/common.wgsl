@@ -74,6 +74,8 @@ struct Light {
     position_radius: vec4<f32>,
     // rgb: colour × intensity; w: intensity × luminance(colour), the specular scale.
     color: vec4<f32>,
+    // x: its shadow cube's slot + 1 (0: it casts no shadows; shadows.wgsl); yzw: unused.
+    shadow: vec4<u32>,
 }
 
 struct VertexIn {
@@ -311,4 +313,30 @@ fn procedural(d: vec3<f32>) -> vec3<f32> {
     let s = max(dot(d, normalize(SUN)), 0.0);
     c += vec3<f32>(1.0, 0.85, 0.6) * (0.6 * pow(s, 64.0) + 0.15 * pow(s, 6.0));
     return c;
+}
+
+// The face (+X -X +Y -Y +Z -Z) and texture coordinates (v down) of direction d, by the
+// cube-map convention the faces were rendered with (`cube::face_view` in pelt-preview:
+// distance maps and shadow cubes).
+fn face_uv(d: vec3<f32>) -> vec3<f32> {
+    let a = abs(d);
+    var f = 0.0;
+    var sc = 0.0;
+    var tc = 0.0;
+    var ma = 0.0;
+    if a.x >= a.y && a.x >= a.z {
+        ma = a.x;
+        tc = -d.y;
+        if d.x > 0.0 { f = 0.0; sc = -d.z; } else { f = 1.0; sc = d.z; }
+    } else if a.y >= a.z {
+        ma = a.y;
+        sc = d.x;
+        if d.y > 0.0 { f = 2.0; tc = d.z; } else { f = 3.0; tc = -d.z; }
+    } else {
+        ma = a.z;
+        tc = -d.y;
+        if d.z > 0.0 { f = 4.0; sc = d.x; } else { f = 5.0; sc = -d.x; }
+    }
+    ma = max(ma, 1e-20);
+    return vec3<f32>(f, (sc / ma + 1.0) * 0.5, (tc / ma + 1.0) * 0.5);
 }

@@ -5,6 +5,7 @@
 
 #import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, point_light, to_surface}
 #import pelt::object_bindings::{frame, object}
+#import pelt::shadows::{shadow_seen}
 #import pelt::material_bindings::{base_sampler, base_texture, material, mr_sampler, mr_texture, normal_sampler, normal_texture}
 
 const MAX_FORWARD_LIGHTS: u32 = 256u;
@@ -41,7 +42,10 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
     let count = min(frame.flags.y, MAX_FORWARD_LIGHTS);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        let r = point_light(s.view_pos, n, light, frame.ambient.w);
+        var r = point_light(s.view_pos, n, light, frame.ambient.w);
+        if any(r != vec4<f32>(0.0)) {
+            r *= shadow_seen(s.view_pos, n, light);
+        }
         diffuse += r.rgb;
         if light.color.w > 0.0 {
             specular += r.a * light.color.rgb / light.color.w;

@@ -6,11 +6,13 @@
 // rgb = diffuse, a = specular intensity. The
 // view-space position comes from the DSF buffer's linear depth; the normal from eqs. 2 and 3,
 // or, for fur lit as strands (the shell table's STRAND_LIT), the strand tangent stored in its
-// place, lit with Kajiya-Kay (strand_light).
+// place, lit with Kajiya-Kay (strand_light). A shadow-casting light is weighted by how much
+// of it the surface sees (shadows.wgsl), per L-buffer pixel, alpha layers included.
 
 #import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Light, STRAND_LIT, decode_normal, depth_from_code, point_light, strand_light}
 #import pelt::fullscreen::{fullscreen_position}
 #import pelt::object_bindings::{frame}
+#import pelt::shadows::{shadow_seen}
 
 @group(1) @binding(0) var normals: texture_2d<f32>;
 @group(1) @binding(1) var dsf: texture_2d<u32>;
@@ -52,7 +54,17 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let n = decode_normal(textureLoad(normals, px, 0).xy);
     let id = (d.y >> 8u) & 255u;
     if STRAND_LIGHTS && (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
-        return strand_light(p, n, light, frame.ambient.w);
+        // A strand has no normal: its shadow lookup steps off it toward the light.
+        let lit = strand_light(p, n, light, frame.ambient.w);
+        if all(lit == vec4<f32>(0.0)) {
+            return lit;
+        }
+        let toward = normalize(light.position_radius.xyz - p);
+        return lit * shadow_seen(p, toward, light);
     }
-    return point_light(p, n, light, frame.ambient.w);
+    let lit = point_light(p, n, light, frame.ambient.w);
+    if all(lit == vec4<f32>(0.0)) {
+        return lit;
+    }
+    return lit * shadow_seen(p, n, light);
 }

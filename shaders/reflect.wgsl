@@ -20,7 +20,7 @@
 //
 // Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
-#import pelt::common::{Light, VertexIn, oct_decode, procedural, texel_distance}
+#import pelt::common::{Light, VertexIn, face_uv, oct_decode, procedural, texel_distance}
 #import pelt::object_bindings::{frame, object}
 
 const MAX_MAPS: u32 = 64u;
@@ -69,30 +69,6 @@ fn vs_main(v: VertexIn) -> Out {
 
 // ---- Reading the maps ----
 
-// The face (+X -X +Y -Y +Z -Z) and texture coordinates (v down) of direction d, by the
-// cube-map convention the faces were rendered with.
-fn face_uv(d: vec3<f32>) -> vec3<f32> {
-    let a = abs(d);
-    var f = 0.0;
-    var sc = 0.0;
-    var tc = 0.0;
-    var ma = 0.0;
-    if a.x >= a.y && a.x >= a.z {
-        ma = a.x;
-        tc = -d.y;
-        if d.x > 0.0 { f = 0.0; sc = -d.z; } else { f = 1.0; sc = d.z; }
-    } else if a.y >= a.z {
-        ma = a.y;
-        sc = d.x;
-        if d.y > 0.0 { f = 2.0; tc = d.z; } else { f = 3.0; tc = -d.z; }
-    } else {
-        ma = a.z;
-        tc = -d.y;
-        if d.z > 0.0 { f = 4.0; sc = d.x; } else { f = 5.0; sc = -d.x; }
-    }
-    ma = max(ma, 1e-20);
-    return vec3<f32>(f, (sc / ma + 1.0) * 0.5, (tc / ma + 1.0) * 0.5);
-}
 
 struct Taps {
     // The four texels (or the nearest one four times), their bilinear weights, and the

@@ -189,6 +189,7 @@ fn light_uniforms(view: Mat4, l: &PlannedLight) -> LightUniforms {
     LightUniforms {
         position_radius: p.extend(l.radius).into(),
         color: l.color.extend(lum).into(),
+        shadow: [l.shadow.map_or(0, |s| s + 1), 0, 0, 0],
     }
 }
 

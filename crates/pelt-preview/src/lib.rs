@@ -19,6 +19,7 @@
 pub mod animate;
 pub mod assets;
 pub mod bench;
+pub mod cube;
 pub mod draw;
 pub mod feature;
 pub mod features;
@@ -57,6 +58,7 @@ use assets::AssetCache;
 use feature::Output;
 use features::reflect::Maps;
 use features::registry::targets;
+use features::shadows::ShadowCubes;
 use features::skin::GpuSkinned;
 use frame_data::FrameData;
 use owned::Owned;
@@ -244,6 +246,7 @@ impl Preview {
             _ => None,
         };
         let mut owned = Owned::default();
+        owned.insert(ShadowCubes::new(&self.renderer, &scene_plan));
         if !scene_plan.maps.is_empty() {
             let group = sky.as_ref().map(|s| &s.group);
             owned.insert(Maps::new(&self.renderer, &scene_plan, group)?);
@@ -332,6 +335,10 @@ impl Preview {
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
         let plan = &sv.scene_plan;
+        match sv.owned.get_mut::<ShadowCubes>() {
+            Some(c) if c.fits(plan) => c.write(&self.renderer, plan),
+            _ => sv.owned.insert(ShadowCubes::new(&self.renderer, plan)),
+        }
         match sv.owned.get_mut::<Maps>() {
             _ if plan.maps.is_empty() => sv.owned.remove::<Maps>(),
             Some(m) if m.fits(plan) => m.write(&self.renderer, plan),

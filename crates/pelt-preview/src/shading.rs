@@ -103,10 +103,16 @@ pub fn run_phases<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<()
     Ok(())
 }
 
-/// The shading pass `s`: the output cleared, then the registered features' draws.
-pub fn shade<'a>(f: &Frame<'a>, s: &Shade) -> Result<Recipe<'a>, MissingInput> {
+/// The shading pass `s` begun: the output cleared and the frame bound, before any draw.
+pub fn begin<'a>(f: &Frame<'a>, s: &Shade) -> Recipe<'a> {
     let mut r = attachments(f, s.pass);
     f.bind_frame(&mut r, Res::Output);
+    r
+}
+
+/// The shading pass `s`: [`begin`], then the registered features' draws.
+pub fn shade<'a>(f: &Frame<'a>, s: &Shade) -> Result<Recipe<'a>, MissingInput> {
+    let mut r = begin(f, s);
     run_phases(f, &mut r, s)?;
     Ok(r)
 }

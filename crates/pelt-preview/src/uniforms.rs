@@ -77,6 +77,8 @@ pub struct LightUniforms {
     pub position_radius: [f32; 4],
     /// rgb colour × intensity; w intensity × luminance(colour).
     pub color: [f32; 4],
+    /// x: the light's shadow-cube slot + 1 (0: it casts none); yzw unused.
+    pub shadow: [u32; 4],
 }
 
 /// Uniform buffer offsets are multiples of this (wgpu's default limit).

@@ -8,6 +8,7 @@ use std::path::Path;
 
 use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
 use pelt_preview::features::registry;
+use pelt_preview::features::shadows::ShadowFace;
 use pelt_preview::renderer::{PipelineDesc, PipelineSpec};
 use pelt_preview::shaders::{FILES, ShaderDesc, compose_str, decorated};
 use pelt_preview::uniforms::{
@@ -392,6 +393,11 @@ fn f(a: Frame, b: Object, c: Light, d: MaterialParams) -> u32 {
             shader_of("reflect", "reflect.wgsl"),
             "Reflect",
             size_of::<ReflectUniforms>(),
+        ),
+        (
+            shader_of("shadows", "shadow_map.wgsl"),
+            "ShadowFace",
+            size_of::<ShadowFace>(),
         ),
     ] {
         let (m, _) = composed(shader);

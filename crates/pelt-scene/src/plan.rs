@@ -214,6 +214,8 @@ pub struct PlannedLight {
     pub color: Vec3,
     /// Scissor rectangle on the L-buffer.
     pub rect: [u32; 4],
+    /// Its shadow map's slot, when it casts shadows.
+    pub shadow: Option<u32>,
 }
 
 /// A pass, for `--explain` and timing labels.
@@ -223,6 +225,9 @@ pub enum Pass {
     DistanceMaps,
     /// Each distance-map layer's minimum and maximum distance (Figure 17-4), a compute pass.
     MinMax,
+    /// A cube of distances about each shadow-casting light (Kircher & Lawrance's shadows,
+    /// applied per L-buffer pixel in the light pass and per pixel in the forward pass).
+    Shadows,
     /// G-buffer at L-buffer resolution.
     Geometry,
     /// Scissored lights into the L-buffer.
@@ -259,6 +264,7 @@ impl Pass {
         match self {
             Pass::DistanceMaps => "distance-maps",
             Pass::MinMax => "min-max",
+            Pass::Shadows => "shadow-maps",
             Pass::Geometry => "geometry",
             Pass::Light => "light",
             Pass::Material => "material",
@@ -306,6 +312,8 @@ pub struct Plan {
     pub extent: (Vec3, f32),
     /// Lights the distance maps are lit by (every light of the scene, on screen or not).
     pub map_lights: usize,
+    /// Lights that cast shadows (each has a shadow cube).
+    pub shadow_lights: usize,
     /// How fur shells and fins are composited.
     pub fur_blend: FurBlend,
     /// The background.
@@ -355,6 +363,46 @@ impl MeshInfo {
             texel_density: crate::footprint::texel_density(mesh),
         }
     }
+}
+
+/// Most lights that cast shadows (shadow-map slots).
+pub const MAX_SHADOW_LIGHTS: usize = 8;
+/// Side of each face of a light's shadow cube, in texels.
+pub const SHADOW_MAP_SIZE: u32 = 512;
+/// Percentage-closer filtering: the side of the square of texels each lookup compares (1:
+/// the nearest texel, a hard edge; 2: the 2×2 bilinear comparison). Keep in sync with `PCF`
+/// in shaders/shadows.wgsl.
+pub const SHADOW_PCF: u32 = 2;
+
+/// Keeps `shadows` on the first [`MAX_SHADOW_LIGHTS`] lights that ask for it, with a note
+/// naming each light past them.
+fn cap_shadows(
+    mut lights: Vec<SceneLight>,
+    scene: &Scene,
+    notes: &mut Vec<String>,
+) -> Vec<SceneLight> {
+    let mut casting = 0;
+    for l in lights.iter_mut().filter(|l| l.shadows) {
+        casting += 1;
+        if casting > MAX_SHADOW_LIGHTS {
+            l.shadows = false;
+        }
+    }
+    if casting > MAX_SHADOW_LIGHTS {
+        let over: Vec<String> = scene
+            .lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.shadows)
+            .skip(MAX_SHADOW_LIGHTS)
+            .map(|(i, _)| format!("lights[{i}]"))
+            .collect();
+        notes.push(format!(
+            "{}: at most {MAX_SHADOW_LIGHTS} lights cast shadows; these light without",
+            over.join(", ")
+        ));
+    }
+    lights
 }
 
 /// A light of the scene that gives any light.
@@ -423,6 +471,20 @@ fn world_box(model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 }
 
 impl ScenePlan {
+    /// The lights that cast shadows, in slot order.
+    pub fn shadow_lights(&self) -> impl Iterator<Item = &SceneLight> {
+        self.lights.iter().filter(|l| l.shadows)
+    }
+
+    /// `light`'s shadow-map slot (its place among the lights that cast shadows).
+    pub fn shadow_slot(&self, light: &SceneLight) -> Option<u32> {
+        light.shadows.then(|| {
+            self.shadow_lights()
+                .position(|l| std::ptr::eq(l, light))
+                .map_or(0, |i| i as u32)
+        })
+    }
+
     /// The camera-independent plan of `scene` in `mode`; `infos[mesh_of[i]]` is object i's
     /// mesh.
     pub fn new(scene: &Scene, infos: &[MeshInfo], mesh_of: &[usize], mode: Mode) -> ScenePlan {
@@ -533,7 +595,7 @@ impl ScenePlan {
             );
             objects.push((planned, bounds));
         }
-        let lights = scene
+        let lights: Vec<SceneLight> = scene
             .lights
             .iter()
             .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
@@ -544,11 +606,11 @@ impl ScenePlan {
                 shadows: l.shadows,
             })
             .collect();
-        // The rasterizing modes draw no shadows yet: said, not skipped silently.
-        if let Some(i) = scene.lights.iter().position(|l| l.shadows) {
-            notes.push(format!(
-                "lights[{i}].shadows: only --mode raytrace traces shadows; this mode lights every surface the light reaches"
-            ));
+        let lights = cap_shadows(lights, scene, &mut notes);
+        if mode.is_forward() && fur_count > 0 && lights.iter().any(|l| l.shadows) {
+            notes.push(
+                "fur in forward mode is lit without shadows (inferred and deferred shade it from the shadowed L-buffer)".into(),
+            );
         }
         ScenePlan {
             mode,
@@ -681,6 +743,7 @@ impl Plan {
                     radius: l.radius,
                     color: l.color,
                     rect: view.light_rect(l.position, l.radius, light_target)?,
+                    shadow: scene.shadow_slot(l),
                 })
             })
             .collect();
@@ -716,6 +779,9 @@ impl Plan {
         if !fur.is_empty() && mode != Mode::Strands && !debug {
             passes.push(Pass::Resolve);
         }
+        if scene.lights.iter().any(|l| l.shadows) && !debug {
+            passes.insert(0, Pass::Shadows);
+        }
         if !maps.is_empty() {
             let mut first = vec![Pass::DistanceMaps];
             if scene.reflections.min_max && scene.reflections.technique == Technique::DistanceMaps {
@@ -738,6 +804,7 @@ impl Plan {
             reflections: scene.reflections,
             extent: scene.extent,
             map_lights: scene.lights.len(),
+            shadow_lights: scene.shadow_lights().count(),
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
             lights,
@@ -796,6 +863,13 @@ impl Plan {
             let _ = write!(s, "  {:<14}", p.name());
             match p {
                 Pass::DistanceMaps => self.explain_maps(&mut s),
+                Pass::Shadows => {
+                    let _ = write!(
+                        s,
+                        "{n} shadow-casting light(s) × 6 faces of {SHADOW_MAP_SIZE}²: distance to the nearest opaque surface; lights and forward shading compare with {SHADOW_PCF}×{SHADOW_PCF} PCF",
+                        n = self.shadow_lights
+                    );
+                }
                 Pass::MinMax => {
                     let _ = write!(
                         s,

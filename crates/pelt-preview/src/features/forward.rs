@@ -2,6 +2,7 @@
 //! shading pass's phases ([`crate::shading`]) with its own shader; fur is lit per strand
 //! with Kajiya-Kay (Revie Listing 2.4).
 
+use super::shadows;
 use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
 use crate::gpu_material::with_untextured;
@@ -18,7 +19,9 @@ pub const SHADER: ShaderDesc =
 
 /// The forward shader's pipeline with `blend`.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
-    lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend)
+    let mut p = lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend);
+    p.spec.groups.push(shadows::LAYOUT);
+    p
 }
 
 /// The forward reference's feature.
@@ -39,5 +42,9 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         lit: Lighting::Forward,
         object: pipeline,
     };
-    shading::shade(f, &s)
+    let mut r = shading::begin(f, &s);
+    let cubes = shadows::cubes(f, Pass::Forward.name())?;
+    r.bind(shadows::slot::CUBES, &cubes.read, None);
+    shading::run_phases(f, &mut r, &s)?;
+    Ok(r)
 }

@@ -3,6 +3,7 @@
 //! position and normal back from the G-buffer. The geometry pass's depth, tested read-only
 //! against the far side of each light's reach, rejects the pixels behind it before shading.
 
+use super::shadows;
 use crate::draw::{ADD, MissingInput};
 use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::frame_data::Res;
@@ -23,6 +24,8 @@ pub mod slot {
     pub const LIGHT: u32 = 2;
     /// Which object IDs hold strand tangents (the fur's shell table).
     pub const SHELL_TABLE: u32 = 3;
+    /// The shadow cubes (shadows.wgsl).
+    pub const SHADOWS: u32 = super::shadows::slot::CUBES;
 }
 
 /// light.wgsl, a full-screen triangle per light (at its reach's far depth), scissored to it.
@@ -42,6 +45,7 @@ pub fn pipeline() -> PipelineDesc {
                 layout::TEXTURES,
                 layout::LIGHT,
                 layout::SHELL_TABLE,
+                shadows::LAYOUT,
             ],
             blends: vec![Some(ADD)],
             depth: Some((false, wgpu::CompareFunction::GreaterEqual)),
@@ -126,6 +130,8 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     );
     r.bind(slot::GBUFFER, &g.read, None);
     r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
+    let cubes = shadows::cubes(f, Pass::Light.name())?;
+    r.bind(slot::SHADOWS, &cubes.read, None);
     for (i, light) in f.plan.lights.iter().enumerate() {
         r.push(Step::Scissor(light.rect));
         r.bind(

@@ -37,6 +37,7 @@ pub mod overlay;
 pub mod reflect;
 pub mod registry;
 pub mod resolve;
+pub mod shadows;
 pub mod skin;
 pub mod sky;
 pub mod strands;

@@ -17,6 +17,7 @@ use crate::shaders::ShaderDesc;
 /// Every feature, in the order their draws run within a phase of the shading pass.
 pub const FEATURES: &[Feature] = &[
     super::skin::FEATURE,
+    super::shadows::FEATURE,
     super::reflect::FEATURE,
     super::geometry::FEATURE,
     super::alpha::FEATURE,
@@ -105,6 +106,7 @@ mod tests {
     #[test]
     fn every_plannable_pass_has_exactly_one_builder() {
         let planned = [
+            Pass::Shadows,
             Pass::DistanceMaps,
             Pass::MinMax,
             Pass::Geometry,

@@ -104,6 +104,8 @@ impl MapInputs {
             .map(|l| LightUniforms {
                 position_radius: l.position.extend(l.radius).into(),
                 color: l.color.extend(lum(l.color)).into(),
+                // The maps are lit unshadowed.
+                shadow: [0; 4],
             })
             .collect();
         let stride = UNIFORM_STRIDE as usize;

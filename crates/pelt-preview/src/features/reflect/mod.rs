@@ -12,7 +12,8 @@
 //! light), and made again when the knobs change its textures.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+
+pub use crate::cube::face_view;
 
 use crate::draw::{MissingInput, vertex_layout};
 use crate::feature::{
@@ -117,27 +118,6 @@ pub enum MapError {
     /// More mirror and glass objects than the search's uniforms hold.
     #[error("at most {MAX_MAPS} mirror and glass objects have distance maps; the scene has {0}")]
     TooMany(usize),
-}
-
-/// The six faces' view matrices about the origin: row 0 maps a direction to the face's
-/// s coordinate, row 1 to −t, row 2 to −(major axis) (GPUs' cube-map convention, which
-/// reflect.wgsl's `face_uv` inverts).
-pub fn face_view(face: u32) -> Mat4 {
-    let (s, t, m) = match face {
-        0 => (Vec3::NEG_Z, Vec3::NEG_Y, Vec3::X),
-        1 => (Vec3::Z, Vec3::NEG_Y, Vec3::NEG_X),
-        2 => (Vec3::X, Vec3::Z, Vec3::Y),
-        3 => (Vec3::X, Vec3::NEG_Z, Vec3::NEG_Y),
-        4 => (Vec3::X, Vec3::NEG_Y, Vec3::Z),
-        _ => (Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z),
-    };
-    Mat4::from_cols(
-        s.extend(0.0),
-        (-t).extend(0.0),
-        (-m).extend(0.0),
-        glam::Vec4::W,
-    )
-    .transpose()
 }
 
 /// The distance maps of one scene and everything that draws and reads them: the targets

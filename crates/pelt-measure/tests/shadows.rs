@@ -1,0 +1,186 @@
+//! Shadow cubes of point lights measured against the CPU ray tracer's shadow rays (the same
+//! scene, lighting and occluders), so the FLIP between the two is the shadow maps' own error:
+//! resolution, bias and PCF. The stage is fixtures/scenes/shadows.json at 256×144; the
+//! alpha-layer case (Kircher & Lawrance Fig. 6) is a blade over three overlapping layers. A
+//! failed comparison leaves `-reference.png`, `-actual.png` and `-diff.png` in
+//! `target/render-tests/`. `PELT_BACKEND=gl|vulkan` picks the back end.
+
+mod common;
+
+use std::path::Path;
+
+use common::{out_dir, preview};
+use glam::{Vec3, Vec4Swizzles};
+use pelt_measure::Flip;
+use pelt_preview::knobs::{self, Knobs};
+use pelt_preview::{Image, Mode, Preview, Scene};
+
+const SIZE: (u32, u32) = (256, 144);
+
+struct Loaded {
+    scene: Scene,
+    meshes: Vec<pelt_preview::asset::MeshData>,
+    of: Vec<usize>,
+}
+
+fn stage() -> Loaded {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes/shadows.json");
+    let k = Knobs {
+        size: Some(SIZE),
+        ..Knobs::default()
+    };
+    let i = knobs::load(&path, &k, SIZE).expect("shadows.json");
+    Loaded {
+        scene: i.scene,
+        meshes: i.meshes,
+        of: i.mesh_of,
+    }
+}
+
+fn with_shadows(l: &Loaded, on: bool) -> Scene {
+    let mut s = l.scene.clone();
+    s.lights.iter_mut().for_each(|x| x.shadows &= on);
+    s
+}
+
+fn traced(l: &Loaded, scene: &Scene) -> Image {
+    let t = pelt_trace::trace_scene(scene, &l.meshes, &l.of).expect("ray tracer");
+    Image {
+        width: t.width,
+        height: t.height,
+        rgba: t.rgba,
+    }
+}
+
+fn render(p: &mut Preview, l: &Loaded, scene: &Scene, mode: Mode) -> Image {
+    let sv = p
+        .prepare_loaded(scene, &l.meshes, &l.of, mode)
+        .expect("prepare");
+    p.render(&sv).expect("render")
+}
+
+fn save(name: &str, reference: &Image, test: &Image) {
+    let dir = out_dir();
+    reference
+        .save(&dir.join(format!("{name}-reference.png")))
+        .expect("write");
+    test.save(&dir.join(format!("{name}-actual.png")))
+        .expect("write");
+    Flip::new(reference, test)
+        .expect("same size")
+        .heat_map()
+        .save(&dir.join(format!("{name}-diff.png")))
+        .expect("write");
+}
+
+/// The pixels a shadow darkens: where the ray tracer's image with shadow rays is darker than
+/// without by more than two steps in some channel.
+fn shadowed(lit: &Image, dark: &Image) -> Vec<bool> {
+    lit.rgba
+        .chunks(4)
+        .zip(dark.rgba.chunks(4))
+        .map(|(a, b)| {
+            a.iter()
+                .zip(b)
+                .take(3)
+                .any(|(x, y)| *x > y.saturating_add(2))
+        })
+        .collect()
+}
+
+#[test]
+fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
+    let l = stage();
+    let on = with_shadows(&l, true);
+    let truth = traced(&l, &on);
+    let mask = shadowed(&traced(&l, &with_shadows(&l, false)), &truth);
+    let n = mask.iter().filter(|&&m| m).count();
+    assert!(n > 1000, "the stage has shadows to measure ({n} pixels)");
+    let mut p = preview();
+    for mode in [Mode::Forward, Mode::Deferred] {
+        let img = render(&mut p, &l, &on, mode);
+        let f = Flip::new(&truth, &img).expect("same size");
+        let (whole, over) = (f.mean(), f.masked_mean(&mask));
+        eprintln!("{mode}: FLIP whole {whole:.4}, over {n} shadowed pixels {over:.4}");
+        if whole > 0.02 || over > 0.06 || std::env::var_os("PELT_SAVE").is_some() {
+            save(&format!("shadows-{mode}"), &truth, &img);
+        }
+        assert!(whole <= 0.02, "{mode}: whole-image FLIP {whole}");
+        assert!(over <= 0.06, "{mode}: FLIP over the shadowed pixels {over}");
+    }
+    // The negative control: the same render without shadows misses them by far.
+    let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
+    let miss = Flip::new(&truth, &unshadowed)
+        .expect("same size")
+        .masked_mean(&mask);
+    assert!(
+        miss > 0.15,
+        "without shadows the shadowed pixels differ ({miss})"
+    );
+}
+
+/// Kircher & Lawrance Fig. 6: a blade's shadow on three overlapping alpha layers. Each
+/// layer's own part under the blade darkens with the blade's shadow, and beside it is lit as
+/// without shadows, in every rasterizing mode.
+#[test]
+fn a_blade_shadows_each_of_three_overlapping_alpha_layers_in_every_mode() {
+    let json = r#"{
+        "output": {"width": 192, "height": 144},
+        "camera": {"position": [0, 6, 7], "target": [0, 0.4, 0], "fovYDeg": 40, "near": 0.1, "far": 30},
+        "ambient": [0.05, 0.05, 0.05],
+        "objects": [
+            {"asset": "builtin:cube", "transform": {"translation": [0, -0.1, 0], "scale": [8, 0.2, 8]}, "color": [0.6, 0.6, 0.6]},
+            {"asset": "builtin:quad", "transform": {"translation": [-0.8, 0.4, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "scale": [1.6, 1.6, 1]}, "material": {"kind": "alpha", "opacity": 0.6}, "color": [1, 0.3, 0.3]},
+            {"asset": "builtin:quad", "transform": {"translation": [0, 0.6, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "scale": [1.6, 1.6, 1]}, "material": {"kind": "alpha", "opacity": 0.6}, "color": [0.3, 1, 0.3]},
+            {"asset": "builtin:quad", "transform": {"translation": [0.8, 0.8, 0], "rotation": [-0.7071068, 0, 0, 0.7071068], "scale": [1.6, 1.6, 1]}, "material": {"kind": "alpha", "opacity": 0.6}, "color": [0.3, 0.3, 1]},
+            {"asset": "builtin:cube", "transform": {"translation": [0, 1.6, 0], "scale": [4, 0.05, 0.3]}, "color": [0.8, 0.8, 0.8]}
+        ],
+        "lights": [{"position": [0, 3.5, 0], "intensity": 6, "radius": 12, "shadows": true}]
+    }"#;
+    let on: Scene = serde_json::from_str(json).expect("scene");
+    let mut off = on.clone();
+    off.lights[0].shadows = false;
+    let (meshes, of) = pelt_preview::load_meshes(&on).expect("built-in meshes");
+    let l = Loaded {
+        scene: on.clone(),
+        meshes,
+        of,
+    };
+    let view = pelt_preview::view::View::new(&on);
+    let px = |p: Vec3| {
+        let c = view.proj * view.view * p.extend(1.0);
+        let ndc = c.xy() / c.w;
+        let x = ((ndc.x + 1.0) * 0.5 * 192.0) as u32;
+        let y = ((1.0 - ndc.y) * 0.5 * 144.0) as u32;
+        (x, y)
+    };
+    let luma = |img: &Image, (x, y): (u32, u32)| -> u32 {
+        let i = ((y * img.width + x) * 4) as usize;
+        img.rgba[i..i + 3].iter().map(|&c| u32::from(c)).sum()
+    };
+    // On each layer, a point where it is the nearest layer to the camera: under the blade's
+    // shadow (the blade runs along x at z = 0, the light straight above it) and beside it.
+    let layers = [(-1.2, 0.4), (-0.4, 0.6), (1.2, 0.8)];
+    let mut p = preview();
+    for mode in [Mode::Inferred, Mode::Deferred, Mode::Forward] {
+        let lit = render(&mut p, &l, &off, mode);
+        let shadowed = render(&mut p, &l, &on, mode);
+        for (i, &(x, y)) in layers.iter().enumerate() {
+            let under = px(Vec3::new(x, y, 0.0));
+            let beside = px(Vec3::new(x, y, -0.7));
+            let (a, b) = (luma(&lit, under), luma(&shadowed, under));
+            if b * 4 > a * 3 {
+                save(&format!("shadows-blade-{mode}"), &lit, &shadowed);
+            }
+            assert!(
+                b * 4 <= a * 3,
+                "{mode}: layer {i} under the blade: {b} vs {a} unshadowed"
+            );
+            let (a, b) = (luma(&lit, beside), luma(&shadowed, beside));
+            assert!(
+                a.abs_diff(b) <= 3,
+                "{mode}: layer {i} beside the blade: {b} vs {a}"
+            );
+        }
+    }
+}

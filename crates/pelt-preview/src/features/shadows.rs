@@ -1,0 +1,320 @@
+//! Shadows, as Kircher & Lawrance's title promises: a cube of distances about each
+//! shadow-casting point light (shadow_map.wgsl), read where lights are applied (shadows.wgsl):
+//! in the light pass, one lookup per L-buffer pixel, so opaque surfaces and every stippled
+//! alpha layer receive shadows (§4: "any lighting/shadow algorithm that is one to one in terms
+//! of L-buffer pixels"), and in the forward pass per pixel, the same way.
+//!
+//! Like the distance maps, the cubes depend on the scene, not on the camera: [`ShadowCubes`]
+//! is made with the scene view and drawn again only when a caster, a light or a pose moved.
+//! Every opaque object of the scene casts (mirrors and glass too, as the ray tracer's shadow
+//! rays see them); alpha layers do not.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+
+use crate::cube::face_view;
+use crate::draw::{MissingInput, vertex_layout, vertex_slot};
+use crate::feature::{Build, Cached, Feature, Frame, PassDesc};
+use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
+use crate::plan::{Pass, SHADOW_MAP_SIZE, ScenePlan};
+use crate::recipe::{Color, Depth, Recipe, Step};
+use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
+use crate::shaders::ShaderDesc;
+use crate::targets::{LayeredTarget, Target};
+use crate::uniforms::{ObjectUniforms, UNIFORM_STRIDE};
+
+/// Bind-group slots of shadow_map.wgsl.
+pub mod slot {
+    /// The face being drawn (dynamic offset).
+    pub const FACE: u32 = 0;
+    /// One caster's constants (dynamic offset).
+    pub const OBJECT: u32 = 1;
+    /// light.wgsl and forward.wgsl: the cubes (shadows.wgsl's `@group(4)`).
+    pub const CUBES: u32 = 4;
+}
+
+/// Format of the cubes: the distance from the light in world units, as a half float and
+/// its half-float remainder (GL renders to no 32-bit float format).
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// What a texel that sees no surface holds: farther than any receiver.
+const NOTHING: f64 = 3.0e38;
+
+/// One face of one light's cube. Keep in sync with `ShadowFace` in shaders/shadow_map.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct ShadowFace {
+    /// World to this face's clip space.
+    pub view_proj: [[f32; 4]; 4],
+    /// xyz: the light's world position; w: its radius.
+    pub light: [f32; 4],
+}
+
+/// One face's constants (dynamic offset; shadow_map.wgsl).
+pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "shadow face",
+    entries: &[layout::uniform(0, size_of::<ShadowFace>(), true)],
+};
+
+/// The cubes, as the light and forward passes read them (shadows.wgsl).
+pub const LAYOUT: LayoutDesc = LayoutDesc {
+    label: "shadow cubes",
+    entries: &[seen_by(
+        wgpu::ShaderStages::FRAGMENT,
+        layout::texture(0, UNFILTERABLE, D2_ARRAY),
+    )],
+};
+
+/// shadow_map.wgsl.
+pub const SHADER: ShaderDesc = ShaderDesc::render("shadow_map.wgsl");
+
+/// The casters' pipeline: both sides drawn (a closed mesh's back faces are its shadow's
+/// nearest surface from inside the light's reach too), nearest distance kept by depth.
+pub fn pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: SHADER,
+        spec: PipelineSpec {
+            groups: vec![FACE_LAYOUT, layout::OBJECT],
+            vertex_buffers: vec![vertex_layout()],
+            blends: vec![None],
+            depth: Some((true, wgpu::CompareFunction::Less)),
+            ..PipelineSpec::default()
+        },
+    }
+}
+
+/// The shadows' feature.
+pub const FEATURE: Feature = Feature {
+    pipelines: || vec![pipeline()],
+    passes: &[PassDesc {
+        cached: Some(CACHED),
+        ..PassDesc::new(Pass::Shadows, Build::Many(passes))
+    }],
+    ..Feature::named(
+        "shadows",
+        "a distance cube per shadow-casting point light, read per L-buffer or forward pixel",
+    )
+};
+
+/// The cubes outlive the frame: drawn again only when a light or a caster moved, or any
+/// caster is posed (its vertices change each frame).
+const CACHED: Cached = Cached {
+    fresh: |f| {
+        f.scene.get::<ShadowCubes>().is_some_and(ShadowCubes::fresh)
+            && f.poses.iter().all(Option::is_none)
+    },
+    drawn: |f| {
+        if let Some(c) = f.scene.get::<ShadowCubes>() {
+            c.fresh.store(true, Ordering::Relaxed);
+        }
+    },
+};
+
+/// The shadow cubes of one scene, their casters and the group that reads them.
+#[derive(Debug)]
+pub struct ShadowCubes {
+    /// Lights with a cube.
+    pub slots: u32,
+    /// The cubes: six layers per light.
+    pub cubes: LayeredTarget,
+    views: Vec<wgpu::TextureView>,
+    depth: Target,
+    faces: wgpu::Buffer,
+    faces_group: wgpu::BindGroup,
+    objects: wgpu::Buffer,
+    objects_group: wgpu::BindGroup,
+    capacity: usize,
+    /// What the cubes hold: (object slot, mesh index, scene index).
+    draws: Vec<(usize, usize, usize)>,
+    /// The cubes as shadows.wgsl reads them (a 1×1 stand-in without shadow-casting lights).
+    pub read: wgpu::BindGroup,
+    fresh: AtomicBool,
+    drawn: Vec<u8>,
+}
+
+fn buffer(r: &Renderer, label: &str, size: u64) -> wgpu::Buffer {
+    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer,
+        offset: 0,
+        size: wgpu::BufferSize::new(size as u64),
+    })
+}
+
+impl ShadowCubes {
+    /// The cubes of `plan`'s shadow-casting lights, written.
+    pub fn new(r: &Renderer, plan: &ScenePlan) -> ShadowCubes {
+        let slots = plan.shadow_lights().count() as u32;
+        let side = if slots > 0 { SHADOW_MAP_SIZE } else { 1 };
+        let layers = slots.max(1) * 6;
+        let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
+        let views = (0..slots * 6).map(|i| cubes.layer(i, 0)).collect();
+        let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
+        let faces = buffer(r, "shadow faces", u64::from(layers) * UNIFORM_STRIDE);
+        let capacity = plan.objects.len().max(1);
+        let objects = buffer(r, "shadow casters", capacity as u64 * UNIFORM_STRIDE);
+        let mut c = ShadowCubes {
+            slots,
+            faces_group: r.group(
+                "shadow faces",
+                &FACE_LAYOUT,
+                &[sized(&faces, size_of::<ShadowFace>())],
+            ),
+            objects_group: r.group(
+                "shadow casters",
+                &layout::OBJECT,
+                &[sized(&objects, size_of::<ObjectUniforms>())],
+            ),
+            read: r.group(
+                "shadow cubes",
+                &LAYOUT,
+                &[wgpu::BindingResource::TextureView(&cubes.sampled)],
+            ),
+            cubes,
+            views,
+            depth,
+            faces,
+            objects,
+            capacity,
+            draws: Vec::new(),
+            fresh: AtomicBool::new(false),
+            drawn: Vec::new(),
+        };
+        c.write(r, plan);
+        c
+    }
+
+    /// Whether these cubes fit `plan`'s shadow-casting lights and objects.
+    pub fn fits(&self, plan: &ScenePlan) -> bool {
+        self.slots == plan.shadow_lights().count() as u32 && plan.objects.len() <= self.capacity
+    }
+
+    /// Whether a frame has drawn the cubes since their lights and casters last changed.
+    pub fn fresh(&self) -> bool {
+        self.fresh.load(Ordering::Relaxed)
+    }
+
+    /// Writes the faces and casters of `plan` (which the cubes fit); a change makes the next
+    /// frame draw them again.
+    pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
+        let stride = UNIFORM_STRIDE as usize;
+        let mut faces = vec![0u8; self.views.len() * stride];
+        for (slot, l) in plan.shadow_lights().enumerate() {
+            let near = (l.radius * 1e-4).max(1e-6);
+            let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, l.radius);
+            let to_light = Mat4::from_translation(-l.position);
+            for face in 0..6u32 {
+                let u = ShadowFace {
+                    view_proj: (proj * face_view(face) * to_light).to_cols_array_2d(),
+                    light: l.position.extend(l.radius).into(),
+                };
+                let at = (slot * 6 + face as usize) * stride;
+                faces[at..at + size_of::<ShadowFace>()].copy_from_slice(bytemuck::bytes_of(&u));
+            }
+        }
+        let mut objects = vec![0u8; plan.objects.len() * stride];
+        let mut draws = Vec::new();
+        for (i, (o, _)) in plan.objects.iter().enumerate() {
+            let u = ObjectUniforms {
+                model: o.model.to_cols_array_2d(),
+                ..ObjectUniforms::zeroed()
+            };
+            objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
+                .copy_from_slice(bytemuck::bytes_of(&u));
+            if o.pattern == 0 {
+                draws.push((i, o.mesh, o.scene_index));
+            }
+        }
+        let ids: Vec<[u32; 3]> = draws
+            .iter()
+            .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
+            .collect();
+        let drawn = [faces.as_slice(), &objects, bytemuck::cast_slice(&ids)].concat();
+        if drawn != self.drawn {
+            if !faces.is_empty() {
+                r.gpu.write_buffer(&self.faces, 0, &faces);
+            }
+            if !objects.is_empty() {
+                r.gpu.write_buffer(&self.objects, 0, &objects);
+            }
+            self.draws = draws;
+            self.drawn = drawn;
+            self.fresh.store(false, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The view's shadow cubes, or the error `pass` reports without them.
+pub fn cubes<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a ShadowCubes, MissingInput> {
+    f.scene.need(pass, "the scene's shadow cubes")
+}
+
+/// The shadow pass: every face of every light's cube, each a render pass.
+pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
+    let name = Pass::Shadows.name();
+    let c = cubes(f, name)?;
+    let mut out = Vec::new();
+    for (i, view) in c.views.iter().enumerate() {
+        let mut r = Recipe::new(
+            Pass::Shadows,
+            vec![Color {
+                view,
+                format: FORMAT,
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: NOTHING,
+                    g: 0.0,
+                    b: 0.0,
+                    a: 0.0,
+                }),
+            }],
+            Some(Depth {
+                view: &c.depth.view,
+                format: DEPTH_FORMAT,
+                load: wgpu::LoadOp::Clear(1.0),
+            }),
+        );
+        r.pipeline(pipeline());
+        r.bind(
+            slot::FACE,
+            &c.faces_group,
+            Some(i as u32 * UNIFORM_STRIDE as u32),
+        );
+        for &(k, mesh, scene_index) in &c.draws {
+            let g = f.object_mesh(name, scene_index, mesh)?;
+            r.bind(
+                slot::OBJECT,
+                &c.objects_group,
+                Some(k as u32 * UNIFORM_STRIDE as u32),
+            );
+            r.push(Step::Vertices(vertex_slot::MESH, &g.vertices));
+            r.push(Step::Indices(&g.indices));
+            r.push(Step::DrawIndexed(0..g.count, 0..1));
+        }
+        out.push(r);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::plan::SHADOW_PCF;
+
+    #[test]
+    fn the_shaders_pcf_is_the_one_the_plan_explains() {
+        let wgsl = include_str!("../../../../shaders/shadows.wgsl");
+        assert!(
+            wgsl.contains(&format!("const PCF: i32 = {SHADOW_PCF};")),
+            "shadows.wgsl's PCF differs from pelt_scene::plan::SHADOW_PCF"
+        );
+    }
+}

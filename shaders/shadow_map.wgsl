@@ -1,0 +1,41 @@
+// shadow_map.wgsl: one face of a shadow-casting point light's cube. Every opaque object of
+// the scene (on screen or not) is drawn from the light through a 90° face; each texel keeps
+// the distance from the light to the nearest surface (the target is cleared to a distance
+// past every surface, so a texel that sees nothing never shadows). shadows.wgsl compares a
+// receiver's own distance with it.
+//
+// Keep in sync with ShadowFace in crates/pelt-preview/src/features/shadows.rs.
+
+#import pelt::common::{VertexIn}
+#import pelt::object_bindings::{object}
+
+struct ShadowFace {
+    view_proj: mat4x4<f32>,
+    // xyz: the light's world position; w: its radius.
+    light: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> face: ShadowFace;
+
+struct Caster {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> Caster {
+    var o: Caster;
+    let world = object.model * vec4<f32>(v.position, 1.0);
+    o.clip = face.view_proj * world;
+    o.world = world.xyz;
+    return o;
+}
+
+// The distance as a half float and its half-float remainder (about 22 bits; GL renders to
+// no 32-bit float target), as pack_geometry stores the distance maps'.
+@fragment
+fn fs_main(in: Caster) -> @location(0) vec4<f32> {
+    let d = distance(in.world, face.light.xyz);
+    let hi = bitcast<f32>(bitcast<u32>(d) & 0xffffe000u);
+    return vec4<f32>(hi, d - hi, 0.0, 0.0);
+}
