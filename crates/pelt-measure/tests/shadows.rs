@@ -184,3 +184,118 @@ fn a_blade_shadows_each_of_three_overlapping_alpha_layers_in_every_mode() {
         }
     }
 }
+
+/// The pixels farther than `r` pixels (in x and y) from every pixel of `mask`.
+fn away_from(mask: &[bool], width: usize, r: usize) -> Vec<bool> {
+    let height = mask.len() / width;
+    (0..mask.len())
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            let ys = y.saturating_sub(r)..=(y + r).min(height - 1);
+            !ys.into_iter().any(|yy| {
+                (x.saturating_sub(r)..=(x + r).min(width - 1)).any(|xx| mask[yy * width + xx])
+            })
+        })
+        .collect()
+}
+
+/// A cube on a floor under a light 0.6 above the floor and 6 away (about 3° to 6° over the
+/// floor: grazing), scaled by `s`; the intensity keeps the floor's light the same at every
+/// scale (the falloff is 1 / (1 + d²)).
+fn grazing_stage(s: f32, shadows: bool) -> Scene {
+    let d2 = (36.0 + 0.36) * s * s;
+    let json = format!(
+        r#"{{
+        "output": {{"width": 192, "height": 108}},
+        "camera": {{"position": [{cx}, {cy}, {cz}], "target": [0, 0, 0], "fovYDeg": 45, "near": {near}, "far": {far}}},
+        "ambient": [0.05, 0.05, 0.05],
+        "objects": [
+            {{"asset": "builtin:cube", "transform": {{"translation": [0, {fy}, 0], "scale": [{fw}, {ft}, {fw}]}}, "color": [0.7, 0.7, 0.7]}},
+            {{"asset": "builtin:cube", "transform": {{"translation": [0, {cyc}, 0], "scale": [{c}, {c}, {c}]}}, "color": [0.9, 0.6, 0.3]}}
+        ],
+        "lights": [{{"position": [{lx}, {ly}, 0], "intensity": {i}, "radius": {r}, "shadows": {shadows}}}]
+    }}"#,
+        cx = -3.0 * s,
+        cy = 4.0 * s,
+        cz = 6.0 * s,
+        near = 0.05 * s,
+        far = 100.0 * s,
+        fy = -0.1 * s,
+        fw = 10.0 * s,
+        ft = 0.2 * s,
+        cyc = 0.5 * s,
+        c = s,
+        lx = 6.0 * s,
+        ly = 0.6 * s,
+        i = 1.5 * (1.0 + d2),
+        r = 30.0 * s,
+    );
+    serde_json::from_str(&json).expect("grazing stage")
+}
+
+/// At a grazing light and at scenes of 1 cm and of 1 km: no acne (a surface the ray tracer
+/// lights is lit as without shadows) and no leak (the cube's shadow, contact included,
+/// matches the ray tracer's).
+#[test]
+fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
+    let mut p = preview();
+    for s in [0.01, 1.0, 1000.0] {
+        let on = grazing_stage(s, true);
+        let off = grazing_stage(s, false);
+        let (meshes, of) = pelt_preview::load_meshes(&on).expect("built-in meshes");
+        let l = Loaded {
+            scene: on.clone(),
+            meshes,
+            of,
+        };
+        let truth = traced(&l, &on);
+        let mask = shadowed(&traced(&l, &off), &truth);
+        // Lit in the truth and more than two pixels from its shadow (a shadow edge may fall
+        // a pixel or two off: an L-buffer texel is 1.6 output pixels).
+        let lit_in_truth = away_from(&mask, truth.width as usize, 2);
+        assert!(
+            mask.iter().filter(|&&m| m).count() > 200,
+            "scale {s}: a shadow to measure"
+        );
+        for mode in [Mode::Forward, Mode::Inferred] {
+            let (a, b) = (
+                render(&mut p, &l, &off, mode),
+                render(&mut p, &l, &on, mode),
+            );
+            // Acne: pixels the truth lights, darkened by the shadow cube.
+            let acne = a
+                .rgba
+                .chunks(4)
+                .zip(b.rgba.chunks(4))
+                .zip(&lit_in_truth)
+                .filter(|((x, y), lit)| {
+                    **lit
+                        && x.iter()
+                            .zip(y.iter())
+                            .take(3)
+                            .any(|(u, v)| *u > v.saturating_add(3))
+                })
+                .count();
+            let lit = lit_in_truth.iter().filter(|&&m| m).count();
+            if acne * 200 > lit {
+                save(&format!("shadows-acne-{s}-{mode}"), &a, &b);
+            }
+            assert!(
+                acne * 200 <= lit,
+                "scale {s}, {mode}: {acne} of {lit} lit pixels darkened"
+            );
+            // Leaks: the shadowed pixels against the ray tracer.
+            let over = Flip::new(&truth, &b).expect("same size").masked_mean(&mask);
+            eprintln!(
+                "scale {s}, {mode}: {acne} acne pixels of {lit}; FLIP over the shadow {over:.4}"
+            );
+            if over > 0.08 {
+                save(&format!("shadows-leak-{s}-{mode}"), &truth, &b);
+            }
+            assert!(
+                over <= 0.08,
+                "scale {s}, {mode}: FLIP over the shadow {over}"
+            );
+        }
+    }
+}

@@ -90,15 +90,15 @@ mod tests {
 
     #[test]
     fn sizes_match_the_wgsl_layouts() {
-        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 8 vec4 = 256; Light = 32.
+        // WGSL: Frame = 2 mat4 + 5 vec4 = 208; Object = 2 mat4 + 8 vec4 = 256; Light = 3 vec4 = 48.
         assert_eq!(size_of::<FrameUniforms>(), 208);
         assert_eq!(size_of::<ObjectUniforms>(), 256);
         assert_eq!(size_of::<FurVertex>(), 40);
         assert_eq!(size_of::<FinInstance>(), 128);
-        assert_eq!(size_of::<LightUniforms>(), 32);
+        assert_eq!(size_of::<LightUniforms>(), 48);
         assert_eq!(size_of::<Vertex>(), 52);
         assert_eq!(size_of::<MaterialUniforms>(), 32);
         assert!(size_of::<ObjectUniforms>() as u64 <= UNIFORM_STRIDE);
-        assert_eq!(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>(), 8192);
+        assert_eq!(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>(), 12288);
     }
 }
