@@ -13,10 +13,15 @@
 #import pelt::common::{Light, face_uv}
 #import pelt::object_bindings::{frame}
 
-// Keep in sync with pelt_scene::plan::SHADOW_PCF.
-const PCF: i32 = 2;
+// How to read the cubes. Keep in sync with ShadowRead in
+// crates/pelt-preview/src/features/shadows.rs.
+struct ShadowRead {
+    // x: the PCF side in texels (the scene's shadowMaps.pcf); yzw: unused.
+    pcf: vec4<u32>,
+}
 
 @group(4) @binding(0) var shadow_cubes: texture_2d_array<f32>;
+@group(4) @binding(1) var<uniform> shadow_read: ShadowRead;
 
 // The distance from the light to the nearest surface in texel `at` of cube face `layer`
 // (shadow_map.wgsl's two halves).
@@ -42,16 +47,17 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
     let f = face_uv(d);
     let layer = i32((light.shadow.x - 1u) * 6u) + i32(f.x);
     let reach = length(d) - texel;
-    // PCF × PCF texels compared: 1 reads the nearest texel (a hard edge); from 2 on, the
+    // pcf × pcf texels compared: 1 reads the nearest texel (a hard edge); from 2 on, the
     // lookup's square of that side, its outer texels weighted bilinearly by how far the lookup
     // falls toward them (2 is the 2×2 bilinear comparison hardware PCF does).
     let last = i32(size) - 1;
     let c = f.yz * size - 0.5;
-    if PCF == 1 {
+    let pcf = i32(shadow_read.pcf.x);
+    if pcf <= 1 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));
         return select(0.0, 1.0, reach <= nearest(at, layer));
     }
-    let k = PCF - 1;
+    let k = pcf - 1;
     let base = vec2<i32>(floor(c)) - vec2<i32>((k - 1) / 2);
     let frac = fract(c);
     var seen = 0.0;

@@ -108,6 +108,25 @@ fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
         assert!(whole <= 0.02, "{mode}: whole-image FLIP {whole}");
         assert!(over <= 0.06, "{mode}: FLIP over the shadowed pixels {over}");
     }
+    // The knobs reach the cubes: hard edges (1 texel) and a wider filter (4×4) draw other
+    // shadows, each still close to the truth; a finer cube (1024²) too.
+    let mut seen = vec![render(&mut p, &l, &on, Mode::Forward)];
+    for (size, pcf) in [(512, 1), (512, 4), (1024, 2)] {
+        let mut s = on.clone();
+        s.shadow_maps.size = size;
+        s.shadow_maps.pcf = pcf;
+        let img = render(&mut p, &l, &s, Mode::Forward);
+        let over = Flip::new(&truth, &img)
+            .expect("same size")
+            .masked_mean(&mask);
+        eprintln!("forward, {size}², PCF {pcf}: FLIP over the shadow {over:.4}");
+        assert!(over <= 0.08, "{size}², PCF {pcf}: {over}");
+        assert!(
+            seen.iter().all(|x| x.rgba != img.rgba),
+            "{size}², PCF {pcf} changed nothing"
+        );
+        seen.push(img);
+    }
     // The negative control: the same render without shadows misses them by far.
     let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
     let miss = Flip::new(&truth, &unshadowed)

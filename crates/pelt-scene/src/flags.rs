@@ -45,6 +45,19 @@ pub fn cube_size(s: &str) -> Result<u32, String> {
     }
 }
 
+/// A shadow cube face size: a power of two in [`crate::scene::ShadowMaps::SIZE`].
+pub fn shadow_size(s: &str) -> Result<u32, String> {
+    let r = crate::scene::ShadowMaps::SIZE;
+    match s.parse::<u32>() {
+        Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
+        _ => Err(format!(
+            "{s:?} is not a power of two from {} to {}",
+            r.start(),
+            r.end()
+        )),
+    }
+}
+
 /// A count in `range` (one of the scene's ranges: shells, steps, layers, bounces).
 pub fn count(s: &str, range: RangeInclusive<u32>) -> Result<u32, String> {
     match s.parse::<u32>() {

@@ -52,6 +52,14 @@ pub struct Knobs {
     /// Mirrors and glass.
     #[cfg_attr(feature = "cli", command(flatten))]
     pub reflections: ReflectionKnobs,
+    /// Shadow cube face size, a power of two from 16 to 4096 (overrides the scene's
+    /// shadowMaps.size).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = flags::shadow_size))]
+    pub shadow_size: Option<u32>,
+    /// Shadow filtering: the side of the square of texels each lookup compares, 1 (hard) to 8
+    /// (overrides the scene's shadowMaps.pcf).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::PCF)))]
+    pub pcf: Option<u32>,
 }
 
 /// Overrides of the scene's `reflections` block; `None` keeps the scene's value.
@@ -132,6 +140,12 @@ impl Knobs {
             scene.fur_lighting = l;
         }
         self.reflections.apply(&mut scene.reflections);
+        if let Some(s) = self.shadow_size {
+            scene.shadow_maps.size = s;
+        }
+        if let Some(p) = self.pcf {
+            scene.shadow_maps.pcf = p;
+        }
         for o in &mut scene.objects {
             if let Material::Fur(f) = &mut o.material {
                 if self.shells.is_some() {
@@ -235,6 +249,10 @@ mod tests {
             "on",
             "--layers",
             "4",
+            "--pcf",
+            "1",
+            "--shadow-size",
+            "1024",
         ])
         .expect("valid flags");
         assert_eq!(k.dsf, Some(false));
@@ -243,6 +261,7 @@ mod tests {
         assert_eq!(k.reflections.technique, Some(Technique::Envmap));
         assert_eq!(k.reflections.min_max, Some(true));
         assert_eq!(k.reflections.layers, Some(4));
+        assert_eq!((k.pcf, k.shadow_size), (Some(1), Some(1024)));
         assert_eq!(parse(&[]).expect("no flags"), Knobs::default());
         for bad in [
             ["--shells", "0"],
@@ -251,6 +270,9 @@ mod tests {
             ["--fins", "maybe"],
             ["--lbuffer-scale", "0"],
             ["--cube-size", "100"],
+            ["--pcf", "9"],
+            ["--shadow-size", "100"],
+            ["--shadow-size", "8192"],
         ] {
             assert!(parse(&bad).is_err(), "{bad:?}");
         }
@@ -285,8 +307,11 @@ mod tests {
                 min_max: Some(false),
                 ..Default::default()
             },
+            shadow_size: Some(64),
+            pcf: Some(3),
         }
         .apply(&mut s);
+        assert_eq!((s.shadow_maps.size, s.shadow_maps.pcf), (64, 3));
         assert_eq!(
             (
                 s.reflections.technique,

@@ -12,7 +12,7 @@ use glam::{Mat4, Vec3};
 use crate::asset::MeshData;
 use crate::fur::FurLook;
 use crate::scene::{
-    FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, Sky, Technique,
+    FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, ShadowMaps, Sky, Technique,
 };
 use crate::vertex::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
@@ -314,6 +314,8 @@ pub struct Plan {
     pub map_lights: usize,
     /// Lights that cast shadows (each has a shadow cube).
     pub shadow_lights: usize,
+    /// The shadow cubes' size and filtering.
+    pub shadow_maps: ShadowMaps,
     /// How fur shells and fins are composited.
     pub fur_blend: FurBlend,
     /// The background.
@@ -367,12 +369,6 @@ impl MeshInfo {
 
 /// Most lights that cast shadows (shadow-map slots).
 pub const MAX_SHADOW_LIGHTS: usize = 8;
-/// Side of each face of a light's shadow cube, in texels.
-pub const SHADOW_MAP_SIZE: u32 = 512;
-/// Percentage-closer filtering: the side of the square of texels each lookup compares (1:
-/// the nearest texel, a hard edge; 2: the 2×2 bilinear comparison). Keep in sync with `PCF`
-/// in shaders/shadows.wgsl.
-pub const SHADOW_PCF: u32 = 2;
 
 /// Keeps `shadows` on the first [`MAX_SHADOW_LIGHTS`] lights that ask for it, with a note
 /// naming each light past them.
@@ -451,6 +447,8 @@ pub struct ScenePlan {
     pub maps: Vec<PlannedMap>,
     /// The centre and radius of the whole scene's world bounds.
     pub extent: (Vec3, f32),
+    /// The shadow cubes' size and filtering.
+    pub shadow_maps: ShadowMaps,
 }
 
 /// The world bounds of `lo..hi` under `model`.
@@ -629,6 +627,7 @@ impl ScenePlan {
             scene_lights: scene.lights.len(),
             notes,
             reflections: scene.reflections,
+            shadow_maps: scene.shadow_maps,
             maps,
             extent: if scene_lo.x <= scene_hi.x {
                 (
@@ -805,6 +804,7 @@ impl Plan {
             extent: scene.extent,
             map_lights: scene.lights.len(),
             shadow_lights: scene.shadow_lights().count(),
+            shadow_maps: scene.shadow_maps,
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
             lights,
@@ -866,8 +866,10 @@ impl Plan {
                 Pass::Shadows => {
                     let _ = write!(
                         s,
-                        "{n} shadow-casting light(s) × 6 faces of {SHADOW_MAP_SIZE}²: distance to the nearest opaque surface; lights and forward shading compare with {SHADOW_PCF}×{SHADOW_PCF} PCF",
-                        n = self.shadow_lights
+                        "{n} shadow-casting light(s) × 6 faces of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
+                        n = self.shadow_lights,
+                        size = self.shadow_maps.size,
+                        pcf = self.shadow_maps.pcf
                     );
                 }
                 Pass::MinMax => {

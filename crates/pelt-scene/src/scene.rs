@@ -725,6 +725,8 @@ pub struct Scene {
     pub fur_lighting: FurLighting,
     /// Mirrors and glass: the technique and its knobs.
     pub reflections: Reflections,
+    /// The shadow cubes of lights that cast shadows: their size and filtering.
+    pub shadow_maps: ShadowMaps,
 }
 
 /// How mirrors and glass are drawn.
@@ -844,6 +846,45 @@ impl Reflections {
     }
 }
 
+/// The knobs of the shadow cubes, the scene's `shadowMaps` block (lights opt in with
+/// `"shadows": true`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct ShadowMaps {
+    /// Each cube face's side in texels (a power of two).
+    pub size: u32,
+    /// Percentage-closer filtering: the side of the square of texels a lookup compares (1:
+    /// the nearest texel, a hard edge; 2: the 2×2 bilinear comparison).
+    pub pcf: u32,
+}
+
+impl Default for ShadowMaps {
+    fn default() -> Self {
+        ShadowMaps { size: 512, pcf: 2 }
+    }
+}
+
+impl ShadowMaps {
+    /// Face sizes (also a power of two).
+    pub const SIZE: std::ops::RangeInclusive<u32> = 16..=4096;
+    /// PCF sides.
+    pub const PCF: std::ops::RangeInclusive<u32> = 1..=8;
+
+    /// The first knob out of range, as (field, message).
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        if !Self::SIZE.contains(&self.size) || !self.size.is_power_of_two() {
+            return Err((
+                "size",
+                format!("must be a power of two from 16 to 4096, got {}", self.size),
+            ));
+        }
+        if !Self::PCF.contains(&self.pcf) {
+            return Err(("pcf", format!("must be 1 to 8, got {}", self.pcf)));
+        }
+        Ok(())
+    }
+}
+
 mod sky_serde {
     use super::{Sky, SkySpec};
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -875,6 +916,7 @@ impl Default for Scene {
             fur_coverage: FurCoverage::Analytic,
             fur_lighting: FurLighting::KajiyaKay,
             reflections: Reflections::default(),
+            shadow_maps: ShadowMaps::default(),
         }
     }
 }
@@ -1033,6 +1075,9 @@ impl Scene {
         self.reflections
             .check()
             .map_err(|(f, m)| (format!("reflections.{f}"), m))?;
+        self.shadow_maps
+            .check()
+            .map_err(|(f, m)| (format!("shadowMaps.{f}"), m))?;
         for (i, obj) in self.objects.iter().enumerate() {
             obj.transform
                 .check()
@@ -1176,6 +1221,17 @@ mod tests {
                 "reflections.cubeSize",
                 "power of two",
             ),
+            (
+                r#"{"shadowMaps": {"size": 300}}"#,
+                "shadowMaps.size",
+                "power of two",
+            ),
+            (
+                r#"{"shadowMaps": {"size": 8192}}"#,
+                "shadowMaps.size",
+                "power of two from 16 to 4096",
+            ),
+            (r#"{"shadowMaps": {"pcf": 0}}"#, "shadowMaps.pcf", "1 to 8"),
             (
                 r#"{"reflections": {"layers": 2}}"#,
                 "reflections.layers",

@@ -383,6 +383,8 @@ fn scene_knobs(v: &Viewer) -> Knobs {
         fur_coverage: Some(s.fur_coverage),
         fur_lighting: Some(s.fur_lighting),
         reflections: Default::default(),
+        shadow_size: Some(s.shadow_maps.size),
+        pcf: Some(s.shadow_maps.pcf),
     }
 }
 

@@ -18,7 +18,7 @@ use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
 use crate::feature::{Build, Cached, Feature, Frame, PassDesc};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
-use crate::plan::{Pass, SHADOW_MAP_SIZE, ScenePlan};
+use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::shaders::ShaderDesc;
@@ -58,13 +58,27 @@ pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
     entries: &[layout::uniform(0, size_of::<ShadowFace>(), true)],
 };
 
-/// The cubes, as the light and forward passes read them (shadows.wgsl).
+/// How the cubes are read. Keep in sync with `ShadowRead` in shaders/shadows.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct ShadowRead {
+    /// x: the PCF side (texels); yzw: unused.
+    pub pcf: [u32; 4],
+}
+
+/// The cubes and how to read them, as the light and forward passes do (shadows.wgsl).
 pub const LAYOUT: LayoutDesc = LayoutDesc {
     label: "shadow cubes",
-    entries: &[seen_by(
-        wgpu::ShaderStages::FRAGMENT,
-        layout::texture(0, UNFILTERABLE, D2_ARRAY),
-    )],
+    entries: &[
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::texture(0, UNFILTERABLE, D2_ARRAY),
+        ),
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::uniform(1, size_of::<ShadowRead>(), false),
+        ),
+    ],
 };
 
 /// shadow_map.wgsl.
@@ -117,12 +131,15 @@ const CACHED: Cached = Cached {
 pub struct ShadowCubes {
     /// Lights with a cube.
     pub slots: u32,
+    /// Each face's side in texels.
+    pub size: u32,
     /// The cubes: six layers per light.
     pub cubes: LayeredTarget,
     views: Vec<wgpu::TextureView>,
     depth: Target,
     faces: wgpu::Buffer,
     faces_group: wgpu::BindGroup,
+    params: wgpu::Buffer,
     objects: wgpu::Buffer,
     objects_group: wgpu::BindGroup,
     capacity: usize,
@@ -155,7 +172,8 @@ impl ShadowCubes {
     /// The cubes of `plan`'s shadow-casting lights, written.
     pub fn new(r: &Renderer, plan: &ScenePlan) -> ShadowCubes {
         let slots = plan.shadow_lights().count() as u32;
-        let side = if slots > 0 { SHADOW_MAP_SIZE } else { 1 };
+        let size = plan.shadow_maps.size;
+        let side = if slots > 0 { size } else { 1 };
         let layers = slots.max(1) * 6;
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
         let views = (0..slots * 6).map(|i| cubes.layer(i, 0)).collect();
@@ -163,8 +181,10 @@ impl ShadowCubes {
         let faces = buffer(r, "shadow faces", u64::from(layers) * UNIFORM_STRIDE);
         let capacity = plan.objects.len().max(1);
         let objects = buffer(r, "shadow casters", capacity as u64 * UNIFORM_STRIDE);
+        let params = buffer(r, "shadow read", size_of::<ShadowRead>() as u64);
         let mut c = ShadowCubes {
             slots,
+            size,
             faces_group: r.group(
                 "shadow faces",
                 &FACE_LAYOUT,
@@ -178,8 +198,12 @@ impl ShadowCubes {
             read: r.group(
                 "shadow cubes",
                 &LAYOUT,
-                &[wgpu::BindingResource::TextureView(&cubes.sampled)],
+                &[
+                    wgpu::BindingResource::TextureView(&cubes.sampled),
+                    params.as_entire_binding(),
+                ],
             ),
+            params,
             cubes,
             views,
             depth,
@@ -196,7 +220,9 @@ impl ShadowCubes {
 
     /// Whether these cubes fit `plan`'s shadow-casting lights and objects.
     pub fn fits(&self, plan: &ScenePlan) -> bool {
-        self.slots == plan.shadow_lights().count() as u32 && plan.objects.len() <= self.capacity
+        self.slots == plan.shadow_lights().count() as u32
+            && self.size == plan.shadow_maps.size
+            && plan.objects.len() <= self.capacity
     }
 
     /// Whether a frame has drawn the cubes since their lights and casters last changed.
@@ -239,6 +265,11 @@ impl ShadowCubes {
             .iter()
             .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
             .collect();
+        let read = ShadowRead {
+            pcf: [plan.shadow_maps.pcf, 0, 0, 0],
+        };
+        r.gpu
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&read));
         let drawn = [faces.as_slice(), &objects, bytemuck::cast_slice(&ids)].concat();
         if drawn != self.drawn {
             if !faces.is_empty() {
@@ -303,18 +334,4 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
         out.push(r);
     }
     Ok(out)
-}
-
-#[cfg(test)]
-mod tests {
-    use crate::plan::SHADOW_PCF;
-
-    #[test]
-    fn the_shaders_pcf_is_the_one_the_plan_explains() {
-        let wgsl = include_str!("../../../../shaders/shadows.wgsl");
-        assert!(
-            wgsl.contains(&format!("const PCF: i32 = {SHADOW_PCF};")),
-            "shadows.wgsl's PCF differs from pelt_scene::plan::SHADOW_PCF"
-        );
-    }
 }
