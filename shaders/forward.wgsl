@@ -17,6 +17,8 @@ const MAX_FORWARD_LIGHTS: u32 = 256u;
 // map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
 // values in sync with crates/pelt-preview/src/gpu_material.rs.
 override TEXTURED: bool = true;
+// SHADOWS: whether any light of the view casts shadows; false compiles the lookup out.
+override SHADOWS: bool = true;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -43,7 +45,7 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
         var r = point_light(s.view_pos, n, light, frame.ambient.w);
-        if any(r != vec4<f32>(0.0)) {
+        if SHADOWS && any(r != vec4<f32>(0.0)) {
             r *= shadow_seen(s.view_pos, n, light);
         }
         diffuse += r.rgb;

@@ -39,6 +39,9 @@ fn vs_light(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 // STRAND_LIGHTS: whether any object's texels may hold strand tangents (a view with fur lit
 // with Kajiya-Kay); false skips the shell-table lookup (lights.rs's `strand_lit`).
 override STRAND_LIGHTS: bool = true;
+// SHADOWS: whether any light of the view casts shadows; false compiles the lookup out (a
+// CPU rasterizer pays for a branch it cannot prove uniform).
+override SHADOWS: bool = true;
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -56,14 +59,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if STRAND_LIGHTS && (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
         // A strand has no normal: its shadow lookup steps off it toward the light.
         let lit = strand_light(p, n, light, frame.ambient.w);
-        if all(lit == vec4<f32>(0.0)) {
+        if !SHADOWS || all(lit == vec4<f32>(0.0)) {
             return lit;
         }
         let toward = normalize(light.position_radius.xyz - p);
         return lit * shadow_seen(p, toward, light);
     }
     let lit = point_light(p, n, light, frame.ambient.w);
-    if all(lit == vec4<f32>(0.0)) {
+    if !SHADOWS || all(lit == vec4<f32>(0.0)) {
         return lit;
     }
     return lit * shadow_seen(p, n, light);

@@ -17,16 +17,35 @@ use crate::shading::{self, lit_pipeline};
 pub const SHADER: ShaderDesc =
     ShaderDesc::render("forward.wgsl").with_defs(&[("MATERIAL_GROUP", slot::MATERIAL)]);
 
-/// The forward shader's pipeline with `blend`.
+/// The forward shader's pipeline with `blend`, reading the shadow cubes.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
     let mut p = lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend);
     p.spec.groups.push(shadows::LAYOUT);
     p
 }
 
+/// [`pipeline`] for views without a shadow-casting light (the lookup compiled out).
+pub fn unshadowed(blend: Blend) -> PipelineDesc {
+    shadows::unshadowed(pipeline(blend))
+}
+
+/// The forward pipeline function the view needs.
+pub fn for_view(f: &Frame<'_>) -> fn(Blend) -> PipelineDesc {
+    if shadows::any(f) {
+        pipeline
+    } else {
+        unshadowed
+    }
+}
+
 /// The forward reference's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || with_untextured([pipeline(Blend::None), pipeline(Blend::Over)]),
+    pipelines: || {
+        with_untextured(shadows::with_unshadowed(vec![
+            pipeline(Blend::None),
+            pipeline(Blend::Over),
+        ]))
+    },
     passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
     ..Feature::named(
         "forward",
@@ -40,11 +59,10 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         shared: Shared::Shading,
         pass: Pass::Forward,
         lit: Lighting::Forward,
-        object: pipeline,
+        object: for_view(f),
     };
     let mut r = shading::begin(f, &s);
-    let cubes = shadows::cubes(f, Pass::Forward.name())?;
-    r.bind(shadows::slot::CUBES, &cubes.read, None);
+    shadows::bind(f, &mut r, Pass::Forward)?;
     shading::run_phases(f, &mut r, &s)?;
     Ok(r)
 }

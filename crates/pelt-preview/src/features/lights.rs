@@ -78,7 +78,7 @@ pub const FEATURE: Feature = Feature {
         "the scene's (0.625)",
         Reference::Deferred,
     )],
-    pipelines: || vec![pipeline(), without_strands(pipeline())],
+    pipelines: || shadows::with_unshadowed(vec![pipeline(), without_strands(pipeline())]),
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
     ..Feature::named("lights", "scissored point lights into the L-buffer")
 };
@@ -118,11 +118,12 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
             load: wgpu::LoadOp::Load,
         }),
     );
-    r.pipeline(if strand_lit(f) {
+    let desc = if strand_lit(f) {
         pipeline()
     } else {
         without_strands(pipeline())
-    });
+    };
+    r.pipeline(shadows::for_view(f, desc));
     r.bind(
         slot::FRAME,
         f.data.frame(),
@@ -130,8 +131,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     );
     r.bind(slot::GBUFFER, &g.read, None);
     r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
-    let cubes = shadows::cubes(f, Pass::Light.name())?;
-    r.bind(slot::SHADOWS, &cubes.read, None);
+    shadows::bind(f, &mut r, Pass::Light)?;
     for (i, light) in f.plan.lights.iter().enumerate() {
         r.push(Step::Scissor(light.rect));
         r.bind(

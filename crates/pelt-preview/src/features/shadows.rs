@@ -285,6 +285,39 @@ impl ShadowCubes {
     }
 }
 
+/// light.wgsl's and forward.wgsl's override: whether any light of the view casts shadows.
+pub const SHADOWS: &str = "SHADOWS";
+
+/// `desc` for views without a shadow-casting light: the lookup compiled out.
+pub fn unshadowed(desc: PipelineDesc) -> PipelineDesc {
+    desc.with_constant(SHADOWS, Some(0.0))
+}
+
+/// `descs` and their [`unshadowed`] variants.
+pub fn with_unshadowed(descs: Vec<PipelineDesc>) -> Vec<PipelineDesc> {
+    descs
+        .into_iter()
+        .flat_map(|d| [d.clone(), unshadowed(d)])
+        .collect()
+}
+
+/// Whether any light of the view casts shadows.
+pub fn any(f: &Frame<'_>) -> bool {
+    f.plan.lights.iter().any(|l| l.shadow.is_some())
+}
+
+/// `desc` as the view needs it: [`unshadowed`] unless a light of the view casts shadows.
+pub fn for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
+    if any(f) { desc } else { unshadowed(desc) }
+}
+
+/// Binds the view's cubes at [`slot::CUBES`] for a pass that reads them.
+pub fn bind<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: Pass) -> Result<(), MissingInput> {
+    let c = cubes(f, pass.name())?;
+    r.bind(slot::CUBES, &c.read, None);
+    Ok(())
+}
+
 /// The view's shadow cubes, or the error `pass` reports without them.
 pub fn cubes<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a ShadowCubes, MissingInput> {
     f.scene.need(pass, "the scene's shadow cubes")

@@ -112,7 +112,7 @@ fn alpha_shade(f: &Frame<'_>) -> Shade {
         lit,
         object: match lit {
             Lighting::Inferred => super::material::pipeline,
-            Lighting::Forward => super::forward::pipeline,
+            Lighting::Forward => super::forward::for_view(f),
         },
     }
 }
@@ -164,6 +164,10 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     r.pipeline(pipeline());
     r.bind(slot_composite::OIT, &oit.read, None);
     r.push(Step::Draw(0..3, 0..1));
-    alpha::draw(f, &mut r, &alpha_shade(f))?;
+    let shade = alpha_shade(f);
+    if shade.lit == Lighting::Forward {
+        super::shadows::bind(f, &mut r, Pass::Composite)?;
+    }
+    alpha::draw(f, &mut r, &shade)?;
     Ok(r)
 }
