@@ -134,7 +134,8 @@ const SWEEP_EXAMPLES: &str = "\
 Knobs (values as for pelt render and pelt bake):
   shells fins fur-blend mode texture-size height-bits quantize    (against the strand reference)
   lbuffer-scale dsf size                                          (against full-resolution deferred)
-  reflections linear-steps secant-steps layers cube-size max-depth min-max   (against the ray tracer)
+  reflections linear-steps secant-steps layers cube-size max-depth min-max
+  shadow-size pcf                                                 (against the ray tracer)
 
 Examples:
   pelt sweep out/demo/creature.glb -o sweep

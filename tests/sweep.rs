@@ -190,7 +190,7 @@ fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
     let asset = common::fixture("creature.glb");
     let a = asset.to_str().expect("utf8");
     let b = backend();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 7] = [
         (
             &["--knob", "shells=0"],
             "knob shells: \"0\" is not allowed (1 to 256)",
@@ -207,6 +207,14 @@ fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
         (
             &["--knob", "linear-steps=4"],
             "knob linear-steps: the scene has no mirror or glass object",
+        ),
+        (
+            &["--knob", "pcf=2"],
+            "knob pcf: the scene has no light that casts shadows",
+        ),
+        (
+            &["--knob", "shadow-size=100"],
+            "knob shadow-size: \"100\" is not allowed (a power of two from 16 to 4096)",
         ),
     ];
     for (extra, want) in cases {

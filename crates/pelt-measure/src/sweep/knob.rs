@@ -14,7 +14,7 @@ use pelt_scene::Mode;
 use pelt_scene::flags;
 use pelt_scene::knobs::Knobs;
 use pelt_scene::scene::{
-    FurBlend, FurCoverage, FurLighting, Technique, reflection_limits as limits,
+    FurBlend, FurCoverage, FurLighting, ShadowMaps, Technique, reflection_limits as limits,
 };
 
 /// A knob.
@@ -58,6 +58,10 @@ pub enum Knob {
     MaxDepth,
     /// Min-max acceleration.
     MinMax,
+    /// Shadow cube face size.
+    ShadowSize,
+    /// Shadow filtering (PCF side).
+    Pcf,
 }
 
 /// What a knob is measured against (declared with the knob by the feature that reads it).
@@ -169,7 +173,7 @@ const UNREGISTERED: KnobDesc = KnobDesc::new("?", "?", "?", Truth::Strands);
 
 impl Knob {
     /// Every knob, in report order.
-    pub const ALL: [Knob; 19] = [
+    pub const ALL: [Knob; 21] = [
         Knob::Shells,
         Knob::Fins,
         Knob::FurBlend,
@@ -189,6 +193,8 @@ impl Knob {
         Knob::CubeSize,
         Knob::MaxDepth,
         Knob::MinMax,
+        Knob::ShadowSize,
+        Knob::Pcf,
     ];
 
     /// The knob's name (the `pelt render` or `pelt bake` flag without dashes).
@@ -213,6 +219,8 @@ impl Knob {
             Knob::CubeSize => "cube-size",
             Knob::MaxDepth => "max-depth",
             Knob::MinMax => "min-max",
+            Knob::ShadowSize => "shadow-size",
+            Knob::Pcf => "pcf",
         }
     }
 
@@ -267,6 +275,8 @@ impl Knob {
             Knob::Layers => within(s, limits::LAYERS),
             Knob::CubeSize => count(s, 8, 2048, true),
             Knob::MaxDepth => within(s, limits::MAX_DEPTH),
+            Knob::ShadowSize => flags::shadow_size(s).ok().map(Value::Count),
+            Knob::Pcf => within(s, ShadowMaps::PCF),
         };
         v.ok_or_else(|| KnobError::Value {
             knob: self.name(),
@@ -347,6 +357,8 @@ impl Knob {
             Knob::Layers => c(&[3, 4, 5]),
             Knob::CubeSize => c(&[64, 128, 256, 512]),
             Knob::MaxDepth => c(&[1, 2, 4, 8]),
+            Knob::ShadowSize => c(&[128, 256, 512, 1024, 2048]),
+            Knob::Pcf => c(&[1, 2, 3, 4]),
         }
     }
 }
@@ -396,6 +408,8 @@ impl Setting {
             (Knob::CubeSize, Value::Count(n)) => r.cube_size = Some(n),
             (Knob::MaxDepth, Value::Count(n)) => r.max_depth = Some(n),
             (Knob::MinMax, Value::Switch(b)) => r.min_max = Some(b),
+            (Knob::ShadowSize, Value::Count(n)) => k.shadow_size = Some(n),
+            (Knob::Pcf, Value::Count(n)) => k.pcf = Some(n),
             // Values come from the knob's own parser; any other pair cannot be made.
             _ => {}
         }
@@ -429,6 +443,8 @@ mod tests {
             (Knob::Dsf, Truth::Deferred),
             (Knob::Size, Truth::Deferred),
             (Knob::MinMax, Truth::RayTracer),
+            (Knob::Pcf, Truth::RayTracer),
+            (Knob::ShadowSize, Truth::RayTracer),
         ];
         for (k, t) in truths {
             assert_eq!(k.truth(), t, "{}", k.name());
@@ -444,6 +460,7 @@ mod tests {
             (Knob::SecantSteps, limits::SECANT_STEPS),
             (Knob::Layers, limits::LAYERS),
             (Knob::MaxDepth, limits::MAX_DEPTH),
+            (Knob::Pcf, ShadowMaps::PCF),
         ] {
             assert_eq!(
                 k.allowed(),

@@ -172,6 +172,8 @@ impl Sweep {
 struct Contents {
     fur: bool,
     optics: bool,
+    /// A light casts shadows.
+    shadows: bool,
     /// Fur meshes and their asset files (None: built in, cannot be re-baked).
     fur_assets: Vec<(usize, Option<PathBuf>)>,
 }
@@ -180,6 +182,7 @@ fn contents(scene: &Scene, meshes: &[MeshData], of: &[usize]) -> Contents {
     let mut c = Contents {
         fur: false,
         optics: false,
+        shadows: scene.lights.iter().any(|l| l.shadows),
         fur_assets: Vec::new(),
     };
     for (i, o) in scene.objects.iter().enumerate() {
@@ -204,7 +207,10 @@ fn contents(scene: &Scene, meshes: &[MeshData], of: &[usize]) -> Contents {
 
 /// Checks that `knob` has something to change in the scene.
 fn applies(knob: Knob, c: &Contents) -> Result<(), KnobError> {
+    let shadow_knob = matches!(knob, Knob::ShadowSize | Knob::Pcf);
     let why = match knob.truth() {
+        _ if shadow_knob && !c.shadows => Some("the scene has no light that casts shadows"),
+        _ if shadow_knob => None,
         Truth::Strands if !c.fur => Some("the scene has no fur object with a baked comb"),
         Truth::RayTracer if !c.optics => Some("the scene has no mirror or glass object"),
         _ if knob.rebakes() && c.fur_assets.iter().any(|(_, p)| p.is_none()) => {
@@ -324,6 +330,8 @@ fn default_value(knob: Knob, scene: &Scene, meshes: &[MeshData]) -> Option<Value
         Knob::CubeSize => Value::Count(r.cube_size),
         Knob::MaxDepth => Value::Count(r.max_depth),
         Knob::MinMax => Value::Switch(r.min_max),
+        Knob::ShadowSize => Value::Count(scene.shadow_maps.size),
+        Knob::Pcf => Value::Count(scene.shadow_maps.pcf),
     })
 }
 

@@ -16,7 +16,7 @@ use glam::Mat4;
 
 use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
-use crate::feature::{Build, Cached, Feature, Frame, PassDesc};
+use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::plan::{Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
@@ -101,6 +101,15 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The shadows' feature.
 pub const FEATURE: Feature = Feature {
+    knobs: &[
+        KnobDesc::new(
+            "shadow-size",
+            "a power of two from 16 to 4096",
+            "the scene's (512)",
+            Reference::RayTracer,
+        ),
+        KnobDesc::new("pcf", "1 to 8", "the scene's (2)", Reference::RayTracer),
+    ],
     pipelines: || vec![pipeline()],
     passes: &[PassDesc {
         cached: Some(CACHED),
