@@ -4,12 +4,17 @@
 // terms depend on the strand direction T rather than a normal:
 //   diffuse  = sqrt(1 − (L·T)²)
 //   specular = (sqrt(1 − (L·T)²) · sqrt(1 − (V·T)²) − (L·T)(V·T))^p
-// with the same windowed inverse-square falloff as every other light in the preview.
+// with the same windowed inverse-square falloff as every other light in the preview. With the
+// SHADOWS def (a view with a shadow-casting light), each light is weighted by how much of it
+// the strand sees (shadows.wgsl, stepping off the strand toward the light).
 
 #define_import_path pelt::fur_light_forward
 #import pelt::common::{Light}
 #import pelt::fur_common::{FurLight, FurQuery}
 #import pelt::object_bindings::{frame}
+#ifdef SHADOWS
+#import pelt::shadows::{shadow_seen}
+#endif
 
 @group(2) @binding(0) var<uniform> lights: array<Light, 256>;
 
@@ -35,8 +40,12 @@ fn fur_lighting(q: FurQuery) -> FurLight {
         let atten = window * window / (1.0 + dist * dist);
         let lt = dot(l, t);
         let sin_l = sqrt(max(1.0 - lt * lt, 0.0));
-        out.diffuse += light.color.rgb * sin_l * atten;
-        let spec = pow(max(sin_l * sin_v - lt * vt, 0.0), frame.ambient.w) * atten;
+        var seen = atten;
+#ifdef SHADOWS
+        seen *= shadow_seen(q.view_pos, l, light);
+#endif
+        out.diffuse += light.color.rgb * sin_l * seen;
+        let spec = pow(max(sin_l * sin_v - lt * vt, 0.0), frame.ambient.w) * seen;
         out.specular += light.color.rgb * spec;
     }
     return out;

@@ -556,3 +556,60 @@ fn the_shaders_strand_tangent_is_the_cpu_paths_derivative_at_each_height() {
     };
     assert!(old > 20.0, "{old}");
 }
+
+/// Fur receives shadows in every mode: a plate between the key light and the upper half of
+/// the furry sphere darkens the fur it shades (forward: each strand's own lookup; inferred
+/// and deferred: the shadowed L-buffer), and the lower half, which the key light still sees,
+/// keeps its light.
+#[test]
+fn fur_receives_shadows_in_every_mode() {
+    let mut f = Fixture::new();
+    let mut off = scene(16, true, FurBlend::Stipple);
+    // A plate between the key light (2.5, 2.5, 3) and the sphere's upper half.
+    off.objects.push(Object {
+        asset: PathBuf::from("cube"),
+        transform: Transform {
+            translation: [1.25, 1.6, 1.5],
+            scale: [1.2, 0.05, 1.2],
+            ..Transform::default()
+        },
+        material: Material::Opaque,
+        color: [0.5; 3],
+    });
+    let mut on = off.clone();
+    on.lights[0].shadows = true;
+    let of = [0, 1];
+    let luma = |img: &Image, rows: std::ops::Range<u32>| -> f64 {
+        let mut sum = 0.0;
+        for y in rows {
+            for x in 60..132 {
+                let i = ((y * img.width + x) * 4) as usize;
+                sum += img.rgba[i..i + 3]
+                    .iter()
+                    .map(|&c| f64::from(c))
+                    .sum::<f64>();
+            }
+        }
+        sum
+    };
+    for mode in [Mode::Forward, Mode::Inferred, Mode::Deferred] {
+        let a = f.render_with(&off, &of, mode);
+        let b = f.render_with(&on, &of, mode);
+        let (top_a, top_b) = (luma(&a, 30..60), luma(&b, 30..60));
+        let (low_a, low_b) = (luma(&a, 100..120), luma(&b, 100..120));
+        eprintln!(
+            "{mode}: upper fur {top_b:.0} of {top_a:.0} unshadowed; lower {low_b:.0} of {low_a:.0}"
+        );
+        if top_b > 0.9 * top_a || std::env::var_os("PELT_SAVE").is_some() {
+            write_failure(&format!("fur-shadow-{mode}"), &a, &b, &flip_mean(&a, &b).1);
+        }
+        assert!(
+            top_b <= 0.9 * top_a,
+            "{mode}: the plate's shadow darkens the upper fur"
+        );
+        assert!(
+            low_b >= 0.97 * low_a,
+            "{mode}: the lower fur keeps the key light"
+        );
+    }
+}

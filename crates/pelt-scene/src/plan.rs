@@ -605,11 +605,6 @@ impl ScenePlan {
             })
             .collect();
         let lights = cap_shadows(lights, scene, &mut notes);
-        if mode.is_forward() && fur_count > 0 && lights.iter().any(|l| l.shadows) {
-            notes.push(
-                "fur in forward mode is lit without shadows (inferred and deferred shade it from the shadowed L-buffer)".into(),
-            );
-        }
         ScenePlan {
             mode,
             output,

@@ -22,6 +22,8 @@ use crate::shaders::{Coverage, Entry, Lighting, ShaderDesc};
 use crate::shading;
 use crate::uniforms::FinInstance;
 
+use super::shadows;
+
 /// Bind-group slots of obliterate.wgsl.
 pub mod obliterate_slot {
     /// The L-buffer and DSF buffer read.
@@ -75,6 +77,27 @@ pub const FIN_RECORDS: ComputeDesc = ComputeDesc {
 /// The shader def that composes a fur layer shader with the forward lighting chunk
 /// (`pelt::fur_light_forward`: Kajiya-Kay per light) instead of the L-buffer's.
 const FORWARD_LIGHT: &[(&str, u32)] = &[("FORWARD_LIGHT", 1)];
+
+/// [`FORWARD_LIGHT`] reading the shadow cubes too (a view with a shadow-casting light).
+const FORWARD_SHADOWED: &[(&str, u32)] = &[("FORWARD_LIGHT", 1), ("SHADOWS", 1)];
+
+/// `desc`, a forward-lit layer pipeline, reading the shadow cubes (at
+/// `shadows::slot::CUBES`, which the pass binds).
+pub fn shadowed(mut desc: PipelineDesc) -> PipelineDesc {
+    desc.shader = desc.shader.with_defs(FORWARD_SHADOWED);
+    desc.spec.groups.push(shadows::LAYOUT);
+    desc
+}
+
+/// The layer pipeline `f`'s view needs: forward-lit layers read the shadow cubes where a
+/// light of the view casts shadows.
+fn for_view(f: &Frame<'_>, lighting: Lighting, desc: PipelineDesc) -> PipelineDesc {
+    if lighting == Lighting::Forward && shadows::any(f) {
+        shadowed(desc)
+    } else {
+        desc
+    }
+}
 
 /// The shells (instance 0: the base mesh), lit by `lighting`.
 pub const fn shells(lighting: Lighting) -> ShaderDesc {
@@ -191,6 +214,17 @@ fn pipelines() -> Vec<PipelineDesc> {
             }
             out.push(layer_pipeline(Layer::Fins, lighting, blend));
         }
+    }
+    for blend in [Blend::None, Blend::Over, Blend::Wboit] {
+        for coverage in [Coverage::Medium, Coverage::Resolved, Coverage::Binary] {
+            let desc = layer_pipeline(Layer::Shells(coverage), Lighting::Forward, blend);
+            out.push(shadowed(desc));
+        }
+        out.push(shadowed(layer_pipeline(
+            Layer::Fins,
+            Lighting::Forward,
+            blend,
+        )));
     }
     out
 }
@@ -369,10 +403,10 @@ pub fn base<'a>(
     pass: &'static str,
     lighting: Lighting,
 ) -> Result<(), MissingInput> {
-    r.pipeline(layer_pipeline(
-        Layer::Shells(Coverage::Medium),
+    r.pipeline(for_view(
+        f,
         lighting,
-        Blend::None,
+        layer_pipeline(Layer::Shells(Coverage::Medium), lighting, Blend::None),
     ));
     for &k in &f.plan.fur {
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
@@ -398,7 +432,8 @@ pub fn layers<'a>(
             Some(p) if p.resolved => Coverage::Resolved,
             _ => Coverage::Medium,
         };
-        r.pipeline(layer_pipeline(Layer::Shells(coverage), lighting, blend));
+        let desc = layer_pipeline(Layer::Shells(coverage), lighting, blend);
+        r.pipeline(for_view(f, lighting, desc));
         let (mesh, fur) = bind_fur(f, r, pass, k)?;
         draw_parts(r, mesh, fur, 1..n + 1);
     }
@@ -412,7 +447,8 @@ pub fn layers<'a>(
     if with_fins.is_empty() {
         return Ok(());
     }
-    r.pipeline(layer_pipeline(Layer::Fins, lighting, blend));
+    let desc = layer_pipeline(Layer::Fins, lighting, blend);
+    r.pipeline(for_view(f, lighting, desc));
     for k in with_fins {
         let mesh = f.mesh(pass, k)?;
         let fur = mesh.fur.as_ref();

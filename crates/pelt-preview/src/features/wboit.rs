@@ -145,6 +145,9 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let (_, fur_light) = shading::lighting(f, lighting);
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
+    if lighting == Lighting::Forward {
+        super::shadows::bind(f, &mut r, Pass::FurAccum)?;
+    }
     fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
     Ok(r)
 }
