@@ -158,6 +158,8 @@ pub struct ShadowCubes {
     pub read: wgpu::BindGroup,
     fresh: AtomicBool,
     drawn: Vec<u8>,
+    /// How the cubes are read, as last written.
+    read_written: Option<ShadowRead>,
 }
 
 fn buffer(r: &Renderer, label: &str, size: u64) -> wgpu::Buffer {
@@ -222,6 +224,7 @@ impl ShadowCubes {
             draws: Vec::new(),
             fresh: AtomicBool::new(false),
             drawn: Vec::new(),
+            read_written: None,
         };
         c.write(r, plan);
         c
@@ -277,8 +280,11 @@ impl ShadowCubes {
         let read = ShadowRead {
             pcf: [plan.shadow_maps.pcf, 0, 0, 0],
         };
-        r.gpu
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&read));
+        if self.read_written != Some(read) {
+            r.gpu
+                .write_buffer(&self.params, 0, bytemuck::bytes_of(&read));
+            self.read_written = Some(read);
+        }
         let drawn = [faces.as_slice(), &objects, bytemuck::cast_slice(&ids)].concat();
         if drawn != self.drawn {
             if !faces.is_empty() {
