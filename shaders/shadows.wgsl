@@ -57,19 +57,6 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));
         return select(0.0, 1.0, reach <= nearest(at, layer));
     }
-    if pcf == 2 {
-        // The default, unrolled: four reads, weighted bilinearly (a loop whose bounds come
-        // from a uniform costs a CPU rasterizer more than the reads).
-        let b = vec2<i32>(floor(c));
-        let w = fract(c);
-        let lo = clamp(b, vec2<i32>(0), vec2<i32>(last));
-        let hi = clamp(b + vec2<i32>(1), vec2<i32>(0), vec2<i32>(last));
-        let s00 = select(0.0, 1.0, reach <= nearest(lo, layer));
-        let s10 = select(0.0, 1.0, reach <= nearest(vec2<i32>(hi.x, lo.y), layer));
-        let s01 = select(0.0, 1.0, reach <= nearest(vec2<i32>(lo.x, hi.y), layer));
-        let s11 = select(0.0, 1.0, reach <= nearest(hi, layer));
-        return mix(mix(s00, s10, w.x), mix(s01, s11, w.x), w.y);
-    }
     let k = pcf - 1;
     let base = vec2<i32>(floor(c)) - vec2<i32>((k - 1) / 2);
     let frac = fract(c);
