@@ -196,6 +196,31 @@ pub const STORAGE: LayoutDesc = LayoutDesc {
     entries: &[storage(0, true), storage(1, false)],
 };
 
+/// A bind-group entry of the first `size` bytes of `buffer` (a dynamic-offset uniform binds one
+/// record of a buffer of many).
+pub fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer,
+        offset: 0,
+        size: wgpu::BufferSize::new(size as u64),
+    })
+}
+
+/// A buffer of `size` bytes for `usage`, writable from the CPU.
+pub fn buffer(
+    r: &crate::renderer::Renderer,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

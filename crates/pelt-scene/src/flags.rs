@@ -32,9 +32,8 @@ pub fn lbuffer_scale(s: &str) -> Result<f32, String> {
     }
 }
 
-/// A cube-map face size: a power of two in [`reflection_limits::CUBE_SIZE`].
-pub fn cube_size(s: &str) -> Result<u32, String> {
-    let r = reflection_limits::CUBE_SIZE;
+/// A power of two in `r`.
+fn power_of_two(s: &str, r: RangeInclusive<u32>) -> Result<u32, String> {
     match s.parse::<u32>() {
         Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
         _ => Err(format!(
@@ -45,17 +44,14 @@ pub fn cube_size(s: &str) -> Result<u32, String> {
     }
 }
 
+/// A cube-map face size: a power of two in [`reflection_limits::CUBE_SIZE`].
+pub fn cube_size(s: &str) -> Result<u32, String> {
+    power_of_two(s, reflection_limits::CUBE_SIZE)
+}
+
 /// A shadow cube face size: a power of two in [`crate::scene::ShadowMaps::SIZE`].
 pub fn shadow_size(s: &str) -> Result<u32, String> {
-    let r = crate::scene::ShadowMaps::SIZE;
-    match s.parse::<u32>() {
-        Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
-        _ => Err(format!(
-            "{s:?} is not a power of two from {} to {}",
-            r.start(),
-            r.end()
-        )),
-    }
+    power_of_two(s, crate::scene::ShadowMaps::SIZE)
 }
 
 /// A count in `range` (one of the scene's ranges: shells, steps, layers, bounces).

@@ -162,23 +162,6 @@ pub struct ShadowCubes {
     read_written: Option<ShadowRead>,
 }
 
-fn buffer(r: &Renderer, label: &str, size: u64) -> wgpu::Buffer {
-    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
-    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-        buffer,
-        offset: 0,
-        size: wgpu::BufferSize::new(size as u64),
-    })
-}
-
 impl ShadowCubes {
     /// The cubes of `plan`'s shadow-casting lights, written.
     pub fn new(r: &Renderer, plan: &ScenePlan) -> ShadowCubes {
@@ -189,22 +172,37 @@ impl ShadowCubes {
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
         let views = (0..slots * 6).map(|i| cubes.layer(i, 0)).collect();
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
-        let faces = buffer(r, "shadow faces", u64::from(layers) * UNIFORM_STRIDE);
+        let faces = layout::buffer(
+            r,
+            "shadow faces",
+            u64::from(layers) * UNIFORM_STRIDE,
+            wgpu::BufferUsages::UNIFORM,
+        );
         let capacity = plan.objects.len().max(1);
-        let objects = buffer(r, "shadow casters", capacity as u64 * UNIFORM_STRIDE);
-        let params = buffer(r, "shadow read", size_of::<ShadowRead>() as u64);
+        let objects = layout::buffer(
+            r,
+            "shadow casters",
+            capacity as u64 * UNIFORM_STRIDE,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let params = layout::buffer(
+            r,
+            "shadow read",
+            size_of::<ShadowRead>() as u64,
+            wgpu::BufferUsages::UNIFORM,
+        );
         let mut c = ShadowCubes {
             slots,
             size,
             faces_group: r.group(
                 "shadow faces",
                 &FACE_LAYOUT,
-                &[sized(&faces, size_of::<ShadowFace>())],
+                &[layout::sized(&faces, size_of::<ShadowFace>())],
             ),
             objects_group: r.group(
                 "shadow casters",
                 &layout::OBJECT,
-                &[sized(&objects, size_of::<ObjectUniforms>())],
+                &[layout::sized(&objects, size_of::<ObjectUniforms>())],
             ),
             read: r.group(
                 "shadow cubes",

@@ -8,10 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::{Mat4, Vec3};
 
-use super::{
-    FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, ReflectUniforms, face_view, sized,
-    uniform_buffer,
-};
+use super::{FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, ReflectUniforms, face_view};
 use crate::layout;
 use crate::plan::ScenePlan;
 use crate::renderer::Renderer;
@@ -43,12 +40,12 @@ impl MapInputs {
     pub fn new(r: &Renderer, plan: &ScenePlan, faces: u32) -> MapInputs {
         let stride = UNIFORM_STRIDE;
         let uniform = wgpu::BufferUsages::UNIFORM;
-        let face_buf = uniform_buffer(r, "faces", u64::from(faces) * stride, uniform);
+        let face_buf = layout::buffer(r, "faces", u64::from(faces) * stride, uniform);
         let n_objects = plan.objects.len().max(1) as u64;
-        let objects = uniform_buffer(r, "map objects", n_objects * stride, uniform);
+        let objects = layout::buffer(r, "map objects", n_objects * stride, uniform);
         let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
-        let lights = uniform_buffer(r, "map lights", light_bytes as u64, uniform);
-        let params = uniform_buffer(
+        let lights = layout::buffer(r, "map lights", light_bytes as u64, uniform);
+        let params = layout::buffer(
             r,
             "reflect params",
             size_of::<ReflectUniforms>() as u64,
@@ -58,17 +55,17 @@ impl MapInputs {
             faces_group: r.group(
                 "faces",
                 &FACE_LAYOUT,
-                &[sized(&face_buf, size_of::<FaceUniforms>())],
+                &[layout::sized(&face_buf, size_of::<FaceUniforms>())],
             ),
             objects_group: r.group(
                 "map objects",
                 &layout::OBJECT,
-                &[sized(&objects, size_of::<ObjectUniforms>())],
+                &[layout::sized(&objects, size_of::<ObjectUniforms>())],
             ),
             lights_group: r.group(
                 "map lights",
                 &layout::LIGHT_ARRAY,
-                &[sized(&lights, light_bytes)],
+                &[layout::sized(&lights, light_bytes)],
             ),
             faces: face_buf,
             objects,

@@ -144,28 +144,6 @@ pub struct Maps {
     pub inputs: MapInputs,
 }
 
-pub(super) fn uniform_buffer(
-    r: &Renderer,
-    label: &str,
-    size: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-pub(super) fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
-    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-        buffer,
-        offset: 0,
-        size: wgpu::BufferSize::new(size as u64),
-    })
-}
-
 /// A 1×1 cube for the sky slot of scenes without a cube-map sky.
 fn no_sky(r: &Renderer) -> wgpu::BindGroup {
     let tex = LayeredTarget::new(r, "no sky", (1, 1), 6, 1, wgpu::TextureFormat::Rgba8Unorm);
@@ -290,7 +268,7 @@ impl Maps {
             .collect();
         let depth = Target::new(&r.gpu.device, "distance maps: depth", size, DEPTH_FORMAT);
         let inputs = MapInputs::new(r, plan, layers);
-        let ranges = uniform_buffer(
+        let ranges = layout::buffer(
             r,
             "distance ranges",
             u64::from(spec.maps * spec.layers) * 8,
@@ -307,7 +285,7 @@ impl Maps {
                     tex(&geometry.sampled),
                     ranges.as_entire_binding(),
                     inputs.params.as_entire_binding(),
-                    sized(&inputs.lights, light_bytes),
+                    layout::sized(&inputs.lights, light_bytes),
                 ],
             ),
             minmax: r.group(
