@@ -206,21 +206,6 @@ pub fn sized(buffer: &wgpu::Buffer, size: usize) -> wgpu::BindingResource<'_> {
     })
 }
 
-/// A buffer of `size` bytes for `usage`, writable from the CPU.
-pub fn buffer(
-    r: &crate::renderer::Renderer,
-    label: &str,
-    size: u64,
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -267,6 +267,16 @@ impl Renderer {
             .clone()
     }
 
+    /// A buffer of `size` bytes for `usage`, writable from the CPU.
+    pub fn buffer(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
     /// A bind group of `desc` with one resource per binding, in binding order.
     pub fn group(
         &self,

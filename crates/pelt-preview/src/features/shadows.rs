@@ -172,21 +172,18 @@ impl ShadowCubes {
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
         let views = (0..slots * 6).map(|i| cubes.layer(i, 0)).collect();
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
-        let faces = layout::buffer(
-            r,
+        let faces = r.buffer(
             "shadow faces",
             u64::from(layers) * UNIFORM_STRIDE,
             wgpu::BufferUsages::UNIFORM,
         );
         let capacity = plan.objects.len().max(1);
-        let objects = layout::buffer(
-            r,
+        let objects = r.buffer(
             "shadow casters",
             capacity as u64 * UNIFORM_STRIDE,
             wgpu::BufferUsages::UNIFORM,
         );
-        let params = layout::buffer(
-            r,
+        let params = r.buffer(
             "shadow read",
             size_of::<ShadowRead>() as u64,
             wgpu::BufferUsages::UNIFORM,

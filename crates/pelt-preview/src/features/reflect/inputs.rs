@@ -40,13 +40,12 @@ impl MapInputs {
     pub fn new(r: &Renderer, plan: &ScenePlan, faces: u32) -> MapInputs {
         let stride = UNIFORM_STRIDE;
         let uniform = wgpu::BufferUsages::UNIFORM;
-        let face_buf = layout::buffer(r, "faces", u64::from(faces) * stride, uniform);
+        let face_buf = r.buffer("faces", u64::from(faces) * stride, uniform);
         let n_objects = plan.objects.len().max(1) as u64;
-        let objects = layout::buffer(r, "map objects", n_objects * stride, uniform);
+        let objects = r.buffer("map objects", n_objects * stride, uniform);
         let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
-        let lights = layout::buffer(r, "map lights", light_bytes as u64, uniform);
-        let params = layout::buffer(
-            r,
+        let lights = r.buffer("map lights", light_bytes as u64, uniform);
+        let params = r.buffer(
             "reflect params",
             size_of::<ReflectUniforms>() as u64,
             uniform,

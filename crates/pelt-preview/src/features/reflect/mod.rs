@@ -268,8 +268,7 @@ impl Maps {
             .collect();
         let depth = Target::new(&r.gpu.device, "distance maps: depth", size, DEPTH_FORMAT);
         let inputs = MapInputs::new(r, plan, layers);
-        let ranges = layout::buffer(
-            r,
+        let ranges = r.buffer(
             "distance ranges",
             u64::from(spec.maps * spec.layers) * 8,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
