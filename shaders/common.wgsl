@@ -70,7 +70,8 @@ struct PosedVertex {
 }
 
 struct Light {
-    // View-space position, radius.
+    // A point light's view-space position and radius; a directional light's unit view-space
+    // direction toward it and 0 (light_reach).
     position_radius: vec4<f32>,
     // rgb: colour × intensity; w: intensity × luminance(colour), the specular scale.
     color: vec4<f32>,
@@ -208,21 +209,35 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// One point light at view-space point `p` with normal `n`: rgb = diffuse irradiance,
-// a = specular intensity (Blinn-Phong, scalar, as the L-buffer stores it). The falloff is
-// inverse-square windowed to reach exactly zero at the light's radius.
-fn point_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
+// The unit direction from view-space point `p` toward `light` (xyz) and its falloff there
+// (w): a point light's inverse-square falloff is windowed to reach exactly zero at its radius
+// (all zero beyond it); a directional light (radius 0, xyz its unit direction toward the
+// light) has none. Keep in sync with `Emitter::reach` in crates/pelt-scene/src/shading.rs.
+fn light_reach(p: vec3<f32>, light: Light) -> vec4<f32> {
+    let radius = light.position_radius.w;
+    if radius == 0.0 {
+        return vec4<f32>(light.position_radius.xyz, 1.0);
+    }
     let to_light = light.position_radius.xyz - p;
     let dist = length(to_light);
-    let radius = light.position_radius.w;
     if dist >= radius {
         return vec4<f32>(0.0);
     }
-    let l = to_light / max(dist, 1e-6);
-    let ndl = max(dot(n, l), 0.0);
     let x = dist / radius;
     let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-    let atten = window * window / (1.0 + dist * dist);
+    return vec4<f32>(to_light / max(dist, 1e-6), window * window / (1.0 + dist * dist));
+}
+
+// One light at view-space point `p` with normal `n`: rgb = diffuse irradiance, a = specular
+// intensity (Blinn-Phong, scalar, as the L-buffer stores it), with light_reach's falloff.
+fn one_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
+    let r = light_reach(p, light);
+    if r.w == 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let l = r.xyz;
+    let atten = r.w;
+    let ndl = max(dot(n, l), 0.0);
     let v = normalize(-p);
     let h = normalize(l + v);
     let spec = pow(max(dot(n, h), 0.0), spec_power) * ndl * atten;
@@ -234,20 +249,16 @@ fn point_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec
 // crates/pelt-preview/src/frame_data.rs.
 const STRAND_LIT: u32 = 65536u;
 
-// point_light for a strand running along `t` (either sign) instead of a surface with normal
+// one_light for a strand running along `t` (either sign) instead of a surface with normal
 // `n`: Kajiya-Kay (Revie Listing 2.4), diffuse sin(T, L), specular (sin(T, L) sin(T, V) −
 // (T·L)(T·V))^p, with the same falloff; fur_light_forward.wgsl evaluates the same terms.
 fn strand_light(p: vec3<f32>, t: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
-    let to_light = light.position_radius.xyz - p;
-    let dist = length(to_light);
-    let radius = light.position_radius.w;
-    if dist >= radius {
+    let r = light_reach(p, light);
+    if r.w == 0.0 {
         return vec4<f32>(0.0);
     }
-    let l = to_light / max(dist, 1e-6);
-    let x = dist / radius;
-    let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-    let atten = window * window / (1.0 + dist * dist);
+    let l = r.xyz;
+    let atten = r.w;
     let v = normalize(-p);
     let lt = dot(l, t);
     let vt = dot(v, t);

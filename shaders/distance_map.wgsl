@@ -13,7 +13,7 @@
 //
 // Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
-#import pelt::common::{Light, VertexIn, pack_geometry, point_light, texel_distance}
+#import pelt::common::{Light, VertexIn, pack_geometry, one_light, texel_distance}
 #import pelt::object_bindings::{object}
 
 struct Face {
@@ -66,11 +66,14 @@ fn radiance(albedo: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let count = min(face.ids.y, MAX_MAP_LIGHTS);
     for (var i = 0u; i < count; i++) {
         var light = lights[i];
-        light.position_radius = vec4<f32>(
-            light.position_radius.xyz - face.reference.xyz,
-            light.position_radius.w,
-        );
-        diffuse += point_light(p, n, light, face.ambient.w).rgb;
+        // A point light's position relative to the reference point (a direction stays).
+        if light.position_radius.w != 0.0 {
+            light.position_radius = vec4<f32>(
+                light.position_radius.xyz - face.reference.xyz,
+                light.position_radius.w,
+            );
+        }
+        diffuse += one_light(p, n, light, face.ambient.w).rgb;
     }
     return albedo * diffuse;
 }

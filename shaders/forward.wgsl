@@ -3,7 +3,7 @@
 // full resolution, with the specular colour taken from each light rather than rebuilt, and the
 // same material textures as the G-buffer and material passes read.
 
-#import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, point_light, to_surface}
+#import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, one_light, to_surface}
 #import pelt::object_bindings::{frame, object}
 #import pelt::shadows::{shadow_seen}
 #import pelt::material_bindings::{base_sampler, base_texture, material, mr_sampler, mr_texture, normal_sampler, normal_texture}
@@ -44,7 +44,7 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
     let count = min(frame.flags.y, MAX_FORWARD_LIGHTS);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        var r = point_light(s.view_pos, n, light, frame.ambient.w);
+        var r = one_light(s.view_pos, n, light, frame.ambient.w);
         if SHADOWS && any(r != vec4<f32>(0.0)) {
             r *= shadow_seen(s.view_pos, n, light);
         }

@@ -9,7 +9,7 @@
 // the strand sees (shadows.wgsl, stepping off the strand toward the light).
 
 #define_import_path pelt::fur_light_forward
-#import pelt::common::{Light}
+#import pelt::common::{Light, light_reach}
 #import pelt::fur_common::{FurLight, FurQuery}
 #import pelt::object_bindings::{frame}
 #ifdef SHADOWS
@@ -28,16 +28,12 @@ fn fur_lighting(q: FurQuery) -> FurLight {
     let count = min(frame.flags.y, 256u);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        let to_light = light.position_radius.xyz - q.view_pos;
-        let dist = length(to_light);
-        let radius = light.position_radius.w;
-        if dist >= radius {
+        let r = light_reach(q.view_pos, light);
+        if r.w == 0.0 {
             continue;
         }
-        let l = to_light / max(dist, 1e-6);
-        let x = dist / radius;
-        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-        let atten = window * window / (1.0 + dist * dist);
+        let l = r.xyz;
+        let atten = r.w;
         let lt = dot(l, t);
         let sin_l = sqrt(max(1.0 - lt * lt, 0.0));
         var seen = atten;

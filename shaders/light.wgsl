@@ -1,6 +1,6 @@
 // light.wgsl: the light pass of inferred lighting (Kircher & Lawrance §2.2). One full-screen
 // triangle per point light, clipped by the scissor rectangle of the light's screen-space bounds
-// (set by the CPU) and placed just beyond the far side of the light's sphere of influence, so
+// (set by the CPU; a directional light's covers the L-buffer) and placed just beyond the far side of the light's sphere of influence, so
 // the depth test against the geometry pass's depth rejects, before shading, every pixel whose
 // surface lies behind the light's reach (or is empty); the rest are added into the L-buffer:
 // rgb = diffuse, a = specular intensity. The
@@ -9,7 +9,7 @@
 // place, lit with Kajiya-Kay (strand_light). A shadow-casting light is weighted by how much
 // of it the surface sees (shadows.wgsl), per L-buffer pixel, alpha layers included.
 
-#import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Light, STRAND_LIT, decode_normal, depth_from_code, point_light, strand_light}
+#import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Light, STRAND_LIT, decode_normal, depth_from_code, light_reach, one_light, strand_light}
 #import pelt::fullscreen::{fullscreen_position}
 #import pelt::object_bindings::{frame}
 #import pelt::shadows::{shadow_seen}
@@ -21,11 +21,16 @@
 // The full-screen triangle at the depth of the light's far side, pushed back by a thousandth
 // of its radius and four steps of the DSF buffer's depth code (the fragment shader reads the
 // quantised depth, the test compares the exact one): a surface the test rejects is out of the
-// light's reach, where point_light and strand_light add exactly zero. A sphere wholly in
-// front of the near plane lights nothing (depth 0 passes no stored depth).
+// light's reach, where one_light and strand_light add exactly zero. A sphere wholly in
+// front of the near plane lights nothing (depth 0 passes no stored depth). A directional
+// light (radius 0) reaches everything: its triangle lies on the far plane.
 @vertex
 fn vs_light(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
     var p = fullscreen_position(vi);
+    if light.position_radius.w == 0.0 {
+        p.z = 1.0;
+        return p;
+    }
     let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;
     let r = light.position_radius.w;
     let far = light.position_radius.z - (1.001 * r + 4.0 * step);
@@ -62,10 +67,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if !SHADOWS || all(lit == vec4<f32>(0.0)) {
             return lit;
         }
-        let toward = normalize(light.position_radius.xyz - p);
-        return lit * shadow_seen(p, toward, light);
+        return lit * shadow_seen(p, light_reach(p, light).xyz, light);
     }
-    let lit = point_light(p, n, light, frame.ambient.w);
+    let lit = one_light(p, n, light, frame.ambient.w);
     if !SHADOWS || all(lit == vec4<f32>(0.0)) {
         return lit;
     }

@@ -20,7 +20,7 @@
 //
 // Keep in sync with ReflectUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
-#import pelt::common::{Light, VertexIn, face_uv, oct_decode, procedural, texel_distance}
+#import pelt::common::{Light, VertexIn, face_uv, light_reach, oct_decode, procedural, texel_distance}
 #import pelt::object_bindings::{frame, object}
 
 const MAX_MAPS: u32 = 64u;
@@ -421,17 +421,13 @@ fn specular(w: vec3<f32>, n_in: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
     let count = min(u32(params.shading.z), MAX_MAP_LIGHTS);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        let to_light = light.position_radius.xyz - w;
-        let dist = length(to_light);
-        let radius = light.position_radius.w;
-        if dist >= radius {
+        let r = light_reach(w, light);
+        if r.w == 0.0 {
             continue;
         }
-        let l = to_light / max(dist, 1e-6);
+        let l = r.xyz;
+        let atten = r.w;
         let ndl = max(dot(n, l), 0.0);
-        let x = dist / radius;
-        let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
-        let atten = window * window / (1.0 + dist * dist);
         let h = normalize(l - d);
         s += pow(max(dot(n, h), 0.0), params.shading.y) * ndl * atten * light.color.rgb;
     }

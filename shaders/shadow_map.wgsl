@@ -1,6 +1,7 @@
-// shadow_map.wgsl: one face of a shadow-casting point light's cube. Every opaque object of
-// the scene (on screen or not) is drawn from the light through a 90° face; each texel keeps
-// the distance from the light to the nearest surface (the target is cleared to a distance
+// shadow_map.wgsl: one face of a shadow-casting point light's cube, or a directional light's
+// orthographic map. Every opaque object of the scene (on screen or not) is drawn from the
+// light, through a 90° face or the fitted box; each texel keeps the distance from the light
+// (or the map's near plane) to the nearest surface (the target is cleared to a distance
 // past every surface, so a texel that sees nothing never shadows). shadows.wgsl compares a
 // receiver's own distance with it.
 //
@@ -11,8 +12,10 @@
 
 struct ShadowFace {
     view_proj: mat4x4<f32>,
-    // xyz: the light's world position; w: its radius.
+    // A point light: xyz its world position, w its radius. A directional light: w = 0.
     light: vec4<f32>,
+    // A directional light: the distance from its map's near plane is dot(xyz, world) + w.
+    plane: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> face: ShadowFace;
@@ -35,7 +38,10 @@ fn vs_main(v: VertexIn) -> Caster {
 // no 32-bit float target), as pack_geometry stores the distance maps'.
 @fragment
 fn fs_main(in: Caster) -> @location(0) vec4<f32> {
-    let d = distance(in.world, face.light.xyz);
+    var d = distance(in.world, face.light.xyz);
+    if face.light.w == 0.0 {
+        d = dot(face.plane.xyz, in.world) + face.plane.w;
+    }
     let hi = bitcast<f32>(bitcast<u32>(d) & 0xffffe000u);
     return vec4<f32>(hi, d - hi, 0.0, 0.0);
 }

@@ -1,11 +1,11 @@
-// shadows.wgsl: how much of a point light a surface sees, from the light's shadow cube
-// (shadow_map.wgsl), one lookup per lit pixel: in the light pass per L-buffer pixel, so
+// shadows.wgsl: how much of a light a surface sees, from a point light's shadow cube or a
+// directional light's orthographic map (shadow_map.wgsl), one lookup per lit pixel: in the light pass per L-buffer pixel, so
 // opaque surfaces and every stippled alpha layer receive it (Kircher & Lawrance §4), and in
 // the forward pass per pixel, identically.
 //
 // The receiver is lifted off its surface along its normal by one and a half texels of the
-// cube at its distance, and compared one texel nearer than itself (the bias grows with the
-// distance, as the texels do), over a square of PCF × PCF texels (percentage-closer
+// map at its distance, and compared one texel nearer than itself (a cube's bias grows with
+// the distance, as its texels do; an orthographic map's texels are one size), over a square of PCF × PCF texels (percentage-closer
 // filtering). The group is `slot::CUBES` in crates/pelt-preview/src/features/shadows.rs.
 
 #define_import_path pelt::shadows
@@ -13,11 +13,23 @@
 #import pelt::common::{Light, face_uv}
 #import pelt::object_bindings::{frame}
 
+// A directional light's map: one layer of its slot, an orthographic view fitted to the
+// scene. Keep in sync with SunMap in crates/pelt-preview/src/features/shadows.rs.
+struct SunMap {
+    // World to the map: xy its texture coordinates, z the distance from its near plane along
+    // the light's direction (what shadow_map.wgsl stores).
+    to_map: mat4x4<f32>,
+    // x: the world size of one texel; yzw: unused.
+    texel: vec4<f32>,
+}
+
 // How to read the cubes. Keep in sync with ShadowRead in
 // crates/pelt-preview/src/features/shadows.rs.
 struct ShadowRead {
     // x: the PCF side in texels (the scene's shadowMaps.pcf); yzw: unused.
     pcf: vec4<u32>,
+    // Each slot's map when its light is directional.
+    suns: array<SunMap, 8>,
 }
 
 @group(4) @binding(0) var shadow_cubes: texture_2d_array<f32>;
@@ -36,22 +48,35 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
     if light.shadow.x == 0u {
         return 1.0;
     }
-    let dist = distance(p, light.position_radius.xyz);
+    let slot = light.shadow.x - 1u;
     let size = f32(textureDimensions(shadow_cubes).x);
+    // View to world: the view's rotation is orthonormal, so its inverse is its transpose.
+    let rot = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
+    if light.position_radius.w == 0.0 {
+        // A directional light: its orthographic map, texels of one size everywhere.
+        let sun = shadow_read.suns[slot];
+        let texel = sun.texel.x;
+        let lifted = p + n * (1.5 * texel);
+        let world = transpose(rot) * (lifted - frame.view[3].xyz);
+        let q = sun.to_map * vec4<f32>(world, 1.0);
+        return filtered(q.xy * size - 0.5, i32(slot * 6u), q.z - texel);
+    }
+    let dist = distance(p, light.position_radius.xyz);
     let texel = 2.0 * dist / size;
     let lifted = p + n * (1.5 * texel);
-    // View to world directions: the view's rotation is orthonormal, so its inverse is its
-    // transpose.
-    let rot = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
     let d = transpose(rot) * (lifted - light.position_radius.xyz);
     let f = face_uv(d);
-    let layer = i32((light.shadow.x - 1u) * 6u) + i32(f.x);
-    let reach = length(d) - texel;
-    // pcf × pcf texels compared: 1 reads the nearest texel (a hard edge); from 2 on, the
-    // lookup's square of that side, its outer texels weighted bilinearly by how far the lookup
-    // falls toward them (2 is the 2×2 bilinear comparison hardware PCF does).
-    let last = i32(size) - 1;
-    let c = f.yz * size - 0.5;
+    let layer = i32(slot * 6u) + i32(f.x);
+    return filtered(f.yz * size - 0.5, layer, length(d) - texel);
+}
+
+// The fraction of the pcf × pcf texels about texel coordinate `c` (texel centres at
+// integers) of `layer` whose nearest surface lies at or beyond `reach`: 1 reads the nearest
+// texel (a hard edge); from 2 on, the lookup's square of that side, its outer texels
+// weighted bilinearly by how far the lookup falls toward them (2 is the 2×2 bilinear
+// comparison hardware PCF does).
+fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
+    let last = i32(textureDimensions(shadow_cubes).x) - 1;
     let pcf = i32(shadow_read.pcf.x);
     if pcf <= 1 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));

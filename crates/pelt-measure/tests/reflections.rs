@@ -14,8 +14,7 @@ use pelt_measure::Flip;
 use pelt_measure::reflections::{self, Reference, Run};
 use pelt_preview::knobs::{self, Knobs};
 use pelt_preview::scene::{
-    Camera, Ior, Material, NonNegative, Object, PointLight, Positive, Reflections, Sky, Technique,
-    Transform,
+    Camera, Ior, Light, Material, NonNegative, Object, Reflections, Sky, Technique, Transform,
 };
 use pelt_preview::{Image, Mode, Preview, Scene};
 
@@ -99,14 +98,8 @@ fn object(
     }
 }
 
-fn light(position: [f32; 3], intensity: f32, radius: f32) -> PointLight {
-    PointLight {
-        position,
-        color: [1.0, 0.95, 0.9],
-        intensity: NonNegative(intensity),
-        radius: Positive(radius),
-        shadows: false,
-    }
+fn light(position: [f32; 3], intensity: f32, radius: f32) -> Light {
+    Light::point(position, radius, intensity).with_color([1.0, 0.95, 0.9])
 }
 
 const MIRROR: Material = Material::Mirror {

@@ -1,6 +1,7 @@
-//! Shadow cubes of point lights measured against the CPU ray tracer's shadow rays (the same
-//! scene, lighting and occluders), so the FLIP between the two is the shadow maps' own error:
-//! resolution, bias and PCF. The stage is fixtures/scenes/shadows.json at 256×144; the
+//! Shadow cubes of point lights and directional lights' orthographic maps measured against
+//! the CPU ray tracer's shadow rays (the same scene, lighting and occluders), so the FLIP
+//! between the two is the shadow maps' own error: resolution, bias and PCF. The stages are
+//! fixtures/scenes/shadows.json and sun.json at 256×144; the
 //! alpha-layer case (Kircher & Lawrance Fig. 6) is a blade over three overlapping layers. A
 //! failed comparison leaves `-reference.png`, `-actual.png` and `-diff.png` in
 //! `target/render-tests/`. `PELT_BACKEND=gl|vulkan` picks the back end.
@@ -23,13 +24,17 @@ struct Loaded {
     of: Vec<usize>,
 }
 
-fn stage() -> Loaded {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes/shadows.json");
+/// A stage of fixtures/scenes: `shadows.json` (a point light) or `sun.json` (a directional
+/// light).
+fn stage(file: &str) -> Loaded {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/scenes")
+        .join(file);
     let k = Knobs {
         size: Some(SIZE),
         ..Knobs::default()
     };
-    let i = knobs::load(&path, &k, SIZE).expect("shadows.json");
+    let i = knobs::load(&path, &k, SIZE).expect(file);
     Loaded {
         scene: i.scene,
         meshes: i.meshes,
@@ -88,26 +93,46 @@ fn shadowed(lit: &Image, dark: &Image) -> Vec<bool> {
         .collect()
 }
 
-#[test]
-fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
-    let l = stage();
-    let on = with_shadows(&l, true);
-    let truth = traced(&l, &on);
-    let mask = shadowed(&traced(&l, &with_shadows(&l, false)), &truth);
+/// The stage `l` with shadows on, rendered in `modes` against the ray tracer with shadow
+/// rays: whole-image FLIP ≤ 0.02 and ≤ 0.06 over the shadowed pixels. Returns the truth and
+/// the shadowed pixels.
+fn matches_the_truth(
+    p: &mut Preview,
+    l: &Loaded,
+    name: &str,
+    modes: &[Mode],
+) -> (Image, Vec<bool>) {
+    let on = with_shadows(l, true);
+    let truth = traced(l, &on);
+    let mask = shadowed(&traced(l, &with_shadows(l, false)), &truth);
     let n = mask.iter().filter(|&&m| m).count();
-    assert!(n > 1000, "the stage has shadows to measure ({n} pixels)");
-    let mut p = preview();
-    for mode in [Mode::Forward, Mode::Deferred] {
-        let img = render(&mut p, &l, &on, mode);
+    assert!(
+        n > 1000,
+        "{name}: the stage has shadows to measure ({n} pixels)"
+    );
+    for &mode in modes {
+        let img = render(p, l, &on, mode);
         let f = Flip::new(&truth, &img).expect("same size");
         let (whole, over) = (f.mean(), f.masked_mean(&mask));
-        eprintln!("{mode}: FLIP whole {whole:.4}, over {n} shadowed pixels {over:.4}");
+        eprintln!("{name}, {mode}: FLIP whole {whole:.4}, over {n} shadowed pixels {over:.4}");
         if whole > 0.02 || over > 0.06 || std::env::var_os("PELT_SAVE").is_some() {
-            save(&format!("shadows-{mode}"), &truth, &img);
+            save(&format!("{name}-{mode}"), &truth, &img);
         }
-        assert!(whole <= 0.02, "{mode}: whole-image FLIP {whole}");
-        assert!(over <= 0.06, "{mode}: FLIP over the shadowed pixels {over}");
+        assert!(whole <= 0.02, "{name}, {mode}: whole-image FLIP {whole}");
+        assert!(
+            over <= 0.06,
+            "{name}, {mode}: FLIP over the shadowed pixels {over}"
+        );
     }
+    (truth, mask)
+}
+
+#[test]
+fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
+    let l = stage("shadows.json");
+    let on = with_shadows(&l, true);
+    let mut p = preview();
+    let (truth, mask) = matches_the_truth(&mut p, &l, "shadows", &[Mode::Forward, Mode::Deferred]);
     // The knobs reach the cubes: hard edges (1 texel) and a wider filter (4×4) draw other
     // shadows, each still close to the truth; a finer cube (1024²) too.
     let mut seen = vec![render(&mut p, &l, &on, Mode::Forward)];
@@ -128,6 +153,27 @@ fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
         seen.push(img);
     }
     // The negative control: the same render without shadows misses them by far.
+    let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
+    let miss = Flip::new(&truth, &unshadowed)
+        .expect("same size")
+        .masked_mean(&mask);
+    assert!(
+        miss > 0.15,
+        "without shadows the shadowed pixels differ ({miss})"
+    );
+}
+
+/// A directional light's orthographic map, fitted to the scene, against the ray tracer's
+/// shadow rays toward it (parallel, no falloff), at full resolution (the inferred mode's
+/// L-buffer adds its own upsampling error: whole-image FLIP 0.025 here, 0.012 without
+/// shadows; the acne and blade tests cover it); the negative control: without shadows the
+/// shadowed pixels miss by far.
+#[test]
+fn a_directional_lights_map_matches_the_ray_tracers_shadow_rays() {
+    let l = stage("sun.json");
+    let mut p = preview();
+    let modes = [Mode::Forward, Mode::Deferred];
+    let (truth, mask) = matches_the_truth(&mut p, &l, "sun", &modes);
     let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
     let miss = Flip::new(&truth, &unshadowed)
         .expect("same size")
@@ -220,9 +266,24 @@ fn away_from(mask: &[bool], width: usize, r: usize) -> Vec<bool> {
 
 /// A cube on a floor under a light 0.6 above the floor and 6 away (about 3° to 6° over the
 /// floor: grazing), scaled by `s`; the intensity keeps the floor's light the same at every
-/// scale (the falloff is 1 / (1 + d²)).
-fn grazing_stage(s: f32, shadows: bool) -> Scene {
+/// scale (the falloff is 1 / (1 + d²)). With `sun`, a directional light from there toward
+/// the cube instead (about 5.7° over the floor), of the intensity the point light has at
+/// the cube.
+fn grazing_stage(s: f32, shadows: bool, sun: bool) -> Scene {
     let d2 = (36.0 + 0.36) * s * s;
+    let light = if sun {
+        format!(
+            r#"{{"kind": "directional", "direction": [-6, -0.6, 0], "intensity": 1.5, "shadows": {shadows}}}"#
+        )
+    } else {
+        format!(
+            r#"{{"position": [{lx}, {ly}, 0], "intensity": {i}, "radius": {r}, "shadows": {shadows}}}"#,
+            lx = 6.0 * s,
+            ly = 0.6 * s,
+            i = 1.5 * (1.0 + d2),
+            r = 30.0 * s,
+        )
+    };
     let json = format!(
         r#"{{
         "output": {{"width": 192, "height": 108}},
@@ -232,7 +293,7 @@ fn grazing_stage(s: f32, shadows: bool) -> Scene {
             {{"asset": "builtin:cube", "transform": {{"translation": [0, {fy}, 0], "scale": [{fw}, {ft}, {fw}]}}, "color": [0.7, 0.7, 0.7]}},
             {{"asset": "builtin:cube", "transform": {{"translation": [0, {cyc}, 0], "scale": [{c}, {c}, {c}]}}, "color": [0.9, 0.6, 0.3]}}
         ],
-        "lights": [{{"position": [{lx}, {ly}, 0], "intensity": {i}, "radius": {r}, "shadows": {shadows}}}]
+        "lights": [{light}]
     }}"#,
         cx = -3.0 * s,
         cy = 4.0 * s,
@@ -244,23 +305,23 @@ fn grazing_stage(s: f32, shadows: bool) -> Scene {
         ft = 0.2 * s,
         cyc = 0.5 * s,
         c = s,
-        lx = 6.0 * s,
-        ly = 0.6 * s,
-        i = 1.5 * (1.0 + d2),
-        r = 30.0 * s,
     );
     serde_json::from_str(&json).expect("grazing stage")
 }
 
-/// At a grazing light and at scenes of 1 cm and of 1 km: no acne (a surface the ray tracer
-/// lights is lit as without shadows) and no leak (the cube's shadow, contact included,
-/// matches the ray tracer's).
+/// At a grazing light and at scenes of 1 cm and of 1 km, for a point light's cube and a
+/// directional light's map: no acne (a surface the ray tracer lights is lit as without
+/// shadows) and no leak (the cube's shadow, contact included, matches the ray tracer's).
 #[test]
 fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
     let mut p = preview();
-    for s in [0.01, 1.0, 1000.0] {
-        let on = grazing_stage(s, true);
-        let off = grazing_stage(s, false);
+    for (s, sun) in [0.01, 1.0, 1000.0]
+        .into_iter()
+        .flat_map(|s| [(s, false), (s, true)])
+    {
+        let kind = if sun { "directional" } else { "point" };
+        let on = grazing_stage(s, true, sun);
+        let off = grazing_stage(s, false, sun);
         let (meshes, of) = pelt_preview::load_meshes(&on).expect("built-in meshes");
         let l = Loaded {
             scene: on.clone(),
@@ -274,7 +335,7 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
         let lit_in_truth = away_from(&mask, truth.width as usize, 2);
         assert!(
             mask.iter().filter(|&&m| m).count() > 200,
-            "scale {s}: a shadow to measure"
+            "scale {s}, {kind}: a shadow to measure"
         );
         for mode in [Mode::Forward, Mode::Inferred] {
             let (a, b) = (
@@ -297,23 +358,23 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
                 .count();
             let lit = lit_in_truth.iter().filter(|&&m| m).count();
             if acne * 200 > lit {
-                save(&format!("shadows-acne-{s}-{mode}"), &a, &b);
+                save(&format!("shadows-acne-{s}-{kind}-{mode}"), &a, &b);
             }
             assert!(
                 acne * 200 <= lit,
-                "scale {s}, {mode}: {acne} of {lit} lit pixels darkened"
+                "scale {s}, {kind}, {mode}: {acne} of {lit} lit pixels darkened"
             );
             // Leaks: the shadowed pixels against the ray tracer.
             let over = Flip::new(&truth, &b).expect("same size").masked_mean(&mask);
             eprintln!(
-                "scale {s}, {mode}: {acne} acne pixels of {lit}; FLIP over the shadow {over:.4}"
+                "scale {s}, {kind}, {mode}: {acne} acne pixels of {lit}; FLIP over the shadow {over:.4}"
             );
             if over > 0.08 {
-                save(&format!("shadows-leak-{s}-{mode}"), &truth, &b);
+                save(&format!("shadows-leak-{s}-{kind}-{mode}"), &truth, &b);
             }
             assert!(
                 over <= 0.08,
-                "scale {s}, {mode}: FLIP over the shadow {over}"
+                "scale {s}, {kind}, {mode}: FLIP over the shadow {over}"
             );
         }
     }

@@ -20,8 +20,7 @@ use pelt_measure::strands::{self, Options, Reference};
 use pelt_preview::asset::{MeshData, flatten};
 use pelt_preview::fur::{FurData, FurLook, Level, TextureSource};
 use pelt_preview::scene::{
-    Camera, FurCoverage, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size,
-    Transform,
+    Camera, FurCoverage, FurSettings, Light, Material, Object, Size, Transform,
 };
 use pelt_preview::uniforms::{FurVertex, Vertex};
 use pelt_preview::{Image, Mode, Preview, Scene};
@@ -105,14 +104,8 @@ fn furry_sphere() -> MeshData {
     flatten(&doc).expect("flatten")
 }
 
-fn light(position: Vec3, intensity: f32, radius: f32) -> PointLight {
-    PointLight {
-        position: position.into(),
-        color: [1.0; 3],
-        intensity: NonNegative(intensity),
-        radius: Positive(radius),
-        shadows: false,
-    }
+fn light(position: Vec3, intensity: f32, radius: f32) -> Light {
+    Light::point(position.into(), radius, intensity)
 }
 
 /// One fur object (mesh 0) seen from `position` looking at `target`.

@@ -7,7 +7,7 @@
 //! nothing and an orbit uploads a few hundred bytes; a buffer grows (and its bind group is
 //! made again) only when a scene has more objects or lights than it holds.
 
-use glam::{Mat4, Vec3, Vec4Swizzles};
+use glam::Mat4;
 
 use crate::layout::{self, SHELL_TABLE_BYTES};
 use crate::plan::{Plan, PlannedLight};
@@ -184,13 +184,7 @@ fn frame_uniforms(plan: &Plan, target: (u32, u32), lbuffer: (u32, u32)) -> Frame
 pub const STRAND_LIT: u32 = 1 << 16;
 
 fn light_uniforms(view: Mat4, l: &PlannedLight) -> LightUniforms {
-    let p = (view * l.position.extend(1.0)).xyz();
-    let lum = l.color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
-    LightUniforms {
-        position_radius: p.extend(l.radius).into(),
-        color: l.color.extend(lum).into(),
-        shadow: [l.shadow.map_or(0, |s| s + 1), 0, 0, 0],
-    }
+    LightUniforms::new(&l.emitter, l.color, view, l.shadow)
 }
 
 fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {

@@ -2,6 +2,8 @@
 //! VertexIn): same field order, same sizes, 16-byte aligned.
 
 use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use pelt_scene::shading::Emitter;
 
 pub use pelt_scene::vertex::{FinInstance, FurVertex, MAX_FORWARD_LIGHTS, StrandRoot, Vertex};
 
@@ -69,16 +71,39 @@ pub struct ObjectUniforms {
     pub optics: [f32; 4],
 }
 
-/// One point light. Keep in sync with `Light` in shaders/common.wgsl.
+/// One light. Keep in sync with `Light` in shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct LightUniforms {
-    /// View-space position and radius.
+    /// A point light's position and radius; a directional light's unit direction toward it
+    /// and 0 ([`LightUniforms::new`]).
     pub position_radius: [f32; 4],
     /// rgb colour × intensity; w intensity × luminance(colour).
     pub color: [f32; 4],
     /// x: the light's shadow-cube slot + 1 (0: it casts none); yzw unused.
     pub shadow: [u32; 4],
+}
+
+impl LightUniforms {
+    /// `emitter` of linear `color` × intensity in the space `to_space` maps world space to
+    /// (a rigid transform), with its shadow-map slot.
+    pub fn new(emitter: &Emitter, color: Vec3, to_space: Mat4, shadow: Option<u32>) -> Self {
+        let position_radius = match *emitter {
+            Emitter::Point { position, radius } => {
+                to_space.transform_point3(position).extend(radius)
+            }
+            Emitter::Directional { direction } => to_space
+                .transform_vector3(-direction)
+                .normalize()
+                .extend(0.0),
+        };
+        let lum = color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        LightUniforms {
+            position_radius: position_radius.into(),
+            color: color.extend(lum).into(),
+            shadow: [shadow.map_or(0, |s| s + 1), 0, 0, 0],
+        }
+    }
 }
 
 /// Uniform buffer offsets are multiples of this (wgpu's default limit).

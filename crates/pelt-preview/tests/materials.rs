@@ -11,9 +11,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use pelt_io::picture::{Rgba8, WrappingMode};
 use pelt_preview::asset::{MeshData, builtin};
-use pelt_preview::scene::{
-    Camera, Material, NonNegative, Object, PointLight, Positive, Size, Transform,
-};
+use pelt_preview::scene::{Camera, Light, Material, Object, Size, Transform};
 use pelt_preview::{Image, Mode, Scene};
 use pelt_scene::material::{self, Texture};
 
@@ -83,13 +81,7 @@ fn lit_scene(light_at: Vec3, intensity: f32) -> Scene {
             material: Material::Opaque,
             color: [1.0; 3],
         }],
-        lights: vec![PointLight {
-            position: light_at.into(),
-            color: [1.0; 3],
-            intensity: NonNegative(intensity),
-            radius: Positive(8.0),
-            shadows: false,
-        }],
+        lights: vec![Light::point(light_at.into(), 8.0, intensity)],
         ..Scene::default()
     }
 }

@@ -8,9 +8,7 @@
 use std::path::PathBuf;
 
 use glam::{Quat, Vec3};
-use pelt_preview::scene::{
-    Camera, Material, NonNegative, Object, PointLight, Positive, Size, Transform, Unit,
-};
+use pelt_preview::scene::{Camera, Light, Material, Object, Size, Transform, Unit};
 use pelt_preview::{Image, Mode, Scene};
 
 mod common;
@@ -30,14 +28,8 @@ fn object(asset: &str, at: Vec3, scale: Vec3, color: Vec3) -> Object {
     }
 }
 
-fn light(at: Vec3, color: Vec3, intensity: f32, radius: f32) -> PointLight {
-    PointLight {
-        position: at.into(),
-        color: color.into(),
-        intensity: NonNegative(intensity),
-        radius: Positive(radius),
-        shadows: false,
-    }
+fn light(at: Vec3, color: Vec3, intensity: f32, radius: f32) -> Light {
+    Light::point(at.into(), radius, intensity).with_color(color.into())
 }
 
 fn camera(position: Vec3, target: Vec3) -> Camera {

@@ -8,10 +8,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::asset::MeshData;
-use crate::scene::{
-    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Sky,
-    Transform,
-};
+use crate::scene::{Camera, FurSettings, Light, Material, Object, Scene, Size, Sky, Transform};
 
 /// A scene showing `asset` (whose mesh is `mesh`) at `width` × `height`.
 pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Scene {
@@ -77,14 +74,13 @@ pub fn light_around(
     offset: Vec3,
     color: [f32; 3],
     intensity: f32,
-) -> PointLight {
-    PointLight {
-        position: (center + offset * radius).to_array(),
-        color,
-        intensity: NonNegative(intensity * radius * radius),
-        radius: Positive(radius * reach),
-        shadows: false,
-    }
+) -> Light {
+    Light::point(
+        (center + offset * radius).to_array(),
+        radius * reach,
+        intensity * radius * radius,
+    )
+    .with_color(color)
 }
 
 #[cfg(test)]
@@ -118,8 +114,12 @@ mod tests {
                 "scale {scale}: inside the depth range"
             );
             for l in &s.lights {
-                let d = (Vec3::from(l.position) - (lo + hi) / 2.0).length();
-                assert!(d < l.radius.0 * 0.6, "light reaches the asset");
+                let p = l.emitter.position().expect("a point light");
+                let d = (p - (lo + hi) / 2.0).length();
+                assert!(
+                    d < l.emitter.radius().expect("a point light") * 0.6,
+                    "light reaches the asset"
+                );
             }
         }
     }

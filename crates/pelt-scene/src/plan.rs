@@ -14,6 +14,7 @@ use crate::fur::FurLook;
 use crate::scene::{
     FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, ShadowMaps, Sky, Technique,
 };
+use crate::shading::{Emitter, Light};
 use crate::vertex::MAX_FORWARD_LIGHTS;
 use crate::view::{View, assign_stipple};
 
@@ -206,10 +207,8 @@ pub struct PlannedFur {
 /// A light that reaches the screen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlannedLight {
-    /// World position.
-    pub position: Vec3,
-    /// Radius.
-    pub radius: f32,
+    /// Where its light comes from.
+    pub emitter: Emitter,
     /// Linear colour × intensity.
     pub color: Vec3,
     /// Scissor rectangle on the L-buffer.
@@ -372,11 +371,7 @@ pub const MAX_SHADOW_LIGHTS: usize = 8;
 
 /// Keeps `shadows` on the first [`MAX_SHADOW_LIGHTS`] lights that ask for it, with a note
 /// naming each light past them.
-fn cap_shadows(
-    mut lights: Vec<SceneLight>,
-    scene: &Scene,
-    notes: &mut Vec<String>,
-) -> Vec<SceneLight> {
+fn cap_shadows(mut lights: Vec<Light>, scene: &Scene, notes: &mut Vec<String>) -> Vec<Light> {
     let mut casting = 0;
     for l in lights.iter_mut().filter(|l| l.shadows) {
         casting += 1;
@@ -401,19 +396,6 @@ fn cap_shadows(
     lights
 }
 
-/// A light of the scene that gives any light.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SceneLight {
-    /// World position.
-    pub position: Vec3,
-    /// Radius where its light reaches zero.
-    pub radius: f32,
-    /// Linear colour × intensity.
-    pub color: Vec3,
-    /// Whether it casts shadows.
-    pub shadows: bool,
-}
-
 /// The part of a plan that depends on the scene, its assets, the mode and the knobs, but not
 /// on the camera: every object that can be drawn with its material decisions, IDs and fur,
 /// and the lights. A camera move keeps it; a knob change makes a new one (no asset is read).
@@ -430,7 +412,7 @@ pub struct ScenePlan {
     /// Every object (pattern and depth are filled in per camera), with its mesh bounds.
     pub objects: Vec<(PlannedObject, (Vec3, Vec3))>,
     /// Lights that give any light.
-    pub lights: Vec<SceneLight>,
+    pub lights: Vec<Light>,
     /// How fur is composited.
     pub fur_blend: FurBlend,
     /// The background.
@@ -470,12 +452,12 @@ fn world_box(model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 
 impl ScenePlan {
     /// The lights that cast shadows, in slot order.
-    pub fn shadow_lights(&self) -> impl Iterator<Item = &SceneLight> {
+    pub fn shadow_lights(&self) -> impl Iterator<Item = &Light> {
         self.lights.iter().filter(|l| l.shadows)
     }
 
     /// `light`'s shadow-map slot (its place among the lights that cast shadows).
-    pub fn shadow_slot(&self, light: &SceneLight) -> Option<u32> {
+    pub fn shadow_slot(&self, light: &Light) -> Option<u32> {
         light.shadows.then(|| {
             self.shadow_lights()
                 .position(|l| std::ptr::eq(l, light))
@@ -593,13 +575,12 @@ impl ScenePlan {
             );
             objects.push((planned, bounds));
         }
-        let lights: Vec<SceneLight> = scene
+        let lights: Vec<Light> = scene
             .lights
             .iter()
             .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
-            .map(|l| SceneLight {
-                position: Vec3::from(l.position),
-                radius: l.radius.0,
+            .map(|l| Light {
+                emitter: l.emitter,
                 color: Vec3::from(l.color) * l.intensity.0,
                 shadows: l.shadows,
             })
@@ -733,10 +714,14 @@ impl Plan {
             .iter()
             .filter_map(|l| {
                 Some(PlannedLight {
-                    position: l.position,
-                    radius: l.radius,
+                    emitter: l.emitter,
                     color: l.color,
-                    rect: view.light_rect(l.position, l.radius, light_target)?,
+                    rect: match l.emitter {
+                        Emitter::Point { position, radius } => {
+                            view.light_rect(position, radius, light_target)?
+                        }
+                        Emitter::Directional { .. } => [0, 0, light_target.0, light_target.1],
+                    },
                     shadow: scene.shadow_slot(l),
                 })
             })
@@ -1090,7 +1075,7 @@ mod tests {
     use super::*;
     use crate::asset::builtin;
     use crate::procedural::grid_scene;
-    use crate::scene::{PointLight, Unit};
+    use crate::scene::Unit;
     use std::path::Path;
 
     fn plan(scene: &Scene, mode: Mode) -> Plan {
@@ -1167,14 +1152,8 @@ mod tests {
     #[test]
     fn off_screen_lights_and_objects_are_culled() {
         let mut s = grid_scene(Path::new("builtin:cube"), 1, 0, 1, 160, 90);
-        s.lights.push(PointLight {
-            position: [0.0, 0.0, 100.0],
-            ..s_light()
-        });
-        s.lights.push(PointLight {
-            position: [0.0, 0.5, 0.0],
-            ..s_light()
-        });
+        s.lights.push(at([0.0, 0.0, 100.0]));
+        s.lights.push(at([0.0, 0.5, 0.0]));
         let mut far = s.objects[0].clone();
         far.transform.translation = [0.0, 0.0, 500.0];
         s.objects.push(far);
@@ -1183,8 +1162,18 @@ mod tests {
         assert_eq!((p.objects.len(), p.culled_objects), (1, 1));
     }
 
-    fn s_light() -> PointLight {
+    fn s_light() -> crate::scene::Light {
         crate::procedural::random_lights(1, 0, Vec3::ZERO, Vec3::ZERO, (1.0, 1.0), 1.0)[0]
+    }
+
+    /// [`s_light`] moved to `p`.
+    fn at(p: [f32; 3]) -> crate::scene::Light {
+        let mut l = s_light();
+        l.emitter = Emitter::Point {
+            position: Vec3::from(p),
+            radius: l.emitter.radius().expect("a point light"),
+        };
+        l
     }
 
     #[test]

@@ -8,10 +8,7 @@ use std::path::Path;
 use glam::Vec3;
 use pelt_fur::rng::SplitMix64;
 
-use crate::scene::{
-    Camera, FurSettings, Material, NonNegative, Object, PointLight, Positive, Scene, Size, Sky,
-    Transform,
-};
+use crate::scene::{Camera, FurSettings, Light, Material, Object, Scene, Size, Sky, Transform};
 
 /// `count` copies of `asset` on a square grid in the XZ plane (row-major from −X −Z),
 /// `spacing` apart, centred on the origin.
@@ -44,20 +41,19 @@ pub fn random_lights(
     hi: Vec3,
     radius: (f32, f32),
     intensity: f32,
-) -> Vec<PointLight> {
+) -> Vec<Light> {
     (0..count)
         .map(|i| {
             let mut s = SplitMix64::stream(seed, i as u64);
             let mut u = || s.unit() as f32;
             let position = lo + (hi - lo) * Vec3::new(u(), u(), u());
             let color = [0.3 + 0.7 * u(), 0.3 + 0.7 * u(), 0.3 + 0.7 * u()];
-            PointLight {
-                position: position.to_array(),
-                color,
-                intensity: NonNegative(intensity),
-                radius: Positive(radius.0 + (radius.1 - radius.0) * u()),
-                shadows: false,
-            }
+            Light::point(
+                position.to_array(),
+                radius.0 + (radius.1 - radius.0) * u(),
+                intensity,
+            )
+            .with_color(color)
         })
         .collect()
 }
@@ -201,13 +197,15 @@ mod tests {
         assert_ne!(a, random_lights(200, 6, lo, hi, (1.0, 2.0), 3.0));
         for l in &a {
             assert!(
-                Vec3::from(l.position).cmpge(lo).all() && Vec3::from(l.position).cmple(hi).all()
+                l.emitter
+                    .position()
+                    .is_some_and(|p| p.cmpge(lo).all() && p.cmple(hi).all())
             );
-            assert!((1.0..=2.0).contains(&l.radius.0));
+            assert!(l.emitter.radius().is_some_and(|r| (1.0..=2.0).contains(&r)));
             assert!(l.color.iter().all(|c| (0.3..=1.0).contains(c)));
         }
         // Spread over the box, not bunched: the mean is near the centre.
-        let mean = a.iter().map(|l| Vec3::from(l.position)).sum::<Vec3>() / a.len() as f32;
+        let mean = a.iter().filter_map(|l| l.emitter.position()).sum::<Vec3>() / a.len() as f32;
         assert!(mean.length() < 0.15, "{mean}");
     }
 

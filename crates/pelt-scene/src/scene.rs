@@ -1,4 +1,5 @@
-//! The scene file (JSON): objects (a baked asset, a transform, a material), point lights,
+//! The scene file (JSON): objects (a baked asset, a transform, a material), point and
+//! directional lights,
 //! ambient light, camera, output size, L-buffer scale and DSF switch — everything the inferred
 //! lighting renderer (Kircher & Lawrance) is run on — and the `reflections` block, the knobs
 //! of mirrors and glass (GPU Gems 3 ch. 17). Every error names the file, the line and
@@ -9,6 +10,8 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3};
+
+use crate::shading::Emitter;
 use serde::{Deserialize, Serialize};
 
 /// A material.
@@ -621,25 +624,158 @@ fn is_white(c: &[f32; 3]) -> bool {
     *c == [1.0; 3]
 }
 
-/// A point light.
+/// A light of the scene file: a point light (`"position"` and `"radius"`) or, with
+/// `"kind": "directional"`, a sun (`"direction"`, the way its light travels).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PointLight {
-    /// World position.
-    pub position: [f32; 3],
-    /// Linear RGB colour.
-    #[serde(default = "white")]
+#[serde(try_from = "LightFile", into = "LightFile")]
+pub struct Light {
+    /// Where its light comes from (a point light's position and radius are finite, its radius
+    /// above 0; a directional light's direction is finite and of unit length).
+    pub emitter: Emitter,
+    /// Linear RGB colour (finite, at least 0).
     pub color: [f32; 3],
     /// Intensity multiplier.
-    #[serde(default = "one")]
     pub intensity: NonNegative,
-    /// Radius of influence (the light falls to zero there; its screen-space bounds come from
-    /// it).
-    pub radius: Positive,
     /// Whether the light casts shadows: surfaces it cannot see directly get none of its light
     /// (the ray tracer traces a shadow ray toward it).
-    #[serde(default, skip_serializing_if = "is_false")]
     pub shadows: bool,
+}
+
+impl Light {
+    /// A white point light of `intensity` at `position` reaching `radius`, casting no
+    /// shadows.
+    pub fn point(position: [f32; 3], radius: f32, intensity: f32) -> Light {
+        Light {
+            emitter: Emitter::Point {
+                position: Vec3::from(position),
+                radius,
+            },
+            color: [1.0; 3],
+            intensity: NonNegative(intensity),
+            shadows: false,
+        }
+    }
+
+    /// This light with `color`.
+    pub fn with_color(self, color: [f32; 3]) -> Light {
+        Light { color, ..self }
+    }
+}
+
+/// Light kinds as written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LightKind {
+    /// A point light (the default).
+    #[default]
+    Point,
+    /// A directional light.
+    Directional,
+}
+
+/// A light as written (checked into a [`Light`]; a mistake is reported at the light's place
+/// in the file).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFile {
+    #[serde(default, skip_serializing_if = "is_point")]
+    kind: LightKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    position: Option<[f32; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    direction: Option<[f32; 3]>,
+    #[serde(default = "white")]
+    color: [f32; 3],
+    #[serde(default = "one")]
+    intensity: NonNegative,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    radius: Option<Positive>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    shadows: bool,
+}
+
+fn is_point(k: &LightKind) -> bool {
+    *k == LightKind::Point
+}
+
+impl TryFrom<LightFile> for Light {
+    type Error = String;
+
+    fn try_from(f: LightFile) -> Result<Light, String> {
+        if !f.color.iter().all(|c| c.is_finite() && *c >= 0.0) {
+            return Err(format!(
+                "color: components must be finite and at least 0, got {:?}",
+                f.color
+            ));
+        }
+        let emitter = match (f.kind, f.position, f.radius, f.direction) {
+            (LightKind::Point, Some(p), Some(r), None) => {
+                if !p.iter().all(|v| v.is_finite()) {
+                    return Err(format!("position: must be finite, got {p:?}"));
+                }
+                Emitter::Point {
+                    position: Vec3::from(p),
+                    radius: r.0,
+                }
+            }
+            (LightKind::Point, _, _, Some(_)) => {
+                return Err(
+                    "direction: only a directional light (\"kind\": \"directional\") has one"
+                        .into(),
+                );
+            }
+            (LightKind::Point, None, _, _) => return Err("a point light needs a position".into()),
+            (LightKind::Point, _, None, _) => return Err("a point light needs a radius".into()),
+            (LightKind::Directional, None, None, Some(d)) => {
+                let v = Vec3::from(d);
+                if !v.is_finite() || v.length() < 1e-6 {
+                    return Err(format!("direction: must be finite and not zero, got {d:?}"));
+                }
+                Emitter::Directional {
+                    direction: v.normalize(),
+                }
+            }
+            (LightKind::Directional, _, _, None) => {
+                return Err("a directional light needs a direction".into());
+            }
+            (LightKind::Directional, _, _, Some(_)) => {
+                return Err(
+                    "a directional light has no position or radius (it reaches everywhere)".into(),
+                );
+            }
+        };
+        Ok(Light {
+            emitter,
+            color: f.color,
+            intensity: f.intensity,
+            shadows: f.shadows,
+        })
+    }
+}
+
+impl From<Light> for LightFile {
+    fn from(l: Light) -> LightFile {
+        let (kind, position, radius, direction) = match l.emitter {
+            Emitter::Point { position, radius } => (
+                LightKind::Point,
+                Some(position.into()),
+                Some(Positive(radius)),
+                None,
+            ),
+            Emitter::Directional { direction } => {
+                (LightKind::Directional, None, None, Some(direction.into()))
+            }
+        };
+        LightFile {
+            kind,
+            position,
+            direction,
+            color: l.color,
+            intensity: l.intensity,
+            radius,
+            shadows: l.shadows,
+        }
+    }
 }
 
 fn is_false(b: &bool) -> bool {
@@ -712,8 +848,8 @@ pub struct Scene {
     pub dsf: bool,
     /// Objects.
     pub objects: Vec<Object>,
-    /// Point lights.
-    pub lights: Vec<PointLight>,
+    /// Lights.
+    pub lights: Vec<Light>,
     /// Background: none (a flat colour), procedural, or a cube map.
     #[serde(with = "sky_serde")]
     pub sky: Sky,
@@ -1089,16 +1225,6 @@ impl Scene {
                 ));
             }
         }
-        for (i, l) in self.lights.iter().enumerate() {
-            if !l.position.iter().chain(&l.color).all(|v| v.is_finite())
-                || l.color.iter().any(|v| *v < 0.0)
-            {
-                return Err((
-                    format!("lights[{i}]"),
-                    "position and color must be finite, color at least 0".into(),
-                ));
-            }
-        }
         Ok(())
     }
 
@@ -1139,6 +1265,25 @@ mod tests {
             Material::Alpha { opacity: Unit(0.5) }
         );
         assert_eq!(s.lights[0].intensity, NonNegative(1.0));
+        let sun = parse(
+            r#"{"lights": [{"kind": "directional", "direction": [0, -3, -4], "shadows": true}]}"#,
+        )
+        .expect("a sun");
+        assert_eq!(
+            sun.lights[0].emitter,
+            Emitter::Directional {
+                direction: Vec3::new(0.0, -0.6, -0.8)
+            }
+        );
+        assert!(sun.lights[0].shadows);
+        // It writes back as it was read.
+        let text = serde_json::to_string(&sun.lights[0]).expect("writes");
+        assert!(text.contains("\"kind\":\"directional\""), "{text}");
+        assert!(
+            !text.contains("radius") && !text.contains("position"),
+            "{text}"
+        );
+
         assert_eq!(s.lights[0].color, [1.0; 3]);
         assert!(s.dsf);
         let m = s.objects[1].transform.matrix();
@@ -1309,6 +1454,55 @@ mod tests {
             e.contains("lights[0].radius") && e.contains("above 0"),
             "{e}"
         );
+
+        // A light's mistakes are reported at its place, naming the field.
+        for (text, field, says) in [
+            (
+                "{\n\"lights\": [\n {\"kind\": \"directional\", \"direction\": [0, 0, 0]}]}",
+                "direction",
+                "not zero",
+            ),
+            (
+                "{\n\"lights\": [\n {\"kind\": \"directional\"}]}",
+                "",
+                "needs a direction",
+            ),
+            (
+                "{\n\"lights\": [\n {\"kind\": \"directional\", \"direction\": [0,-1,0], \"radius\": 2}]}",
+                "",
+                "no position or radius",
+            ),
+            (
+                "{\n\"lights\": [\n {\"position\": [0,0,0], \"radius\": 1, \"direction\": [0,-1,0]}]}",
+                "direction",
+                "only a directional light",
+            ),
+            (
+                "{\n\"lights\": [\n {\"position\": [0,0,0]}]}",
+                "",
+                "needs a radius",
+            ),
+            (
+                "{\n\"lights\": [\n {\"radius\": 1}]}",
+                "",
+                "needs a position",
+            ),
+            (
+                "{\n\"lights\": [\n {\"position\": [0,0,0], \"radius\": 1, \"color\": [1,-1,0]}]}",
+                "color",
+                "at least 0",
+            ),
+            (
+                "{\n\"lights\": [\n {\"kind\": \"spot\"}]}",
+                "",
+                "unknown variant",
+            ),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(e.starts_with("scene.json:3:"), "{e}");
+            assert!(e.contains("lights[0]") && e.contains(says), "{e}");
+            assert!(e.contains(&format!("{field}:")), "{e}");
+        }
 
         let e = parse("{\"objects\": [{\"asset\": \"a.glb\", \"colour\": 1}]}")
             .unwrap_err()

@@ -1,6 +1,6 @@
 //! The local lighting model every renderer of pelt shares, on the CPU: the constants the
 //! GPU passes are given (specular strength and power, the background) and CPU twins of
-//! `point_light` in shaders/common.wgsl and the procedural sky of shaders/sky.wgsl, so the
+//! `one_light` in shaders/common.wgsl and the procedural sky of shaders/sky.wgsl, so the
 //! ray tracer (`pelt-trace`) lights a surface exactly as the rasterizer does; and Schlick's
 //! Fresnel approximation with F0 as GPU Gems 3 §17.3 uses it.
 
@@ -13,34 +13,94 @@ pub const SPECULAR_POWER: f32 = 32.0;
 /// The linear background colour where there is no sky.
 pub const BACKGROUND: [f32; 3] = [0.02, 0.022, 0.028];
 
-/// A point light as the shaders see it.
+/// Where a light's light comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Emitter {
+    /// A point light at `position` whose light falls to zero at `radius`.
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Radius where its light reaches zero.
+        radius: f32,
+    },
+    /// A directional light (a sun): its light travels along the unit `direction` everywhere,
+    /// with no falloff.
+    Directional {
+        /// Unit direction the light travels in (from the light toward the scene).
+        direction: Vec3,
+    },
+}
+
+impl Emitter {
+    /// A point light's position.
+    pub fn position(&self) -> Option<Vec3> {
+        match *self {
+            Emitter::Point { position, .. } => Some(position),
+            Emitter::Directional { .. } => None,
+        }
+    }
+
+    /// A point light's radius.
+    pub fn radius(&self) -> Option<f32> {
+        match *self {
+            Emitter::Point { radius, .. } => Some(radius),
+            Emitter::Directional { .. } => None,
+        }
+    }
+
+    /// The unit direction from `p` toward the light, its falloff at `p` and the distance a
+    /// shadow ray travels to reach it (infinite for a directional light); `None` where a point
+    /// light does not reach (`light_reach` in common.wgsl).
+    pub fn reach(&self, p: Vec3) -> Option<(Vec3, f32, f32)> {
+        match *self {
+            Emitter::Point { position, radius } => {
+                let to_light = position - p;
+                let dist = to_light.length();
+                if dist >= radius {
+                    return None;
+                }
+                let x = dist / radius;
+                let window = (1.0 - x * x * x * x).clamp(0.0, 1.0);
+                let atten = window * window / (1.0 + dist * dist);
+                Some((to_light / dist.max(1e-6), atten, dist))
+            }
+            Emitter::Directional { direction } => Some((-direction, 1.0, f32::INFINITY)),
+        }
+    }
+}
+
+/// A light as the shaders see it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
-    /// Position.
-    pub position: Vec3,
-    /// Radius where its light reaches zero.
-    pub radius: f32,
+    /// Where its light comes from.
+    pub emitter: Emitter,
     /// Linear colour × intensity.
     pub color: Vec3,
     /// Whether it casts shadows (the ray tracer's shadow rays).
     pub shadows: bool,
 }
 
-/// One light at point `p` with unit normal `n` seen from direction `v` (unit, from `p`
-/// toward the viewer): (diffuse irradiance, specular intensity), as `point_light` in
-/// common.wgsl: Lambert and Blinn-Phong with an inverse-square falloff windowed to zero at
-/// the radius.
-pub fn point_light(p: Vec3, n: Vec3, v: Vec3, light: &Light) -> (Vec3, f32) {
-    let to_light = light.position - p;
-    let dist = to_light.length();
-    if dist >= light.radius {
-        return (Vec3::ZERO, 0.0);
+impl Light {
+    /// A point light at `position` reaching `radius`, of linear `color` × intensity, casting
+    /// no shadows.
+    pub fn point(position: Vec3, radius: f32, color: Vec3) -> Light {
+        Light {
+            emitter: Emitter::Point { position, radius },
+            color,
+            shadows: false,
+        }
     }
-    let l = to_light / dist.max(1e-6);
+}
+
+/// One light at point `p` with unit normal `n` seen from direction `v` (unit, from `p`
+/// toward the viewer): (diffuse irradiance, specular intensity), as `one_light` in
+/// common.wgsl: Lambert and Blinn-Phong; a point light's inverse-square falloff is windowed
+/// to zero at its radius, a directional light has none.
+pub fn one_light(p: Vec3, n: Vec3, v: Vec3, light: &Light) -> (Vec3, f32) {
+    let Some((l, atten, _)) = light.emitter.reach(p) else {
+        return (Vec3::ZERO, 0.0);
+    };
     let ndl = n.dot(l).max(0.0);
-    let x = dist / light.radius;
-    let window = (1.0 - x * x * x * x).clamp(0.0, 1.0);
-    let atten = window * window / (1.0 + dist * dist);
     let h = (l + v).normalize_or_zero();
     let spec = n.dot(h).max(0.0).powf(SPECULAR_POWER) * ndl * atten;
     (light.color * (ndl * atten), spec)
@@ -68,7 +128,7 @@ pub fn shade_seen(
     let mut diffuse = ambient;
     let mut specular = Vec3::ZERO;
     for l in lights {
-        let (d, s) = point_light(p, n, v, l);
+        let (d, s) = one_light(p, n, v, l);
         // Only a light that would add something is asked whether it is seen.
         if (d == Vec3::ZERO && s == 0.0) || !sees(l) {
             continue;
@@ -168,20 +228,28 @@ mod tests {
 
     #[test]
     fn a_light_falls_to_zero_at_its_radius_and_faces_matter() {
-        let l = Light {
-            position: Vec3::new(0.0, 2.0, 0.0),
-            radius: 3.0,
+        let l = Light::point(Vec3::new(0.0, 2.0, 0.0), 3.0, Vec3::ONE);
+        let up = Vec3::Y;
+        let (d, s) = one_light(Vec3::ZERO, up, up, &l);
+        assert!(d.x > 0.0 && s > 0.0);
+        assert_eq!(one_light(Vec3::ZERO, -up, up, &l).0, Vec3::ZERO);
+        assert_eq!(
+            one_light(Vec3::new(0.0, -1.5, 0.0), up, up, &l).0,
+            Vec3::ZERO
+        );
+        // A directional light: no falloff, anywhere; Lambert's cosine.
+        let sun = Light {
+            emitter: Emitter::Directional {
+                direction: Vec3::new(0.0, -1.0, -1.0).normalize(),
+            },
             color: Vec3::ONE,
             shadows: false,
         };
-        let up = Vec3::Y;
-        let (d, s) = point_light(Vec3::ZERO, up, up, &l);
-        assert!(d.x > 0.0 && s > 0.0);
-        assert_eq!(point_light(Vec3::ZERO, -up, up, &l).0, Vec3::ZERO);
-        assert_eq!(
-            point_light(Vec3::new(0.0, -1.5, 0.0), up, up, &l).0,
-            Vec3::ZERO
-        );
+        for p in [Vec3::ZERO, Vec3::splat(1.0e4)] {
+            let (d, _) = one_light(p, up, up, &sun);
+            assert!((d.x - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6, "{d}");
+        }
+        assert_eq!(one_light(Vec3::ZERO, -up, up, &sun).0, Vec3::ZERO);
         for v in [0u8, 1, 60, 128, 254, 255] {
             assert_eq!(srgb8(linear_of_srgb8(v)), v);
         }

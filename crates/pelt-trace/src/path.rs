@@ -93,7 +93,7 @@ impl Tracer<'_> {
         let n = if h.g.dot(d) < 0.0 { h.n } else { -h.n };
         let w = self.world;
         shading::shade_seen(h.albedo, h.p, n, -d, w.ambient, &w.lights, |l| {
-            !l.shadows || w.sees(h.p, h.g.normalize_or_zero(), l.position)
+            !l.shadows || w.sees(h.p, h.g.normalize_or_zero(), &l.emitter)
         })
     }
 

@@ -13,7 +13,7 @@ use obvhs::triangle::Triangle;
 
 use pelt_scene::asset::MeshData;
 use pelt_scene::plan::{Optics, ScenePlan};
-use pelt_scene::shading::{self, Light, linear_of_srgb8};
+use pelt_scene::shading::{self, Emitter, Light, linear_of_srgb8};
 use pelt_scene::sky::CubeImages;
 
 /// One triangle: world positions, unit vertex normals, linear vertex colours, its object.
@@ -201,16 +201,7 @@ impl World {
         World {
             tris,
             optics,
-            lights: plan
-                .lights
-                .iter()
-                .map(|l| Light {
-                    position: l.position,
-                    radius: l.radius,
-                    color: l.color,
-                    shadows: l.shadows,
-                })
-                .collect(),
+            lights: plan.lights.clone(),
             ambient: plan.ambient,
             sky,
             epsilon: radius.max(1e-3) * 1e-4,
@@ -218,20 +209,30 @@ impl World {
         }
     }
 
-    /// Whether the point `p` of a surface with geometric normal `g` sees the point `light`:
-    /// the shadow ray leaves `p` offset along `g` toward the light's side (so it cannot hit
-    /// its own triangle) and must reach the light before meeting any traced surface (mirrors
-    /// and glass included, as their meshes cast in a shadow map).
-    pub fn sees(&self, p: Vec3, g: Vec3, light: Vec3) -> bool {
-        let to = light - p;
-        let side = if g.dot(to) >= 0.0 { g } else { -g };
-        let o = p + side * self.epsilon;
-        let to = light - o;
-        let dist = to.length();
-        if dist <= self.epsilon {
-            return true;
+    /// Whether the point `p` of a surface with geometric normal `g` sees `light`: the shadow
+    /// ray leaves `p` offset along `g` toward the light's side (so it cannot hit its own
+    /// triangle) and must reach a point light, or leave the scene toward a directional one,
+    /// before meeting any traced surface (mirrors and glass included, as their meshes cast in
+    /// a shadow map).
+    pub fn sees(&self, p: Vec3, g: Vec3, light: &Emitter) -> bool {
+        match *light {
+            Emitter::Point { position, .. } => {
+                let to = position - p;
+                let side = if g.dot(to) >= 0.0 { g } else { -g };
+                let o = p + side * self.epsilon;
+                let to = position - o;
+                let dist = to.length();
+                if dist <= self.epsilon {
+                    return true;
+                }
+                self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
+            }
+            Emitter::Directional { direction } => {
+                let side = if g.dot(direction) <= 0.0 { g } else { -g };
+                let o = p + side * self.epsilon;
+                self.hit(o, -direction, 0.0, f32::INFINITY).is_none()
+            }
         }
-        self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
     }
 
     /// The first hit of the ray `o + d t` (unit `d`) with `t` in `(tmin, tmax)`.
@@ -239,6 +240,10 @@ impl World {
         if self.tris.is_empty() {
             return None;
         }
+        // A negative zero component becomes +0: under obvhs 0.4 a ray with a −0 component
+        // (its inverse is −1/ε there, by `signum`) missed a sphere it passes through; with +0
+        // it hits (tests/shadows.rs, the directional light along (−1, −1, 0)).
+        let d = d + Vec3::ZERO;
         let ray = Ray::new(a(o), a(d), tmin, tmax);
         let mut rh = RayHit::none();
         let mut best = (0usize, 0.0f32, 0.0f32);

@@ -1,6 +1,8 @@
 //! Shadow rays: a light with `"shadows": true` adds nothing where a surface stands between
 //! it and the point lit; without the flag the image is exactly what it was.
 
+use std::f32::consts::FRAC_1_SQRT_2;
+
 use pelt_scene::Scene;
 use pelt_scene::asset::{MeshData, builtin};
 use pelt_trace::{Traced, trace_scene};
@@ -82,4 +84,38 @@ fn without_an_occluder_shadow_rays_change_nothing_and_the_flag_defaults_off() {
         r#"{"lights": [{"position": [0, 1, 0], "radius": 2, "shadows": 1}]}"#,
     );
     assert!(bad.is_err());
+}
+
+/// The stage under a directional light travelling along `direction` (no falloff).
+fn sun_stage(shadows: bool, direction: [f32; 3]) -> Scene {
+    let mut s = stage(shadows, 2.0);
+    let json = format!(
+        r#"{{"kind": "directional", "direction": {direction:?}, "intensity": 1.2, "shadows": {shadows}}}"#
+    );
+    s.lights = vec![serde_json::from_str(&json).expect("a sun")];
+    s
+}
+
+#[test]
+fn a_directional_light_casts_a_parallel_shadow_of_the_spheres_size_and_lights_without_falloff() {
+    let lit = trace(&sun_stage(false, [0.0, -1.0, 0.0]));
+    let shadowed = trace(&sun_stage(true, [0.0, -1.0, 0.0]));
+    let mut dark = sun_stage(true, [0.0, -1.0, 0.0]);
+    dark.lights.clear();
+    let ambient = trace(&dark);
+    // Straight down, parallel rays: the shadow is the sphere's own disc, so the floor just
+    // outside the silhouette (about 7 pixels from the centre) is lit, and a point light's
+    // wider shadow (about 13) is not cast.
+    assert_eq!(luma(&shadowed, 24, 14), luma(&lit, 24, 14));
+    assert_eq!(luma(&shadowed, 2, 2), luma(&lit, 2, 2));
+    // No falloff: the floor is lit alike at its centre and corner (a point light's is not).
+    assert!(luma(&lit, 2, 2).abs_diff(luma(&lit, 24, 12)) <= 3);
+    // Slanted (45° toward −x): the shadow leaves the sphere's silhouette toward −x; a floor
+    // point there gets the ambient term only, its mirror image on +x stays lit.
+    let d = [-FRAC_1_SQRT_2, -FRAC_1_SQRT_2, 0.0];
+    let (lit, shadowed) = (trace(&sun_stage(false, d)), trace(&sun_stage(true, d)));
+    let (x, y) = (13, 24);
+    assert_eq!(luma(&shadowed, x, y), luma(&ambient, x, y));
+    assert!(luma(&lit, x, y) > 2 * luma(&ambient, x, y));
+    assert_eq!(luma(&shadowed, 48 - x, y), luma(&lit, 48 - x, y));
 }

@@ -12,18 +12,19 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use bytemuck::{Pod, Zeroable};
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 
 use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
 use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
-use crate::plan::{Pass, ScenePlan};
+use crate::plan::{MAX_SHADOW_LIGHTS, Pass, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{ObjectUniforms, UNIFORM_STRIDE};
+use pelt_scene::shading::Emitter;
 
 /// Bind-group slots of shadow_map.wgsl.
 pub mod slot {
@@ -42,14 +43,17 @@ pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// What a texel that sees no surface holds: farther than any receiver.
 const NOTHING: f64 = 3.0e38;
 
-/// One face of one light's cube. Keep in sync with `ShadowFace` in shaders/shadow_map.wgsl.
+/// One face of one light's cube, or a directional light's map. Keep in sync with
+/// `ShadowFace` in shaders/shadow_map.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct ShadowFace {
     /// World to this face's clip space.
     pub view_proj: [[f32; 4]; 4],
-    /// xyz: the light's world position; w: its radius.
+    /// A point light: xyz its world position, w its radius. A directional light: w = 0.
     pub light: [f32; 4],
+    /// A directional light: the distance from its map's near plane is dot(xyz, world) + w.
+    pub plane: [f32; 4],
 }
 
 /// One face's constants (dynamic offset; shadow_map.wgsl).
@@ -58,12 +62,25 @@ pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
     entries: &[layout::uniform(0, size_of::<ShadowFace>(), true)],
 };
 
+/// A directional light's map as shadows.wgsl reads it. Keep in sync with `SunMap` in
+/// shaders/shadows.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SunMap {
+    /// World to the map: xy its texture coordinates, z the distance from its near plane.
+    pub to_map: [[f32; 4]; 4],
+    /// x: the world size of one texel; yzw: unused.
+    pub texel: [f32; 4],
+}
+
 /// How the cubes are read. Keep in sync with `ShadowRead` in shaders/shadows.wgsl.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct ShadowRead {
     /// x: the PCF side (texels); yzw: unused.
     pub pcf: [u32; 4],
+    /// Each slot's map when its light is directional (zero for a point light's slot).
+    pub suns: [SunMap; MAX_SHADOW_LIGHTS],
 }
 
 /// The cubes and how to read them, as the light and forward passes do (shadows.wgsl).
@@ -142,9 +159,10 @@ pub struct ShadowCubes {
     pub slots: u32,
     /// Each face's side in texels.
     pub size: u32,
-    /// The cubes: six layers per light.
+    /// The cubes: six layers per light (a directional light draws its map into the first).
     pub cubes: LayeredTarget,
-    views: Vec<wgpu::TextureView>,
+    /// The layers drawn: (layer, its view); a layer's face constants are at its index.
+    views: Vec<(u32, wgpu::TextureView)>,
     depth: Target,
     faces: wgpu::Buffer,
     faces_group: wgpu::BindGroup,
@@ -170,7 +188,18 @@ impl ShadowCubes {
         let side = if slots > 0 { size } else { 1 };
         let layers = slots.max(1) * 6;
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
-        let views = (0..slots * 6).map(|i| cubes.layer(i, 0)).collect();
+        let views = plan
+            .shadow_lights()
+            .enumerate()
+            .flat_map(|(slot, l)| {
+                let faces = match l.emitter {
+                    Emitter::Point { .. } => 6,
+                    Emitter::Directional { .. } => 1,
+                };
+                (0..faces).map(move |f| slot as u32 * 6 + f)
+            })
+            .map(|i| (i, cubes.layer(i, 0)))
+            .collect();
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
         let faces = r.buffer(
             "shadow faces",
@@ -225,11 +254,23 @@ impl ShadowCubes {
         c
     }
 
-    /// Whether these cubes fit `plan`'s shadow-casting lights and objects.
+    /// Whether these cubes fit `plan`'s shadow-casting lights (their kinds) and objects.
     pub fn fits(&self, plan: &ScenePlan) -> bool {
         self.slots == plan.shadow_lights().count() as u32
+            && self.views.len() == Self::layers_drawn(plan)
             && self.size == plan.shadow_maps.size
             && plan.objects.len() <= self.capacity
+    }
+
+    /// How many layers `plan`'s shadow-casting lights draw: six per point light, one per
+    /// directional light.
+    fn layers_drawn(plan: &ScenePlan) -> usize {
+        plan.shadow_lights()
+            .map(|l| match l.emitter {
+                Emitter::Point { .. } => 6,
+                Emitter::Directional { .. } => 1,
+            })
+            .sum()
     }
 
     /// Whether a frame has drawn the cubes since their lights and casters last changed.
@@ -242,17 +283,25 @@ impl ShadowCubes {
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
         let stride = UNIFORM_STRIDE as usize;
         let mut faces = vec![0u8; self.views.len() * stride];
+        let mut suns = [SunMap::zeroed(); MAX_SHADOW_LIGHTS];
+        let mut k = 0;
         for (slot, l) in plan.shadow_lights().enumerate() {
-            let near = (l.radius * 1e-4).max(1e-6);
-            let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, l.radius);
-            let to_light = Mat4::from_translation(-l.position);
-            for face in 0..6u32 {
-                let u = ShadowFace {
-                    view_proj: (proj * face_view(face) * to_light).to_cols_array_2d(),
-                    light: l.position.extend(l.radius).into(),
-                };
-                let at = (slot * 6 + face as usize) * stride;
-                faces[at..at + size_of::<ShadowFace>()].copy_from_slice(bytemuck::bytes_of(&u));
+            let mut put = |u: ShadowFace| {
+                faces[k * stride..k * stride + size_of::<ShadowFace>()]
+                    .copy_from_slice(bytemuck::bytes_of(&u));
+                k += 1;
+            };
+            match l.emitter {
+                Emitter::Point { position, radius } => {
+                    for u in cube_faces(position, radius) {
+                        put(u);
+                    }
+                }
+                Emitter::Directional { direction } => {
+                    let (face, sun) = sun_map(direction, plan, self.size);
+                    put(face);
+                    suns[slot] = sun;
+                }
             }
         }
         let mut objects = vec![0u8; plan.objects.len() * stride];
@@ -274,6 +323,7 @@ impl ShadowCubes {
             .collect();
         let read = ShadowRead {
             pcf: [plan.shadow_maps.pcf, 0, 0, 0],
+            suns,
         };
         if self.read_written != Some(read) {
             r.gpu
@@ -293,6 +343,70 @@ impl ShadowCubes {
             self.fresh.store(false, Ordering::Relaxed);
         }
     }
+}
+
+/// The six faces of a point light's cube.
+fn cube_faces(position: Vec3, radius: f32) -> [ShadowFace; 6] {
+    let near = (radius * 1e-4).max(1e-6);
+    let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, radius);
+    let to_light = Mat4::from_translation(-position);
+    std::array::from_fn(|face| ShadowFace {
+        view_proj: (proj * face_view(face as u32) * to_light).to_cols_array_2d(),
+        light: position.extend(radius).into(),
+        plane: [0.0; 4],
+    })
+}
+
+/// A directional light's map (travelling along unit `direction`) of `size` texels a side:
+/// an orthographic view along it, fitted to the world bounds of every object of `plan`
+/// (casters and receivers), square texels, with a margin of a hundredth of the scene.
+fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> (ShadowFace, SunMap) {
+    let up = if direction.y.abs() < 0.99 {
+        Vec3::Y
+    } else {
+        Vec3::Z
+    };
+    let view = Mat4::look_to_rh(Vec3::ZERO, direction, up);
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (o, (blo, bhi)) in &plan.objects {
+        for c in 0..8 {
+            let corner = Vec3::select(
+                glam::BVec3::new(c & 1 != 0, c & 2 != 0, c & 4 != 0),
+                *bhi,
+                *blo,
+            );
+            let v = view.transform_point3(o.model.transform_point3(corner));
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        (lo, hi) = (Vec3::splat(-1.0), Vec3::ONE);
+    }
+    let span = (hi - lo).max_element().max(1e-6);
+    let margin = 0.01 * span;
+    let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y) + margin;
+    let (cx, cy) = (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    // View space looks down −z: the nearest to the light has the largest z.
+    let (near, far) = (-(hi.z + margin), -(lo.z - margin));
+    let proj = Mat4::orthographic_rh(cx - half, cx + half, cy - half, cy + half, near, far);
+    // View space to (u, v, distance past the near plane).
+    let to_map = Mat4::from_cols(
+        glam::Vec4::new(0.5 / half, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, -0.5 / half, 0.0, 0.0),
+        glam::Vec4::new(0.0, 0.0, -1.0, 0.0),
+        glam::Vec4::new(0.5 - 0.5 * cx / half, 0.5 + 0.5 * cy / half, -near, 1.0),
+    ) * view;
+    let face = ShadowFace {
+        view_proj: (proj * view).to_cols_array_2d(),
+        light: [0.0; 4],
+        plane: direction.extend(-near).into(),
+    };
+    let sun = SunMap {
+        to_map: to_map.to_cols_array_2d(),
+        texel: [2.0 * half / size as f32, 0.0, 0.0, 0.0],
+    };
+    (face, sun)
 }
 
 /// light.wgsl's and forward.wgsl's override: whether any light of the view casts shadows.
@@ -338,7 +452,7 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let name = Pass::Shadows.name();
     let c = cubes(f, name)?;
     let mut out = Vec::new();
-    for (i, view) in c.views.iter().enumerate() {
+    for (i, (_, view)) in c.views.iter().enumerate() {
         let mut r = Recipe::new(
             Pass::Shadows,
             vec![Color {

@@ -15,8 +15,7 @@ use pelt_measure::Flip;
 use pelt_preview::asset::{MeshData, flatten};
 use pelt_preview::fur::TextureSource;
 use pelt_preview::scene::{
-    Camera, FurBlend, FurSettings, Material, NonNegative, Object, PointLight, Positive, Size,
-    Transform,
+    Camera, FurBlend, FurSettings, Light, Material, Object, Size, Transform,
 };
 use pelt_preview::{Backend, Image, Mode, Preview, Scene};
 
@@ -112,14 +111,8 @@ pub fn furry_sphere() -> MeshData {
     m
 }
 
-pub fn light(p: Vec3, color: Vec3, intensity: f32, radius: f32) -> PointLight {
-    PointLight {
-        position: p.into(),
-        color: color.into(),
-        intensity: NonNegative(intensity),
-        radius: Positive(radius),
-        shadows: false,
-    }
+pub fn light(p: Vec3, color: Vec3, intensity: f32, radius: f32) -> Light {
+    Light::point(p.into(), radius, intensity).with_color(color.into())
 }
 
 pub fn fur_object(settings: FurSettings) -> Object {

@@ -92,17 +92,12 @@ impl MapInputs {
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan, views: usize) {
         let k = plan.reflections;
         let (centre, radius) = plan.extent;
-        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
         let lights: Vec<LightUniforms> = plan
             .lights
             .iter()
             .take(MAX_MAP_LIGHTS)
-            .map(|l| LightUniforms {
-                position_radius: l.position.extend(l.radius).into(),
-                color: l.color.extend(lum(l.color)).into(),
-                // The maps are lit unshadowed.
-                shadow: [0; 4],
-            })
+            // The maps are lit unshadowed.
+            .map(|l| LightUniforms::new(&l.emitter, l.color, Mat4::IDENTITY, None))
             .collect();
         let stride = UNIFORM_STRIDE as usize;
         let mut faces = vec![0u8; views * stride];
