@@ -2,7 +2,8 @@
 //! fixtures/fox, CC0 mesh, CC BY 4.0 rig and animations): baked with a generated comb (no one
 //! painted it) and fur whose colour comes from its base colour texture, `fox.glb`; rendered
 //! furred and textured mid-walk, `demo.png`, and over its walk cycle, `fox-walk.png` (skinned
-//! on the GPU, [`pelt_preview::animate`]). Then the demo creature ([`crate::demo_creature`]),
+//! on the GPU, [`pelt_preview::animate`]), under a key light that casts shadows (the Fox
+//! stands in its contact shadow, redrawn for each pose). Then the demo creature ([`crate::demo_creature`]),
 //! baked with fur textures exactly as `pelt bake --config` would, read back and rendered as
 //! deferred fur (Revie) under the procedural sky: `creature.png`, a turntable contact sheet
 //! of `frames` views around it, `turntable.png`, and the creature beside a mirror
@@ -140,6 +141,14 @@ fn scene_of(o: &DemoOptions, asset: &Path, mesh: &MeshData, (w, h): (u32, u32), 
     s
 }
 
+/// The Fox's scene (framed on `mid`, three-quarter view from the front left): the fur scene
+/// with its key light casting shadows, so the Fox stands on the floor in its contact shadow.
+fn fox_scene(o: &DemoOptions, asset: &Path, mid: &MeshData, size: (u32, u32)) -> Scene {
+    let mut s = scene_of(o, asset, mid, size, 35.0);
+    s.lights[0].shadows = true;
+    s
+}
+
 /// The Fox furred mid-walk, and its walk cycle as a contact sheet (three-quarter view from
 /// the front left).
 fn fox_renders(
@@ -154,7 +163,7 @@ fn fox_renders(
     let mid = asset::load_at(asset, Some(&walk(0.35)))?;
     let quad = asset::quad();
     let (w, h) = o.size;
-    let scene = scene_of(o, asset, &mid, (w, h), 35.0);
+    let scene = fox_scene(o, asset, &mid, (w, h));
     let d = preview.prepare_loaded(
         &scene,
         &[mid.clone(), quad.clone()],
@@ -167,7 +176,7 @@ fn fox_renders(
     // Framed on the mid-walk pose, as the still.
     let tile = ((w / 4).max(1), (h / 4).max(1));
     let clip = Clip {
-        scene: &scene_of(o, asset, &mid, tile, 35.0),
+        scene: &fox_scene(o, asset, &mid, tile),
         meshes: &[first, quad],
         mesh_of: &[0, 1],
         doc: &pelt_io::load(asset)?,
