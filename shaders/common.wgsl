@@ -22,6 +22,11 @@ struct Frame {
     // z: DSF depth-threshold floor in quantisation steps; w: the frame has an L-buffer (1) or
     // lights nothing on screen (0: ambient only).
     flags: vec4<u32>,
+    // The wind (crates/pelt-scene/src/wind.rs): xyz its world direction × strength (all zero:
+    // none), w the scene's time in seconds.
+    wind: vec4<f32>,
+    // x: gusts per second; y: turbulence (0 to 1); zw: unused.
+    gust: vec4<f32>,
 }
 
 struct Object {

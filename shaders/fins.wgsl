@@ -9,7 +9,7 @@
 // like the shells by `fur_lighting`. Keep `FinIn` in sync with `FinInstance` in
 // crates/pelt-preview/src/uniforms.rs.
 
-#import pelt::fur_common::{FurOut, MIN_COS, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#import pelt::fur_common::{FurOut, MIN_COS, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of, wind_comb}
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
 #else
@@ -92,7 +92,8 @@ fn vs_main(fin: FinIn, @builtin(vertex_index) vi: u32) -> FinOut {
     let t = ups[vi];
     let p = select(fin.p0, fin.p1, e == 1u);
     let n = select(fin.n0, fin.n1, e == 1u);
-    let c = select(fin.c0, fin.c1, e == 1u);
+    let c0 = select(fin.c0, fin.c1, e == 1u);
+    let c = vec4<f32>(wind_comb(c0.xyz, n, p, frame, object), c0.w);
     let len = object.fur_base.w;
     let pv = to_view * vec4<f32>(p + shell_offset(n, c.xyz, t, len, c.w), 1.0);
     let pb = to_view * vec4<f32>(p, 1.0);

@@ -52,6 +52,57 @@ fn comb_object(n: vec3<f32>, t: vec4<f32>, c: vec3<f32>) -> vec3<f32> {
     return select(tt, d / len, len > 1e-6);
 }
 
+// A hash of lattice point `c` to −1..1 (integer mixing: the same on every back end).
+fn lattice(c: vec3<i32>) -> f32 {
+    var h = (bitcast<u32>(c.x) * 0x8da6b343u) ^ (bitcast<u32>(c.y) * 0xd8163841u) ^ (bitcast<u32>(c.z) * 0xcb1ab31fu);
+    h = (h ^ (h >> 16u)) * 0x7feb352du;
+    h = (h ^ (h >> 15u)) * 0x846ca68bu;
+    h = h ^ (h >> 16u);
+    return f32(h >> 8u) / 8388607.5 - 1.0;
+}
+
+// Value noise at `x` (lattice spacing 1), smoothly interpolated between lattice values: −1..1.
+fn value_noise(x: vec3<f32>) -> f32 {
+    let i = vec3<i32>(floor(x));
+    let f = fract(x);
+    let u = f * f * (3.0 - 2.0 * f);
+    let x00 = mix(lattice(i), lattice(i + vec3<i32>(1, 0, 0)), u.x);
+    let x10 = mix(lattice(i + vec3<i32>(0, 1, 0)), lattice(i + vec3<i32>(1, 1, 0)), u.x);
+    let x01 = mix(lattice(i + vec3<i32>(0, 0, 1)), lattice(i + vec3<i32>(1, 0, 1)), u.x);
+    let x11 = mix(lattice(i + vec3<i32>(0, 1, 1)), lattice(i + vec3<i32>(1, 1, 1)), u.x);
+    return mix(mix(x00, x10, u.y), mix(x01, x11, u.y), u.z);
+}
+
+// Wind (Frantzen's "uniform vector for further dynamic displacement"; crates/pelt-scene/src/
+// wind.rs): the object-space comb `comb` of a strand rooted at object-space `root` with
+// normal `n`, bent by the frame's wind there: its vector, carried into object space (its
+// length kept), gusting as 1 + ½ sin(2π f T) and stirred by ± turbulence with value noise
+// (cells of 16 fur lengths) scrolling along the wind at a cell a second; it is added to the
+// comb, so it bends the strand as a comb does, most at the tip: fur facing the wind is
+// pressed flat (its part into the surface held to 0.8), fur in its lee stands up and streams
+// with it. The shells, fins, deferred fur and strand reference all bend by it. No wind:
+// `comb` itself.
+fn wind_comb(comb: vec3<f32>, n: vec3<f32>, root: vec3<f32>, frame: Frame, object: Object) -> vec3<f32> {
+    let w = frame.wind;
+    if all(w.xyz == vec3<f32>(0.0)) {
+        return comb;
+    }
+    let t = w.w;
+    // World to object for a vector: the inverse of the model's 3×3, the transpose of
+    // normal_model's.
+    let m = mat3x3<f32>(object.normal_model[0].xyz, object.normal_model[1].xyz, object.normal_model[2].xyz);
+    let dir = normalize(transpose(m) * w.xyz);
+    let cell = max(object.fur_base.w, 1e-6) * 16.0;
+    let gust = 1.0 + 0.5 * sin(6.2831853 * frame.gust.x * t);
+    let stir = 1.0 + frame.gust.y * value_noise(root / cell - dir * t);
+    let v = dir * (length(w.xyz) * gust * stir);
+    // Into the surface at most 0.8 (the tip's n + (comb + v) keeps a fifth of its normal: a
+    // strand pressed flat by the wind never turns into the body).
+    let nn = normalize(n);
+    let vn = dot(v, nn);
+    return comb + v + nn * (max(vn, -0.8) - vn);
+}
+
 // Listing 2.1: the offset of a vertex on the shell at normalized depth `sd`: along the normal
 // bent toward the comb by `sd`, scaled by the fur length and the vertex's comb length.
 fn shell_offset(n: vec3<f32>, comb: vec3<f32>, sd: f32, fur_length: f32, comb_length: f32) -> vec3<f32> {

@@ -13,7 +13,7 @@
 // Keep `StrandIn` in sync with `StrandRoot` in crates/pelt-scene/src/vertex.rs and SEGMENTS
 // with `STRAND_SEGMENTS` in crates/pelt-preview/src/features/strands.rs.
 
-#import pelt::fur_common::{FurQuery, clip_to_pixel, shell_offset, strand_velocity, view_dir_of}
+#import pelt::fur_common::{FurQuery, clip_to_pixel, shell_offset, strand_velocity, view_dir_of, wind_comb}
 #import pelt::fur_light_forward::{fur_lighting}
 #import pelt::object_bindings::{frame, object}
 
@@ -50,16 +50,21 @@ struct StrandOut {
     @location(8) @interpolate(flat) radius: f32,
 }
 
+// Strand `s`'s comb, bent by the wind at its root as the shells' and fins' (wind_comb).
+fn comb_of(s: StrandIn) -> vec3<f32> {
+    return wind_comb(s.comb.xyz, s.normal.xyz, s.root.xyz, frame, object);
+}
+
 // The point at height `z` (fraction of the fur length) of strand `s`, in asset space.
 fn strand_point(s: StrandIn, z: f32) -> vec3<f32> {
     let len = object.fur_base.w;
-    return s.root.xyz + s.lean.xyz * z + shell_offset(s.normal.xyz, s.comb.xyz, z, len, s.normal.w);
+    return s.root.xyz + s.lean.xyz * z + shell_offset(s.normal.xyz, comb_of(s), z, len, s.normal.w);
 }
 
 // The direction of strand `s` at height `z`, in view space.
 fn strand_direction(s: StrandIn, z: f32) -> vec3<f32> {
     let k = object.fur_base.w * s.normal.w;
-    let d = s.lean.xyz + strand_velocity(s.normal.xyz, s.comb.xyz, z) * k;
+    let d = s.lean.xyz + strand_velocity(s.normal.xyz, comb_of(s), z) * k;
     return view_dir_of(d, frame, object);
 }
 

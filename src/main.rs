@@ -232,8 +232,9 @@ pub struct RenderArgs {
     /// as `pelt pose` does; with --frames, each later frame is skinned on the GPU.
     #[arg(long, value_name = "NAME")]
     pub animation: Option<String>,
-    /// Seconds into --animation (clamped to its keys).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = flags::finite, allow_negative_numbers = true, requires = "animation")]
+    /// Seconds into the scene: where the scene's wind is evaluated, and the --animation's
+    /// pose (clamped to its keys).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = flags::finite, allow_negative_numbers = true)]
     pub time: f32,
     /// With --animation and an asset: a contact sheet of N frames evenly over the clip (4 to a
     /// row, each tile half the --size, the camera framed on the first).

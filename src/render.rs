@@ -44,7 +44,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Err(InputError::Scene(e)) => return Err(e.into()),
         Err(e) => return Ok(fail(e)),
     };
-    let (scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
+    let (mut scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
+    scene.time = args.time;
     let mode = match args.knobs.mode {
         crate::RenderMode::Gpu(m) => m,
         crate::RenderMode::Raytrace => return raytrace(args, &scene, &meshes, &of),

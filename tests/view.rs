@@ -443,3 +443,53 @@ fn strands_mode_refines_a_still_frame_toward_the_converged_reference() {
         "48 frames ({f48:.4}) are not much closer than 1 ({f1:.4}): {err}"
     );
 }
+
+/// A scene with wind and no animation: its clock stands in for the timeline. A frame paused
+/// at 0.4 s and one played from 0.3 s for three 1/30 s frames are `pelt render --time 0.4`,
+/// byte for byte; the wind at 0 s draws otherwise (the check can fail).
+#[test]
+fn a_windy_scene_plays_in_the_window_and_a_paused_frame_equals_pelt_render() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-wind");
+    let asset = furry(&dir);
+    let mesh = pelt_preview::asset::load(&asset).expect("the baked creature");
+    let mut scene = pelt_preview::framing::asset_scene(&asset, &mesh, 192, 128);
+    scene.wind = Some(pelt_preview::wind::Wind {
+        direction: glam::Vec3::X,
+        strength: 1.5,
+        gust_hz: 0.7,
+        turbulence: 0.5,
+    });
+    let path = dir.join("windy.json");
+    std::fs::write(&path, serde_json::to_string(&scene).expect("json")).expect("write");
+    let shoot = |name: &str, time: &str, play: bool| {
+        let shot = dir.join(name);
+        let mut args = vec![s(&path), "--time", time, "--frames", "4"];
+        args.extend(["--screenshot", s(&shot), "--size", "192x128"]);
+        if play {
+            args.push("--play");
+        }
+        let out = view(&args);
+        (
+            load_png(&shot),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let at = render_png(&dir, &path, "at-0.4.png", &["--time", "0.4"]);
+    let (paused, log) = shoot("paused.png", "0.4", false);
+    assert!(log.contains("wind 0.40 s paused"), "{log}");
+    assert!(
+        paused == at,
+        "paused at 0.4 s is not pelt render --time 0.4"
+    );
+    let (played, log) = shoot("played.png", "0.3", true);
+    assert!(log.contains("wind 0.40 s playing"), "{log}");
+    assert!(
+        played == at,
+        "played to 0.4 s is not pelt render --time 0.4"
+    );
+    let early = render_png(&dir, &path, "at-0.png", &["--time", "0"]);
+    assert!(early != at, "the wind at 0 s and at 0.4 s draw the same");
+}

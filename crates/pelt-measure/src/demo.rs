@@ -3,7 +3,7 @@
 //! painted it) and fur whose colour comes from its base colour texture, `fox.glb`; rendered
 //! furred and textured mid-walk, `demo.png`, and over its walk cycle, `fox-walk.png` (skinned
 //! on the GPU, [`pelt_preview::animate`]), under a key light that casts shadows (the Fox
-//! stands in its contact shadow, redrawn for each pose). Then the demo creature ([`crate::demo_creature`]),
+//! stands in its contact shadow, redrawn for each pose) and in a light gusting wind. Then the demo creature ([`crate::demo_creature`]),
 //! baked with fur textures exactly as `pelt bake --config` would, read back and rendered as
 //! deferred fur (Revie) under the procedural sky: `creature.png`, a turntable contact sheet
 //! of `frames` views around it, `turntable.png`, and the creature beside a mirror
@@ -12,6 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
 use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, bake_with_fur};
 use pelt_bake::options::{CombSource, GeneratedComb};
@@ -22,6 +23,7 @@ use pelt_preview::asset::{self, AssetError, MeshData, PoseAt};
 use pelt_preview::knobs::Knobs;
 use pelt_preview::procedural::fur_scene;
 use pelt_preview::scene::FurBlend;
+use pelt_preview::wind::Wind;
 use pelt_preview::{FrameError, Image, Mode, Preview, RenderError, Scene, SceneError};
 
 use crate::demo_creature::{DemoCreatureError, bake_creature, demo_fur};
@@ -35,6 +37,9 @@ const MIRROR_SCENE: &str = include_str!("../../../fixtures/scenes/creature-mirro
 
 /// The Fox's walk: 0 to 0.708 s.
 const WALK: (f32, f32) = (0.0, 0.708);
+
+/// Where in the walk the still is drawn (s).
+const MID_WALK: f32 = 0.35;
 
 /// What can stop the demo.
 #[derive(Debug, thiserror::Error)]
@@ -142,10 +147,19 @@ fn scene_of(o: &DemoOptions, asset: &Path, mesh: &MeshData, (w, h): (u32, u32), 
 }
 
 /// The Fox's scene (framed on `mid`, three-quarter view from the front left): the fur scene
-/// with its key light casting shadows, so the Fox stands on the floor in its contact shadow.
+/// with its key light casting shadows, so the Fox stands on the floor in its contact shadow,
+/// and a light wind in its fur.
 fn fox_scene(o: &DemoOptions, asset: &Path, mid: &MeshData, size: (u32, u32)) -> Scene {
     let mut s = scene_of(o, asset, mid, size, 35.0);
     s.lights[0].shadows = true;
+    // A light breeze from the Fox's left, gusting; the still is drawn mid-walk, at 0.35 s.
+    s.wind = Some(Wind {
+        direction: Vec3::new(1.0, 0.0, 0.4).normalize(),
+        strength: 0.5,
+        gust_hz: 0.8,
+        turbulence: 0.5,
+    });
+    s.time = MID_WALK;
     s
 }
 
@@ -160,7 +174,7 @@ fn fox_renders(
         animation: "Walk".to_owned(),
         time,
     };
-    let mid = asset::load_at(asset, Some(&walk(0.35)))?;
+    let mid = asset::load_at(asset, Some(&walk(MID_WALK)))?;
     let quad = asset::quad();
     let (w, h) = o.size;
     let scene = fox_scene(o, asset, &mid, (w, h));

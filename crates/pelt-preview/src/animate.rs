@@ -91,6 +91,12 @@ impl Clip<'_> {
                     view = preview.prepare_loaded(self.scene, &meshes, self.mesh_of, self.mode)?;
                 }
             }
+            // The wind blows at the frame's time.
+            if self.scene.wind.is_some() {
+                let mut at = self.scene.clone();
+                at.time = pose.time;
+                preview.update(&mut view, &at, self.mode)?;
+            }
             images.push(preview.render(&view)?);
         }
         Ok(images)

@@ -175,6 +175,8 @@ fn frame_uniforms(plan: &Plan, target: (u32, u32), lbuffer: (u32, u32)) -> Frame
             DEPTH_THRESHOLD_STEPS,
             u32::from(plan.lbuffer.is_some()),
         ],
+        wind: plan.wind.0,
+        gust: plan.wind.1,
     }
 }
 

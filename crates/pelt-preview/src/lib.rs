@@ -42,7 +42,7 @@ pub mod uniforms;
 
 pub use pelt_scene::{
     asset, budget, debug, flags, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands,
-    view,
+    view, wind,
 };
 
 use std::sync::Arc;

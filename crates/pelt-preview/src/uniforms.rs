@@ -26,6 +26,10 @@ pub struct FrameUniforms {
     /// x DSF on; y forward light count; z DSF depth threshold floor in quantisation steps;
     /// w the frame has an L-buffer.
     pub flags: [u32; 4],
+    /// The wind: xyz its world direction × strength (all zero: none), w the scene's time (s).
+    pub wind: [f32; 4],
+    /// The wind's x gust frequency (Hz), y turbulence (0 to 1); zw unused.
+    pub gust: [f32; 4],
 }
 
 /// One material's factors. Keep in sync with `MaterialParams` in shaders/common.wgsl.

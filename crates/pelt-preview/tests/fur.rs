@@ -9,7 +9,8 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use pelt_preview::asset::{MeshData, builtin};
-use pelt_preview::scene::{FurBlend, FurCoverage, Material, Object, Sky, Transform};
+use pelt_preview::scene::{FurBlend, FurCoverage, FurSettings, Material, Object, Sky, Transform};
+use pelt_preview::wind::Wind;
 use pelt_preview::{Image, Mode, Preview, Scene};
 
 use common::{assert_flip, flip_mean, furry_sphere, light, out_dir, preview, scene, write_failure};
@@ -611,5 +612,75 @@ fn fur_receives_shadows_in_every_mode() {
             low_b >= 0.97 * low_a,
             "{mode}: the lower fur keeps the key light"
         );
+    }
+}
+
+/// Wind (Frantzen's displacement vector): none, and a wind of no strength, draw the same
+/// bytes; a wind toward +x moves the fur's coverage toward +x and one toward −x toward −x,
+/// in the shells with fins (forward and inferred) and in the strand reference alike; it gusts
+/// with the scene's time (two times differ) and one time drawn twice is the same image.
+#[test]
+fn wind_bends_the_fur_along_it_in_shells_fins_and_strands_and_none_is_still() {
+    let mut f = Fixture::new();
+    let mut base = scene(16, true, FurBlend::Stipple);
+    base.objects[0].material = Material::Fur(FurSettings {
+        shells: Some(16),
+        fins: Some(true),
+        length: Some(0.3),
+    });
+    let windy = |x: f32, strength: f32, time: f32| {
+        let mut s = base.clone();
+        s.wind = Some(Wind {
+            direction: Vec3::new(x, 0.0, 0.0),
+            strength,
+            gust_hz: 0.5,
+            turbulence: 0.3,
+        });
+        s.time = time;
+        s
+    };
+    // The mean column of the pixels that are not background.
+    let centroid = |img: &Image| -> f64 {
+        let bg: [u8; 4] = img.rgba[..4].try_into().expect("a pixel");
+        let (mut sum, mut n) = (0.0, 0.0);
+        for (i, p) in img.rgba.chunks(4).enumerate() {
+            if !is_background(p.try_into().expect("a pixel"), bg) {
+                sum += (i as u32 % img.width) as f64;
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    for mode in [Mode::Forward, Mode::Inferred, Mode::Strands] {
+        let still = f.render(&base, mode);
+        assert_eq!(
+            still.rgba,
+            f.render(&windy(1.0, 0.0, 0.7), mode).rgba,
+            "{mode}: a wind of no strength moved something"
+        );
+        let east = f.render(&windy(1.0, 2.0, 0.0), mode);
+        let west = f.render(&windy(-1.0, 2.0, 0.0), mode);
+        let (c, e, w) = (centroid(&still), centroid(&east), centroid(&west));
+        eprintln!("{mode}: coverage centre at column {c:.2}; blown east {e:.2}, west {w:.2}");
+        if e < c + 1.0 || w > c - 1.0 || std::env::var_os("PELT_SAVE").is_some() {
+            write_failure(
+                &format!("wind-{mode}"),
+                &west,
+                &east,
+                &flip_mean(&west, &east).1,
+            );
+        }
+        assert!(
+            e > c + 1.0,
+            "{mode}: east wind moved the fur to {e} from {c}"
+        );
+        assert!(
+            w < c - 1.0,
+            "{mode}: west wind moved the fur to {w} from {c}"
+        );
+        if mode != Mode::Strands {
+            assert_eq!(east.rgba, f.render(&windy(1.0, 2.0, 0.0), mode).rgba);
+            assert_ne!(east.rgba, f.render(&windy(1.0, 2.0, 0.5), mode).rgba);
+        }
     }
 }

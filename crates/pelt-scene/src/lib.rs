@@ -35,6 +35,7 @@ pub mod sky;
 pub mod strands;
 pub mod vertex;
 pub mod view;
+pub mod wind;
 
 pub use plan::{Mode, Plan, PlanError};
 pub use scene::{Scene, SceneError};

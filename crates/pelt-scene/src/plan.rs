@@ -323,6 +323,8 @@ pub struct Plan {
     pub lights: Vec<PlannedLight>,
     /// Passes, in order.
     pub passes: Vec<Pass>,
+    /// The wind's per-frame constants at the scene's time ([`crate::wind::constants`]).
+    pub wind: ([f32; 4], [f32; 4]),
     /// Linear ambient light.
     pub ambient: Vec3,
     /// Objects culled (off screen).
@@ -417,6 +419,8 @@ pub struct ScenePlan {
     pub fur_blend: FurBlend,
     /// The background.
     pub sky: Sky,
+    /// The wind's per-frame constants at the scene's time ([`crate::wind::constants`]).
+    pub wind: ([f32; 4], [f32; 4]),
     /// Linear ambient light.
     pub ambient: Vec3,
     /// The scene's light count.
@@ -600,6 +604,7 @@ impl ScenePlan {
             },
             sky: scene.sky.clone(),
             ambient: Vec3::from(scene.ambient),
+            wind: crate::wind::constants(scene.wind.as_ref(), scene.time),
             scene_lights: scene.lights.len(),
             notes,
             reflections: scene.reflections,
@@ -790,6 +795,7 @@ impl Plan {
             lights,
             passes,
             ambient: scene.ambient,
+            wind: scene.wind,
             culled_objects,
             culled_lights,
             crowded_alpha,
@@ -819,6 +825,23 @@ impl Plan {
             self.lights.len(),
             self.culled_lights
         );
+        let (wind, gust) = self.wind;
+        if wind[..3] != [0.0; 3] {
+            let v = Vec3::from_slice(&wind[..3]);
+            let d = v.normalize();
+            let _ = writeln!(
+                s,
+                "wind toward [{:.2}, {:.2}, {:.2}], strength {:.2}, {} gusts/s, turbulence {:.2}, \
+                 at {} s: bends every fur object's comb (shells, fins, strands)",
+                d.x,
+                d.y,
+                d.z,
+                v.length(),
+                gust[0],
+                gust[1],
+                wind[3]
+            );
+        }
         let alpha_layers = |s: &mut String| {
             if !self.alpha.is_empty() {
                 let mut used: Vec<u32> = self
@@ -1146,6 +1169,24 @@ mod tests {
             p.explain().contains("stipple patterns used [1, 2, 3]"),
             "{}",
             p.explain()
+        );
+    }
+
+    #[test]
+    fn explain_says_when_and_how_the_wind_blows() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 1, 1, 1, 160, 90);
+        assert!(!plan(&s, Mode::Inferred).explain().contains("wind"));
+        s.wind = Some(crate::wind::Wind {
+            direction: Vec3::Z,
+            strength: 0.5,
+            gust_hz: 2.0,
+            turbulence: 0.25,
+        });
+        s.time = 1.5;
+        let e = plan(&s, Mode::Inferred).explain();
+        assert!(
+            e.contains("wind toward [0.00, 0.00, 1.00], strength 0.50, 2 gusts/s, turbulence 0.25, at 1.5 s"),
+            "{e}"
         );
     }
 

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Quat, Vec3};
 
 use crate::shading::Emitter;
+use crate::wind::Wind;
 use serde::{Deserialize, Serialize};
 
 /// A material.
@@ -863,6 +864,13 @@ pub struct Scene {
     pub reflections: Reflections,
     /// The shadow cubes of lights that cast shadows: their size and filtering.
     pub shadow_maps: ShadowMaps,
+    /// The wind that stirs the fur (none: still).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wind: Option<Wind>,
+    /// Seconds into the scene, where the wind is evaluated: set by `pelt render --time` and
+    /// `pelt view`'s clock, not read from the file.
+    #[serde(skip)]
+    pub time: f32,
 }
 
 /// How mirrors and glass are drawn.
@@ -1053,6 +1061,8 @@ impl Default for Scene {
             fur_lighting: FurLighting::KajiyaKay,
             reflections: Reflections::default(),
             shadow_maps: ShadowMaps::default(),
+            wind: None,
+            time: 0.0,
         }
     }
 }

@@ -256,8 +256,10 @@ impl Running {
 
     /// A timeline key: play/pause, step, next clip; the asset is posed at the new time.
     fn timeline(&mut self, a: Action) {
+        if self.viewer.timeline.is_none() {
+            return self.clock(a);
+        }
         let Some(t) = &mut self.viewer.timeline else {
-            self.message = Some("no animation to play".into());
             return;
         };
         match a {
@@ -272,12 +274,41 @@ impl Running {
         }
     }
 
-    /// Advances a playing animation by `dt` seconds and poses the asset there.
+    /// The timeline keys for a scene with wind and no animation: play/pause and step its
+    /// clock.
+    fn clock(&mut self, a: Action) {
+        let Some(c) = &mut self.viewer.clock else {
+            self.message = Some("no animation or wind to play".into());
+            return;
+        };
+        match a {
+            Action::PlayPause => c.playing = !c.playing,
+            Action::Step(d) => {
+                c.time += f32::from(d) * crate::timeline::FRAME_S;
+                c.playing = false;
+            }
+            _ => {
+                self.message = Some("no animation clips (the wind has no clips)".into());
+                return;
+            }
+        }
+        self.last_tick = Instant::now();
+        if let Err(e) = self.viewer.follow_time(&mut self.preview) {
+            self.report(e);
+        }
+    }
+
+    /// Advances a playing animation (and its wind), or a scene's wind clock, by `dt` seconds.
     fn tick(&mut self, dt: f32) -> Result<(), ViewError> {
         if let Some(t) = &mut self.viewer.timeline
             && t.advance(dt)
         {
             self.viewer.follow_timeline(&mut self.preview)?;
+        } else if let Some(c) = &mut self.viewer.clock
+            && c.playing
+        {
+            c.time += dt;
+            self.viewer.follow_time(&mut self.preview)?;
         }
         Ok(())
     }
@@ -523,7 +554,8 @@ impl ApplicationHandler for App {
                 .last_quality
                 .zip(r.viewer.budget)
                 .is_some_and(|(q, b)| q != b.costs.full);
-        let playing = r.viewer.timeline.as_ref().is_some_and(|t| t.playing);
+        let playing = r.viewer.timeline.as_ref().is_some_and(|t| t.playing)
+            || r.viewer.clock.is_some_and(|c| c.playing);
         // Strands mode keeps drawing while it refines a still frame.
         if r.moving() || settled_after_motion || playing || r.viewer.refining() {
             r.window.request_redraw();

@@ -87,7 +87,7 @@ pelt view controls:
   G  debug view (normal groups, comb, off)
   D  DSF on/off    - =  shells halve/double  I  fins on/off   B  stipple/WBOIT
   P  screenshot    R  reload input and shaders   T  measure pass costs   O  overlay on/off
-  Space  play/pause the animation   , .  step a frame back/forward   C  next clip
+  Space  play/pause animation or wind   , .  step a frame back/forward   C  next clip
   H  this help     Q / Esc  quit
 Drop a .glb, .gltf, .obj or .json on the window to open it; the open file reloads when it
 changes on disk.";

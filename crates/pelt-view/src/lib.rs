@@ -80,10 +80,12 @@ pub struct ViewArgs {
     /// the next clip.
     #[cfg_attr(feature = "cli", arg(long, value_name = "NAME"))]
     pub animation: Option<String>,
-    /// Seconds into the clip to start at.
+    /// Seconds into the clip (or, for a scene with wind and no animation, into the scene) to
+    /// start at: a paused frame at T draws as `pelt render --time T`.
     #[cfg_attr(feature = "cli", arg(long, value_name = "SECONDS", default_value_t = 0.0, value_parser = pelt_preview::flags::finite, allow_negative_numbers = true))]
     pub time: f32,
-    /// Scripted: advance the clip one 1/30 s frame per frame drawn (the window always plays).
+    /// Scripted: advance the clip (or the wind) one 1/30 s frame per frame drawn (the window
+    /// always plays).
     #[cfg_attr(feature = "cli", arg(long, requires = "frames"))]
     pub play: bool,
 }

@@ -76,6 +76,8 @@ pub struct Viewer {
     pub last_quality: Option<Quality>,
     /// The animation playing, when the input is an animated asset.
     pub timeline: Option<Timeline>,
+    /// The scene's clock, when its wind stirs the fur and no animation keeps the time.
+    pub clock: Option<WindClock>,
     /// The animated asset's document (posed afresh for each time drawn).
     animated: Option<pelt_io::Document>,
     /// The pose the meshes were last built at.
@@ -88,6 +90,27 @@ pub struct Viewer {
     refining: Option<Refining>,
     surface: Surface,
     watch: Watch,
+}
+
+/// The clock of a scene with wind and no animation: where the wind is evaluated, and whether
+/// it advances (Space plays and pauses it, `,` `.` step a frame), as an animation's timeline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindClock {
+    /// Seconds into the scene.
+    pub time: f32,
+    /// Whether time advances.
+    pub playing: bool,
+}
+
+impl WindClock {
+    /// The status line.
+    pub fn status(&self) -> String {
+        format!(
+            "wind {:.2} s {}",
+            self.time,
+            if self.playing { "playing" } else { "paused" }
+        )
+    }
 }
 
 /// An animated asset's document and timeline (None for scene files and static assets).
@@ -165,6 +188,8 @@ impl Viewer {
         // then stays while the clip plays.
         let input = load_posed(path, surface.size, posed_at.as_ref())?;
         let (animated, timeline) = anim.unzip();
+        let clock = (timeline.is_none() && input.scene.wind.is_some())
+            .then_some(WindClock { time, playing });
         let orbit = Orbit::new(&input.scene.camera);
         let mut v = Viewer {
             path: path.to_owned(),
@@ -185,6 +210,7 @@ impl Viewer {
             pass_ms: Vec::new(),
             last_quality: None,
             timeline,
+            clock,
             animated,
             posed_at,
             gpu_pose: None,
@@ -231,7 +257,8 @@ impl Viewer {
                 preview.assets.sweep();
             }
         }
-        Ok(())
+        // The wind blows at the timeline's time too.
+        self.follow_time(preview)
     }
 
     /// Poses `sv` (prepared from the input, so at the pose it was loaded at) to the pose the
@@ -245,13 +272,32 @@ impl Viewer {
         Ok(())
     }
 
-    /// The scene as drawn at full quality: the input's, with the knobs and the camera.
+    /// The scene as drawn at full quality: the input's, with the knobs and the camera, at the
+    /// timeline's or the clock's time.
     pub fn scene(&self) -> Scene {
         let mut s = scene_of(&self.input, &self.settings.knobs, self.surface.size);
         if self.moved {
             s.camera = self.orbit.camera();
         }
+        s.time = match (&self.timeline, &self.clock) {
+            (Some(t), _) => t.time,
+            (None, Some(c)) => c.time,
+            (None, None) => 0.0,
+        };
         s
+    }
+
+    /// The scene's time moved: a scene with wind is planned again at it (only uniforms
+    /// change); the reduced view and the strands mode's mean start again.
+    pub fn follow_time(&mut self, preview: &mut Preview) -> Result<(), ViewError> {
+        if self.input.scene.wind.is_none() {
+            return Ok(());
+        }
+        let scene = self.scene();
+        preview.update(&mut self.full, &scene, self.settings.mode)?;
+        self.reduced = None;
+        self.refining = None;
+        Ok(())
     }
 
     /// The scene at `q`.
@@ -626,6 +672,9 @@ impl Viewer {
         let mut lines = vec![first, second];
         if let Some(t) = &self.timeline {
             lines.push(t.status());
+        }
+        if let Some(c) = &self.clock {
+            lines.push(c.status());
         }
         if !self.pass_ms.is_empty() {
             let p: Vec<String> = self
