@@ -9,7 +9,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{out_dir, preview};
+use common::{out_dir, preview, save_failure};
 use pelt_measure::Flip;
 use pelt_measure::reflections::{self, Reference, Run};
 use pelt_preview::knobs::{self, Knobs};
@@ -19,19 +19,6 @@ use pelt_preview::scene::{
 use pelt_preview::{Image, Mode, Preview, Scene};
 
 const SIZE: (u32, u32) = (256, 144);
-
-fn save_failure(name: &str, reference: &Image, test: &Image) {
-    let dir = out_dir();
-    let f = Flip::new(reference, test).expect("same size");
-    reference
-        .save(&dir.join(format!("{name}-reference.png")))
-        .expect("write");
-    test.save(&dir.join(format!("{name}-actual.png")))
-        .expect("write");
-    f.heat_map()
-        .save(&dir.join(format!("{name}-diff.png")))
-        .expect("write");
-}
 
 /// A scene, its meshes and each object's mesh.
 struct Loaded {

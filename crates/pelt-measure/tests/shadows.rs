@@ -10,7 +10,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{out_dir, preview};
+use common::{preview, save_failure};
 use glam::{Vec3, Vec4Swizzles};
 use pelt_measure::Flip;
 use pelt_preview::knobs::{self, Knobs};
@@ -64,20 +64,6 @@ fn render(p: &mut Preview, l: &Loaded, scene: &Scene, mode: Mode) -> Image {
     p.render(&sv).expect("render")
 }
 
-fn save(name: &str, reference: &Image, test: &Image) {
-    let dir = out_dir();
-    reference
-        .save(&dir.join(format!("{name}-reference.png")))
-        .expect("write");
-    test.save(&dir.join(format!("{name}-actual.png")))
-        .expect("write");
-    Flip::new(reference, test)
-        .expect("same size")
-        .heat_map()
-        .save(&dir.join(format!("{name}-diff.png")))
-        .expect("write");
-}
-
 /// The pixels a shadow darkens: where the ray tracer's image with shadow rays is darker than
 /// without by more than two steps in some channel.
 fn shadowed(lit: &Image, dark: &Image) -> Vec<bool> {
@@ -116,7 +102,7 @@ fn matches_the_truth(
         let (whole, over) = (f.mean(), f.masked_mean(&mask));
         eprintln!("{name}, {mode}: FLIP whole {whole:.4}, over {n} shadowed pixels {over:.4}");
         if whole > 0.02 || over > 0.06 || std::env::var_os("PELT_SAVE").is_some() {
-            save(&format!("{name}-{mode}"), &truth, &img);
+            save_failure(&format!("{name}-{mode}"), &truth, &img);
         }
         assert!(whole <= 0.02, "{name}, {mode}: whole-image FLIP {whole}");
         assert!(
@@ -235,7 +221,7 @@ fn a_blade_shadows_each_of_three_overlapping_alpha_layers_in_every_mode() {
             let beside = px(Vec3::new(x, y, -0.7));
             let (a, b) = (luma(&lit, under), luma(&shadowed, under));
             if b * 4 > a * 3 {
-                save(&format!("shadows-blade-{mode}"), &lit, &shadowed);
+                save_failure(&format!("shadows-blade-{mode}"), &lit, &shadowed);
             }
             assert!(
                 b * 4 <= a * 3,
@@ -358,7 +344,7 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
                 .count();
             let lit = lit_in_truth.iter().filter(|&&m| m).count();
             if acne * 200 > lit {
-                save(&format!("shadows-acne-{s}-{kind}-{mode}"), &a, &b);
+                save_failure(&format!("shadows-acne-{s}-{kind}-{mode}"), &a, &b);
             }
             assert!(
                 acne * 200 <= lit,
@@ -370,7 +356,7 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
                 "scale {s}, {kind}, {mode}: {acne} acne pixels of {lit}; FLIP over the shadow {over:.4}"
             );
             if over > 0.08 {
-                save(&format!("shadows-leak-{s}-{kind}-{mode}"), &truth, &b);
+                save_failure(&format!("shadows-leak-{s}-{kind}-{mode}"), &truth, &b);
             }
             assert!(
                 over <= 0.08,

@@ -579,6 +579,23 @@ fn fur_receives_shadows_in_every_mode() {
     });
     let mut on = off.clone();
     on.lights[0].shadows = true;
+    // The same key light as a sun from where the point light stands (its intensity at the
+    // sphere): its orthographic map shadows the fur alike. Its rays are parallel, so the plate
+    // is twice as wide to cast the shadow the point light's diverging rays cast.
+    let sun = |mut s: Scene| {
+        let toward = Vec3::new(2.5, 2.5, 3.0);
+        let sun = pelt_preview::scene::Light {
+            emitter: pelt_scene::shading::Emitter::Directional {
+                direction: -toward.normalize(),
+            },
+            color: [1.0, 0.95, 0.85],
+            intensity: pelt_preview::scene::NonNegative(14.0 / (1.0 + toward.length_squared())),
+            shadows: s.lights[0].shadows,
+        };
+        s.lights[0] = sun;
+        s.objects[1].transform.scale = [2.4, 0.05, 2.4];
+        s
+    };
     let of = [0, 1];
     let luma = |img: &Image, rows: std::ops::Range<u32>| -> f64 {
         let mut sum = 0.0;
@@ -593,24 +610,38 @@ fn fur_receives_shadows_in_every_mode() {
         }
         sum
     };
-    for mode in [Mode::Forward, Mode::Inferred, Mode::Deferred] {
+    let cases = [Mode::Forward, Mode::Inferred, Mode::Deferred]
+        .into_iter()
+        .flat_map(|m| [(m, false), (m, true)]);
+    for (mode, directional) in cases {
+        let (off, on) = if directional {
+            (sun(off.clone()), sun(on.clone()))
+        } else {
+            (off.clone(), on.clone())
+        };
+        let mode_name = format!("{mode}{}", if directional { " (directional)" } else { "" });
         let a = f.render_with(&off, &of, mode);
         let b = f.render_with(&on, &of, mode);
         let (top_a, top_b) = (luma(&a, 30..60), luma(&b, 30..60));
         let (low_a, low_b) = (luma(&a, 100..120), luma(&b, 100..120));
         eprintln!(
-            "{mode}: upper fur {top_b:.0} of {top_a:.0} unshadowed; lower {low_b:.0} of {low_a:.0}"
+            "{mode_name}: upper fur {top_b:.0} of {top_a:.0} unshadowed; lower {low_b:.0} of {low_a:.0}"
         );
         if top_b > 0.9 * top_a || std::env::var_os("PELT_SAVE").is_some() {
-            write_failure(&format!("fur-shadow-{mode}"), &a, &b, &flip_mean(&a, &b).1);
+            write_failure(
+                &format!("fur-shadow-{mode}-{directional}"),
+                &a,
+                &b,
+                &flip_mean(&a, &b).1,
+            );
         }
         assert!(
             top_b <= 0.9 * top_a,
-            "{mode}: the plate's shadow darkens the upper fur"
+            "{mode_name}: the plate's shadow darkens the upper fur"
         );
         assert!(
             low_b >= 0.97 * low_a,
-            "{mode}: the lower fur keeps the key light"
+            "{mode_name}: the lower fur keeps the key light"
         );
     }
 }

@@ -1,9 +1,12 @@
-//! Helpers shared by pelt-measure's pixel tests: the adapter (`PELT_BACKEND=gl|vulkan|auto`)
-//! and the folder a test leaves its images in.
+//! Helpers shared by pelt-measure's pixel tests: the adapter (`PELT_BACKEND=gl|vulkan|auto`),
+//! the folder a test leaves its images in, and the images a failed comparison leaves.
+
+#![allow(dead_code, reason = "each test binary uses a subset of the helpers")]
 
 use std::path::PathBuf;
 
-use pelt_preview::{Backend, Preview};
+use pelt_measure::Flip;
+use pelt_preview::{Backend, Image, Preview};
 
 /// A preview on the back end `PELT_BACKEND` names (default: wgpu's choice).
 pub fn preview() -> Preview {
@@ -21,4 +24,19 @@ pub fn out_dir() -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/render-tests");
     std::fs::create_dir_all(&dir).expect("target/render-tests");
     dir
+}
+
+/// Leaves `NAME-reference.png`, `NAME-actual.png` and the FLIP heat map `NAME-diff.png` in
+/// [`out_dir`].
+pub fn save_failure(name: &str, reference: &Image, test: &Image) {
+    let dir = out_dir();
+    let f = Flip::new(reference, test).expect("same size");
+    reference
+        .save(&dir.join(format!("{name}-reference.png")))
+        .expect("write");
+    test.save(&dir.join(format!("{name}-actual.png")))
+        .expect("write");
+    f.heat_map()
+        .save(&dir.join(format!("{name}-diff.png")))
+        .expect("write");
 }
