@@ -311,8 +311,9 @@ pub struct Plan {
     pub extent: (Vec3, f32),
     /// Lights the distance maps are lit by (every light of the scene, on screen or not).
     pub map_lights: usize,
-    /// Lights that cast shadows (each has a shadow cube).
-    pub shadow_lights: usize,
+    /// Lights that cast shadows: point lights (each draws a cube) and directional lights (each
+    /// an orthographic map).
+    pub shadow_lights: (usize, usize),
     /// The shadow cubes' size and filtering.
     pub shadow_maps: ShadowMaps,
     /// How fur shells and fins are composited.
@@ -788,7 +789,13 @@ impl Plan {
             reflections: scene.reflections,
             extent: scene.extent,
             map_lights: scene.lights.len(),
-            shadow_lights: scene.shadow_lights().count(),
+            shadow_lights: {
+                let points = scene
+                    .shadow_lights()
+                    .filter(|l| matches!(l.emitter, Emitter::Point { .. }))
+                    .count();
+                (points, scene.shadow_lights().count() - points)
+            },
             shadow_maps: scene.shadow_maps,
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
@@ -867,10 +874,20 @@ impl Plan {
             match p {
                 Pass::DistanceMaps => self.explain_maps(&mut s),
                 Pass::Shadows => {
+                    let (points, suns) = self.shadow_lights;
+                    let mut what = Vec::new();
+                    if points > 0 {
+                        what.push(format!("{points} point light(s) × 6 cube faces"));
+                    }
+                    if suns > 0 {
+                        what.push(format!(
+                            "{suns} directional light(s) × 1 orthographic map (fitted to the scene)"
+                        ));
+                    }
                     let _ = write!(
                         s,
-                        "{n} shadow-casting light(s) × 6 faces of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
-                        n = self.shadow_lights,
+                        "{} of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
+                        what.join(", "),
                         size = self.shadow_maps.size,
                         pcf = self.shadow_maps.pcf
                     );
@@ -1169,6 +1186,26 @@ mod tests {
             p.explain().contains("stipple patterns used [1, 2, 3]"),
             "{}",
             p.explain()
+        );
+    }
+
+    #[test]
+    fn the_shadow_pass_runs_only_for_casting_lights_and_says_what_it_draws() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 1, 1, 1, 160, 90);
+        let e = plan(&s, Mode::Inferred).explain();
+        assert!(!e.contains("shadow-maps"), "{e}");
+        s.lights[0].shadows = true;
+        s.lights.push(crate::scene::Light {
+            emitter: Emitter::Directional {
+                direction: Vec3::NEG_Y,
+            },
+            shadows: true,
+            ..s.lights[0]
+        });
+        let e = plan(&s, Mode::Inferred).explain();
+        assert!(
+            e.contains("shadow-maps   1 point light(s) × 6 cube faces, 1 directional light(s) × 1 orthographic map (fitted to the scene) of 512²"),
+            "{e}"
         );
     }
 
