@@ -8,6 +8,8 @@
 //! - [`skinning`]: linear blend skinning of positions, normals and tangents (and morph
 //!   targets), the CPU twin of the preview's skinning pass.
 //! - [`posed`]: `pelt pose`: a static mesh in one pose, the skin and animations removed.
+//! - [`spring`]: secondary motion, a damped spring per vertex integrated exactly per step
+//!   (stable at any step), driven by the skinned roots from time 0.
 //!
 //! The comb is baked in tangent space (Revie §2.4.1) exactly so that skinning the frame carries
 //! it: nothing here touches `_FUR_COMB`.
@@ -17,6 +19,7 @@ pub mod posed;
 pub mod rig;
 pub mod sample;
 pub mod skinning;
+pub mod spring;
 
 pub use pose::Pose;
 pub use rig::{Clip, Rig};
