@@ -23,12 +23,11 @@
 // quantised depth, the test compares the exact one): a surface the test rejects is out of the
 // light's reach, where one_light and strand_light add exactly zero. A sphere wholly in
 // front of the near plane lights nothing (depth 0 passes no stored depth). A directional
-// light (radius 0) reaches everything: its triangle lies on the far plane.
+// light (radius 0) reaches everything: its triangle stays on the far plane (depth 1).
 @vertex
 fn vs_light(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
     var p = fullscreen_position(vi);
     if light.position_radius.w == 0.0 {
-        p.z = 1.0;
         return p;
     }
     let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;

@@ -138,11 +138,16 @@ fn shadow_cubes_match_the_ray_tracers_shadow_rays() {
         );
         seen.push(img);
     }
-    // The negative control: the same render without shadows misses them by far.
-    let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
-    let miss = Flip::new(&truth, &unshadowed)
+    misses_without_shadows(&mut p, &l, &truth, &mask);
+}
+
+/// The negative control: the stage rendered without shadows misses the truth's shadowed
+/// pixels by far.
+fn misses_without_shadows(p: &mut Preview, l: &Loaded, truth: &Image, mask: &[bool]) {
+    let unshadowed = render(p, l, &with_shadows(l, false), Mode::Forward);
+    let miss = Flip::new(truth, &unshadowed)
         .expect("same size")
-        .masked_mean(&mask);
+        .masked_mean(mask);
     assert!(
         miss > 0.15,
         "without shadows the shadowed pixels differ ({miss})"
@@ -160,14 +165,7 @@ fn a_directional_lights_map_matches_the_ray_tracers_shadow_rays() {
     let mut p = preview();
     let modes = [Mode::Forward, Mode::Deferred];
     let (truth, mask) = matches_the_truth(&mut p, &l, "sun", &modes);
-    let unshadowed = render(&mut p, &l, &with_shadows(&l, false), Mode::Forward);
-    let miss = Flip::new(&truth, &unshadowed)
-        .expect("same size")
-        .masked_mean(&mask);
-    assert!(
-        miss > 0.15,
-        "without shadows the shadowed pixels differ ({miss})"
-    );
+    misses_without_shadows(&mut p, &l, &truth, &mask);
 }
 
 /// Kircher & Lawrance Fig. 6: a blade's shadow on three overlapping alpha layers. Each

@@ -191,13 +191,7 @@ impl ShadowCubes {
         let views = plan
             .shadow_lights()
             .enumerate()
-            .flat_map(|(slot, l)| {
-                let faces = match l.emitter {
-                    Emitter::Point { .. } => 6,
-                    Emitter::Directional { .. } => 1,
-                };
-                (0..faces).map(move |f| slot as u32 * 6 + f)
-            })
+            .flat_map(|(slot, l)| (0..layers_of(&l.emitter)).map(move |f| slot as u32 * 6 + f))
             .map(|i| (i, cubes.layer(i, 0)))
             .collect();
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
@@ -266,10 +260,7 @@ impl ShadowCubes {
     /// directional light.
     fn layers_drawn(plan: &ScenePlan) -> usize {
         plan.shadow_lights()
-            .map(|l| match l.emitter {
-                Emitter::Point { .. } => 6,
-                Emitter::Directional { .. } => 1,
-            })
+            .map(|l| layers_of(&l.emitter) as usize)
             .sum()
     }
 
@@ -342,6 +333,15 @@ impl ShadowCubes {
             self.drawn = drawn;
             self.fresh.store(false, Ordering::Relaxed);
         }
+    }
+}
+
+/// The layers a casting light draws: a point light's six cube faces, a directional light's
+/// one orthographic map.
+fn layers_of(emitter: &Emitter) -> u32 {
+    match emitter {
+        Emitter::Point { .. } => 6,
+        Emitter::Directional { .. } => 1,
     }
 }
 
