@@ -97,7 +97,7 @@ struct VertexIn {
 // records: skin_scatter.wgsl, fin_rebuild.wgsl). The shader-validation test checks them
 // against size_of::<Vertex>() and size_of::<FurVertex>().
 const VERTEX_FLOATS: u32 = 13u;
-const FUR_FLOATS: u32 = 10u;
+const FUR_FLOATS: u32 = 14u;
 
 struct Surface {
     @builtin(position) clip: vec4<f32>,

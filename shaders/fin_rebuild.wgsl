@@ -35,10 +35,10 @@ fn fur_of(v: u32, at: u32) -> vec4<f32> {
     return vec4<f32>(fur[o], fur[o + 1u], fur[o + 2u], fur[o + 3u]);
 }
 
-// The combed direction (object space) and comb length of vertex v.
+// The combed direction (object space) bent by the springs, and the comb length, of vertex v.
 fn comb_at(v: u32) -> vec4<f32> {
     let c = fur_of(v, 6u);
-    return vec4<f32>(comb_object(normal_of(v), fur_of(v, 0u), c.xyz), c.w);
+    return vec4<f32>(comb_object(normal_of(v), fur_of(v, 0u), c.xyz) + fur_of(v, 10u).xyz, c.w);
 }
 
 fn face_normal(a: u32, b: u32, c: u32) -> vec3<f32> {

@@ -17,6 +17,8 @@ struct FurIn {
     @location(5) uv: vec2<f32>,
     // Tangent-space comb direction; w = comb length (0 = no fur).
     @location(6) comb: vec4<f32>,
+    // The springs' bend of the comb, object space (xyz; crates/pelt-scene/src/springs.rs).
+    @location(8) bend: vec4<f32>,
 }
 
 // The tangent frame's T exactly as pelt_geom::frame::Frame::new builds it (the one rule the
@@ -101,6 +103,14 @@ fn wind_comb(comb: vec3<f32>, n: vec3<f32>, root: vec3<f32>, frame: Frame, objec
     let nn = normalize(n);
     let vn = dot(v, nn);
     return comb + v + nn * (max(vn, -0.8) - vn);
+}
+
+// The object-space comb of a shell or fur G-buffer vertex as it moves: the baked comb carried
+// by the (skinned) tangent frame (comb_object), bent by the springs (FurIn.bend, written on the
+// CPU by crates/pelt-scene/src/springs.rs) and then by the wind (wind_comb). The fins take the
+// same sum (fin_rebuild.wgsl, then wind_comb in fins.wgsl), and so do the strands' roots.
+fn moving_comb(n: vec3<f32>, f: FurIn, root: vec3<f32>, frame: Frame, object: Object) -> vec3<f32> {
+    return wind_comb(comb_object(n, f.tangent, f.comb.xyz) + f.bend.xyz, n, root, frame, object);
 }
 
 // Listing 2.1: the offset of a vertex on the shell at normalized depth `sd`: along the normal

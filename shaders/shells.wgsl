@@ -13,7 +13,7 @@
 // first) or, with the WBOIT override, weighted blended OIT (McGuire & Bavoil 2013).
 
 #import pelt::common::{VertexIn}
-#import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_object, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of, wind_comb}
+#import pelt::fur_common::{FurIn, FurOut, MIN_COS, fur_out, fur_query, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
 #else
@@ -68,7 +68,7 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     let z1 = f32(shell) / n;
     // The base mesh at the root; each shell in the middle of its layer.
     let sd = select(0.5 * (z0 + z1), 0.0, shell == 0u);
-    let comb = wind_comb(comb_object(v.normal, f.tangent, f.comb.xyz), v.normal, v.position, frame, object);
+    let comb = moving_comb(v.normal, f, v.position, frame, object);
     let len = object.fur_base.w;
     let to_view = frame.view * object.model;
     let p = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, sd, len, f.comb.w), 1.0);

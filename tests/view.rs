@@ -493,3 +493,69 @@ fn a_windy_scene_plays_in_the_window_and_a_paused_frame_equals_pelt_render() {
     let early = render_png(&dir, &path, "at-0.png", &["--time", "0"]);
     assert!(early != at, "the wind at 0 s and at 0.4 s draw the same");
 }
+
+/// Fur springs on the walking Fox (`--spring`): the window paused at 0.3667 s draws `pelt
+/// render --time 0.3667` byte for byte (both bend the fur on the GPU-skinned pose, from the
+/// clip's periodic spring state); played there from 0.3 s, the springs move the fur as it
+/// plays (the frame differs from the same play without them). That a time reached by playing
+/// bends the fur exactly as one reached at once is `pelt_anim::spring`'s test.
+#[test]
+fn fur_springs_follow_the_clip_in_the_window_as_pelt_render_draws_them() {
+    if !have_xvfb() {
+        return;
+    }
+    let dir = scratch("view-springs");
+    let asset = fox(&dir);
+    let spring = ["--spring", "1500,25"];
+    let shoot = |name: &str, time: &str, play: bool, extra: &[&str]| {
+        let shot = dir.join(name);
+        let mut args = vec![s(&asset), "--animation", "Walk", "--time", time];
+        args.extend([
+            "--frames",
+            "3",
+            "--screenshot",
+            s(&shot),
+            "--size",
+            "192x128",
+        ]);
+        args.extend_from_slice(extra);
+        if play {
+            args.push("--play");
+        }
+        let out = view(&args);
+        (
+            load_png(&shot),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let at = render_png(
+        &dir,
+        &asset,
+        "at-0.367.png",
+        &[
+            "--animation",
+            "Walk",
+            "--time",
+            "0.36666667",
+            "--spring",
+            "1500,25",
+        ],
+    );
+    let (paused, log) = shoot("paused.png", "0.36666667", false, &spring);
+    assert!(log.contains("Walk 0.37/0.71 s paused"), "{log}");
+    assert!(
+        paused == at,
+        "paused at 0.367 s is not pelt render --time 0.367"
+    );
+    let (played, log) = shoot("played.png", "0.3", true, &spring);
+    assert!(log.contains("Walk 0.37/0.71 s playing"), "{log}");
+    let (rigid, _) = shoot("played-rigid.png", "0.3", true, &["--spring", "off"]);
+    let (still, _) = shoot("played-none.png", "0.3", true, &[]);
+    assert!(
+        rigid == still,
+        "--spring off is not the fur without a spring"
+    );
+    let g = flip(&still, &played);
+    eprintln!("played to 0.367 s with the spring against without: FLIP {g:.5}");
+    assert!(g > 0.005, "the spring changed nothing: {g}");
+}

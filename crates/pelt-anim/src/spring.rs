@@ -7,8 +7,9 @@
 //! solution of the under-, critically and over-damped oscillator), so the spring is stable at
 //! any time step and any velocity: with `d > 0` its energy only decays, and a step of any
 //! length lands on the true trajectory of the held forcing. An infinite stiffness keeps the
-//! rest pose exactly (no state at all). The driver ([`Springs::follow`]) samples the roots at
-//! fixed substeps from time 0, so a pose at time T is the same however it was reached.
+//! rest pose exactly (no state at all). The driver ([`Cycle`]) follows a looping clip from
+//! its periodic state at fixed substeps, so a pose at time T is the same however it was
+//! reached.
 
 use glam::Vec3;
 
@@ -37,15 +38,8 @@ impl Spring {
                 (y, v)
             };
         }
-        let k = f64::from(self.stiffness);
-        let d = f64::from(self.damping);
         // About the equilibrium of the held forcing, y'' + d y' + k y = 0.
-        let rest = -a.as_dvec3() / k;
-        let (y0, v0) = (y.as_dvec3() - rest, v.as_dvec3());
-        let (p, q) = propagator(k, d, f64::from(dt));
-        let y1 = y0 * p[0] + v0 * p[1];
-        let v1 = y0 * q[0] + v0 * q[1];
-        ((y1 + rest).as_vec3(), v1.as_vec3())
+        self.stepper(dt).step(y, v, a)
     }
 }
 
@@ -81,51 +75,234 @@ fn propagator(k: f64, d: f64, t: f64) -> ([f64; 2], [f64; 2]) {
     (p, q)
 }
 
-/// The springs of a mesh's vertices: each vertex's tip offset and velocity.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Springs {
-    /// The settings every vertex shares.
-    pub spring: Spring,
-    /// Each vertex's offset.
-    pub offset: Vec<Vec3>,
-    /// Each vertex's offset velocity.
-    pub velocity: Vec<Vec3>,
+/// A spring's exact step over a fixed `dt`: its propagator, formed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stepper {
+    k: f64,
+    dt: f32,
+    p: [f64; 2],
+    q: [f64; 2],
 }
 
-/// Substeps per second of [`Springs::follow`] (one per 1/120 s).
+impl Spring {
+    /// The exact step of `dt` seconds (`dt` > 0, the spring not rigid).
+    pub fn stepper(&self, dt: f32) -> Stepper {
+        let k = f64::from(self.stiffness);
+        let (p, q) = propagator(k, f64::from(self.damping), f64::from(dt));
+        Stepper { k, dt, p, q }
+    }
+}
+
+impl Stepper {
+    /// [`Spring::step`] over this stepper's `dt`.
+    pub fn step(&self, y: Vec3, v: Vec3, a: Vec3) -> (Vec3, Vec3) {
+        let rest = -a.as_dvec3() / self.k;
+        let (y0, v0) = (y.as_dvec3() - rest, v.as_dvec3());
+        let y1 = y0 * self.p[0] + v0 * self.p[1];
+        let v1 = y0 * self.q[0] + v0 * self.q[1];
+        ((y1 + rest).as_vec3(), v1.as_vec3())
+    }
+
+    /// The free oscillator's 2×2 map over `n` steps (row-major on (y, v)).
+    fn power(&self, n: u32) -> [[f64; 2]; 2] {
+        let one = [[self.p[0], self.p[1]], [self.q[0], self.q[1]]];
+        let mul = |a: [[f64; 2]; 2], b: [[f64; 2]; 2]| {
+            [0, 1].map(|i| [0, 1].map(|j| a[i][0] * b[0][j] + a[i][1] * b[1][j]))
+        };
+        (0..n).fold([[1.0, 0.0], [0.0, 1.0]], |m, _| mul(one, m))
+    }
+}
+
+/// Substeps per second of a [`Cycle`] (at least one per 1/120 s).
 pub const SUBSTEPS_PER_S: f32 = 120.0;
 
-impl Springs {
-    /// `count` vertices at rest.
-    pub fn new(spring: Spring, count: usize) -> Springs {
-        Springs {
+/// Offsets and velocities of every vertex.
+type State = Vec<(Vec3, Vec3)>;
+
+/// The springs of a mesh whose roots follow a looping clip, as `pelt view` plays it: the
+/// clip's key range `[start, end]` is split into `n` equal substeps (at least 120 a second);
+/// the root's acceleration held over a substep is the mean of the second differences of its
+/// positions at the substep's two ends, across the loop's seam as if the clip had played before (a
+/// clip that carries the mesh along keeps its drift: the seam adds no jerk). The state at the
+/// clip's start is the loop's periodic one (solved exactly, no warm-up: the fur of a walk
+/// cycle is already swinging at the first frame), and the state at time `t` is that state
+/// stepped node by node to `t`'s node, then by the remainder. A playhead keeps the last
+/// node's state, so playing forward costs a substep per 1/120 s, and any `t` reached by any
+/// path gives the same offsets bit for bit.
+#[derive(Debug, Clone)]
+pub struct Cycle {
+    spring: Spring,
+    start: f32,
+    end: f32,
+    n: u32,
+    stepper: Option<Stepper>,
+    drift: Vec<Vec3>,
+    first: State,
+    head: Option<Head>,
+}
+
+/// The playhead: node index, the state there, and the roots at the nodes around it (the one
+/// before, it, the one after).
+#[derive(Debug, Clone)]
+struct Head {
+    node: u32,
+    state: State,
+    window: [Vec<Vec3>; 3],
+}
+
+impl Cycle {
+    /// The springs of the vertices `roots(t)` places for `t` in the key range `(start, end)`
+    /// (one position per vertex, the same count at every time). A rigid spring or a range of
+    /// no length never samples the roots after the first call and keeps every offset zero.
+    pub fn new(
+        spring: Spring,
+        (start, end): (f32, f32),
+        roots: &dyn Fn(f32) -> Vec<Vec3>,
+    ) -> Cycle {
+        let at_start = roots(start);
+        let count = at_start.len();
+        let period = end - start;
+        let mut c = Cycle {
             spring,
-            offset: vec![Vec3::ZERO; count],
-            velocity: vec![Vec3::ZERO; count],
+            start,
+            end,
+            n: 0,
+            stepper: None,
+            drift: Vec::new(),
+            first: vec![(Vec3::ZERO, Vec3::ZERO); count],
+            head: None,
+        };
+        if spring.rigid() || period.is_nan() || period <= 0.0 || count == 0 {
+            return c;
+        }
+        c.n = (period * SUBSTEPS_PER_S).ceil().max(1.0) as u32;
+        c.stepper = Some(spring.stepper(period / c.n as f32));
+        c.drift = roots(end)
+            .iter()
+            .zip(&at_start)
+            .map(|(e, s)| *e - *s)
+            .collect();
+        // One loop from rest: the forced part F of s(end) = Φⁿ s(start) + F.
+        let forced = c.run(c.n, c.rest(roots), roots).state;
+        let m = c.stepper.map_or([[0.0; 2]; 2], |s| s.power(c.n));
+        // (I − Φⁿ) s = F, per axis.
+        let (a, b, cc, d) = (1.0 - m[0][0], -m[0][1], -m[1][0], 1.0 - m[1][1]);
+        let det = a * d - b * cc;
+        c.first = forced
+            .iter()
+            .map(|&(y, v)| {
+                if det.abs() < 1e-12 {
+                    return (y, v);
+                }
+                let (y, v) = (y.as_dvec3(), v.as_dvec3());
+                (
+                    ((y * d - v * b) / det).as_vec3(),
+                    ((v * a - y * cc) / det).as_vec3(),
+                )
+            })
+            .collect();
+        c
+    }
+
+    /// Time of node `i` (0..=n).
+    fn time(&self, i: u32) -> f32 {
+        if i >= self.n {
+            self.end
+        } else {
+            self.start + (self.end - self.start) * i as f32 / self.n as f32
         }
     }
 
-    /// Drives the springs from rest at time 0 to time `t` (s): `roots(time)` gives every
-    /// vertex's root position at a time; the root's acceleration over each substep is the
-    /// second difference of its positions. Deterministic: the same `t` gives the same offsets
-    /// whatever was asked before. A rigid spring keeps every offset zero without sampling.
-    pub fn follow(&mut self, t: f32, roots: impl Fn(f32) -> Vec<Vec3>) {
-        self.offset.iter_mut().for_each(|y| *y = Vec3::ZERO);
-        self.velocity.iter_mut().for_each(|v| *v = Vec3::ZERO);
-        if self.spring.rigid() || t <= 0.0 {
-            return;
+    /// The roots at node `i`, continued across the seam by the drift (any `i`).
+    fn roots_at(&self, i: i64, roots: &dyn Fn(f32) -> Vec<Vec3>) -> Vec<Vec3> {
+        let n = i64::from(self.n);
+        let loops = if i < 0 {
+            (i - n + 1) / n
+        } else {
+            (i - 1).max(0) / n
+        };
+        let mut r = roots(self.time((i - loops * n) as u32));
+        if loops != 0 {
+            let shift = loops as f32;
+            r.iter_mut()
+                .zip(&self.drift)
+                .for_each(|(p, d)| *p += *d * shift);
         }
-        let steps = (t * SUBSTEPS_PER_S).ceil().max(1.0) as u32;
-        let dt = t / steps as f32;
-        let (mut before, mut now) = (roots(-dt), roots(0.0));
-        for i in 1..=steps {
-            let next = roots(i as f32 * dt);
-            for (k, (y, v)) in self.offset.iter_mut().zip(&mut self.velocity).enumerate() {
-                let a = (next[k] - 2.0 * now[k] + before[k]) / (dt * dt);
-                (*y, *v) = self.spring.step(*y, *v, a, dt);
+        r
+    }
+
+    /// The playhead at node 0 at rest.
+    fn rest(&self, roots: &dyn Fn(f32) -> Vec<Vec3>) -> Head {
+        self.head_at(vec![(Vec3::ZERO, Vec3::ZERO); self.first.len()], roots)
+    }
+
+    fn head_at(&self, state: State, roots: &dyn Fn(f32) -> Vec<Vec3>) -> Head {
+        Head {
+            node: 0,
+            state,
+            window: [-1, 0, 1].map(|i| self.roots_at(i, roots)),
+        }
+    }
+
+    /// The acceleration held over the substep from the head's node: the mean of the second
+    /// differences at its two ends (second order in the substep).
+    fn accel(w: &[Vec<Vec3>; 3], ahead: &[Vec3], k: usize, inv: f32) -> Vec3 {
+        (ahead[k] - w[2][k] - w[1][k] + w[0][k]) * (0.5 * inv)
+    }
+
+    /// `head` advanced to node `to`.
+    fn run(&self, to: u32, mut head: Head, roots: &dyn Fn(f32) -> Vec<Vec3>) -> Head {
+        let Some(s) = self.stepper else {
+            return head;
+        };
+        let inv = 1.0 / (s.dt * s.dt);
+        while head.node < to {
+            let ahead = self.roots_at(i64::from(head.node) + 2, roots);
+            for (k, st) in head.state.iter_mut().enumerate() {
+                *st = s.step(st.0, st.1, Self::accel(&head.window, &ahead, k, inv));
             }
-            (before, now) = (now, next);
+            let [_, b, c] = std::mem::take(&mut head.window);
+            head.window = [b, c, ahead];
+            head.node += 1;
         }
+        head
+    }
+
+    /// Every vertex's offset at `t` s (clamped to the key range).
+    pub fn offsets(&mut self, t: f32, roots: &dyn Fn(f32) -> Vec<Vec3>) -> Vec<Vec3> {
+        let Some(s) = self.stepper else {
+            return vec![Vec3::ZERO; self.first.len()];
+        };
+        let t = t.clamp(self.start, self.end);
+        let node = (((t - self.start) / s.dt).floor().max(0.0) as u32).min(self.n);
+        let node = if self.time(node) > t {
+            node.saturating_sub(1)
+        } else {
+            node
+        };
+        let head = match self.head.take() {
+            Some(h) if h.node <= node => h,
+            _ => self.head_at(self.first.clone(), roots),
+        };
+        let head = self.run(node, head, roots);
+        let rest = t - self.time(node);
+        let out = if rest > 0.0 {
+            let ahead = self.roots_at(i64::from(node) + 2, roots);
+            let inv = 1.0 / (s.dt * s.dt);
+            let part = self.spring.stepper(rest);
+            head.state
+                .iter()
+                .enumerate()
+                .map(|(k, st)| {
+                    part.step(st.0, st.1, Self::accel(&head.window, &ahead, k, inv))
+                        .0
+                })
+                .collect()
+        } else {
+            head.state.iter().map(|st| st.0).collect()
+        };
+        self.head = Some(head);
+        out
     }
 }
 
@@ -199,45 +376,114 @@ mod tests {
         }
     }
 
+    /// A root swinging along x with period 1 s (a walk cycle's sway), as a looping clip.
+    fn sway(t: f32) -> Vec<Vec3> {
+        let x = 0.2 * (std::f32::consts::TAU * t).sin();
+        vec![Vec3::new(x, 0.0, 0.0), Vec3::new(0.0, 0.5 * x, 0.0)]
+    }
+
+    const SOFT: Spring = Spring {
+        stiffness: 60.0,
+        damping: 4.0,
+    };
+
     #[test]
-    fn a_rigid_spring_keeps_the_rest_pose_and_a_soft_one_lags_then_settles() {
-        // A root that accelerates along +x for 0.5 s, then stops at t = 1 s.
-        let roots = |t: f32| {
-            let x = if t <= 0.0 {
-                0.0
-            } else if t < 1.0 {
-                t * t
-            } else {
-                1.0
-            };
-            vec![Vec3::new(x, 0.0, 0.0); 3]
+    fn a_looping_clip_starts_in_its_periodic_state() {
+        let mut c = Cycle::new(SOFT, (0.0, 1.0), &sway);
+        let first = c.offsets(0.0, &sway);
+        let last = c.offsets(1.0, &sway);
+        for (a, b) in first.iter().zip(&last) {
+            assert!((*a - *b).length() < 1e-4, "{a} vs {b}");
+        }
+        // The same state as a spring left swinging from rest for 40 loops (its transient
+        // decays as e^(−2t)), stepped by brute force at 1/1200 s.
+        let h = 1.0 / 1200.0;
+        let (mut y, mut v) = (Vec3::ZERO, Vec3::ZERO);
+        let accel = |t: f32| {
+            let w = std::f32::consts::TAU;
+            Vec3::new(-0.2 * w * w * (w * t).sin(), 0.0, 0.0)
         };
-        let mut rigid = Springs::new(
-            Spring {
-                stiffness: f32::INFINITY,
-                damping: 1.0,
-            },
-            3,
+        for i in 0..40 * 1200 {
+            let a = accel(i as f32 * h);
+            let f = -a - SOFT.stiffness * y - SOFT.damping * v;
+            v += f * h;
+            y += v * h;
+        }
+        let at = c.offsets(0.0, &sway)[0];
+        eprintln!("periodic state {at}, brute force after 40 loops {y}");
+        assert!((at - y).length() < 0.01 * y.length() + 1e-4, "{at} vs {y}");
+        // The tip swings (at t = 0.25 s the root turns back, its deceleration is greatest),
+        // and each vertex along its own root's motion only.
+        let q = c.offsets(0.25, &sway);
+        assert!(
+            q[0].x.abs() > 1e-3 && q[0].y == 0.0 && q[1].x == 0.0,
+            "{q:?}"
         );
-        rigid.follow(0.8, roots);
-        assert!(rigid.offset.iter().all(|y| *y == Vec3::ZERO));
-        let soft = Spring {
-            stiffness: 60.0,
-            damping: 8.0,
+    }
+
+    #[test]
+    fn any_time_reached_any_way_gives_the_same_offsets_bit_for_bit() {
+        let fresh = |t: f32| Cycle::new(SOFT, (0.0, 1.0), &sway).offsets(t, &sway);
+        let mut played = Cycle::new(SOFT, (0.0, 1.0), &sway);
+        for k in 0..=30 {
+            let t = k as f32 / 30.0;
+            assert_eq!(played.offsets(t, &sway), fresh(t), "at {t}");
+        }
+        // Back to an earlier time (the clip wrapped, or a scrub).
+        assert_eq!(played.offsets(0.1, &sway), fresh(0.1));
+        assert_eq!(played.offsets(0.55, &sway), fresh(0.55));
+    }
+
+    #[test]
+    fn a_rigid_spring_a_still_clip_and_a_steady_drift_keep_the_rest_pose() {
+        let rigid = Spring {
+            stiffness: f32::INFINITY,
+            damping: 1.0,
         };
-        let mut s = Springs::new(soft, 3);
-        s.follow(0.5, roots);
-        // Dragged forward, the tip trails: its offset points against the acceleration.
-        assert!(s.offset[0].x < -0.01, "{}", s.offset[0]);
-        // Long after the root stopped, it has settled.
-        s.follow(6.0, roots);
-        assert!(s.offset[0].length() < 1e-4, "{}", s.offset[0]);
-        // Deterministic: the same time gives the same offsets however it was reached.
-        let mut a = Springs::new(soft, 3);
-        a.follow(0.5, roots);
-        let mut b = Springs::new(soft, 3);
-        b.follow(0.3, roots);
-        b.follow(0.5, roots);
-        assert_eq!(a, b);
+        let mut c = Cycle::new(rigid, (0.0, 1.0), &sway);
+        assert!(c.offsets(0.3, &sway).iter().all(|y| *y == Vec3::ZERO));
+        let still = |_: f32| vec![Vec3::new(1.0, 2.0, 3.0); 4];
+        let mut c = Cycle::new(SOFT, (0.0, 1.0), &still);
+        assert!(c.offsets(0.3, &still).iter().all(|y| *y == Vec3::ZERO));
+        // A clip that carries the mesh along at a steady speed: no acceleration, also across
+        // the seam where the clip starts again.
+        let walk = |t: f32| vec![Vec3::new(1.5 * t, 0.0, -0.5 * t); 2];
+        let mut c = Cycle::new(SOFT, (0.0, 0.8), &walk);
+        for t in [0.0, 0.01, 0.4, 0.8] {
+            for y in c.offsets(t, &walk) {
+                assert!(y.length() < 1e-4, "at {t}: {y}");
+            }
+        }
+        // A clip of one key has nothing to follow.
+        let mut c = Cycle::new(SOFT, (0.5, 0.5), &sway);
+        assert!(c.offsets(0.5, &sway).iter().all(|y| *y == Vec3::ZERO));
+    }
+
+    #[test]
+    fn violent_clips_and_stiff_or_limp_springs_stay_finite_and_bounded() {
+        // A root that jumps 10⁴ units back and forth every substep.
+        let jolt = |t: f32| {
+            let k = (t * 240.0).round() as i64;
+            vec![Vec3::new(if k % 2 == 0 { 1.0e4 } else { -1.0e4 }, 0.0, 0.0)]
+        };
+        for (k, d) in [(1.0e6, 0.5), (60.0, 4.0), (1.0e-3, 1.0e-3), (1.0, 1.0e4)] {
+            let s = Spring {
+                stiffness: k,
+                damping: d,
+            };
+            let mut c = Cycle::new(s, (0.0, 1.0), &jolt);
+            for t in [0.0, 0.123, 0.5, 1.0] {
+                let y = c.offsets(t, &jolt)[0];
+                // The peak acceleration is 2·2·10⁴ / dt² = 4·10⁴ · 240²; a damped spring's
+                // offset is at most twice its static deflection a / k under it, and a limp
+                // one's no more than the acceleration's double integral over a loop.
+                let a = 4.0e4 * 240.0 * 240.0;
+                let bound = (2.0 * a / k).min(a * 1.0);
+                assert!(
+                    y.is_finite() && y.length() <= bound,
+                    "k {k}, d {d}, t {t}: {y}"
+                );
+            }
+        }
     }
 }

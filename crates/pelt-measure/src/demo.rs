@@ -22,7 +22,7 @@ use pelt_preview::animate::{AnimateError, Clip, spread};
 use pelt_preview::asset::{self, AssetError, MeshData, PoseAt};
 use pelt_preview::knobs::Knobs;
 use pelt_preview::procedural::fur_scene;
-use pelt_preview::scene::FurBlend;
+use pelt_preview::scene::{FurBlend, Material, Spring};
 use pelt_preview::wind::Wind;
 use pelt_preview::{FrameError, Image, Mode, Preview, RenderError, Scene, SceneError};
 
@@ -148,7 +148,8 @@ fn scene_of(o: &DemoOptions, asset: &Path, mesh: &MeshData, (w, h): (u32, u32), 
 
 /// The Fox's scene (framed on `mid`, three-quarter view from the front left): the fur scene
 /// with its key light casting shadows, so the Fox stands on the floor in its contact shadow,
-/// and a light wind in its fur.
+/// a light wind in its fur, and springs in it (about 6 Hz, a third of critical damping), so
+/// the fur lags as the Fox walks.
 fn fox_scene(o: &DemoOptions, asset: &Path, mid: &MeshData, size: (u32, u32)) -> Scene {
     let mut s = scene_of(o, asset, mid, size, 35.0);
     s.lights[0].shadows = true;
@@ -160,6 +161,12 @@ fn fox_scene(o: &DemoOptions, asset: &Path, mid: &MeshData, size: (u32, u32)) ->
         turbulence: 0.5,
     });
     s.time = MID_WALK;
+    if let Some(Material::Fur(f)) = s.objects.first_mut().map(|o| &mut o.material) {
+        f.spring = Some(Spring {
+            stiffness: 1500.0,
+            damping: 25.0,
+        });
+    }
     s
 }
 

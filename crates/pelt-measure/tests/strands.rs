@@ -47,6 +47,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
                     tangent: [1.0, 0.0, 0.0, 1.0],
                     uv,
                     comb: [comb[0], comb[1], comb[2], 1.0],
+                    bend: [0.0; 4],
                 })
                 .collect(),
             fins: Vec::new(),
@@ -136,6 +137,7 @@ fn scene(
                 shells: None,
                 fins: None,
                 length: None,
+                ..FurSettings::default()
             }),
             color: [1.0; 3],
         }],
@@ -422,6 +424,7 @@ fn extremes_leave_no_nan_and_no_holes_in_shells_or_strands() {
         shells: Some(shells),
         fins: None,
         length,
+        ..FurSettings::default()
     };
     let combed = |c: [f32; 3]| {
         let mut m = sphere.clone();
@@ -556,6 +559,7 @@ fn shells_cover_a_patch_as_its_strands_do_from_above_at_45_and_80_degrees() {
             shells: Some(64),
             fins: Some(false),
             length: None,
+            ..FurSettings::default()
         });
         let r = strands::reference(&mut p, &s, meshes, &[0], opts).expect("strands");
         let truth = r.linear.iter().map(|c| f64::from(c[1])).sum::<f64>() / r.linear.len() as f64;
@@ -647,6 +651,7 @@ fn zoomed_in_until_strands_are_pixels_wide_256_shells_are_as_bright_as_the_stran
                 shells: Some(shells),
                 fins: Some(false),
                 length: None,
+                ..FurSettings::default()
             });
             let sv = p
                 .prepare_loaded(&s, meshes, &[0], Mode::Forward)

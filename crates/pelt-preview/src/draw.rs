@@ -49,8 +49,8 @@ pub struct MissingInput {
 const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
     0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Uint32, 7 => Float32x2
 ];
-const FUR_ATTRIBUTES: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![
-    4 => Float32x4, 5 => Float32x2, 6 => Float32x4
+const FUR_ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+    4 => Float32x4, 5 => Float32x2, 6 => Float32x4, 8 => Float32x4
 ];
 
 /// Vertex buffer 0 of the object passes: [`Vertex`] (`VertexIn` in common.wgsl).

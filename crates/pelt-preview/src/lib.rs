@@ -95,6 +95,15 @@ pub enum RenderError {
         #[source]
         source: features::skin::SkinError,
     },
+    /// A fur object's springs cannot follow its pose (the clip it was loaded at).
+    #[error("objects[{object}]: {source}")]
+    Springs {
+        /// The scene object.
+        object: usize,
+        /// Why.
+        #[source]
+        source: PoseError,
+    },
     /// A fur object's strands cannot be planted (strands mode).
     #[error("objects[{object}]: {source}")]
     Strands {
@@ -226,10 +235,21 @@ impl Preview {
         let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];
         if mode == Mode::Strands {
             for (o, _) in &scene_plan.objects {
-                if o.fur.is_some() && gpu_strands[o.mesh].is_none() {
+                if let (Some(f), None) = (o.fur, &gpu_strands[o.mesh]) {
+                    // Bent by the fur's springs at the pose the mesh was loaded at, as the
+                    // shells are (`pelt_scene::springs`).
+                    let path = &scene.objects[o.scene_index].asset;
+                    let bent = match f.spring {
+                        Some(s) => pelt_scene::springs::bent(&meshes[o.mesh], s, f.length, path)
+                            .map_err(|e| RenderError::Springs {
+                                object: o.scene_index,
+                                source: e.into(),
+                            })?,
+                        None => None,
+                    };
                     let s = self
                         .assets
-                        .strands(&self.renderer, &meshes[o.mesh])
+                        .strands(&self.renderer, bent.as_ref().unwrap_or(&meshes[o.mesh]))
                         .map_err(|source| RenderError::Strands {
                             object: o.scene_index,
                             source,
@@ -270,10 +290,33 @@ impl Preview {
             strands: gpu_strands,
         };
         self.assets.sweep();
+        self.bend_loaded(&sv, scene)?;
         match self.renderer.gpu.take_error() {
             Some(e) => Err(FrameError::Device(e).into()),
             None => Ok(sv),
         }
+    }
+
+    /// Objects whose fur has a spring stand where their mesh was loaded (a CPU pose), but
+    /// unbent: each is posed again there on the GPU, which bends its fur
+    /// ([`poses::ObjectPose::bend`]), as every later pose does.
+    fn bend_loaded(&self, sv: &SceneView, scene: &Scene) -> Result<(), RenderError> {
+        for (object, o) in scene.objects.iter().enumerate() {
+            let springy = sv
+                .poses
+                .get(object)
+                .is_some_and(|p| p.as_ref().is_some_and(poses::ObjectPose::has_springs));
+            let loaded = sv
+                .skins
+                .get(object)
+                .and_then(|s| s.as_ref())
+                .and_then(|s| s.binding.loaded.clone());
+            if let (true, Some(at)) = (springy, loaded) {
+                self.pose_object(sv, object, &at.animation, at.time, &o.asset)
+                    .map_err(|source| RenderError::Springs { object, source })?;
+            }
+        }
+        Ok(())
     }
 
     /// Every object's mesh on the GPU, seen or not (a camera move must not upload), by mesh
@@ -304,10 +347,16 @@ impl Preview {
             }
         }
         let (mut object_poses, mut skins) = (Vec::new(), Vec::new());
-        for (o, &k) in scene.objects.iter().zip(mesh_of) {
-            let pose = gpu_meshes[k]
-                .as_ref()
-                .and_then(|shared| poses::ObjectPose::new(&self.renderer, shared, &meshes[k]));
+        for (i, (o, &k)) in scene.objects.iter().zip(mesh_of).enumerate() {
+            let spring = scene_plan
+                .objects
+                .iter()
+                .find(|(p, _)| p.scene_index == i)
+                .and_then(|(p, _)| p.fur)
+                .and_then(|f| f.spring.map(|s| (s, f.length)));
+            let pose = gpu_meshes[k].as_ref().and_then(|shared| {
+                poses::ObjectPose::new(&self.renderer, shared, &meshes[k], spring)
+            });
             let skin = match &pose {
                 Some(p) => {
                     GpuSkinned::for_pose(&self.renderer, p, &meshes[k]).map_err(|source| {
@@ -480,6 +529,9 @@ impl Preview {
             return Ok(false);
         };
         let m = skin.binding.matrices(path, animation, time)?;
+        if let Some(Some(p)) = sv.poses.get(object) {
+            p.bend(&self.renderer, &skin.binding, path, (animation, time))?;
+        }
         skin.pose(&self.renderer, &m)?;
         Ok(true)
     }

@@ -122,7 +122,7 @@ mod tests {
         // WGSL: Frame = 2 mat4 + 7 vec4 = 240; Object = 2 mat4 + 8 vec4 = 256; Light = 3 vec4 = 48.
         assert_eq!(size_of::<FrameUniforms>(), 240);
         assert_eq!(size_of::<ObjectUniforms>(), 256);
-        assert_eq!(size_of::<FurVertex>(), 40);
+        assert_eq!(size_of::<FurVertex>(), 56);
         assert_eq!(size_of::<FinInstance>(), 128);
         assert_eq!(size_of::<LightUniforms>(), 48);
         assert_eq!(size_of::<Vertex>(), 52);

@@ -658,6 +658,7 @@ fn wind_bends_the_fur_along_it_in_shells_fins_and_strands_and_none_is_still() {
         shells: Some(16),
         fins: Some(true),
         length: Some(0.3),
+        ..FurSettings::default()
     });
     let windy = |x: f32, strength: f32, time: f32| {
         let mut s = base.clone();

@@ -381,7 +381,7 @@ fn f(a: ShadowRead, b: SunMap) -> f32 {
     );
     // VertexIn, FurIn, FinIn: the Rust vertices pack the same attributes without padding.
     assert_eq!(size_of::<Vertex>(), 3 * 4 + 3 * 4 + 4 * 4 + 4 + 2 * 4);
-    assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4);
+    assert_eq!(size_of::<FurVertex>(), 4 * 4 + 2 * 4 + 4 * 4 + 4 * 4);
     // The compute passes' view of the same records, in 32-bit words.
     let words = |name: &str| -> usize {
         let name = &decorated("pelt::common", name);

@@ -305,3 +305,126 @@ fn two_objects_sharing_one_animated_asset_stand_at_their_own_times() {
         "a fox is not at its own time (FLIP {matched}); images in target/render-tests/"
     );
 }
+
+/// The bounding box (x0, y0, x1, y1) of the pixels where `a` and `b` differ by more than 4/255.
+fn differing_box(a: &pelt_preview::Image, b: &pelt_preview::Image) -> Option<[u32; 4]> {
+    let mut bbox: Option<[u32; 4]> = None;
+    for (k, (pa, pb)) in a.rgba.chunks(4).zip(b.rgba.chunks(4)).enumerate() {
+        if pa.iter().zip(pb).take(3).any(|(x, y)| x.abs_diff(*y) > 4) {
+            let (x, y) = (k as u32 % a.width, k as u32 / a.width);
+            let r = bbox.get_or_insert([x, y, x, y]);
+            *r = [r[0].min(x), r[1].min(y), r[2].max(x), r[3].max(y)];
+        }
+    }
+    bbox
+}
+
+/// Fur springs on the walking Fox (`pelt_scene::springs`): a scene loaded at a time (`pelt
+/// render --animation --time`) and one loaded elsewhere and posed there (`pelt view`, contact
+/// sheets) draw the same bytes; a soft spring
+/// visibly moves the fur; an infinitely stiff one draws the rest pose byte for byte on both
+/// paths; a limp, barely damped one never throws the fur further than its length.
+#[test]
+fn fur_springs_draw_alike_on_both_paths_and_a_rigid_one_draws_the_rest_pose() {
+    use pelt_anim::spring::Spring;
+    use pelt_preview::asset::{PoseAt, load_scene_at, skinned};
+    use pelt_preview::scene::Material;
+    use pelt_preview::{Image, Mode, Scene};
+    let mut p = preview();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/fox/Fox.glb");
+    let fox = baked(pelt_io::load(&src).expect("fox"), "skin-spring-fox.glb");
+    let path = out_dir().join("skin-spring-fox.glb");
+    let at = |time: f32| PoseAt {
+        animation: "Walk".into(),
+        time,
+    };
+    let t = 0.35;
+    let framed = skinned(&fox, &at(t)).expect("skinned");
+    let scene = fox_scene(&path, &framed);
+    // Fur of 3 units (the demo's) on a Fox about 150 units long.
+    let length = 3.0;
+    let with = |spring: Option<Spring>| -> Scene {
+        let mut s = scene.clone();
+        if let Material::Fur(f) = &mut s.objects[0].material {
+            f.spring = spring;
+            f.length = Some(length);
+        }
+        s
+    };
+    // Loaded at `t` (CPU posing; preparing bends the fur there), or at 0.1 s and posed to
+    // `t` on the GPU (each pose writes the bends).
+    let mut draw = |s: &Scene, gpu: bool, name: &str| -> Image {
+        let (meshes, of) = load_scene_at(s, Some(&at(if gpu { 0.1 } else { t }))).expect("load");
+        let d = p
+            .prepare_loaded(s, &meshes, &of, Mode::Inferred)
+            .expect("prepare");
+        if gpu {
+            assert_eq!(p.pose(&d, "Walk", t, &path).expect("pose"), 1);
+        }
+        let i = p.render(&d).expect("render");
+        i.save(&out_dir().join(format!("skin-spring-{name}.png")))
+            .expect("write");
+        i
+    };
+    // About 5 Hz, a third of critical damping.
+    let soft = Spring {
+        stiffness: 1000.0,
+        damping: 20.0,
+    };
+    let rigid = Spring {
+        stiffness: f32::INFINITY,
+        damping: 1.0,
+    };
+    let still_cpu = draw(&with(None), false, "none-cpu");
+    let still_gpu = draw(&with(None), true, "none-gpu");
+    let soft_cpu = draw(&with(Some(soft)), false, "soft-cpu");
+    let soft_gpu = draw(&with(Some(soft)), true, "soft-gpu");
+    assert!(
+        draw(&with(Some(rigid)), false, "rigid-cpu").rgba == still_cpu.rgba,
+        "rigid, CPU"
+    );
+    assert!(
+        draw(&with(Some(rigid)), true, "rigid-gpu").rgba == still_gpu.rgba,
+        "rigid, GPU"
+    );
+    // Both stand where the GPU skinned them, bent by the same springs: the same bytes.
+    assert!(
+        soft_cpu.rgba == soft_gpu.rgba,
+        "loaded at t and posed to t differ"
+    );
+    // Negative control: the spring moved the fur.
+    let (moved, _) = common::flip_mean(&still_cpu, &soft_cpu);
+    eprintln!("soft spring against no spring: FLIP {moved:.5}");
+    assert!(moved > 0.005, "the spring did not move the fur: {moved}");
+    // Limp (k = 10⁻³/s², d = 10⁻³/s): offsets of hundreds of fur lengths; the fur still
+    // reaches no further than its length beyond where it stands without a spring.
+    let limp = draw(
+        &with(Some(Spring {
+            stiffness: 1.0e-3,
+            damping: 1.0e-3,
+        })),
+        false,
+        "limp",
+    );
+    let mut bare = with(None);
+    bare.objects.remove(0);
+    let (meshes, of) = load_scene_at(&bare, None).expect("load");
+    let d = p
+        .prepare_loaded(&bare, &meshes, &of, Mode::Inferred)
+        .expect("prepare");
+    let empty = p.render(&d).expect("render");
+    let still_box = differing_box(&empty, &still_cpu).expect("the fox is in view");
+    let limp_box = differing_box(&empty, &limp).expect("the fox is in view");
+    let (lo, hi) = framed.bounds();
+    // The fur's length in pixels at the fox's scale on screen, doubled, and a pixel.
+    let px = (still_box[3] - still_box[1]) as f32 * length / (hi - lo).y;
+    let m = (2.0 * px).ceil() as u32 + 1;
+    eprintln!("fox {still_box:?}, limp spring {limp_box:?}, margin {m} px");
+    assert!(
+        limp_box[0] + m >= still_box[0]
+            && limp_box[1] + m >= still_box[1]
+            && limp_box[2] <= still_box[2] + m
+            && limp_box[3] <= still_box[3] + m,
+        "{limp_box:?} beyond {still_box:?} ± {m}"
+    );
+}

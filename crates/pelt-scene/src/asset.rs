@@ -179,6 +179,7 @@ pub fn skinned(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
             .as_ref()
             .map(|f| f.fin_sources.clone())
             .unwrap_or_default();
+        b.loaded = Some(pose.clone());
         m.skin = Some(std::sync::Arc::new(b));
     }
     Ok(m)

@@ -82,6 +82,26 @@ pub fn positive_ms(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A fur spring, `STIFFNESS,DAMPING` (1/s² and 1/s, each finite and above 0), or `off` (an
+/// infinitely stiff spring: the fur follows the skin rigidly).
+pub fn spring(s: &str) -> Result<pelt_anim::spring::Spring, String> {
+    if s == "off" {
+        return Ok(pelt_anim::spring::Spring {
+            stiffness: f32::INFINITY,
+            damping: 1.0,
+        });
+    }
+    let parsed = s
+        .split_once(',')
+        .and_then(|(k, d)| Some((k.trim().parse::<f32>().ok()?, d.trim().parse::<f32>().ok()?)));
+    let Some((stiffness, damping)) = parsed else {
+        return Err(format!(
+            "{s:?} is not STIFFNESS,DAMPING (e.g. 1500,25) or off"
+        ));
+    };
+    crate::scene::SpringSpec { stiffness, damping }.try_into()
+}
+
 /// A switch: `on` or `off` (`true` and `false` too).
 pub fn switch(s: &str) -> Result<bool, String> {
     match s {

@@ -328,6 +328,7 @@ pub fn fur_vertices(
                     .into(),
                 uv: uvs.map_or([0.0; 2], |u| u[k].into()),
                 comb: comb.map_or([1.0, 0.0, 0.0, 0.0], |c| c[k].into()),
+                bend: [0.0; 4],
             }
         })
         .collect()

@@ -60,6 +60,10 @@ pub struct Knobs {
     /// (overrides the scene's shadowMaps.pcf).
     #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::PCF)))]
     pub pcf: Option<u32>,
+    /// Fur springs, STIFFNESS,DAMPING in 1/s² and 1/s (e.g. 1500,25), or off: every fur
+    /// material's secondary motion on an animated asset (overrides the scene's).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "K,D|off", value_parser = flags::spring))]
+    pub spring: Option<pelt_anim::spring::Spring>,
 }
 
 /// Overrides of the scene's `reflections` block; `None` keeps the scene's value.
@@ -153,6 +157,9 @@ impl Knobs {
                 }
                 if let Some(on) = self.fins {
                     f.fins = Some(on);
+                }
+                if self.spring.is_some() {
+                    f.spring = self.spring;
                 }
             }
         }
@@ -253,6 +260,8 @@ mod tests {
             "1",
             "--shadow-size",
             "1024",
+            "--spring",
+            "1500,25",
         ])
         .expect("valid flags");
         assert_eq!(k.dsf, Some(false));
@@ -262,6 +271,10 @@ mod tests {
         assert_eq!(k.reflections.min_max, Some(true));
         assert_eq!(k.reflections.layers, Some(4));
         assert_eq!((k.pcf, k.shadow_size), (Some(1), Some(1024)));
+        let s = k.spring.expect("a spring");
+        assert_eq!((s.stiffness, s.damping), (1500.0, 25.0));
+        let off = parse(&["--spring", "off"]).expect("off").spring;
+        assert!(off.is_some_and(|s| s.rigid()), "{off:?}");
         assert_eq!(parse(&[]).expect("no flags"), Knobs::default());
         for bad in [
             ["--shells", "0"],
@@ -273,6 +286,10 @@ mod tests {
             ["--pcf", "9"],
             ["--shadow-size", "100"],
             ["--shadow-size", "8192"],
+            ["--spring", "1500"],
+            ["--spring", "0,25"],
+            ["--spring", "1500,-1"],
+            ["--spring", "inf,25"],
         ] {
             assert!(parse(&bad).is_err(), "{bad:?}");
         }
@@ -309,6 +326,10 @@ mod tests {
             },
             shadow_size: Some(64),
             pcf: Some(3),
+            spring: Some(pelt_anim::spring::Spring {
+                stiffness: 900.0,
+                damping: 12.0,
+            }),
         }
         .apply(&mut s);
         assert_eq!((s.shadow_maps.size, s.shadow_maps.pcf), (64, 3));
@@ -339,6 +360,7 @@ mod tests {
             panic!("fur")
         };
         assert_eq!((f.shells, f.fins), (Some(7), Some(false)));
+        assert_eq!(f.spring.map(|s| s.stiffness), Some(900.0));
         assert_eq!(s.objects[1].material, Material::Opaque);
     }
 

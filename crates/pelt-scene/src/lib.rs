@@ -32,6 +32,7 @@ pub mod scene;
 pub mod shading;
 pub mod skin;
 pub mod sky;
+pub mod springs;
 pub mod strands;
 pub mod vertex;
 pub mod view;

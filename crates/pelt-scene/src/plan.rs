@@ -197,6 +197,8 @@ pub struct PlannedFur {
     pub coverage: FurCoverage,
     /// How the deferred paths light it.
     pub lighting: FurLighting,
+    /// Secondary motion (its bends are written into the posed fur vertices).
+    pub spring: Option<pelt_anim::spring::Spring>,
     /// The mesh's sparsest texel density ([`crate::footprint::texel_density`]).
     pub texel_density: f32,
     /// Whether a pixel of it may be fine enough to resolve single strands at this camera
@@ -350,6 +352,8 @@ pub struct MeshInfo {
     pub medium: [f32; 2],
     /// Its fur's sparsest texel density ([`crate::footprint::texel_density`]).
     pub texel_density: f32,
+    /// Whether the GPU skins it (a fur spring has motion to follow).
+    pub skinned: bool,
 }
 
 impl MeshInfo {
@@ -365,6 +369,7 @@ impl MeshInfo {
                 [f.density.kappa as f32, f.density.diameter as f32]
             }),
             texel_density: crate::footprint::texel_density(mesh),
+            skinned: mesh.skin.is_some(),
         }
     }
 }
@@ -513,9 +518,15 @@ impl ScenePlan {
                                 coverage: scene.fur_coverage,
                                 lighting: scene.fur_lighting,
                                 texel_density: info.texel_density,
+                                spring: f.spring.filter(|s| !s.rigid()),
                                 resolved: false,
                             });
                             fur_count += 1;
+                            if f.spring.is_some_and(|s| !s.rigid()) && !info.skinned {
+                                notes.push(format!(
+                                    "objects[{i}]: the fur's spring has no motion to follow (no clip plays, or the mesh is posed on the CPU); its fur stands as combed"
+                                ));
+                            }
                         }
                         None => notes.push(format!(
                             "objects[{i}]: fur needs a baked _FUR_COMB (run pelt bake on the asset); drawn opaque"

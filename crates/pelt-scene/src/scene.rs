@@ -13,6 +13,7 @@ use glam::{Mat4, Quat, Vec3};
 
 use crate::shading::Emitter;
 use crate::wind::Wind;
+pub use pelt_anim::spring::Spring;
 use serde::{Deserialize, Serialize};
 
 /// A material.
@@ -87,6 +88,9 @@ pub struct FurSettings {
     pub fins: Option<bool>,
     /// Fur length in mesh units (the manifest's when absent).
     pub length: Option<f32>,
+    /// Secondary motion: a damped spring per vertex that the skinned motion drags, so the fur
+    /// lags and settles (crate::springs). None: the fur follows the skin rigidly.
+    pub spring: Option<Spring>,
 }
 
 impl FurSettings {
@@ -288,6 +292,9 @@ pub struct MaterialSpec {
     /// Fur length in mesh units (fur only; default: the asset's manifest).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length: Option<f32>,
+    /// Secondary motion (fur only): `{"stiffness": k, "damping": d}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring: Option<SpringSpec>,
     /// Reflectance at normal incidence, 0 to 1 (mirror only; not with `n`/`k`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub f0: Option<Rgb>,
@@ -304,6 +311,39 @@ pub struct MaterialSpec {
     /// centre of the object's bounds).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<[f32; 3]>,
+}
+
+/// A fur spring as written: stiffness k in 1/s² (ω₀², above 0) and damping d in 1/s (above
+/// 0: an undamped spring would swing forever and has no steady state on a looping clip).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// Stiffness in 1/s².
+    pub stiffness: f32,
+    /// Damping in 1/s.
+    pub damping: f32,
+}
+
+impl TryFrom<SpringSpec> for Spring {
+    type Error = String;
+    fn try_from(s: SpringSpec) -> Result<Self, String> {
+        if !(s.stiffness.is_finite() && s.stiffness > 0.0) {
+            return Err(format!(
+                "spring stiffness must be finite and above 0 (1/s²), got {}",
+                s.stiffness
+            ));
+        }
+        if !(s.damping.is_finite() && s.damping > 0.0) {
+            return Err(format!(
+                "spring damping must be finite and above 0 (1/s), got {}",
+                s.damping
+            ));
+        }
+        Ok(Spring {
+            stiffness: s.stiffness,
+            damping: s.damping,
+        })
+    }
 }
 
 /// A mirror's F0 from `f0`, or `n` and `k`.
@@ -380,6 +420,9 @@ impl TryFrom<MaterialSpec> for Material {
             if m.length.is_some() {
                 return extra("length");
             }
+            if m.spring.is_some() {
+                return extra("spring");
+            }
         }
         match m.kind {
             MaterialKind::Fur => {
@@ -403,6 +446,7 @@ impl TryFrom<MaterialSpec> for Material {
                     shells: m.shells,
                     fins: m.fins,
                     length: m.length,
+                    spring: m.spring.map(TryFrom::try_from).transpose()?,
                 }))
             }
             MaterialKind::Alpha => {
@@ -455,6 +499,7 @@ impl From<Material> for MaterialSpec {
             shells: None,
             fins: None,
             length: None,
+            spring: None,
             f0: None,
             n: None,
             k: None,
@@ -472,6 +517,10 @@ impl From<Material> for MaterialSpec {
                 spec.shells = f.shells;
                 spec.fins = f.fins;
                 spec.length = f.length;
+                spec.spring = f.spring.filter(|s| !s.rigid()).map(|s| SpringSpec {
+                    stiffness: s.stiffness,
+                    damping: s.damping,
+                });
             }
             Material::Mirror { f0, reference } => {
                 spec.kind = MaterialKind::Mirror;

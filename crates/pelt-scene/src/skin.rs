@@ -38,6 +38,9 @@ pub struct SkinBinding {
     pub ranges: Vec<SkinRange>,
     /// Parallel to the fur's fin instances.
     pub fins: Vec<FinSource>,
+    /// The pose the CPU loaded the mesh at ([`crate::asset::skinned`]): a view prepared from
+    /// the mesh stands there, and fur springs are bent for it.
+    pub loaded: Option<crate::asset::PoseAt>,
 }
 
 impl PartialEq for SkinBinding {
@@ -118,5 +121,6 @@ pub fn binding(
         rig,
         ranges: out,
         fins: Vec::new(),
+        loaded: None,
     }))
 }

@@ -182,7 +182,9 @@ fn root(mesh: &MeshData, t: &Tri, s: &pelt_fur::strands::Strand, w: [f64; 3]) ->
                 c.truncate(),
             )
         })
-        .normalize_or(Vec3::ZERO);
+        .normalize_or(Vec3::ZERO)
+            // The springs' bend (crate::springs), as the shells add it.
+            + lerp3(&|i| Vec4::from(fv[i].bend).truncate());
         comb_len = (0..3).map(|k| fv[t.v[k]].comb[3] * w[k] as f32).sum();
     }
     let albedo: Vec4 = (0..3).fold(Vec4::ZERO, |acc, k| {
@@ -245,6 +247,7 @@ mod tests {
                 tangent: [1.0, 0.0, 0.0, 1.0],
                 uv,
                 comb: [1.0, 0.0, 0.0, 1.0],
+                bend: [0.0; 4],
             })
             .collect();
         MeshData {

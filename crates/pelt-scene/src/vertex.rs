@@ -32,6 +32,9 @@ pub struct FurVertex {
     pub uv: [f32; 2],
     /// `_FUR_COMB`: tangent-space comb direction, w = length (0 = no fur).
     pub comb: [f32; 4],
+    /// The springs' bend of the comb in the asset's space, added to the combed direction
+    /// (`crate::springs`; xyz, w unused): zero at rest and wherever no spring moves the fur.
+    pub bend: [f32; 4],
 }
 
 impl FurVertex {
@@ -40,6 +43,7 @@ impl FurVertex {
         tangent: [1.0, 0.0, 0.0, 1.0],
         uv: [0.0; 2],
         comb: [1.0, 0.0, 0.0, 0.0],
+        bend: [0.0; 4],
     };
 }
 

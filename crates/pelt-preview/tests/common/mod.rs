@@ -144,6 +144,7 @@ pub fn scene(shells: u32, fins: bool, blend: FurBlend) -> Scene {
             shells: Some(shells),
             fins: Some(fins),
             length: None,
+            ..FurSettings::default()
         })],
         lights: vec![
             light(
