@@ -352,8 +352,8 @@ impl std::fmt::Display for RenderMode {
 /// Arguments of `pelt demo`.
 #[derive(clap::Args)]
 pub struct DemoArgs {
-    /// Output folder (created): fox.glb, demo.png, fox-walk.png, creature.glb, creature.png,
-    /// turntable.png, mirror.png, scene.json.
+    /// Output folder (created): fox.glb, demo.png, fox-walk.png, fox.json, creature.glb,
+    /// creature.png, turntable.png, mirror.png, scene.json.
     #[arg(short, long, default_value = "out/demo")]
     pub output: PathBuf,
     /// wgpu back end: auto, vulkan or gl.

@@ -381,6 +381,30 @@ fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
     assert_eq!(png_size(&dir.join("turntable.png")), (320, 90));
     // The creature beside a mirror (fixtures/scenes/creature-mirror.json).
     assert_eq!(png_size(&dir.join("mirror.png")), (320, 180));
+    // The Fox's scene file draws demo.png again, byte for byte (shadows, wind and springs
+    // at the walk's 0.35 s); another time draws otherwise.
+    let fox_json = dir.join("fox.json");
+    let again = |time: &str, name: &str| {
+        let png = dir.join(name);
+        render_ok(&[
+            fox_json.to_str().expect("utf8"),
+            "--animation",
+            "Walk",
+            "--time",
+            time,
+            "-o",
+            png.to_str().expect("utf8"),
+        ]);
+        load_png(&png)
+    };
+    assert!(
+        again("0.35", "again.png") == demo,
+        "fox.json at 0.35 s is not demo.png"
+    );
+    assert!(
+        again("0.1", "early.png") != demo,
+        "0.1 s draws demo.png too"
+    );
     let fox = pelt_preview::asset::load(&dir.join("fox.glb")).expect("baked fox loads");
     let fur = fox.fur.expect("the fox has fur");
     assert_eq!(fur.source, pelt_preview::fur::TextureSource::Baked);

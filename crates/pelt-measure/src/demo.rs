@@ -8,7 +8,9 @@
 //! deferred fur (Revie) under the procedural sky: `creature.png`, a turntable contact sheet
 //! of `frames` views around it, `turntable.png`, and the creature beside a mirror
 //! (fixtures/scenes/creature-mirror.json, GPU Gems 3 ch. 17), `mirror.png`; and the
-//! creature's scene as a scene file, `scene.json` (what `pelt sweep` measures).
+//! creature's scene as a scene file, `scene.json` (what `pelt sweep` measures), and the Fox's,
+//! `fox.json` (shadows, wind and springs: `pelt render fox.json --animation Walk --time 0.35`
+//! draws `demo.png`).
 
 use std::path::{Path, PathBuf};
 
@@ -176,7 +178,7 @@ fn fox_renders(
     preview: &mut Preview,
     o: &DemoOptions,
     asset: &Path,
-) -> Result<(Image, Image), DemoError> {
+) -> Result<(Image, Image, Scene), DemoError> {
     let walk = |time: f32| PoseAt {
         animation: "Walk".to_owned(),
         time,
@@ -205,7 +207,7 @@ fn fox_renders(
         mode: Mode::Inferred,
     };
     let tiles = clip.frames(preview, &poses)?;
-    Ok((still, Image::contact_sheet(&tiles, 4)))
+    Ok((still, Image::contact_sheet(&tiles, 4), scene))
 }
 
 /// The creature (baked at `asset`) beside a mirror, rendered at `size`.
@@ -259,7 +261,7 @@ pub fn run(preview: &mut Preview, o: &DemoOptions) -> Result<DemoOutputs, DemoEr
     let (w, h) = o.size;
     let fox = wrote("fox.glb", "the Fox, generated comb".into());
     bake_fox(&fox)?;
-    let (still, walk) = fox_renders(preview, o, &fox)?;
+    let (still, walk, fox_scene) = fox_renders(preview, o, &fox)?;
     still.save(&wrote(
         "demo.png",
         format!("furred and textured mid-walk, {w}×{h}"),
@@ -268,6 +270,15 @@ pub fn run(preview: &mut Preview, o: &DemoOptions) -> Result<DemoOutputs, DemoEr
         "fox-walk.png",
         format!("{} frames of its walk", o.frames),
     ))?;
+    write_scene(
+        &fox_scene,
+        &wrote(
+            "fox.json",
+            format!(
+                "the Fox's scene (pelt render fox.json --animation Walk --time {MID_WALK} draws demo.png)"
+            ),
+        ),
+    )?;
     let asset = wrote("creature.glb", "baked fixture creature".into());
     bake_creature(&asset)?;
     let meshes = vec![asset::load(&asset)?, asset::quad()];
