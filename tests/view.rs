@@ -73,6 +73,22 @@ fn s(p: &Path) -> &str {
     p.to_str().expect("utf8")
 }
 
+/// `pelt view ARGS --screenshot DIR/NAME --size 192x128` (with `--play` when `play`): the
+/// window's last frame and the log.
+fn screenshot(dir: &Path, name: &str, args: &[&str], play: bool) -> (Image, String) {
+    let shot = dir.join(name);
+    let mut all = args.to_vec();
+    all.extend(["--screenshot", s(&shot), "--size", "192x128"]);
+    if play {
+        all.push("--play");
+    }
+    let out = view(&all);
+    (
+        load_png(&shot),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// `pelt render ASSET -o DIR/NAME --size 192x128 EXTRA` on the test's back end, read back.
 fn render_png(dir: &Path, asset: &Path, name: &str, extra: &[&str]) -> Image {
     let path = dir.join(name);
@@ -330,8 +346,7 @@ fn an_animated_asset_plays_in_the_window_and_a_paused_frame_equals_pelt_render()
     let asset = fox(&dir);
     let b = backend();
     let shoot = |name: &str, time: &str, play: bool| {
-        let shot = dir.join(name);
-        let mut args = vec![
+        let args = [
             s(&asset),
             "--animation",
             "Walk",
@@ -339,19 +354,8 @@ fn an_animated_asset_plays_in_the_window_and_a_paused_frame_equals_pelt_render()
             time,
             "--frames",
             "3",
-            "--screenshot",
-            s(&shot),
-            "--size",
-            "192x128",
         ];
-        if play {
-            args.push("--play");
-        }
-        let out = view(&args);
-        (
-            load_png(&shot),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+        screenshot(&dir, name, &args, play)
     };
     let render = |name: &str, time: &str| {
         render_png(&dir, &asset, name, &["--animation", "Walk", "--time", time])
@@ -465,16 +469,11 @@ fn a_windy_scene_plays_in_the_window_and_a_paused_frame_equals_pelt_render() {
     let path = dir.join("windy.json");
     std::fs::write(&path, serde_json::to_string(&scene).expect("json")).expect("write");
     let shoot = |name: &str, time: &str, play: bool| {
-        let shot = dir.join(name);
-        let mut args = vec![s(&path), "--time", time, "--frames", "4"];
-        args.extend(["--screenshot", s(&shot), "--size", "192x128"]);
-        if play {
-            args.push("--play");
-        }
-        let out = view(&args);
-        (
-            load_png(&shot),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
+        screenshot(
+            &dir,
+            name,
+            &[s(&path), "--time", time, "--frames", "4"],
+            play,
         )
     };
     let at = render_png(&dir, &path, "at-0.4.png", &["--time", "0.4"]);
@@ -508,25 +507,17 @@ fn fur_springs_follow_the_clip_in_the_window_as_pelt_render_draws_them() {
     let asset = fox(&dir);
     let spring = ["--spring", "1500,25"];
     let shoot = |name: &str, time: &str, play: bool, extra: &[&str]| {
-        let shot = dir.join(name);
-        let mut args = vec![s(&asset), "--animation", "Walk", "--time", time];
-        args.extend([
+        let mut args = vec![
+            s(&asset),
+            "--animation",
+            "Walk",
+            "--time",
+            time,
             "--frames",
             "3",
-            "--screenshot",
-            s(&shot),
-            "--size",
-            "192x128",
-        ]);
+        ];
         args.extend_from_slice(extra);
-        if play {
-            args.push("--play");
-        }
-        let out = view(&args);
-        (
-            load_png(&shot),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+        screenshot(&dir, name, &args, play)
     };
     let at = render_png(
         &dir,

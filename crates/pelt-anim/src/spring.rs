@@ -176,7 +176,8 @@ impl Cycle {
             return c;
         }
         c.n = (period * SUBSTEPS_PER_S).ceil().max(1.0) as u32;
-        c.stepper = Some(spring.stepper(period / c.n as f32));
+        let stepper = spring.stepper(period / c.n as f32);
+        c.stepper = Some(stepper);
         c.drift = roots(end)
             .iter()
             .zip(&at_start)
@@ -184,7 +185,7 @@ impl Cycle {
             .collect();
         // One loop from rest: the forced part F of s(end) = Φⁿ s(start) + F.
         let forced = c.run(c.n, c.rest(roots), roots).state;
-        let m = c.stepper.map_or([[0.0; 2]; 2], |s| s.power(c.n));
+        let m = stepper.power(c.n);
         // (I − Φⁿ) s = F, per axis.
         let (a, b, cc, d) = (1.0 - m[0][0], -m[0][1], -m[1][0], 1.0 - m[1][1]);
         let det = a * d - b * cc;

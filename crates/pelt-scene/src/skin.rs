@@ -63,23 +63,37 @@ impl SkinBinding {
         animation: &str,
         time: f32,
     ) -> Result<Vec<RangeMatrices>, IoError> {
-        let Some(clip) = self.rig.clips.iter().find(|c| c.name == animation) else {
-            let known: Vec<&str> = self.rig.clips.iter().map(|c| c.name.as_str()).collect();
-            return Err(IoError::Invalid {
-                path: doc_path.to_owned(),
-                place: "animations".into(),
-                message: format!(
-                    "no animation named {animation:?} (the file has: {})",
-                    known.join(", ")
-                ),
-            });
-        };
-        let pose = self.rig.pose(Some(clip), time);
-        Ok(self
-            .ranges
+        Ok(self.matrices_at(self.clip(doc_path, animation)?, time))
+    }
+
+    /// The index of clip `animation`; an unknown clip is an error (at `doc_path`) listing
+    /// those there are.
+    pub fn clip(&self, doc_path: &std::path::Path, animation: &str) -> Result<usize, IoError> {
+        self.rig
+            .clips
+            .iter()
+            .position(|c| c.name == animation)
+            .ok_or_else(|| {
+                let known: Vec<&str> = self.rig.clips.iter().map(|c| c.name.as_str()).collect();
+                IoError::Invalid {
+                    path: doc_path.to_owned(),
+                    place: "animations".into(),
+                    message: format!(
+                        "no animation named {animation:?} (the file has: {})",
+                        known.join(", ")
+                    ),
+                }
+            })
+    }
+
+    /// The joint matrices of every range at `time` s of clip `clip` (an index from
+    /// [`SkinBinding::clip`]).
+    pub fn matrices_at(&self, clip: usize, time: f32) -> Vec<RangeMatrices> {
+        let pose = self.rig.pose(self.rig.clips.get(clip), time);
+        self.ranges
             .iter()
             .map(|r| (self.rig.joint_matrices(r.skin, &pose), pose.global[r.node]))
-            .collect())
+            .collect()
     }
 }
 

@@ -8,7 +8,7 @@
 //! bend's part into the surface is held to 0.8, as the wind's is. The bend goes into the fur
 //! vertices ([`FurVertex::bend`]), which the shells, the fur G-buffer and the fin rebuild add
 //! to the combed direction (shaders/fur_common.wgsl `moving_comb`, fin_rebuild.wgsl), and
-//! into the CPU's fin instances and the strands' roots.
+//! which the strands' roots add on the CPU ([`bent`]).
 //!
 //! Only meshes the GPU skins ([`crate::skin::binding`]) move under a spring: a still asset
 //! keeps no spring state at all and draws exactly as without one.
@@ -21,7 +21,6 @@ use pelt_anim::spring::{Cycle, Spring};
 use pelt_io::IoError;
 
 use crate::asset::MeshData;
-use crate::fur::FurData;
 use crate::skin::SkinBinding;
 use crate::vertex::FurVertex;
 
@@ -49,14 +48,7 @@ impl FurSprings {
         spring: Spring,
         (length, count): (f32, usize),
     ) -> Result<FurSprings, IoError> {
-        // The clip's name is checked (and its error worded) where the skinning looks it up.
-        binding.matrices(doc_path, animation, 0.0)?;
-        let clip = binding
-            .rig
-            .clips
-            .iter()
-            .position(|c| c.name == animation)
-            .unwrap_or_default();
+        let clip = binding.clip(doc_path, animation)?;
         let c = &binding.rig.clips[clip];
         let cycle = Cycle::new(spring, (c.start, c.end.max(c.start)), &|t| {
             roots(binding, clip, t)
@@ -109,28 +101,13 @@ fn bend(y: Vec3, n: Vec3, len: f32) -> [f32; 4] {
     (b + n * (bn.max(-MAX_INWARD) - bn)).extend(0.0).into()
 }
 
-/// Range `r`'s joint matrices and unweighted matrix at `t` s of clip `clip`.
-fn matrices(binding: &SkinBinding, clip: usize, t: f32) -> Vec<(Vec<Mat4>, Mat4)> {
-    let pose = binding.rig.pose(Some(&binding.rig.clips[clip]), t);
-    binding
-        .ranges
-        .iter()
-        .map(|r| {
-            (
-                binding.rig.joint_matrices(r.skin, &pose),
-                pose.global[r.node],
-            )
-        })
-        .collect()
-}
-
 /// Every skinned vertex's blend matrix at `t` (ranges in order), as the skinning pass forms it.
 fn blends(
     binding: &SkinBinding,
     clip: usize,
     t: f32,
 ) -> impl Iterator<Item = (Mat4, usize, usize)> + '_ {
-    let mats = matrices(binding, clip, t);
+    let mats = binding.matrices_at(clip, t);
     binding.ranges.iter().enumerate().flat_map(move |(ri, r)| {
         let (joints, unweighted) = mats[ri].clone();
         (0..r.job.positions.len()).map(move |v| {
@@ -158,26 +135,9 @@ fn posed_normals(binding: &SkinBinding, clip: usize, t: f32) -> Vec<Vec3> {
         .collect()
 }
 
-/// Writes `bends` into `fur`'s vertices and adds them to its fin instances' combs (the CPU's
-/// twin of fin_rebuild.wgsl's sum).
-pub fn apply(fur: &mut FurData, bends: &[[f32; 4]]) {
-    for (v, b) in fur.vertices.iter_mut().zip(bends) {
-        v.bend = *b;
-    }
-    for (f, s) in fur.fins.iter_mut().zip(&fur.fin_sources) {
-        for (c, v) in [(&mut f.c0, s[0]), (&mut f.c1, s[1])] {
-            if let Some(b) = bends.get(v as usize) {
-                for (x, d) in c.iter_mut().zip(&b[..3]) {
-                    *x += d;
-                }
-            }
-        }
-    }
-}
-
-/// `mesh` with its fur bent by `spring` (fur of `length` asset units) at the pose it was
-/// loaded at (`SkinBinding::loaded`), for the CPU's consumers of fur vertices (the strands'
-/// roots); `None` when nothing moves it (not skinned on the GPU, no pose, a rigid spring).
+/// `mesh` with its fur vertices bent by `spring` (fur of `length` asset units) at the pose
+/// it was loaded at (`SkinBinding::loaded`), for the strands' roots, which are planted on the
+/// CPU (the strand reference draws no fins); `None` when nothing moves it (not skinned on the GPU, no pose, a rigid spring).
 /// `path` names the asset in errors.
 pub fn bent(
     mesh: &MeshData,
@@ -201,7 +161,9 @@ pub fn bent(
     let bends = springs.bends(pose.time, &fur.vertices);
     let mut m = mesh.clone();
     if let Some(fur) = m.fur.as_mut() {
-        apply(fur, &bends);
+        for (v, b) in fur.vertices.iter_mut().zip(bends) {
+            v.bend = b;
+        }
     }
     Ok(Some(m))
 }
