@@ -7,6 +7,14 @@
 // map at its distance, and compared one texel nearer than itself (a cube's bias grows with
 // the distance, as its texels do; an orthographic map's texels are one size), over a square of PCF × PCF texels (percentage-closer
 // filtering). The group is `slot::CUBES` in crates/pelt-preview/src/features/shadows.rs.
+//
+// Fur shadows by its coverage through deep opacity maps (Yuksel & Keyser 2008): beside each
+// layer of the cubes, the distance to the nearest fur and up to three layers of the fur's
+// optical depth seen from the light, each summed to its boundary past the nearest fur. Each
+// texel of the lookup passes exp(−τ) of the light, τ read at the receiver's depth past the
+// nearest fur, linear between the layers' boundaries (none in front of the fur, the last
+// layer's past it): fur shadows itself, and its shadow on everything behind it is as soft as
+// the fur is thin.
 
 #define_import_path pelt::shadows
 
@@ -28,18 +36,63 @@ struct SunMap {
 struct ShadowRead {
     // x: the PCF side in texels (the scene's shadowMaps.pcf); yzw: unused.
     pcf: vec4<u32>,
+    // The deep opacity layers' boundaries (world units past the nearest fur; the last one
+    // where its value is reached) and w: how many layers there are (0: fur casts no coverage).
+    layers: vec4<f32>,
     // Each slot's map when its light is directional.
     suns: array<SunMap, 8>,
 }
 
 @group(4) @binding(0) var shadow_cubes: texture_2d_array<f32>;
 @group(4) @binding(1) var<uniform> shadow_read: ShadowRead;
+// Per layer of the cubes: xy the nearest fur's distance (two halves), z 1 where a texel holds
+// fur; and the optical depth of each deep opacity layer (xyz).
+@group(4) @binding(2) var fur_near: texture_2d_array<f32>;
+@group(4) @binding(3) var fur_opacity: texture_2d_array<f32>;
 
 // The distance from the light to the nearest surface in texel `at` of cube face `layer`
 // (shadow_map.wgsl's two halves).
 fn nearest(at: vec2<i32>, layer: i32) -> f32 {
     let t = textureLoad(shadow_cubes, at, layer, 0);
     return t.x + t.y;
+}
+
+// The fur's optical depth between the light and distance `reach` in texel `at` of `layer`:
+// piecewise linear through (0, 0) and each opacity layer's (boundary, value), the last value
+// past it.
+fn fur_depth(at: vec2<i32>, layer: i32, reach: f32) -> f32 {
+    let near = textureLoad(fur_near, at, layer, 0);
+    let x = reach - (near.x + near.y);
+    if near.z == 0.0 || x <= 0.0 {
+        return 0.0;
+    }
+    let b = shadow_read.layers;
+    let t = textureLoad(fur_opacity, at, layer, 0).xyz;
+    if x <= b.x {
+        return t.x * x / b.x;
+    }
+    if b.w < 2.0 {
+        return t.x;
+    }
+    if x <= b.y {
+        return mix(t.x, t.y, (x - b.x) / (b.y - b.x));
+    }
+    if b.w < 3.0 {
+        return t.y;
+    }
+    return mix(t.y, t.z, clamp((x - b.y) / (b.z - b.y), 0.0, 1.0));
+}
+
+// How much of the light reaches distance `reach` in texel `at` of `layer`: none behind the
+// nearest opaque surface, exp(−τ) of the fur in front of it.
+fn seen_at(at: vec2<i32>, layer: i32, reach: f32) -> f32 {
+    if !(reach <= nearest(at, layer)) {
+        return 0.0;
+    }
+    if shadow_read.layers.w == 0.0 {
+        return 1.0;
+    }
+    return exp(-fur_depth(at, layer, reach));
 }
 
 // The fraction (0 to 1) of `light` that view-space point `p` with unit normal `n` sees; 1
@@ -80,7 +133,7 @@ fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
     let pcf = i32(shadow_read.pcf.x);
     if pcf <= 1 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));
-        return select(0.0, 1.0, reach <= nearest(at, layer));
+        return seen_at(at, layer, reach);
     }
     let k = pcf - 1;
     let base = vec2<i32>(floor(c)) - vec2<i32>((k - 1) / 2);
@@ -91,7 +144,7 @@ fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
         for (var i = 0; i <= k; i++) {
             let wx = select(select(1.0, frac.x, i == k), 1.0 - frac.x, i == 0);
             let at = clamp(base + vec2<i32>(i, j), vec2<i32>(0), vec2<i32>(last));
-            seen += wx * wy * select(0.0, 1.0, reach <= nearest(at, layer));
+            seen += wx * wy * seen_at(at, layer, reach);
         }
     }
     return seen / f32(k * k);

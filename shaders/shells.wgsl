@@ -11,13 +11,21 @@
 // 1 − e^(−Δτ) with Δτ the optical depth of the strands' sides and tips over the layer,
 // slanted by the view. fs_main writes straight alpha for "over" blending (inner shells
 // first) or, with the WBOIT override, weighted blended OIT (McGuire & Bavoil 2013).
+//
+// With the OPACITY_MAP def, the same shells are drawn from a shadow-casting light into its
+// deep opacity maps (Yuksel & Keyser 2008; crates/pelt-preview/src/features/shadows.rs): the
+// frame is the light's face, and two fragment entry points replace fs_main: fs_nearest keeps
+// the distance from the light to the nearest fur, fs_opacity adds each layer's optical depth
+// seen from the light, −ln(1 − α), into the opacity layers at and past its depth in the fur.
 
 #import pelt::common::{VertexIn}
 #import pelt::fur_common::{FurIn, FurOut, MIN_COS, fur_out, fur_query, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#ifndef OPACITY_MAP
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
 #else
 #import pelt::fur_light_inferred::{fur_lighting}
+#endif
 #endif
 #import pelt::object_bindings::{frame, object}
 #import pelt::fur_bindings::{base_sampler, base_texture, density_hi, density_lo, fin_sampler, fin_texture, heightfield, repeat_sampler}
@@ -91,6 +99,12 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     o.comb = view_dir_of(comb, frame, object);
     o.view_normal = view_normal_of(v.normal, frame, object);
     return o;
+}
+
+// The unit direction from view-space point `p` toward the eye: a light's orthographic map
+// (the projection's w row is (0, 0, 0, 1)) looks along −z everywhere.
+fn eye_of(p: vec3<f32>) -> vec3<f32> {
+    return select(normalize(-p), vec3<f32>(0.0, 0.0, 1.0), frame.proj[3][3] == 1.0);
 }
 
 // Bin `i` (0..7) of the two density samples. Selects, not a local array: a dynamically
@@ -218,7 +232,7 @@ fn layer_alpha(s: ShellOut, tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, 
     let hi = textureSampleGrad(density_hi, repeat_sampler, tuv, 0.5 * uv_dx, 0.5 * uv_dy);
     let surface_area = length(cross(p_dx, p_dy));
     let tile_area = abs(uv_dx.x * uv_dy.y - uv_dx.y * uv_dy.x);
-    let eye = normalize(-s.view_pos);
+    let eye = eye_of(s.view_pos);
     let mu = max(abs(dot(normalize(s.view_normal), eye)), MIN_COS);
     let vt = dot(eye, normalize(s.strand));
     let sin_psi = sqrt(max(1.0 - vt * vt, 0.0));
@@ -239,7 +253,7 @@ fn layer_alpha(s: ShellOut, tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, 
         return clamp(statistical, 0.0, 1.0);
     }
     var f: RayFrame;
-    f.eye_dir = normalize(s.view_pos);
+    f.eye_dir = -eye_of(s.view_pos);
     f.normal = normalize(s.view_normal);
     f.comb = normalize(s.comb);
     f.scale = s.layer.w;
@@ -252,18 +266,24 @@ fn layer_alpha(s: ShellOut, tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, 
     return clamp(mix(binary, statistical, w), 0.0, 1.0);
 }
 
-// Colour and coverage of a shell fragment.
-fn shade(s: ShellOut) -> vec4<f32> {
-    let sd = s.depths.z;
+// The opacity of a shell fragment's layer (1 for the base mesh).
+fn coverage_of(s: ShellOut) -> f32 {
     let tuv = s.uv * object.fur_tip.w;
-    let under = textureSample(base_texture, base_sampler, s.base_uv).rgb;
     // Fur shorter than 5 % of the length fades away rather than lying flat on the skin.
     // Tile area and surface area one pixel covers (the shell's own, at this fragment).
     let uv_dx = dpdx(tuv);
     let uv_dy = dpdy(tuv);
     let coverage = layer_alpha(s, tuv, uv_dx, uv_dy, dpdx(s.view_pos), dpdy(s.view_pos));
     let strand = coverage * clamp(s.depths.w * 20.0, 0.0, 1.0);
-    let a = select(strand, 1.0, s.shell == 0u);
+    return select(strand, 1.0, s.shell == 0u);
+}
+
+#ifndef OPACITY_MAP
+// Colour and coverage of a shell fragment.
+fn shade(s: ShellOut) -> vec4<f32> {
+    let sd = s.depths.z;
+    let under = textureSample(base_texture, base_sampler, s.base_uv).rgb;
+    let a = coverage_of(s);
     let l = fur_lighting(fur_query(
         s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, sd, frame,
     ));
@@ -282,3 +302,44 @@ fn fs_main(s: ShellOut) -> FurOut {
     }
     return fur_out(c, -s.view_pos.z, object.fur_params.w, WBOIT);
 }
+#endif
+
+#ifdef OPACITY_MAP
+// The nearest fur's distance from the light: its layers (the opacity pass's target layer
+// `frame.flags.x`); keep in sync with `opacity` in crates/pelt-preview/src/features/shadows.rs.
+@group(2) @binding(0) var fur_near: texture_2d_array<f32>;
+
+// The distance from the light (or a directional map's near plane, `frame.proj_params.z`)
+// to view-space point `p` of the light's face, as shadow_map.wgsl and shadows.wgsl measure it.
+fn light_distance(p: vec3<f32>) -> f32 {
+    return select(length(p), -p.z - frame.proj_params.z, frame.proj[3][3] == 1.0);
+}
+
+// The distance as a half float and its half-float remainder (as shadow_map.wgsl stores it);
+// z = 1 marks a texel that holds fur.
+@fragment
+fn fs_nearest(s: ShellOut) -> @location(0) vec4<f32> {
+    if coverage_of(s) <= 0.0 {
+        discard;
+    }
+    let d = light_distance(s.view_pos);
+    let hi = bitcast<f32>(bitcast<u32>(d) & 0xffffe000u);
+    return vec4<f32>(hi, d - hi, 1.0, 0.0);
+}
+
+// The layer's optical depth seen from the light, added (additive blending) into each deep
+// opacity layer whose far boundary (`frame.lbuffer_size`, depth past the nearest fur; the
+// last layer's is past everything) it lies within.
+@fragment
+fn fs_opacity(s: ShellOut) -> @location(0) vec4<f32> {
+    let a = min(coverage_of(s), 0.999);
+    if a <= 0.0 {
+        discard;
+    }
+    let tau = -log(1.0 - a);
+    let near = textureLoad(fur_near, vec2<i32>(s.clip.xy), i32(frame.flags.x), 0);
+    let x = light_distance(s.view_pos) - (near.x + near.y);
+    let b = frame.lbuffer_size;
+    return vec4<f32>(select(vec3<f32>(0.0), vec3<f32>(tau), vec3<f32>(x) <= b.xyz), 0.0);
+}
+#endif

@@ -60,6 +60,10 @@ pub struct Knobs {
     /// (overrides the scene's shadowMaps.pcf).
     #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::PCF)))]
     pub pcf: Option<u32>,
+    /// Deep opacity map layers through which fur shadows itself and what lies behind it, 0
+    /// (none: fur casts as its base mesh) to 3 (overrides the scene's shadowMaps.opacityLayers).
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::OPACITY_LAYERS)))]
+    pub opacity_layers: Option<u32>,
     /// Fur springs, STIFFNESS,DAMPING in 1/s² and 1/s (e.g. 1500,25), or off: every fur
     /// material's secondary motion on an animated asset (overrides the scene's).
     #[cfg_attr(feature = "cli", arg(long, value_name = "K,D|off", value_parser = flags::spring))]
@@ -149,6 +153,9 @@ impl Knobs {
         }
         if let Some(p) = self.pcf {
             scene.shadow_maps.pcf = p;
+        }
+        if let Some(n) = self.opacity_layers {
+            scene.shadow_maps.opacity_layers = n;
         }
         for o in &mut scene.objects {
             if let Material::Fur(f) = &mut o.material {
@@ -262,6 +269,8 @@ mod tests {
             "1024",
             "--spring",
             "1500,25",
+            "--opacity-layers",
+            "0",
         ])
         .expect("valid flags");
         assert_eq!(k.dsf, Some(false));
@@ -271,6 +280,7 @@ mod tests {
         assert_eq!(k.reflections.min_max, Some(true));
         assert_eq!(k.reflections.layers, Some(4));
         assert_eq!((k.pcf, k.shadow_size), (Some(1), Some(1024)));
+        assert_eq!(k.opacity_layers, Some(0));
         let s = k.spring.expect("a spring");
         assert_eq!((s.stiffness, s.damping), (1500.0, 25.0));
         let off = parse(&["--spring", "off"]).expect("off").spring;
@@ -284,6 +294,7 @@ mod tests {
             ["--lbuffer-scale", "0"],
             ["--cube-size", "100"],
             ["--pcf", "9"],
+            ["--opacity-layers", "4"],
             ["--shadow-size", "100"],
             ["--shadow-size", "8192"],
             ["--spring", "1500"],
@@ -326,13 +337,21 @@ mod tests {
             },
             shadow_size: Some(64),
             pcf: Some(3),
+            opacity_layers: Some(1),
             spring: Some(pelt_anim::spring::Spring {
                 stiffness: 900.0,
                 damping: 12.0,
             }),
         }
         .apply(&mut s);
-        assert_eq!((s.shadow_maps.size, s.shadow_maps.pcf), (64, 3));
+        assert_eq!(
+            (
+                s.shadow_maps.size,
+                s.shadow_maps.pcf,
+                s.shadow_maps.opacity_layers
+            ),
+            (64, 3, 1)
+        );
         assert_eq!(
             (
                 s.reflections.technique,

@@ -902,6 +902,13 @@ impl Plan {
                         size = self.shadow_maps.size,
                         pcf = self.shadow_maps.pcf
                     );
+                    let layers = self.shadow_maps.opacity_layers;
+                    if layers > 0 && !self.fur.is_empty() {
+                        let _ = write!(
+                            s,
+                            "; the fur from each: its nearest distance, then {layers} deep opacity layer(s) of its shells' optical depth (Yuksel & Keyser 2008), which fur and everything behind it read"
+                        );
+                    }
                 }
                 Pass::MinMax => {
                     let _ = write!(

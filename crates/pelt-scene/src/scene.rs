@@ -1049,11 +1049,18 @@ pub struct ShadowMaps {
     /// Percentage-closer filtering: the side of the square of texels a lookup compares (1:
     /// the nearest texel, a hard edge; 2: the 2×2 bilinear comparison).
     pub pcf: u32,
+    /// Deep opacity map layers (Yuksel & Keyser 2008) through which fur shadows itself and
+    /// everything behind it by its coverage: 0 (fur casts as its base mesh alone) to 3.
+    pub opacity_layers: u32,
 }
 
 impl Default for ShadowMaps {
     fn default() -> Self {
-        ShadowMaps { size: 512, pcf: 2 }
+        ShadowMaps {
+            size: 512,
+            pcf: 2,
+            opacity_layers: 3,
+        }
     }
 }
 
@@ -1062,6 +1069,8 @@ impl ShadowMaps {
     pub const SIZE: std::ops::RangeInclusive<u32> = 16..=4096;
     /// PCF sides.
     pub const PCF: std::ops::RangeInclusive<u32> = 1..=8;
+    /// Deep opacity map layers.
+    pub const OPACITY_LAYERS: std::ops::RangeInclusive<u32> = 0..=3;
 
     /// The first knob out of range, as (field, message).
     pub fn check(&self) -> Result<(), (&'static str, String)> {
@@ -1073,6 +1082,12 @@ impl ShadowMaps {
         }
         if !Self::PCF.contains(&self.pcf) {
             return Err(("pcf", format!("must be 1 to 8, got {}", self.pcf)));
+        }
+        if !Self::OPACITY_LAYERS.contains(&self.opacity_layers) {
+            return Err((
+                "opacityLayers",
+                format!("must be 0 to 3, got {}", self.opacity_layers),
+            ));
         }
         Ok(())
     }
@@ -1436,6 +1451,11 @@ mod tests {
                 "power of two from 16 to 4096",
             ),
             (r#"{"shadowMaps": {"pcf": 0}}"#, "shadowMaps.pcf", "1 to 8"),
+            (
+                r#"{"shadowMaps": {"opacityLayers": 4}}"#,
+                "shadowMaps.opacityLayers",
+                "0 to 3",
+            ),
             (
                 r#"{"reflections": {"layers": 2}}"#,
                 "reflections.layers",

@@ -416,6 +416,7 @@ fn scene_knobs(v: &Viewer) -> Knobs {
         reflections: Default::default(),
         shadow_size: Some(s.shadow_maps.size),
         pcf: Some(s.shadow_maps.pcf),
+        opacity_layers: Some(s.shadow_maps.opacity_layers),
         spring: fur.and_then(|f| f.spring),
     }
 }

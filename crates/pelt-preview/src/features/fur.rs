@@ -324,7 +324,7 @@ fn shade_layers<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), 
 }
 
 /// Binds fur object `k`'s mesh, fur vertices and textures.
-fn bind_fur<'a>(
+pub(crate) fn bind_fur<'a>(
     f: &Frame<'a>,
     r: &mut Recipe<'a>,
     pass: &'static str,
@@ -349,7 +349,7 @@ fn bind_fur<'a>(
 }
 
 /// Draws `mesh` part by part, each with its material's fur group, `instances` shells.
-fn draw_parts<'a>(
+pub(crate) fn draw_parts<'a>(
     r: &mut Recipe<'a>,
     mesh: &'a crate::assets::GpuMesh,
     fur: &'a crate::assets::GpuFur,

@@ -17,6 +17,8 @@
 //! - [`mips`]: mip chains of layered targets (cube faces, arrays);
 //! - [`overlay`]: `pelt view`'s text overlay;
 //! - [`reflect`]: mirrors and glass from layered distance maps (GPU Gems 3 ch. 17);
+//! - [`shadows`]: shadow cubes and directional maps, read where lights are applied;
+//! - [`opacity`]: deep opacity maps, through which fur shadows itself and what lies behind it;
 //! - [`strands`]: explicit strands, the converged fur reference;
 //! - [`skin`]: the skinning compute pass (glTF linear blend skinning) into storage buffers;
 //! - [`debug`]: the debug views (normal groups, the decoded comb).
@@ -33,6 +35,7 @@ pub mod geometry;
 pub mod lights;
 pub mod material;
 pub mod mips;
+pub mod opacity;
 pub mod overlay;
 pub mod reflect;
 pub mod registry;

@@ -7,13 +7,15 @@
 //! Like the distance maps, the cubes depend on the scene, not on the camera: [`ShadowCubes`]
 //! is made with the scene view and drawn again only when a caster, a light or a pose moved.
 //! Every opaque object of the scene casts (mirrors and glass too, as the ray tracer's shadow
-//! rays see them); alpha layers do not.
+//! rays see them); alpha layers do not. Fur casts by its coverage besides, through the deep
+//! opacity maps drawn with the cubes ([`super::opacity`]).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
+use super::opacity::{self, LightFrame, OpacityMaps};
 use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
 use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
@@ -79,6 +81,9 @@ pub struct SunMap {
 pub struct ShadowRead {
     /// x: the PCF side (texels); yzw: unused.
     pub pcf: [u32; 4],
+    /// The deep opacity layers' boundaries (world units past the nearest fur) and w their
+    /// count (0: fur casts no coverage; [`opacity::boundaries`]).
+    pub layers: [f32; 4],
     /// Each slot's map when its light is directional (zero for a point light's slot).
     pub suns: [SunMap; MAX_SHADOW_LIGHTS],
 }
@@ -94,6 +99,14 @@ pub const LAYOUT: LayoutDesc = LayoutDesc {
         seen_by(
             wgpu::ShaderStages::FRAGMENT,
             layout::uniform(1, size_of::<ShadowRead>(), false),
+        ),
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::texture(2, UNFILTERABLE, D2_ARRAY),
+        ),
+        seen_by(
+            wgpu::ShaderStages::FRAGMENT,
+            layout::texture(3, UNFILTERABLE, D2_ARRAY),
         ),
     ],
 };
@@ -127,7 +140,7 @@ pub const FEATURE: Feature = Feature {
         ),
         KnobDesc::new("pcf", "1 to 8", "the scene's (2)", Reference::RayTracer),
     ],
-    pipelines: || vec![pipeline()],
+    pipelines: || [vec![pipeline()], opacity::pipelines()].concat(),
     passes: &[PassDesc {
         cached: Some(CACHED),
         ..PassDesc::new(Pass::Shadows, Build::Many(passes))
@@ -138,16 +151,19 @@ pub const FEATURE: Feature = Feature {
     )
 };
 
-/// The cubes outlive the frame: drawn again only when a light or a caster moved, or any
-/// caster is posed (its vertices change each frame).
+/// The cubes outlive the frame: drawn again only when a light or a caster moved, any
+/// caster is posed (its vertices change each frame), or the fur the view draws changed.
 const CACHED: Cached = Cached {
     fresh: |f| {
-        f.scene.get::<ShadowCubes>().is_some_and(ShadowCubes::fresh)
+        f.scene
+            .get::<ShadowCubes>()
+            .is_some_and(|c| c.fresh() && c.fur_drawn.load(Ordering::Relaxed) == c.fur_key(f))
             && f.poses.iter().all(Option::is_none)
     },
     drawn: |f| {
         if let Some(c) = f.scene.get::<ShadowCubes>() {
             c.fresh.store(true, Ordering::Relaxed);
+            c.fur_drawn.store(c.fur_key(f), Ordering::Relaxed);
         }
     },
 };
@@ -174,7 +190,11 @@ pub struct ShadowCubes {
     draws: Vec<(usize, usize, usize)>,
     /// The cubes as shadows.wgsl reads them (a 1×1 stand-in without shadow-casting lights).
     pub read: wgpu::BindGroup,
+    /// The fur's deep opacity maps beside the cubes.
+    pub opacity: OpacityMaps,
     fresh: AtomicBool,
+    /// Which fur the opacity maps hold ([`ShadowCubes::fur_key`]).
+    fur_drawn: AtomicU64,
     drawn: Vec<u8>,
     /// How the cubes are read, as last written.
     read_written: Option<ShadowRead>,
@@ -188,12 +208,13 @@ impl ShadowCubes {
         let side = if slots > 0 { size } else { 1 };
         let layers = slots.max(1) * 6;
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
-        let views = plan
+        let drawn: Vec<u32> = plan
             .shadow_lights()
             .enumerate()
             .flat_map(|(slot, l)| (0..layers_of(&l.emitter)).map(move |f| slot as u32 * 6 + f))
-            .map(|i| (i, cubes.layer(i, 0)))
             .collect();
+        let views = drawn.iter().map(|&i| (i, cubes.layer(i, 0))).collect();
+        let opacity = OpacityMaps::new(r, fur_shadows(plan), side, layers, &drawn);
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
         let faces = r.buffer(
             "shadow faces",
@@ -230,8 +251,11 @@ impl ShadowCubes {
                 &[
                     wgpu::BindingResource::TextureView(&cubes.sampled),
                     params.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&opacity.near.sampled),
+                    wgpu::BindingResource::TextureView(&opacity.layers.sampled),
                 ],
             ),
+            opacity,
             params,
             cubes,
             views,
@@ -241,6 +265,7 @@ impl ShadowCubes {
             capacity,
             draws: Vec::new(),
             fresh: AtomicBool::new(false),
+            fur_drawn: AtomicU64::new(0),
             drawn: Vec::new(),
             read_written: None,
         };
@@ -254,6 +279,27 @@ impl ShadowCubes {
             && self.views.len() == Self::layers_drawn(plan)
             && self.size == plan.shadow_maps.size
             && plan.objects.len() <= self.capacity
+            && self.opacity.on == fur_shadows(plan)
+    }
+
+    /// What fur view `f` draws into the opacity maps (each object's scene index, shells and
+    /// coverage), hashed; 0 without them.
+    fn fur_key(&self, f: &Frame<'_>) -> u64 {
+        if !self.opacity.on {
+            return 0;
+        }
+        let mut h = std::hash::DefaultHasher::new();
+        for &k in &f.plan.fur {
+            let o = &f.plan.objects[k];
+            let fur = o.fur.map(|p| {
+                (
+                    p.shells,
+                    p.coverage == pelt_scene::scene::FurCoverage::Binary,
+                )
+            });
+            std::hash::Hash::hash(&(o.scene_index, fur), &mut h);
+        }
+        std::hash::Hasher::finish(&h) | 1
     }
 
     /// How many layers `plan`'s shadow-casting lights draw: six per point light, one per
@@ -274,12 +320,25 @@ impl ShadowCubes {
     pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
         let stride = UNIFORM_STRIDE as usize;
         let mut faces = vec![0u8; self.views.len() * stride];
+        let mut frames = vec![0u8; self.views.len() * stride];
         let mut suns = [SunMap::zeroed(); MAX_SHADOW_LIGHTS];
+        let n = if self.opacity.on {
+            plan.shadow_maps.opacity_layers
+        } else {
+            0
+        };
+        let (sum, layers) = opacity::boundaries(n, opacity::fur_depth(plan));
         let mut k = 0;
         for (slot, l) in plan.shadow_lights().enumerate() {
-            let mut put = |u: ShadowFace| {
-                faces[k * stride..k * stride + size_of::<ShadowFace>()]
-                    .copy_from_slice(bytemuck::bytes_of(&u));
+            let mut put = |(u, light): (ShadowFace, LightFrame)| {
+                let at = k * stride;
+                faces[at..at + size_of::<ShadowFace>()].copy_from_slice(bytemuck::bytes_of(&u));
+                let lf = LightFrame {
+                    layer: self.views[k].0,
+                    ..light
+                };
+                let fu = lf.uniforms(self.size, sum, plan);
+                frames[at..at + size_of_val(&fu)].copy_from_slice(bytemuck::bytes_of(&fu));
                 k += 1;
             };
             match l.emitter {
@@ -314,6 +373,7 @@ impl ShadowCubes {
             .collect();
         let read = ShadowRead {
             pcf: [plan.shadow_maps.pcf, 0, 0, 0],
+            layers,
             suns,
         };
         if self.read_written != Some(read) {
@@ -321,11 +381,18 @@ impl ShadowCubes {
                 .write_buffer(&self.params, 0, bytemuck::bytes_of(&read));
             self.read_written = Some(read);
         }
-        let drawn = [faces.as_slice(), &objects, bytemuck::cast_slice(&ids)].concat();
+        let drawn = [
+            faces.as_slice(),
+            &frames,
+            &objects,
+            bytemuck::cast_slice(&ids),
+        ]
+        .concat();
         if drawn != self.drawn {
             if !faces.is_empty() {
                 r.gpu.write_buffer(&self.faces, 0, &faces);
             }
+            self.opacity.write(r, &frames);
             if !objects.is_empty() {
                 r.gpu.write_buffer(&self.objects, 0, &objects);
             }
@@ -345,22 +412,43 @@ fn layers_of(emitter: &Emitter) -> u32 {
     }
 }
 
-/// The six faces of a point light's cube.
-fn cube_faces(position: Vec3, radius: f32) -> [ShadowFace; 6] {
+/// Whether `plan`'s fur shadows by its coverage: opacity layers, a light that casts shadows
+/// and fur to cast.
+fn fur_shadows(plan: &ScenePlan) -> bool {
+    plan.shadow_maps.opacity_layers > 0
+        && plan.shadow_lights().next().is_some()
+        && opacity::fur_depth(plan) > 0.0
+}
+
+/// The six faces of a point light's cube, each with its light frame (layer unset).
+fn cube_faces(position: Vec3, radius: f32) -> [(ShadowFace, LightFrame); 6] {
     let near = (radius * 1e-4).max(1e-6);
     let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, radius);
     let to_light = Mat4::from_translation(-position);
-    std::array::from_fn(|face| ShadowFace {
-        view_proj: (proj * face_view(face as u32) * to_light).to_cols_array_2d(),
-        light: position.extend(radius).into(),
-        plane: [0.0; 4],
+    std::array::from_fn(|face| {
+        let view = face_view(face as u32) * to_light;
+        let u = ShadowFace {
+            view_proj: (proj * view).to_cols_array_2d(),
+            light: position.extend(radius).into(),
+            plane: [0.0; 4],
+        };
+        let layer = 0;
+        (
+            u,
+            LightFrame {
+                view,
+                proj,
+                near,
+                layer,
+            },
+        )
     })
 }
 
 /// A directional light's map (travelling along unit `direction`) of `size` texels a side:
 /// an orthographic view along it, fitted to the world bounds of every object of `plan`
 /// (casters and receivers), square texels, with a margin of a hundredth of the scene.
-fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> (ShadowFace, SunMap) {
+fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightFrame), SunMap) {
     let up = if direction.y.abs() < 0.99 {
         Vec3::Y
     } else {
@@ -406,7 +494,19 @@ fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> (ShadowFace, SunMap)
         to_map: to_map.to_cols_array_2d(),
         texel: [2.0 * half / size as f32, 0.0, 0.0, 0.0],
     };
-    (face, sun)
+    let layer = 0;
+    (
+        (
+            face,
+            LightFrame {
+                view,
+                proj,
+                near,
+                layer,
+            },
+        ),
+        sun,
+    )
 }
 
 /// light.wgsl's and forward.wgsl's override: whether any light of the view casts shadows.
@@ -489,6 +589,9 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             r.push(Step::DrawIndexed(0..g.count, 0..1));
         }
         out.push(r);
+        if c.opacity.on {
+            out.extend(c.opacity.passes(f, i, &c.depth.view)?);
+        }
     }
     Ok(out)
 }
