@@ -211,6 +211,12 @@ struct FurQuery {
     group: u32,
     // Height on the strand (fraction of the fur length).
     height: f32,
+    // The strand reference with traced shadows (strands.wgsl): bit 5 l + k of the 64 set
+    // where sample k (the ends of its segments) sees shadow-casting light l, the segment the
+    // point lies on and how far along it (0 to 1).
+    traced: vec2<u32>,
+    segment: u32,
+    along: f32,
 }
 
 // The query of a fragment at view-space `view_pos` on a strand running along `strand`, whose

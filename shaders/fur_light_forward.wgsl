@@ -6,14 +6,35 @@
 //   specular = (sqrt(1 − (L·T)²) · sqrt(1 − (V·T)²) − (L·T)(V·T))^p
 // with the same windowed inverse-square falloff as every other light in the preview. With the
 // SHADOWS def (a view with a shadow-casting light), each light is weighted by how much of it
-// the strand sees (shadows.wgsl, stepping off the strand toward the light).
+// the strand sees (shadows.wgsl, stepping off the strand toward the light); with the
+// TRACED_SHADOWS def (the strand reference), by the strand's own shadow rays instead.
 
 #define_import_path pelt::fur_light_forward
 #import pelt::common::{Light, light_reach}
 #import pelt::fur_common::{FurLight, FurQuery}
 #import pelt::object_bindings::{frame}
+#ifndef TRACED_SHADOWS
 #ifdef SHADOWS
 #import pelt::shadows::{shadow_seen}
+#endif
+#endif
+
+#ifdef TRACED_SHADOWS
+// Bit `b` of the strand's shadow bits.
+fn traced_bit(q: FurQuery, b: u32) -> f32 {
+    let word = select(q.traced.x, q.traced.y, b >= 32u);
+    return f32((word >> (b & 31u)) & 1u);
+}
+
+// How much of `light` the strand point of `q` sees: its segment's two ends' shadow rays,
+// blended along it (1 for a light that casts no shadows).
+fn traced_seen(q: FurQuery, light: Light) -> f32 {
+    if light.shadow.x == 0u {
+        return 1.0;
+    }
+    let b = 5u * (light.shadow.x - 1u) + q.segment;
+    return mix(traced_bit(q, b), traced_bit(q, b + 1u), q.along);
+}
 #endif
 
 @group(2) @binding(0) var<uniform> lights: array<Light, 256>;
@@ -37,8 +58,12 @@ fn fur_lighting(q: FurQuery) -> FurLight {
         let lt = dot(l, t);
         let sin_l = sqrt(max(1.0 - lt * lt, 0.0));
         var seen = atten;
+#ifdef TRACED_SHADOWS
+        seen *= traced_seen(q, light);
+#else
 #ifdef SHADOWS
         seen *= shadow_seen(q.view_pos, l, light);
+#endif
 #endif
         out.diffuse += light.color.rgb * sin_l * seen;
         let spec = pow(max(sin_l * sin_v - lt * vt, 0.0), frame.ambient.w) * seen;

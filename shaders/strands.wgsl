@@ -31,6 +31,14 @@ struct StrandIn {
     @location(4) albedo: vec4<f32>,
 }
 
+#ifdef TRACED_SHADOWS
+// The strand's shadow bits (crates/pelt-trace/src/strands.rs): bit 5 l + k where sample k
+// (k / SEGMENTS of its height) sees shadow-casting light l.
+struct Traced {
+    @location(5) bits: vec2<u32>,
+}
+#endif
+
 struct StrandOut {
     @builtin(position) clip: vec4<f32>,
     // View-space ends of the segment.
@@ -48,6 +56,9 @@ struct StrandOut {
     @location(7) @interpolate(flat) t1: vec3<f32>,
     // The strand's radius in view units.
     @location(8) @interpolate(flat) radius: f32,
+    // The strand's shadow bits (0 without traced shadows) and this segment.
+    @location(9) @interpolate(flat) traced: vec2<u32>,
+    @location(10) @interpolate(flat) segment: u32,
 }
 
 // Strand `s`'s comb, bent by the wind at its root as the shells' and fins' (wind_comb).
@@ -74,10 +85,20 @@ fn pixels_per_unit(w: f32) -> f32 {
 }
 
 @vertex
-fn vs_main(s: StrandIn, @builtin(vertex_index) vid: u32) -> StrandOut {
+fn vs_main(
+    s: StrandIn,
+#ifdef TRACED_SHADOWS
+    traced: Traced,
+#endif
+    @builtin(vertex_index) vid: u32,
+) -> StrandOut {
     var o: StrandOut;
     let seg = vid / 3u;
     let corner = vid % 3u;
+    o.segment = seg;
+#ifdef TRACED_SHADOWS
+    o.traced = traced.bits;
+#endif
     let z0 = s.root.w * f32(seg) / f32(SEGMENTS);
     let z1 = s.root.w * f32(seg + 1u) / f32(SEGMENTS);
     let to_view = frame.view * object.model;
@@ -224,6 +245,9 @@ fn fs_main(f: StrandOut) -> StrandFragment {
     var q: FurQuery;
     q.view_pos = view_pos;
     q.strand = dir;
+    q.traced = f.traced;
+    q.segment = f.segment;
+    q.along = t;
     let l = fur_lighting(q);
     let height = mix(f.z.x, f.z.y, t);
     let albedo = f.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, height);

@@ -133,6 +133,7 @@ enum Command {
 const SWEEP_EXAMPLES: &str = "\
 Knobs (values as for pelt render and pelt bake):
   shells fins fur-blend mode texture-size height-bits quantize    (against the strand reference)
+  opacity-layers                      (fur self-shadowing, against the strands' shadow rays)
   lbuffer-scale dsf size                                          (against full-resolution deferred)
   reflections linear-steps secant-steps layers cube-size max-depth min-max
   shadow-size pcf                                                 (against the ray tracer)

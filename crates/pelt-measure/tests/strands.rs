@@ -692,3 +692,127 @@ fn zoomed_in_until_strands_are_pixels_wide_256_shells_are_as_bright_as_the_stran
     }
     assert!(failures.is_empty(), "{failures:?}");
 }
+
+/// Mean linear luminance of `image` over the pixels `mask` keeps.
+fn masked_mean(image: &[[f32; 3]], mask: &[bool]) -> f64 {
+    let (sum, n) =
+        image
+            .iter()
+            .zip(mask)
+            .filter(|(_, m)| **m)
+            .fold((0.0, 0usize), |(s, n), (c, _)| {
+                (
+                    s + f64::from(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]),
+                    n + 1,
+                )
+            });
+    sum / n.max(1) as f64
+}
+
+/// An 8-bit sRGB image as linear RGB.
+fn linear_of(image: &Image) -> Vec<[f32; 3]> {
+    image
+        .rgba
+        .chunks_exact(4)
+        .map(|p| std::array::from_fn(|c| pelt_scene::shading::linear_of_srgb8(p[c])))
+        .collect()
+}
+
+/// Fur shadows itself (Yuksel & Keyser's deep opacity maps in the shells, shadow rays
+/// through every strand in the reference): lit from the side by a shadow-casting light, the
+/// furry sphere's shells darken by the fraction its strands do (within 10 %), and their FLIP
+/// against the strands is no worse than 1.15× the same comparison without shadows. The
+/// negative control: with no opacity layers (fur casts as its base mesh alone) the shells
+/// miss the strands' self-shadowing.
+#[test]
+fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let meshes = std::slice::from_ref(&sphere);
+    let mut s = scene(
+        (96, 72),
+        Vec3::new(0.0, 0.8, 4.0),
+        Vec3::ZERO,
+        40.0,
+        (0.5, 20.0),
+    );
+    s.lights = vec![light(Vec3::new(3.0, 2.0, 0.5), 14.0, 12.0)];
+    s.ambient = [0.05; 3];
+    s.objects[0].material = Material::Fur(FurSettings {
+        shells: Some(32),
+        fins: Some(false),
+        length: None,
+        ..FurSettings::default()
+    });
+    let opts = Options {
+        target: 0.01,
+        min_samples: 64,
+        max_samples: 1024,
+        ..Options::default()
+    };
+    let mut lit = s.clone();
+    lit.lights[0].shadows = true;
+    let strands_off = strands::reference(&mut p, &s, meshes, &[0], opts).expect("strands");
+    let strands_on = strands::reference(&mut p, &lit, meshes, &[0], opts).expect("strands");
+    let shells = |p: &mut Preview, s: &Scene| {
+        let sv = p
+            .prepare_loaded(s, meshes, &[0], Mode::Forward)
+            .expect("prepare");
+        p.render(&sv).expect("render")
+    };
+    let shells_off = shells(&mut p, &s);
+    let shells_on = shells(&mut p, &lit);
+    let mut no_layers = lit.clone();
+    no_layers.shadow_maps.opacity_layers = 0;
+    let shells_base = shells(&mut p, &no_layers);
+    let dir = out_dir();
+    for (name, img) in [
+        ("strands-off", &strands_off.image),
+        ("strands-on", &strands_on.image),
+        ("shells-off", &shells_off),
+        ("shells-on", &shells_on),
+        ("shells-no-layers", &shells_base),
+    ] {
+        img.save(&dir.join(format!("fur-self-shadow-{name}.png")))
+            .expect("write");
+    }
+    // The fur: where the unshadowed strands differ from the background.
+    let bg = strands_off.linear[0];
+    let mask: Vec<bool> = strands_off
+        .linear
+        .iter()
+        .map(|c| (0..3).any(|i| (c[i] - bg[i]).abs() > 0.01))
+        .collect();
+    let darkening =
+        |off: &[[f32; 3]], on: &[[f32; 3]]| 1.0 - masked_mean(on, &mask) / masked_mean(off, &mask);
+    let strands_d = darkening(&strands_off.linear, &strands_on.linear);
+    let shells_d = darkening(&linear_of(&shells_off), &linear_of(&shells_on));
+    let base_d = darkening(&linear_of(&shells_off), &linear_of(&shells_base));
+    let flip = |a: &Image, b: &Image| pelt_measure::Flip::new(a, b).expect("same size").mean();
+    let flip_off = flip(&shells_off, &strands_off.image);
+    let flip_on = flip(&shells_on, &strands_on.image);
+    eprintln!(
+        "darkening: strands {strands_d:.4}, shells {shells_d:.4} ({:.3}×), without layers {base_d:.4} ({:.3}×); FLIP against the strands {flip_off:.4} unshadowed, {flip_on:.4} shadowed ({:.3}×); {} + {} samples",
+        shells_d / strands_d,
+        base_d / strands_d,
+        flip_on / flip_off,
+        strands_off.samples,
+        strands_on.samples
+    );
+    assert!(
+        strands_d > 0.05,
+        "the strands' shadow rays darken the fur: {strands_d}"
+    );
+    assert!(
+        (shells_d / strands_d - 1.0).abs() <= 0.10,
+        "shells darken by {shells_d:.4}, strands by {strands_d:.4}"
+    );
+    assert!(
+        flip_on <= 1.15 * flip_off,
+        "FLIP {flip_on:.4} shadowed, {flip_off:.4} unshadowed"
+    );
+    assert!(
+        (base_d / strands_d - 1.0).abs() > 0.10,
+        "the control without opacity layers darkens by {base_d:.4}, as the strands ({strands_d:.4})"
+    );
+}

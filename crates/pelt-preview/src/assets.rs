@@ -74,6 +74,8 @@ pub struct GpuStrands {
     pub roots: wgpu::Buffer,
     /// Strands.
     pub count: u32,
+    /// The strands as planted (the strand reference's shadow rays start from them).
+    pub planted: Vec<crate::uniforms::StrandRoot>,
 }
 
 /// A cube-map sky on the GPU.
@@ -236,6 +238,7 @@ impl AssetCache {
                 .gpu
                 .buffer_init("strand roots", bytes, wgpu::BufferUsages::VERTEX),
             count: roots.len() as u32,
+            planted: roots,
         });
         self.strands.insert(key, Arc::clone(&s));
         Ok(s)

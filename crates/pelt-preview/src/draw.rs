@@ -16,6 +16,8 @@ pub mod vertex_slot {
     pub const FUR: u32 = 1;
     /// The instance records of a pass that draws instances alone (fins, strand roots).
     pub const INSTANCES: u32 = 0;
+    /// The strand reference's shadow bits beside its roots.
+    pub const TRACED: u32 = 1;
 }
 
 /// Bind-group slots of the passes that draw objects (G-buffer, material, forward, shells,

@@ -60,6 +60,7 @@ use features::reflect::Maps;
 use features::registry::targets;
 use features::shadows::ShadowCubes;
 use features::skin::GpuSkinned;
+use features::strands::TracedShadows;
 use frame_data::FrameData;
 use owned::Owned;
 use plan::{MeshInfo, ScenePlan};
@@ -113,6 +114,12 @@ pub enum RenderError {
         #[source]
         source: strands::StrandError,
     },
+    /// The strand reference's shadow rays were traced for other lights or objects than an
+    /// update asks for (the CPU meshes they need are not kept).
+    #[error(
+        "the strands' shadow rays were traced for other lights or objects: prepare the scene again"
+    )]
+    StaleStrandShadows,
 }
 
 /// A skinned mesh could not be posed.
@@ -267,6 +274,10 @@ impl Preview {
         };
         let mut owned = Owned::default();
         owned.insert(ShadowCubes::new(&self.renderer, &scene_plan));
+        if mode == Mode::Strands {
+            let traced = TracedShadows::new(&self.renderer, &scene_plan, meshes, &gpu_strands);
+            owned.insert(traced);
+        }
         if !scene_plan.maps.is_empty() {
             let group = sky.as_ref().map(|s| &s.group);
             owned.insert(Maps::new(&self.renderer, &scene_plan, group)?);
@@ -384,6 +395,11 @@ impl Preview {
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
         let plan = &sv.scene_plan;
+        if let Some(t) = sv.owned.get::<TracedShadows>()
+            && !t.fits(plan)
+        {
+            return Err(RenderError::StaleStrandShadows);
+        }
         match sv.owned.get_mut::<ShadowCubes>() {
             Some(c) if c.fits(plan) => c.write(&self.renderer, plan),
             _ => sv.owned.insert(ShadowCubes::new(&self.renderer, plan)),

@@ -579,6 +579,9 @@ fn fur_receives_shadows_in_every_mode() {
     });
     let mut on = off.clone();
     on.lights[0].shadows = true;
+    // The plate's shadow alone: the fur's own (deep opacity maps) is tested with the strands'
+    // shadow rays (crates/pelt-measure/tests/strands.rs).
+    on.shadow_maps.opacity_layers = 0;
     // The same key light as a sun from where the point light stands (its intensity at the
     // sphere): its orthographic map shadows the fur alike. Its rays are parallel, so the plate
     // is twice as wide to cast the shadow the point light's diverging rays cast.
@@ -715,4 +718,88 @@ fn wind_bends_the_fur_along_it_in_shells_fins_and_strands_and_none_is_still() {
             assert_ne!(east.rgba, f.render(&windy(1.0, 2.0, 0.5), mode).rgba);
         }
     }
+}
+
+/// Fur casts by its coverage (deep opacity maps): under a shadow-casting light overhead, the
+/// furry sphere's shadow on a floor gains a band around the base mesh's shadow, soft (most of
+/// its pixels between the floor's lit and shadowed levels); the base mesh's own shadow, the
+/// negative control, has a hard edge.
+#[test]
+fn fur_casts_a_soft_shadow_by_its_coverage() {
+    let mut f = Fixture::new();
+    let mut s = scene(16, false, FurBlend::Stipple);
+    s.camera.position = [0.0, 7.0, 6.0];
+    s.camera.target = [0.0, -1.3, 0.0];
+    s.camera.far = 30.0;
+    s.objects[0].material = Material::Fur(FurSettings {
+        shells: Some(16),
+        fins: Some(false),
+        length: Some(0.3),
+        ..FurSettings::default()
+    });
+    s.objects.push(Object {
+        asset: PathBuf::from("cube"),
+        transform: Transform {
+            translation: [0.0, -1.35, 0.0],
+            scale: [8.0, 0.05, 8.0],
+            ..Transform::default()
+        },
+        material: Material::Opaque,
+        color: [0.8; 3],
+    });
+    s.lights = vec![light(Vec3::new(0.0, 6.0, 0.0), Vec3::ONE, 40.0, 20.0)];
+    let of = [0, 1];
+    let unshadowed = f.render_with(&s, &of, Mode::Forward);
+    s.lights[0].shadows = true;
+    let dom = f.render_with(&s, &of, Mode::Forward);
+    s.shadow_maps.opacity_layers = 0;
+    let base = f.render_with(&s, &of, Mode::Forward);
+    let dir = out_dir();
+    for (name, img) in [("lit", &unshadowed), ("coverage", &dom), ("base", &base)] {
+        img.save(&dir.join(format!("fur-casts-{name}.png")))
+            .expect("write");
+    }
+    let luma = |img: &Image, i: usize| -> f64 {
+        img.rgba[4 * i..4 * i + 3]
+            .iter()
+            .map(|&c| f64::from(pelt_scene::shading::linear_of_srgb8(c)))
+            .sum()
+    };
+    // Pixels `test` darkens by a tenth or more against `reference`, and the share of them
+    // between a tenth and nine tenths of the unshadowed floor's light (soft).
+    let (w, h) = (unshadowed.width as usize, unshadowed.height as usize);
+    let floor_rows = 0..h;
+    let band = |reference: &Image, test: &Image| {
+        let (mut darker, mut soft) = (0usize, 0usize);
+        for y in floor_rows.clone() {
+            for x in 0..w {
+                let i = y * w + x;
+                let (r, t, lit) = (luma(reference, i), luma(test, i), luma(&unshadowed, i));
+                if t < 0.9 * r {
+                    darker += 1;
+                    if t > 0.1 * lit && t < 0.9 * lit {
+                        soft += 1;
+                    }
+                }
+            }
+        }
+        (darker, soft as f64 / darker.max(1) as f64)
+    };
+    let (fur_px, fur_soft) = band(&base, &dom);
+    let (mesh_px, mesh_soft) = band(&unshadowed, &base);
+    eprintln!(
+        "the fur's band: {fur_px} pixels, {:.0} % soft; the base mesh's shadow: {mesh_px} pixels, {:.0} % soft",
+        100.0 * fur_soft,
+        100.0 * mesh_soft
+    );
+    assert!(mesh_px > 200, "the base mesh casts: {mesh_px} pixels");
+    assert!(
+        fur_px > 100,
+        "the fur casts by its coverage: {fur_px} pixels"
+    );
+    assert!(fur_soft >= 0.6, "the fur's shadow is soft: {fur_soft:.2}");
+    assert!(
+        mesh_soft <= 0.3,
+        "control: the base mesh's edge is hard: {mesh_soft:.2}"
+    );
 }

@@ -74,6 +74,12 @@ fn fits(format: wgpu::VertexFormat, ty: &naga::TypeInner) -> bool {
         wgpu::VertexFormat::Float32x3 => *ty == f32v(VectorSize::Tri),
         wgpu::VertexFormat::Float32x4 => *ty == f32v(VectorSize::Quad),
         wgpu::VertexFormat::Uint32 => *ty == TypeInner::Scalar(Scalar::U32),
+        wgpu::VertexFormat::Uint32x2 => {
+            *ty == TypeInner::Vector {
+                size: VectorSize::Bi,
+                scalar: Scalar::U32,
+            }
+        }
         _ => false,
     }
 }

@@ -13,6 +13,7 @@
 //! whose base mesh is drawn in the fur's mean colour (as the distance maps hold it).
 
 pub mod path;
+pub mod strands;
 pub mod world;
 
 use glam::Vec3;

@@ -209,6 +209,19 @@ impl World {
         }
     }
 
+    /// A world with nothing in it (no triangles, lights or ambient light).
+    pub fn empty() -> World {
+        World {
+            tris: Vec::new(),
+            optics: Vec::new(),
+            lights: Vec::new(),
+            ambient: Vec3::ZERO,
+            sky: SkyModel::Background,
+            epsilon: 1e-4,
+            bvh: CwBvh::default(),
+        }
+    }
+
     /// Whether the point `p` of a surface with geometric normal `g` sees `light`: the shadow
     /// ray leaves `p` offset along `g` toward the light's side (so it cannot hit its own
     /// triangle) and must reach a point light, or leave the scene toward a directional one,

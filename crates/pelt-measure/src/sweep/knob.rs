@@ -62,6 +62,8 @@ pub enum Knob {
     ShadowSize,
     /// Shadow filtering (PCF side).
     Pcf,
+    /// Deep opacity map layers (fur self-shadowing).
+    OpacityLayers,
 }
 
 /// What a knob is measured against (declared with the knob by the feature that reads it).
@@ -173,7 +175,7 @@ const UNREGISTERED: KnobDesc = KnobDesc::new("?", "?", "?", Truth::Strands);
 
 impl Knob {
     /// Every knob, in report order.
-    pub const ALL: [Knob; 21] = [
+    pub const ALL: [Knob; 22] = [
         Knob::Shells,
         Knob::Fins,
         Knob::FurBlend,
@@ -195,6 +197,7 @@ impl Knob {
         Knob::MinMax,
         Knob::ShadowSize,
         Knob::Pcf,
+        Knob::OpacityLayers,
     ];
 
     /// The knob's name (the `pelt render` or `pelt bake` flag without dashes).
@@ -221,6 +224,7 @@ impl Knob {
             Knob::MinMax => "min-max",
             Knob::ShadowSize => "shadow-size",
             Knob::Pcf => "pcf",
+            Knob::OpacityLayers => "opacity-layers",
         }
     }
 
@@ -277,6 +281,7 @@ impl Knob {
             Knob::MaxDepth => within(s, limits::MAX_DEPTH),
             Knob::ShadowSize => flags::shadow_size(s).ok().map(Value::Count),
             Knob::Pcf => within(s, ShadowMaps::PCF),
+            Knob::OpacityLayers => within(s, ShadowMaps::OPACITY_LAYERS),
         };
         v.ok_or_else(|| KnobError::Value {
             knob: self.name(),
@@ -359,6 +364,7 @@ impl Knob {
             Knob::MaxDepth => c(&[1, 2, 4, 8]),
             Knob::ShadowSize => c(&[128, 256, 512, 1024, 2048]),
             Knob::Pcf => c(&[1, 2, 3, 4]),
+            Knob::OpacityLayers => c(&[0, 1, 2, 3]),
         }
     }
 }
@@ -410,6 +416,7 @@ impl Setting {
             (Knob::MinMax, Value::Switch(b)) => r.min_max = Some(b),
             (Knob::ShadowSize, Value::Count(n)) => k.shadow_size = Some(n),
             (Knob::Pcf, Value::Count(n)) => k.pcf = Some(n),
+            (Knob::OpacityLayers, Value::Count(n)) => k.opacity_layers = Some(n),
             // Values come from the knob's own parser; any other pair cannot be made.
             _ => {}
         }
@@ -445,6 +452,7 @@ mod tests {
             (Knob::MinMax, Truth::RayTracer),
             (Knob::Pcf, Truth::RayTracer),
             (Knob::ShadowSize, Truth::RayTracer),
+            (Knob::OpacityLayers, Truth::Strands),
         ];
         for (k, t) in truths {
             assert_eq!(k.truth(), t, "{}", k.name());
@@ -461,6 +469,7 @@ mod tests {
             (Knob::Layers, limits::LAYERS),
             (Knob::MaxDepth, limits::MAX_DEPTH),
             (Knob::Pcf, ShadowMaps::PCF),
+            (Knob::OpacityLayers, ShadowMaps::OPACITY_LAYERS),
         ] {
             assert_eq!(
                 k.allowed(),

@@ -207,9 +207,12 @@ fn contents(scene: &Scene, meshes: &[MeshData], of: &[usize]) -> Contents {
 
 /// Checks that `knob` has something to change in the scene.
 fn applies(knob: Knob, c: &Contents) -> Result<(), KnobError> {
-    let shadow_knob = matches!(knob, Knob::ShadowSize | Knob::Pcf);
+    let shadow_knob = matches!(knob, Knob::ShadowSize | Knob::Pcf | Knob::OpacityLayers);
     let why = match knob.truth() {
         _ if shadow_knob && !c.shadows => Some("the scene has no light that casts shadows"),
+        _ if knob == Knob::OpacityLayers && !c.fur => {
+            Some("the scene has no fur object with a baked comb")
+        }
         _ if shadow_knob => None,
         Truth::Strands if !c.fur => Some("the scene has no fur object with a baked comb"),
         Truth::RayTracer if !c.optics => Some("the scene has no mirror or glass object"),
@@ -332,6 +335,7 @@ fn default_value(knob: Knob, scene: &Scene, meshes: &[MeshData]) -> Option<Value
         Knob::MinMax => Value::Switch(r.min_max),
         Knob::ShadowSize => Value::Count(scene.shadow_maps.size),
         Knob::Pcf => Value::Count(scene.shadow_maps.pcf),
+        Knob::OpacityLayers => Value::Count(scene.shadow_maps.opacity_layers),
     })
 }
 

@@ -139,6 +139,12 @@ pub const FEATURE: Feature = Feature {
             Reference::RayTracer,
         ),
         KnobDesc::new("pcf", "1 to 8", "the scene's (2)", Reference::RayTracer),
+        KnobDesc::new(
+            "opacity-layers",
+            "0 to 3",
+            "the scene's (3)",
+            Reference::Strands,
+        ),
     ],
     pipelines: || [vec![pipeline()], opacity::pipelines()].concat(),
     passes: &[PassDesc {
