@@ -326,6 +326,42 @@ impl<'a> Frame<'a> {
         );
     }
 
+    /// Binds fur object `k`'s object constants, mesh, fur vertices and indices; its mesh and
+    /// fur for [`Frame::draw_fur_parts`].
+    pub fn bind_fur(
+        &self,
+        r: &mut Recipe<'a>,
+        pass: &'static str,
+        k: usize,
+    ) -> Result<(&'a GpuMesh, &'a crate::assets::GpuFur), MissingInput> {
+        let mesh = self.mesh(pass, k)?;
+        let fur = mesh.fur.as_ref().ok_or_else(|| MissingInput {
+            pass,
+            what: format!(
+                "the fur of objects[{}] on the GPU",
+                self.plan.objects[k].scene_index
+            ),
+        })?;
+        self.bind_object(r, k);
+        r.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
+        r.push(Step::Vertices(vertex_slot::FUR, &fur.vertices));
+        r.push(Step::Indices(&mesh.indices));
+        Ok((mesh, fur))
+    }
+
+    /// Draws `mesh` part by part, each with its material's fur textures, `instances` shells.
+    pub fn draw_fur_parts(
+        r: &mut Recipe<'a>,
+        mesh: &'a GpuMesh,
+        fur: &'a crate::assets::GpuFur,
+        instances: std::ops::Range<u32>,
+    ) {
+        for p in &mesh.parts {
+            r.bind(slot::FUR, &fur.textures[p.material], None);
+            r.push(Step::DrawIndexed(p.indices.clone(), instances.clone()));
+        }
+    }
+
     /// Binds this view's frame constants at `res` (at the object passes' frame slot).
     pub fn bind_frame(&self, recipe: &mut Recipe<'a>, res: Res) {
         recipe.bind(

@@ -323,44 +323,6 @@ fn shade_layers<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), 
     layers(f, r, s.pass.name(), s.lit, Blend::Over)
 }
 
-/// Binds fur object `k`'s mesh, fur vertices and textures.
-pub(crate) fn bind_fur<'a>(
-    f: &Frame<'a>,
-    r: &mut Recipe<'a>,
-    pass: &'static str,
-    k: usize,
-) -> Result<(&'a crate::assets::GpuMesh, &'a crate::assets::GpuFur), MissingInput> {
-    let mesh = f.mesh(pass, k)?;
-    let fur = mesh.fur.as_ref().ok_or_else(|| MissingInput {
-        pass,
-        what: format!(
-            "the fur of objects[{}] on the GPU",
-            f.plan.objects[k].scene_index
-        ),
-    })?;
-    f.bind_object(r, k);
-    r.push(Step::Vertices(
-        crate::draw::vertex_slot::MESH,
-        &mesh.vertices,
-    ));
-    r.push(Step::Vertices(crate::draw::vertex_slot::FUR, &fur.vertices));
-    r.push(Step::Indices(&mesh.indices));
-    Ok((mesh, fur))
-}
-
-/// Draws `mesh` part by part, each with its material's fur group, `instances` shells.
-pub(crate) fn draw_parts<'a>(
-    r: &mut Recipe<'a>,
-    mesh: &'a crate::assets::GpuMesh,
-    fur: &'a crate::assets::GpuFur,
-    instances: std::ops::Range<u32>,
-) {
-    for p in &mesh.parts {
-        r.bind(slot::FUR, &fur.textures[p.material], None);
-        r.push(Step::DrawIndexed(p.indices.clone(), instances.clone()));
-    }
-}
-
 /// Geometry pass: base meshes, then stippled outer shells (Revie §2.4.2).
 pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput> {
     if f.plan.fur.is_empty() {
@@ -369,7 +331,7 @@ pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput
     for shader in [BASE, OUTER] {
         r.pipeline(gbuffer_pipeline(shader));
         for &k in &f.plan.fur {
-            let (mesh, _) = bind_fur(f, r, Pass::Geometry.name(), k)?;
+            let (mesh, _) = f.bind_fur(r, Pass::Geometry.name(), k)?;
             r.push(Step::DrawIndexed(0..mesh.count, 0..1));
         }
     }
@@ -409,8 +371,8 @@ pub fn base<'a>(
         layer_pipeline(Layer::Shells(Coverage::Medium), lighting, Blend::None),
     ));
     for &k in &f.plan.fur {
-        let (mesh, fur) = bind_fur(f, r, pass, k)?;
-        draw_parts(r, mesh, fur, 0..1);
+        let (mesh, fur) = f.bind_fur(r, pass, k)?;
+        Frame::draw_fur_parts(r, mesh, fur, 0..1);
     }
     Ok(())
 }
@@ -434,8 +396,8 @@ pub fn layers<'a>(
         };
         let desc = layer_pipeline(Layer::Shells(coverage), lighting, blend);
         r.pipeline(for_view(f, lighting, desc));
-        let (mesh, fur) = bind_fur(f, r, pass, k)?;
-        draw_parts(r, mesh, fur, 1..n + 1);
+        let (mesh, fur) = f.bind_fur(r, pass, k)?;
+        Frame::draw_fur_parts(r, mesh, fur, 1..n + 1);
     }
     let with_fins: Vec<usize> = f
         .plan

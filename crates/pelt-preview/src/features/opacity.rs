@@ -271,8 +271,8 @@ fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), 
             _ => Coverage::Medium,
         };
         r.pipeline(pipeline(nearest, coverage));
-        let (mesh, fur) = super::fur::bind_fur(f, r, Pass::Shadows.name(), k)?;
-        super::fur::draw_parts(r, mesh, fur, 1..planned.shells + 1);
+        let (mesh, fur) = f.bind_fur(r, Pass::Shadows.name(), k)?;
+        Frame::draw_fur_parts(r, mesh, fur, 1..planned.shells + 1);
     }
     Ok(())
 }
