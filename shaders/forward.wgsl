@@ -19,6 +19,9 @@ const MAX_FORWARD_LIGHTS: u32 = 256u;
 override TEXTURED: bool = true;
 // SHADOWS: whether any light of the view casts shadows; false compiles the lookup out.
 override SHADOWS: bool = true;
+// FUR_SHADOWS: whether the fur casts by its coverage too (deep opacity maps); false compiles
+// that lookup out.
+override FUR_SHADOWS: bool = true;
 
 @vertex
 fn vs_main(v: VertexIn) -> Surface {
@@ -46,7 +49,7 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
         let light = lights[i];
         var r = one_light(s.view_pos, n, light, frame.ambient.w);
         if SHADOWS && any(r != vec4<f32>(0.0)) {
-            r *= shadow_seen(s.view_pos, n, light);
+            r *= shadow_seen(s.view_pos, n, light, FUR_SHADOWS);
         }
         diffuse += r.rgb;
         if light.color.w > 0.0 {

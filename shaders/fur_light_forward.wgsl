@@ -62,7 +62,11 @@ fn fur_lighting(q: FurQuery) -> FurLight {
         seen *= traced_seen(q, light);
 #else
 #ifdef SHADOWS
-        seen *= shadow_seen(q.view_pos, l, light);
+#ifdef FUR_SHADOWS
+        seen *= shadow_seen(q.view_pos, l, light, true);
+#else
+        seen *= shadow_seen(q.view_pos, l, light, false);
+#endif
 #endif
 #endif
         out.diffuse += light.color.rgb * sin_l * seen;

@@ -46,6 +46,9 @@ override STRAND_LIGHTS: bool = true;
 // SHADOWS: whether any light of the view casts shadows; false compiles the lookup out (a
 // CPU rasterizer pays for a branch it cannot prove uniform).
 override SHADOWS: bool = true;
+// FUR_SHADOWS: whether the fur casts by its coverage too (deep opacity maps); false compiles
+// that lookup out.
+override FUR_SHADOWS: bool = true;
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -66,11 +69,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if !SHADOWS || all(lit == vec4<f32>(0.0)) {
             return lit;
         }
-        return lit * shadow_seen(p, light_reach(p, light).xyz, light);
+        return lit * shadow_seen(p, light_reach(p, light).xyz, light, FUR_SHADOWS);
     }
     let lit = one_light(p, n, light, frame.ambient.w);
     if !SHADOWS || all(lit == vec4<f32>(0.0)) {
         return lit;
     }
-    return lit * shadow_seen(p, n, light);
+    return lit * shadow_seen(p, n, light, FUR_SHADOWS);
 }

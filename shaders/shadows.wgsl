@@ -8,13 +8,13 @@
 // the distance, as its texels do; an orthographic map's texels are one size), over a square of PCF × PCF texels (percentage-closer
 // filtering). The group is `slot::CUBES` in crates/pelt-preview/src/features/shadows.rs.
 //
-// Fur shadows by its coverage through deep opacity maps (Yuksel & Keyser 2008): beside each
-// layer of the cubes, the distance to the nearest fur and up to three layers of the fur's
-// optical depth seen from the light, each summed to its boundary past the nearest fur. Each
-// texel of the lookup passes exp(−τ) of the light, τ read at the receiver's depth past the
-// nearest fur, linear between the layers' boundaries (none in front of the fur, the last
-// layer's past it): fur shadows itself, and its shadow on everything behind it is as soft as
-// the fur is thin.
+// Fur shadows by its coverage through deep opacity maps (Yuksel & Keyser 2008): in each
+// layer of the cubes, the distance to the nearest fur (zw), and beside it up to three layers
+// of the fur's optical depth seen from the light, each summed to its boundary past the nearest
+// fur. The opaque visibility is multiplied by exp(−τ), bilinear over the 2×2 texels of the
+// lookup, τ read at the receiver's depth past the nearest fur, linear between the layers'
+// boundaries (none in front of the fur, the last layer's past it): fur shadows itself, and
+// its shadow on everything behind it is as soft as the fur is thin.
 
 #define_import_path pelt::shadows
 
@@ -45,10 +45,9 @@ struct ShadowRead {
 
 @group(4) @binding(0) var shadow_cubes: texture_2d_array<f32>;
 @group(4) @binding(1) var<uniform> shadow_read: ShadowRead;
-// Per layer of the cubes: xy the nearest fur's distance (two halves), z 1 where a texel holds
-// fur; and the optical depth of each deep opacity layer (xyz).
-@group(4) @binding(2) var fur_near: texture_2d_array<f32>;
-@group(4) @binding(3) var fur_opacity: texture_2d_array<f32>;
+// The optical depth of each deep opacity layer (xyz), per layer of the cubes (whose zw hold
+// the nearest fur's distance).
+@group(4) @binding(2) var fur_opacity: texture_2d_array<f32>;
 
 // The distance from the light to the nearest surface in texel `at` of cube face `layer`
 // (shadow_map.wgsl's two halves).
@@ -59,45 +58,39 @@ fn nearest(at: vec2<i32>, layer: i32) -> f32 {
 
 // The fur's optical depth between the light and distance `reach` in texel `at` of `layer`:
 // piecewise linear through (0, 0) and each opacity layer's (boundary, value), the last value
-// past it.
+// past it; none where the texel holds no fur or in front of it. A sum of clamped segments,
+// without branches (a CPU rasterizer runs every side of a branch its lanes disagree on).
 fn fur_depth(at: vec2<i32>, layer: i32, reach: f32) -> f32 {
-    let near = textureLoad(fur_near, at, layer, 0);
-    let x = reach - (near.x + near.y);
-    if near.z == 0.0 || x <= 0.0 {
-        return 0.0;
-    }
+    let near = textureLoad(shadow_cubes, at, layer, 0);
+    let x = reach - (near.z + near.w);
     let b = shadow_read.layers;
     let t = textureLoad(fur_opacity, at, layer, 0).xyz;
-    if x <= b.x {
-        return t.x * x / b.x;
-    }
-    if b.w < 2.0 {
-        return t.x;
-    }
-    if x <= b.y {
-        return mix(t.x, t.y, (x - b.x) / (b.y - b.x));
-    }
-    if b.w < 3.0 {
-        return t.y;
-    }
-    return mix(t.y, t.z, clamp((x - b.y) / (b.z - b.y), 0.0, 1.0));
+    let s0 = t.x * clamp(x / b.x, 0.0, 1.0);
+    let s1 = (t.y - t.x) * clamp((x - b.x) / (b.y - b.x), 0.0, 1.0);
+    let s2 = (t.z - t.y) * clamp((x - b.y) / (b.z - b.y), 0.0, 1.0);
+    let tau = s0 + select(0.0, s1, b.w >= 2.0) + select(0.0, s2, b.w >= 3.0);
+    return select(tau, 0.0, near.z == 0.0);
 }
 
-// How much of the light reaches distance `reach` in texel `at` of `layer`: none behind the
-// nearest opaque surface, exp(−τ) of the fur in front of it.
-fn seen_at(at: vec2<i32>, layer: i32, reach: f32) -> f32 {
-    if !(reach <= nearest(at, layer)) {
-        return 0.0;
-    }
-    if shadow_read.layers.w == 0.0 {
-        return 1.0;
-    }
-    return exp(-fur_depth(at, layer, reach));
+// The fur's transmittance toward the light at distance `reach`, bilinear over the 2×2 texels
+// about texel coordinate `c` of `layer`.
+fn fur_seen(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
+    let last = i32(textureDimensions(shadow_cubes).x) - 1;
+    let base = vec2<i32>(floor(c));
+    let f = fract(c);
+    let lo = clamp(base, vec2<i32>(0), vec2<i32>(last));
+    let hi = clamp(base + vec2<i32>(1), vec2<i32>(0), vec2<i32>(last));
+    let t00 = exp(-fur_depth(lo, layer, reach));
+    let t10 = exp(-fur_depth(vec2<i32>(hi.x, lo.y), layer, reach));
+    let t01 = exp(-fur_depth(vec2<i32>(lo.x, hi.y), layer, reach));
+    let t11 = exp(-fur_depth(hi, layer, reach));
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
 }
 
 // The fraction (0 to 1) of `light` that view-space point `p` with unit normal `n` sees; 1
-// for a light that casts no shadows.
-fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
+// for a light that casts no shadows. `fur`: the fur's opacity layers are read too (a
+// pipeline constant in the caller, so the lookup is compiled out where no fur casts).
+fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     if light.shadow.x == 0u {
         return 1.0;
     }
@@ -112,7 +105,7 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
         let lifted = p + n * (1.5 * texel);
         let world = transpose(rot) * (lifted - frame.view[3].xyz);
         let q = sun.to_map * vec4<f32>(world, 1.0);
-        return filtered(q.xy * size - 0.5, i32(slot * 6u), q.z - texel);
+        return with_fur(q.xy * size - 0.5, i32(slot * 6u), q.z - texel, fur);
     }
     let dist = distance(p, light.position_radius.xyz);
     let texel = 2.0 * dist / size;
@@ -120,7 +113,17 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light) -> f32 {
     let d = transpose(rot) * (lifted - light.position_radius.xyz);
     let f = face_uv(d);
     let layer = i32(slot * 6u) + i32(f.x);
-    return filtered(f.yz * size - 0.5, layer, length(d) - texel);
+    return with_fur(f.yz * size - 0.5, layer, length(d) - texel, fur);
+}
+
+// The opaque casters' filtered visibility at texel coordinate `c` of `layer` and distance
+// `reach`, times the fur's transmittance there when the fur casts (deep opacity layers).
+fn with_fur(c: vec2<f32>, layer: i32, reach: f32, fur: bool) -> f32 {
+    let seen = filtered(c, layer, reach);
+    if !fur {
+        return seen;
+    }
+    return seen * fur_seen(c, layer, reach);
 }
 
 // The fraction of the pcf × pcf texels about texel coordinate `c` (texel centres at
@@ -133,7 +136,7 @@ fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
     let pcf = i32(shadow_read.pcf.x);
     if pcf <= 1 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));
-        return seen_at(at, layer, reach);
+        return select(0.0, 1.0, reach <= nearest(at, layer));
     }
     let k = pcf - 1;
     let base = vec2<i32>(floor(c)) - vec2<i32>((k - 1) / 2);
@@ -144,7 +147,7 @@ fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
         for (var i = 0; i <= k; i++) {
             let wx = select(select(1.0, frac.x, i == k), 1.0 - frac.x, i == 0);
             let at = clamp(base + vec2<i32>(i, j), vec2<i32>(0), vec2<i32>(last));
-            seen += wx * wy * seen_at(at, layer, reach);
+            seen += wx * wy * select(0.0, 1.0, reach <= nearest(at, layer));
         }
     }
     return seen / f32(k * k);

@@ -15,7 +15,7 @@
 // With the OPACITY_MAP def, the same shells are drawn from a shadow-casting light into its
 // deep opacity maps (Yuksel & Keyser 2008; crates/pelt-preview/src/features/shadows.rs): the
 // frame is the light's face, and two fragment entry points replace fs_main: fs_nearest keeps
-// the distance from the light to the nearest fur, fs_opacity adds each layer's optical depth
+// the distance from the light to the outer shell, fs_opacity adds each layer's optical depth
 // seen from the light, −ln(1 − α), into the opacity layers at and past its depth in the fur.
 
 #import pelt::common::{VertexIn}
@@ -71,7 +71,13 @@ struct ShellOut {
 @vertex
 fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellOut {
     var o: ShellOut;
+#ifdef OPACITY_MAP
+    // From a light, at most `frame.flags.y` thicker layers: their optical depths add up to
+    // the same fur.
+    let n = f32(max(min(object.ids.w, frame.flags.y), 1u));
+#else
     let n = f32(max(object.ids.w, 1u));
+#endif
     let z0 = max(f32(shell) - 1.0, 0.0) / n;
     let z1 = f32(shell) / n;
     // The base mesh at the root; each shell in the middle of its layer.
@@ -305,9 +311,9 @@ fn fs_main(s: ShellOut) -> FurOut {
 #endif
 
 #ifdef OPACITY_MAP
-// The nearest fur's distance from the light: its layers (the opacity pass's target layer
-// `frame.flags.x`); keep in sync with `opacity` in crates/pelt-preview/src/features/shadows.rs.
-@group(2) @binding(0) var fur_near: texture_2d_array<f32>;
+// The shadow cubes (crates/pelt-preview/src/features/shadows.rs): zw the nearest fur's
+// distance from the light, in two halves, in layer `frame.flags.x`.
+@group(2) @binding(0) var cubes: texture_2d_array<f32>;
 
 // The distance from the light (or a directional map's near plane, `frame.proj_params.z`)
 // to view-space point `p` of the light's face, as shadow_map.wgsl and shadows.wgsl measure it.
@@ -315,16 +321,13 @@ fn light_distance(p: vec3<f32>) -> f32 {
     return select(length(p), -p.z - frame.proj_params.z, frame.proj[3][3] == 1.0);
 }
 
-// The distance as a half float and its half-float remainder (as shadow_map.wgsl stores it);
-// z = 1 marks a texel that holds fur.
+// The outer shell's distance as a half float and its half-float remainder, into the cube's
+// z and w (the pipeline writes those two channels alone).
 @fragment
 fn fs_nearest(s: ShellOut) -> @location(0) vec4<f32> {
-    if coverage_of(s) <= 0.0 {
-        discard;
-    }
     let d = light_distance(s.view_pos);
     let hi = bitcast<f32>(bitcast<u32>(d) & 0xffffe000u);
-    return vec4<f32>(hi, d - hi, 1.0, 0.0);
+    return vec4<f32>(0.0, 0.0, hi, d - hi);
 }
 
 // The layer's optical depth seen from the light, added (additive blending) into each deep
@@ -337,8 +340,8 @@ fn fs_opacity(s: ShellOut) -> @location(0) vec4<f32> {
         discard;
     }
     let tau = -log(1.0 - a);
-    let near = textureLoad(fur_near, vec2<i32>(s.clip.xy), i32(frame.flags.x), 0);
-    let x = light_distance(s.view_pos) - (near.x + near.y);
+    let near = textureLoad(cubes, vec2<i32>(s.clip.xy), i32(frame.flags.x), 0);
+    let x = light_distance(s.view_pos) - (near.z + near.w);
     let b = frame.lbuffer_size;
     return vec4<f32>(select(vec3<f32>(0.0), vec3<f32>(tau), vec3<f32>(x) <= b.xyz), 0.0);
 }

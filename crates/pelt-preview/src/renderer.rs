@@ -139,6 +139,8 @@ pub struct PipelineSpec {
     pub front_face: wgpu::FrontFace,
     /// Values of the module's `override` constants (by name).
     pub constants: Vec<(&'static str, f64)>,
+    /// The channels each colour target keeps (None: all).
+    pub writes: Option<wgpu::ColorWrites>,
 }
 
 // The constants are finite numbers (never NaN), so equality is total.
@@ -152,6 +154,7 @@ impl std::hash::Hash for PipelineSpec {
         self.depth.hash(state);
         self.cull.hash(state);
         self.front_face.hash(state);
+        self.writes.map(|w| w.bits()).hash(state);
         for (name, value) in &self.constants {
             name.hash(state);
             value.to_bits().hash(state);
@@ -412,7 +415,7 @@ impl Renderer {
                 Some(wgpu::ColorTargetState {
                     format,
                     blend,
-                    write_mask: wgpu::ColorWrites::ALL,
+                    write_mask: spec.writes.unwrap_or(wgpu::ColorWrites::ALL),
                 })
             })
             .collect();

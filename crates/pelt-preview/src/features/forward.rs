@@ -31,11 +31,16 @@ pub fn unshadowed(blend: Blend) -> PipelineDesc {
 
 /// The forward pipeline function the view needs.
 pub fn for_view(f: &Frame<'_>) -> fn(Blend) -> PipelineDesc {
-    if shadows::any(f) {
-        pipeline
-    } else {
-        unshadowed
+    match (shadows::any(f), shadows::fur_casts(f)) {
+        (false, _) => unshadowed,
+        (true, false) => without_fur,
+        (true, true) => pipeline,
     }
+}
+
+/// [`pipeline`] for views whose fur casts no coverage (that lookup compiled out).
+pub fn without_fur(blend: Blend) -> PipelineDesc {
+    shadows::without_fur(pipeline(blend))
 }
 
 /// The forward reference's feature.

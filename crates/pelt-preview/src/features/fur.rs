@@ -81,19 +81,27 @@ const FORWARD_LIGHT: &[(&str, u32)] = &[("FORWARD_LIGHT", 1)];
 /// [`FORWARD_LIGHT`] reading the shadow cubes too (a view with a shadow-casting light).
 const FORWARD_SHADOWED: &[(&str, u32)] = &[("FORWARD_LIGHT", 1), ("SHADOWS", 1)];
 
+/// [`FORWARD_SHADOWED`] reading the fur's opacity layers too.
+const FORWARD_SHADOWED_FUR: &[(&str, u32)] =
+    &[("FORWARD_LIGHT", 1), ("SHADOWS", 1), ("FUR_SHADOWS", 1)];
+
 /// `desc`, a forward-lit layer pipeline, reading the shadow cubes (at
-/// `shadows::slot::CUBES`, which the pass binds).
-pub fn shadowed(mut desc: PipelineDesc) -> PipelineDesc {
-    desc.shader = desc.shader.with_defs(FORWARD_SHADOWED);
+/// `shadows::slot::CUBES`, which the pass binds), and with `fur` the fur's opacity layers.
+pub fn shadowed(mut desc: PipelineDesc, fur: bool) -> PipelineDesc {
+    desc.shader = desc.shader.with_defs(if fur {
+        FORWARD_SHADOWED_FUR
+    } else {
+        FORWARD_SHADOWED
+    });
     desc.spec.groups.push(shadows::LAYOUT);
     desc
 }
 
 /// The layer pipeline `f`'s view needs: forward-lit layers read the shadow cubes where a
-/// light of the view casts shadows.
+/// light of the view casts shadows, and the opacity layers where its fur casts.
 fn for_view(f: &Frame<'_>, lighting: Lighting, desc: PipelineDesc) -> PipelineDesc {
     if lighting == Lighting::Forward && shadows::any(f) {
-        shadowed(desc)
+        shadowed(desc, shadows::fur_casts(f))
     } else {
         desc
     }
@@ -197,6 +205,7 @@ pub fn layer_pipeline(layer: Layer, lighting: Lighting, blend: Blend) -> Pipelin
             .into_iter()
             .flatten()
             .collect(),
+            writes: None,
         },
     }
 }
@@ -216,15 +225,14 @@ fn pipelines() -> Vec<PipelineDesc> {
         }
     }
     for blend in [Blend::None, Blend::Over, Blend::Wboit] {
-        for coverage in [Coverage::Medium, Coverage::Resolved, Coverage::Binary] {
-            let desc = layer_pipeline(Layer::Shells(coverage), Lighting::Forward, blend);
-            out.push(shadowed(desc));
+        for fur in [false, true] {
+            for coverage in [Coverage::Medium, Coverage::Resolved, Coverage::Binary] {
+                let desc = layer_pipeline(Layer::Shells(coverage), Lighting::Forward, blend);
+                out.push(shadowed(desc, fur));
+            }
+            let fins = layer_pipeline(Layer::Fins, Lighting::Forward, blend);
+            out.push(shadowed(fins, fur));
         }
-        out.push(shadowed(layer_pipeline(
-            Layer::Fins,
-            Lighting::Forward,
-            blend,
-        )));
     }
     out
 }

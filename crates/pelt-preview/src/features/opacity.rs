@@ -1,9 +1,10 @@
 //! Deep opacity maps (Yuksel & Keyser, "Deep Opacity Maps", Eurographics 2008): how fur
 //! shadows itself and everything behind it by its coverage, for each layer of the shadow
 //! cubes ([`super::shadows`]). Two passes per layer draw the fur objects' shells from the
-//! light (shells.wgsl with the `OPACITY_MAP` def): the distance to the nearest fur, then each
-//! shell fragment's optical depth seen from the light, −ln(1 − α), added into every opacity
-//! layer whose boundary past the nearest fur it lies within (the last layer takes all).
+//! light (shells.wgsl with the `OPACITY_MAP` def): the outer shell's distance, the nearest
+//! fur, into the cube's own z and w, then each shell fragment's optical depth seen from the
+//! light, −ln(1 − α), added into every opacity layer whose boundary past the nearest fur it
+//! lies within (the last layer takes all).
 //! shadows.wgsl reads the optical depth at a receiver's depth past the nearest fur, linear
 //! between the layers' boundaries, and passes exp(−τ) of the light.
 //!
@@ -26,8 +27,7 @@ use crate::targets::LayeredTarget;
 use crate::uniforms::{FrameUniforms, UNIFORM_STRIDE};
 use pelt_scene::scene::FurCoverage;
 
-/// Format of both maps: the nearest fur's distance in two half-float halves (and a flag),
-/// the layers' optical depths.
+/// Format of the opacity layers: their optical depths.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// What the nearest-fur pass reads at `slot::LIGHTING`'s place: nothing.
@@ -36,7 +36,8 @@ pub const NOTHING: LayoutDesc = LayoutDesc {
     entries: &[],
 };
 
-/// The nearest fur's distances as the opacity pass reads them (`fur_near` in shells.wgsl).
+/// The cubes, whose zw hold the nearest fur's distance, as the opacity pass reads them
+/// (`cubes` in shells.wgsl).
 pub const NEAR: LayoutDesc = LayoutDesc {
     label: "nearest fur",
     entries: &[seen_by(
@@ -47,6 +48,13 @@ pub const NEAR: LayoutDesc = LayoutDesc {
 
 const DEFS: &[(&str, u32)] = &[("OPACITY_MAP", 1)];
 
+/// Most shells drawn from a light: fewer, thicker layers sum to the same optical depth (each
+/// layer's coverage is the strand model's over its thickness), and the layers' depths need
+/// no finer steps than the three opacity layers resolve. (The fixture sphere's self-shadowing
+/// against the strands' shadow rays, 32 shells on screen: 1.000× the strands' darkening with
+/// every shell drawn from the light, 0.985× with 8.)
+pub const SHELLS: u32 = 8;
+
 /// The shells from a light: `fs_nearest` or `fs_opacity`.
 const fn shader(fs: &'static str) -> ShaderDesc {
     ShaderDesc {
@@ -56,9 +64,9 @@ const fn shader(fs: &'static str) -> ShaderDesc {
     }
 }
 
-/// The pipeline of the nearest-fur pass (depth kept, `nearest`) or the opacity pass
-/// (additive), for shells of `coverage`. Both sides drawn: the light sees shells from below
-/// too.
+/// The pipeline of the nearest-fur pass (`nearest`: the nearest kept by depth, written into
+/// the cube's z and w alone) or the opacity pass (additive), for shells of `coverage`. Both
+/// sides drawn: the light sees shells from below too.
 pub fn pipeline(nearest: bool, coverage: Coverage) -> PipelineDesc {
     PipelineDesc {
         shader: shader(if nearest { "fs_nearest" } else { "fs_opacity" }),
@@ -72,6 +80,7 @@ pub fn pipeline(nearest: bool, coverage: Coverage) -> PipelineDesc {
             vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
             blends: vec![if nearest { None } else { Some(ADD) }],
             depth: nearest.then_some((true, wgpu::CompareFunction::Less)),
+            writes: nearest.then_some(wgpu::ColorWrites::BLUE | wgpu::ColorWrites::ALPHA),
             constants: [
                 (coverage != Coverage::Medium).then_some(("COVERAGE", coverage.constant())),
                 Some((
@@ -127,7 +136,8 @@ pub fn fur_depth(plan: &ScenePlan) -> f32 {
 }
 
 /// One layer's light frame: its view and projection (world to the light's face), the
-/// opacity boundaries in `lbuffer_size`, the layer in `flags.x`, the near plane in
+/// opacity boundaries in `lbuffer_size`, the layer in `flags.x`, the most shells drawn from
+/// the light in `flags.y` ([`SHELLS`]), the near plane in
 /// `proj_params.z` (a directional map's distances start there) and the scene's wind.
 pub struct LightFrame {
     /// World to the face's view space.
@@ -150,7 +160,7 @@ impl LightFrame {
             target_size: [s, s, 1.0 / s, 1.0 / s],
             lbuffer_size: sum,
             proj_params: [1.0, 1.0, self.near, 0.0],
-            flags: [self.layer, 0, 0, 0],
+            flags: [self.layer, SHELLS, 0, 0],
             wind: plan.wind.0,
             gust: plan.wind.1,
             ..FrameUniforms::zeroed()
@@ -158,17 +168,14 @@ impl LightFrame {
     }
 }
 
-/// The maps of one scene: the nearest fur and the opacity layers, a layer per layer of the
-/// cubes (1×1 stand-ins where no fur shadows).
+/// The opacity layers of one scene, a layer per layer of the cubes (a 1×1 stand-in where no
+/// fur shadows).
 #[derive(Debug)]
 pub struct OpacityMaps {
     /// Layers drawn: n > 0, a light casts shadows and the scene has fur.
     pub on: bool,
-    /// The nearest fur per texel.
-    pub near: LayeredTarget,
     /// The layers' optical depths.
     pub layers: LayeredTarget,
-    near_views: Vec<wgpu::TextureView>,
     layer_views: Vec<wgpu::TextureView>,
     near_group: wgpu::BindGroup,
     nothing: wgpu::BindGroup,
@@ -177,10 +184,13 @@ pub struct OpacityMaps {
 }
 
 impl OpacityMaps {
-    /// Maps for the cubes' drawn layers `drawn` (of `layers` in all) of `side` texels.
-    pub fn new(r: &Renderer, on: bool, side: u32, layers: u32, drawn: &[u32]) -> OpacityMaps {
-        let (side, layers) = if on { (side, layers) } else { (1, 1) };
-        let near = LayeredTarget::new(r, "nearest fur", (side, side), layers, 1, FORMAT);
+    /// Maps beside `cubes` for their drawn layers `drawn`.
+    pub fn new(r: &Renderer, on: bool, cubes: &LayeredTarget, drawn: &[u32]) -> OpacityMaps {
+        let (side, layers) = if on {
+            (cubes.size.0, cubes.layers)
+        } else {
+            (1, 1)
+        };
         let maps = LayeredTarget::new(r, "opacity layers", (side, side), layers, 1, FORMAT);
         let drawn = if on { drawn } else { &[] };
         let frames = r.buffer(
@@ -190,12 +200,11 @@ impl OpacityMaps {
         );
         OpacityMaps {
             on,
-            near_views: drawn.iter().map(|&i| near.layer(i, 0)).collect(),
             layer_views: drawn.iter().map(|&i| maps.layer(i, 0)).collect(),
             near_group: r.group(
                 "nearest fur",
                 &NEAR,
-                &[wgpu::BindingResource::TextureView(&near.sampled)],
+                &[wgpu::BindingResource::TextureView(&cubes.sampled)],
             ),
             nothing: r.group("nothing", &NOTHING, &[]),
             frames_group: r.group(
@@ -204,7 +213,6 @@ impl OpacityMaps {
                 &[layout::sized(&frames, size_of::<FrameUniforms>())],
             ),
             frames,
-            near,
             layers: maps,
         }
     }
@@ -216,28 +224,32 @@ impl OpacityMaps {
         }
     }
 
-    /// The two passes of drawn layer `i` (the nearest fur, then the opacity layers) drawing
-    /// the view's fur objects with `depth` (the cubes' depth target).
+    /// The two passes of drawn layer `i` (the nearest fur into `cube`, the cube's layer,
+    /// then the opacity layers) drawing the view's fur objects with `depth` (the cubes' depth
+    /// target).
     pub fn passes<'a>(
         &'a self,
         f: &Frame<'a>,
         i: usize,
+        cube: &'a wgpu::TextureView,
         depth: &'a wgpu::TextureView,
     ) -> Result<Vec<Recipe<'a>>, MissingInput> {
-        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
         let mut out = Vec::new();
         for nearest in [true, false] {
-            let view = if nearest {
-                &self.near_views[i]
+            let (view, load) = if nearest {
+                (cube, wgpu::LoadOp::Load)
             } else {
-                &self.layer_views[i]
+                (
+                    &self.layer_views[i],
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )
             };
             let mut r = Recipe::new(
                 Pass::Shadows,
                 vec![Color {
                     view,
                     format: FORMAT,
-                    load: clear,
+                    load,
                 }],
                 nearest.then_some(Depth {
                     view: depth,
@@ -260,7 +272,8 @@ impl OpacityMaps {
     }
 }
 
-/// Every fur object of the view, its shells without the base mesh.
+/// Every fur object of the view: its outer shell (`nearest`), or its shells without the base
+/// mesh.
 fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), MissingInput> {
     for &k in &f.plan.fur {
         let Some(planned) = f.plan.objects[k].fur else {
@@ -272,7 +285,9 @@ fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), 
         };
         r.pipeline(pipeline(nearest, coverage));
         let (mesh, fur) = f.bind_fur(r, Pass::Shadows.name(), k)?;
-        Frame::draw_fur_parts(r, mesh, fur, 1..planned.shells + 1);
+        let n = planned.shells.min(SHELLS);
+        let shells = if nearest { n..n + 1 } else { 1..n + 1 };
+        Frame::draw_fur_parts(r, mesh, fur, shells);
     }
     Ok(())
 }

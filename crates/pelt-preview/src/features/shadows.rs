@@ -38,8 +38,9 @@ pub mod slot {
     pub const CUBES: u32 = 4;
 }
 
-/// Format of the cubes: the distance from the light in world units, as a half float and
-/// its half-float remainder (GL renders to no 32-bit float format).
+/// Format of the cubes: the distance from the light in world units to the nearest opaque
+/// surface (xy) and to the nearest fur (zw, [`super::opacity`]), each as a half float and its
+/// half-float remainder (GL renders to no 32-bit float format).
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// What a texel that sees no surface holds: farther than any receiver.
@@ -103,10 +104,6 @@ pub const LAYOUT: LayoutDesc = LayoutDesc {
         seen_by(
             wgpu::ShaderStages::FRAGMENT,
             layout::texture(2, UNFILTERABLE, D2_ARRAY),
-        ),
-        seen_by(
-            wgpu::ShaderStages::FRAGMENT,
-            layout::texture(3, UNFILTERABLE, D2_ARRAY),
         ),
     ],
 };
@@ -220,7 +217,7 @@ impl ShadowCubes {
             .flat_map(|(slot, l)| (0..layers_of(&l.emitter)).map(move |f| slot as u32 * 6 + f))
             .collect();
         let views = drawn.iter().map(|&i| (i, cubes.layer(i, 0))).collect();
-        let opacity = OpacityMaps::new(r, fur_shadows(plan), side, layers, &drawn);
+        let opacity = OpacityMaps::new(r, fur_shadows(plan), &cubes, &drawn);
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
         let faces = r.buffer(
             "shadow faces",
@@ -257,7 +254,6 @@ impl ShadowCubes {
                 &[
                     wgpu::BindingResource::TextureView(&cubes.sampled),
                     params.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&opacity.near.sampled),
                     wgpu::BindingResource::TextureView(&opacity.layers.sampled),
                 ],
             ),
@@ -518,16 +514,25 @@ fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightF
 /// light.wgsl's and forward.wgsl's override: whether any light of the view casts shadows.
 pub const SHADOWS: &str = "SHADOWS";
 
+/// light.wgsl's and forward.wgsl's override: whether the fur casts by its coverage too.
+pub const FUR_SHADOWS: &str = "FUR_SHADOWS";
+
 /// `desc` for views without a shadow-casting light: the lookup compiled out.
 pub fn unshadowed(desc: PipelineDesc) -> PipelineDesc {
     desc.with_constant(SHADOWS, Some(0.0))
+        .with_constant(FUR_SHADOWS, Some(0.0))
 }
 
-/// `descs` and their [`unshadowed`] variants.
+/// `desc` for views whose fur casts no coverage: the opacity layers' lookup compiled out.
+pub fn without_fur(desc: PipelineDesc) -> PipelineDesc {
+    desc.with_constant(FUR_SHADOWS, Some(0.0))
+}
+
+/// `descs` and their [`without_fur`] and [`unshadowed`] variants.
 pub fn with_unshadowed(descs: Vec<PipelineDesc>) -> Vec<PipelineDesc> {
     descs
         .into_iter()
-        .flat_map(|d| [d.clone(), unshadowed(d)])
+        .flat_map(|d| [d.clone(), without_fur(d.clone()), unshadowed(d)])
         .collect()
 }
 
@@ -536,9 +541,19 @@ pub fn any(f: &Frame<'_>) -> bool {
     f.plan.lights.iter().any(|l| l.shadow.is_some())
 }
 
-/// `desc` as the view needs it: [`unshadowed`] unless a light of the view casts shadows.
+/// Whether the view's fur casts by its coverage (its scene's cubes have opacity layers).
+pub fn fur_casts(f: &Frame<'_>) -> bool {
+    f.scene.get::<ShadowCubes>().is_some_and(|c| c.opacity.on)
+}
+
+/// `desc` as the view needs it: [`unshadowed`] unless a light of the view casts shadows,
+/// [`without_fur`] unless its fur casts too.
 pub fn for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
-    if any(f) { desc } else { unshadowed(desc) }
+    match (any(f), fur_casts(f)) {
+        (false, _) => unshadowed(desc),
+        (true, false) => without_fur(desc),
+        (true, true) => desc,
+    }
 }
 
 /// Binds the view's cubes at [`slot::CUBES`] for a pass that reads them.
@@ -596,7 +611,7 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
         }
         out.push(r);
         if c.opacity.on {
-            out.extend(c.opacity.passes(f, i, &c.depth.view)?);
+            out.extend(c.opacity.passes(f, i, view, &c.depth.view)?);
         }
     }
     Ok(out)
