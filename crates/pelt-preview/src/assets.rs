@@ -220,7 +220,13 @@ impl AssetCache {
             },
         ));
         if let Some(f) = &m.fur {
-            h.update(format!("{:?} {}", f.model, f.look.uv_scale).as_bytes());
+            h.update(
+                format!(
+                    "{:?} {} {}",
+                    f.model, f.look.uv_scale, f.look.color_from_texture
+                )
+                .as_bytes(),
+            );
         }
         let key = *h.finalize().as_bytes();
         if let Some(s) = self.strands.get(&key) {

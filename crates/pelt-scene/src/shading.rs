@@ -198,7 +198,11 @@ pub fn srgb8(linear: f32) -> u8 {
 
 /// 8-bit sRGB to linear.
 pub fn linear_of_srgb8(v: u8) -> f32 {
-    let s = f32::from(v) / 255.0;
+    linear_of_srgb(f32::from(v) / 255.0)
+}
+
+/// sRGB (0 to 1) to linear.
+pub fn linear_of_srgb(s: f32) -> f32 {
     if s <= 0.040_45 {
         s / 12.92
     } else {

@@ -12,6 +12,7 @@ use glam::{DVec2, Vec3, Vec4};
 
 use crate::asset::MeshData;
 use crate::fur::comb_object;
+use crate::material::Texture;
 use crate::vertex::StrandRoot;
 
 /// Most strands one mesh may plant (80 bytes each on the GPU: 240 MB, under wgpu's default
@@ -66,12 +67,14 @@ impl Bins {
 }
 
 /// One triangle in tile units with its surface data.
-struct Tri {
+struct Tri<'m> {
     uv: [DVec2; 3],
     v: [usize; 3],
+    /// The base colour texture that colours the strands (the fur's `colorFromTexture`).
+    texture: Option<&'m Texture>,
 }
 
-impl Tri {
+impl Tri<'_> {
     /// Barycentric coordinates of `p`, or None outside (or a degenerate triangle).
     fn barycentric(&self, p: DVec2) -> Option<[f64; 3]> {
         let [a, b, c] = self.uv;
@@ -94,11 +97,17 @@ pub fn plant(mesh: &MeshData) -> Result<Vec<StrandRoot>, StrandError> {
     let tris: Vec<Tri> = mesh
         .indices
         .chunks_exact(3)
-        .map(|t| {
+        .enumerate()
+        .map(|(k, t)| {
             let v = [t[0] as usize, t[1] as usize, t[2] as usize];
             Tri {
                 uv: v.map(|i| DVec2::from(fur.vertices[i].uv.map(f64::from)) * scale),
                 v,
+                texture: fur
+                    .look
+                    .color_from_texture
+                    .then(|| base_color_of(mesh, 3 * k as u32))
+                    .flatten(),
             }
         })
         .collect();
@@ -127,6 +136,18 @@ pub fn plant(mesh: &MeshData) -> Result<Vec<StrandRoot>, StrandError> {
         plant_triangle(mesh, t, &strands, &bins, &mut out);
     }
     Ok(out)
+}
+
+/// The base colour texture of the part holding index `first`, if it has one.
+fn base_color_of(mesh: &MeshData, first: u32) -> Option<&Texture> {
+    let part = mesh
+        .parts
+        .iter()
+        .find(|p| (p.first..p.first + p.count).contains(&first))?;
+    mesh.materials
+        .get(part.material as usize)?
+        .base_color
+        .as_ref()
 }
 
 /// Plants every strand whose root falls in triangle `t` (over every tile its UVs span).
@@ -187,9 +208,19 @@ fn root(mesh: &MeshData, t: &Tri, s: &pelt_fur::strands::Strand, w: [f64; 3]) ->
             + lerp3(&|i| Vec4::from(fv[i].bend).truncate());
         comb_len = (0..3).map(|k| fv[t.v[k]].comb[3] * w[k] as f32).sum();
     }
-    let albedo: Vec4 = (0..3).fold(Vec4::ZERO, |acc, k| {
+    let mut albedo: Vec4 = (0..3).fold(Vec4::ZERO, |acc, k| {
         acc + Vec4::from(vert(t.v[k]).albedo) * w[k] as f32
     });
+    // With colorFromTexture the base colour texture under the root colours the strand, as
+    // it colours the shells (sampled there in linear light).
+    if let Some(tex) = t.texture {
+        let uv: [f32; 2] =
+            std::array::from_fn(|c| (0..3).map(|k| vert(t.v[k]).uv[c] * w[k] as f32).sum());
+        for c in 0..3 {
+            let s = tex.image.sample(uv[0], uv[1], c, tex.wrap);
+            albedo[c] *= crate::shading::linear_of_srgb(s);
+        }
+    }
     let (du, dv, per_uv) = jacobian(mesh, t);
     let lean = du * s.tx as f32 + dv * s.ty as f32;
     // The shells fade fur whose comb length is under 5 % of the length (shells.wgsl): the
@@ -298,6 +329,51 @@ mod tests {
             assert!(lean <= (model.tilt * model.radius) as f32 + 1e-6);
             assert_eq!(r.comb[..3], [1.0, 0.0, 0.0]);
         }
+    }
+
+    /// With colorFromTexture the base colour texture under each root colours its strand, in
+    /// linear light; without it, the texture is not read (as the shells do).
+    #[test]
+    fn colour_from_texture_tints_each_strand_by_the_texel_under_its_root() {
+        let model = pelt_fur::StrandParams {
+            strands: 400,
+            ..Default::default()
+        };
+        let mut mesh = patch(model, 1.0);
+        // 2 × 1: sRGB 255 red on the left half of the UVs, sRGB 128 green on the right.
+        mesh.materials[0].base_color = Some(Texture {
+            image: std::sync::Arc::new(pelt_io::picture::Rgba8 {
+                width: 2,
+                height: 1,
+                pixels: vec![255, 0, 0, 255, 0, 128, 0, 255],
+            }),
+            wrap: [pelt_io::picture::WrappingMode::ClampToEdge; 2],
+        });
+        let plain = plant(&mesh).expect("plant");
+        let white = |r: &StrandRoot| r.albedo[..3].iter().all(|c| (c - 1.0).abs() < 1e-5);
+        assert!(plain.iter().all(white), "texture unread");
+        mesh.fur.as_mut().expect("fur").look.color_from_texture = true;
+        let tinted = plant(&mesh).expect("plant");
+        assert_eq!(tinted.len(), plain.len());
+        let green = crate::shading::linear_of_srgb8(128);
+        let (mut left, mut right) = (0, 0);
+        for r in &tinted {
+            // Texel centres at u = 0.25 and 0.75: pure texels outside, blends between.
+            if r.root[0] < 0.25 {
+                assert!(
+                    (r.albedo[0] - 1.0).abs() < 1e-5 && r.albedo[1] == 0.0,
+                    "{r:?}"
+                );
+                left += 1;
+            } else if r.root[0] > 0.75 {
+                assert!(
+                    r.albedo[0] == 0.0 && (r.albedo[1] - green).abs() < 1e-5,
+                    "{r:?}"
+                );
+                right += 1;
+            }
+        }
+        assert!(left > 50 && right > 50, "{left} {right}");
     }
 
     #[test]
