@@ -284,8 +284,8 @@ impl ShadowCubes {
             && self.opacity.on == fur_shadows(plan)
     }
 
-    /// What fur view `f` draws into the opacity maps (each object's scene index, shells and
-    /// coverage), hashed; 0 without them.
+    /// What fur view `f` draws into the opacity maps (each object's scene index, shells,
+    /// coverage, length and strand medium), hashed; 0 without them.
     fn fur_key(&self, f: &Frame<'_>) -> u64 {
         if !self.opacity.on {
             return 0;
@@ -297,6 +297,8 @@ impl ShadowCubes {
                 (
                     p.shells,
                     p.coverage == pelt_scene::scene::FurCoverage::Binary,
+                    p.length.to_bits(),
+                    p.medium.map(f32::to_bits),
                 )
             });
             std::hash::Hash::hash(&(o.scene_index, fur), &mut h);
