@@ -205,15 +205,13 @@ pub fn shadow_bits(
         .map(|set| {
             let base = first;
             first += set.roots.len() as u32;
+            let normal_model = set.model.inverse().transpose();
             set.roots
                 .par_iter()
                 .enumerate()
                 .map(|(i, s)| {
                     let (p, _) = samples(set, s);
-                    let n = set
-                        .model
-                        .inverse()
-                        .transpose()
+                    let n = normal_model
                         .transform_vector3(Vec3::from_slice(&s.normal[..3]))
                         .normalize_or_zero();
                     let mut bits = 0u64;
