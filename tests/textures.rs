@@ -272,6 +272,57 @@ fn bake_embeds_the_textures_and_the_manifest() {
     validate_clean(&glb);
 }
 
+/// Baking a pelt output again replaces its fur: one set of images, a file of the same size,
+/// and a second bake of that byte for byte the first. The Fox keeps its own base colour
+/// texture through it.
+#[test]
+fn re_baking_a_baked_file_keeps_one_set_of_fur_images() {
+    let dir = scratch("rebake");
+    let config = dir.join("pelt.json");
+    std::fs::write(&config, CONFIG).expect("write config");
+    let c = config.to_str().unwrap_or_default();
+    for (input, extra) in [
+        (fixture("creature.glb"), &[][..]),
+        (fixture("fox/Fox.glb"), &["--comb", "generate"][..]),
+    ] {
+        let stem = input
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let mut args = vec!["--config", c];
+        args.extend_from_slice(extra);
+        let sub = |n: usize| {
+            let d = dir.join(format!("{stem}-{n}"));
+            std::fs::create_dir_all(&d).expect("folder");
+            d
+        };
+        let first = bake(&input, &sub(1), &args);
+        let second = bake(&first, &sub(2), &args);
+        let third = bake(&second, &sub(3), &args);
+        let count =
+            |p: &Path, key: &str| pelt_io::Document::load(p).expect("load").array(key).len();
+        let own = count(&input, "images");
+        // 3 textures × 8 levels.
+        assert_eq!(count(&first, "images"), own + 24, "{stem}");
+        for key in ["images", "textures", "samplers", "bufferViews", "accessors"] {
+            assert_eq!(count(&second, key), count(&first, key), "{stem}: {key}");
+        }
+        assert_eq!(read(&first).len(), read(&second).len(), "{stem}: size");
+        assert!(
+            read(&second) == read(&third),
+            "{stem}: the second re-bake differs"
+        );
+        let (doc, m) = load_with_material(&second);
+        let fur = &doc.json["materials"][m]["extras"]["pelt"]["fur"];
+        let t = fur["textures"]["heightfield"]["texture"]
+            .as_u64()
+            .expect("texture");
+        assert!((t as usize) < doc.array("textures").len());
+        validate_clean(&second);
+    }
+}
+
 #[test]
 fn comb_primitives_without_a_material_get_one() {
     let dir = scratch("bake-fur-obj");

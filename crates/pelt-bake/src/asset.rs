@@ -319,7 +319,7 @@ fn write_extras(
     let mut pelt = Map::new();
     pelt.insert("version".into(), json!(FORMAT_VERSION));
     if let Some(source) = e.tangents {
-        pelt.insert("tangents".into(), json!(source.name()));
+        pelt.insert("tangents".into(), json!(tangent_label(doc, r, source)?));
     }
     pelt.insert(
         "normalGroups".into(),
@@ -354,6 +354,31 @@ fn write_extras(
         ));
     }
     Ok(())
+}
+
+/// The tangents' label in `extras.pelt`: where a re-bake keeps tangents an earlier bake
+/// generated, the generator that made them (so baking a pelt output again writes the same file).
+fn tangent_label(
+    doc: &Document,
+    r: PrimitiveRef,
+    source: TangentSource,
+) -> Result<&'static str, IoError> {
+    if source != TangentSource::Kept {
+        return Ok(source.name());
+    }
+    let before = doc
+        .primitive(r)?
+        .get("extras")
+        .and_then(|e| e.get("pelt")?.get("tangents")?.as_str());
+    Ok(
+        match [TangentSource::Mikktspace, TangentSource::Gradient]
+            .into_iter()
+            .find(|g| Some(g.name()) == before)
+        {
+            Some(g) => g.name(),
+            None => source.name(),
+        },
+    )
 }
 
 fn round6(v: f64) -> Value {

@@ -67,6 +67,7 @@ pub fn embed(
     combed: &[PrimitiveRef],
 ) -> Result<FurReport, IoError> {
     let mut report = FurReport::default();
+    strip_old_fur(doc, &mut report);
     let mut materials: Vec<usize> = Vec::new();
     if let Some(names) = &assets.config.materials {
         for name in names {
@@ -145,6 +146,42 @@ pub fn embed(
         }
     }
     Ok(report)
+}
+
+/// Removes the fur an earlier bake embedded (each material's `extras.pelt.fur` and the
+/// textures and images it names, where nothing else uses them), so that baking a pelt output
+/// again carries one set of fur images, not two.
+fn strip_old_fur(doc: &mut Document, report: &mut FurReport) {
+    let mut textures = Vec::new();
+    let mut images = Vec::new();
+    let Some(materials) = doc.json.get_mut("materials").and_then(|m| m.as_array_mut()) else {
+        return;
+    };
+    for m in materials {
+        let pelt = m.get_mut("extras").and_then(|e| e.get_mut("pelt"));
+        let Some(pelt) = pelt.and_then(|p| p.as_object_mut()) else {
+            continue;
+        };
+        let Some(fur) = pelt.remove("fur") else {
+            continue;
+        };
+        let entries = fur.get("textures").and_then(|t| t.as_object());
+        for entry in entries.into_iter().flat_map(|e| e.values()) {
+            textures.extend(entry.get("texture").and_then(|t| t.as_u64()));
+            let levels = entry.get("levels").and_then(|l| l.as_array());
+            images.extend(
+                levels
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|l| l.get("image")?.as_u64()),
+            );
+        }
+    }
+    let index = |v: Vec<u64>| v.into_iter().map(|i| i as usize).collect::<Vec<_>>();
+    let removed = doc.remove_textures(&index(textures), &index(images));
+    if let Some(why) = removed.kept_because {
+        report.warnings.push(why);
+    }
 }
 
 /// Bakes `doc` (comb, tangents, groups, fins as `opts` says) and embeds `assets` in the

@@ -11,6 +11,7 @@
 //!   streamed and written atomically.
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
+//! - [`prune_textures`]: removing textures and images a re-bake replaces.
 //! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
 //!   `extras.pelt`, the fin-record bufferView).
 //! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
@@ -30,6 +31,7 @@ pub mod mesh;
 pub mod obj;
 pub mod picture;
 pub mod prune;
+pub mod prune_textures;
 pub mod texture;
 pub mod topology;
 pub mod typed;
