@@ -369,29 +369,104 @@ fn obj_with_vertex_colors_bakes() {
 }
 
 #[test]
-fn non_triangle_primitives_are_skipped_with_a_warning() {
+fn point_and_line_primitives_pass_through_unchanged() {
     let dir = scratch("modes");
+    let m = dir.join("m.glb");
     let out = pelt_ok(&[
         "bake",
         "fixtures/edge/modes.gltf",
         "-o",
-        dir.join("m.glb").to_str().unwrap_or_default(),
+        m.to_str().unwrap_or_default(),
         "--report",
         "-",
     ]);
     let report: Value = serde_json::from_slice(&out.stdout).unwrap_or_default();
     let prims = &report["inputs"][0]["primitives"];
     assert_eq!(prims[0]["status"], "baked");
-    assert!(
-        prims[1]["status"].as_str().unwrap_or("").contains("mode 1"),
-        "{prims}"
-    );
-    assert!(
-        report["inputs"][0]["warnings"][0]
+    let input = pelt_io::Document::load(&fixture("edge/modes.gltf")).expect("input");
+    let output = pelt_io::Document::load(&m).expect("output");
+    for (k, name) in [
+        (1, "LINES"),
+        (2, "POINTS"),
+        (3, "LINE_LOOP"),
+        (4, "LINE_STRIP"),
+    ] {
+        let status = prims[k]["status"].as_str().unwrap_or("");
+        assert!(
+            status.contains(name) && status.contains("passed through"),
+            "{prims}"
+        );
+        let warning = report["inputs"][0]["warnings"][k - 1]
             .as_str()
-            .unwrap_or("")
-            .contains("primitives[1]")
-    );
+            .unwrap_or("");
+        assert!(warning.contains(&format!("primitives[{k}]")), "{warning}");
+        // The primitive is as it was; its accessors hold the same elements.
+        let (a, b) = (
+            &input.json["meshes"][0]["primitives"][k],
+            &output.json["meshes"][0]["primitives"][k],
+        );
+        assert_eq!(a["mode"], b["mode"]);
+        let pos = |d: &pelt_io::Document, p: &Value| {
+            let i = p["attributes"]["POSITION"].as_u64().expect("POSITION") as usize;
+            pelt_io::accessor::read_vec::<3>(d, i, "POSITION").expect("read")
+        };
+        assert_eq!(pos(&input, a), pos(&output, b), "primitive {k}");
+        let idx = |d: &pelt_io::Document, p: &Value| {
+            p.get("indices")
+                .and_then(Value::as_u64)
+                .map(|i| pelt_io::accessor::read_indices(d, i as usize, "indices").expect("read"))
+        };
+        assert_eq!(idx(&input, a), idx(&output, b), "primitive {k}");
+    }
+}
+
+/// Strips and fans are baked as triangle lists: the same faces facing the same way (+Z, as
+/// their normals), degenerate strip triangles dropped, fur on every vertex.
+#[test]
+fn strips_and_fans_become_lists_with_their_winding() {
+    let dir = scratch("strip-fan");
+    for (name, triangles, dropped) in [("strip", 24, 8), ("fan", 12, 0)] {
+        let out = dir.join(format!("{name}.glb"));
+        let o = pelt_ok(&[
+            "bake",
+            fixture(&format!("edge/{name}.gltf"))
+                .to_str()
+                .unwrap_or_default(),
+            "-o",
+            out.to_str().unwrap_or_default(),
+            "--report",
+            "-",
+        ]);
+        let report: Value = serde_json::from_slice(&o.stdout).unwrap_or_default();
+        let warning = report["inputs"][0]["warnings"][0].as_str().unwrap_or("");
+        assert!(
+            warning.contains("written as a triangle list")
+                && warning.contains(&format!("{dropped} degenerate dropped")),
+            "{warning}"
+        );
+        let doc = pelt_io::Document::load(&out).expect("load");
+        assert_eq!(doc.json["meshes"][0]["primitives"][0]["mode"], 4);
+        let b = read_baked(&out, 0, 0);
+        assert_eq!(b.indices.len(), 3 * triangles, "{name}");
+        for t in b.indices.chunks(3) {
+            let [p0, p1, p2] = [0, 1, 2].map(|k| b.positions[t[k] as usize]);
+            let n = (p1 - p0).cross(p2 - p0);
+            assert!(
+                n.z > 0.0 && n.length() > 0.0,
+                "{name}: triangle {t:?} faces {n}"
+            );
+        }
+        // The comb decodes to the painted direction (tangent-space x along the surface).
+        assert!(b.comb.iter().all(|c| c[3] > 0.99), "{name}: fur everywhere");
+        assert!(
+            doc.read_fins(pelt_io::PrimitiveRef {
+                mesh: 0,
+                primitive: 0
+            })
+            .expect("fins")
+            .is_some()
+        );
+    }
 }
 
 #[test]

@@ -11,6 +11,7 @@ use pelt_io::edit::NewAccessor;
 use pelt_io::mesh::read_primitive;
 use pelt_io::picture::{self, Rgba8};
 use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, fins_view};
+use pelt_io::triangles;
 use pelt_io::{Document, IoError, PrimitiveRef, ViewData};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
@@ -103,8 +104,11 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             groups_only: None,
         };
         let mode = doc.mode(r)?;
-        if mode != 4 {
-            entry.status = format!("skipped: mode {mode} is not TRIANGLES");
+        if !triangles::is_triangles(mode) {
+            entry.status = format!(
+                "skipped: mode {mode} ({}) draws no triangles; passed through unchanged",
+                triangles::mode_name(mode)
+            );
             report.warnings.push(format!("{place}: {}", entry.status));
             report.primitives.push(entry);
             continue;
@@ -128,6 +132,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             match grouped {
                 Some(g) => {
                     let t2 = Instant::now();
+                    as_list(doc, r, &prim, &mut report.warnings)?;
                     if let Some((map, indices)) = &g.remap {
                         doc.remap_primitive(r, map, indices, &[NORMAL_GROUP_ATTRIBUTE])?;
                     }
@@ -175,6 +180,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
+        as_list(doc, r, &prim, &mut report.warnings)?;
         report.timings.topology_ms += baked.topology_ms;
         if let Some((map, indices)) = &baked.remap {
             let mut replaced = vec![COMB_ATTRIBUTE, NORMAL_GROUP_ATTRIBUTE];
@@ -245,8 +251,8 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         let why = match report.primitives.len() {
             0 => "the file has no mesh primitives".to_owned(),
             n => format!(
-                "none of its {n} primitives has mode 4 (TRIANGLES); convert strips, fans, \
-                 lines and points to triangle lists first"
+                "none of its {n} primitives draws triangles (all are points or lines), so \
+                 there is no surface to grow fur on"
             ),
         };
         return Err(doc.invalid("meshes", format!("nothing to bake: {why}")));
@@ -268,6 +274,29 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         *v = (*v * 100.0).round() / 100.0;
     }
     Ok(report)
+}
+
+/// Writes a strip or fan primitive's triangles as a list (mode TRIANGLES), with a warning
+/// that says so; a list is left as it is.
+fn as_list(
+    doc: &mut Document,
+    r: PrimitiveRef,
+    prim: &pelt_io::mesh::PrimitiveMesh,
+    warnings: &mut Vec<String>,
+) -> Result<(), IoError> {
+    if prim.mode == triangles::TRIANGLES {
+        return Ok(());
+    }
+    let mesh = &prim.mesh;
+    doc.set_triangle_list(r, &mesh.indices, mesh.vertex_count())?;
+    warnings.push(format!(
+        "{}: {} written as a triangle list ({} triangles, {} degenerate dropped)",
+        doc.place(r),
+        triangles::mode_name(prim.mode),
+        mesh.indices.len() / 3,
+        prim.dropped
+    ));
+    Ok(())
 }
 
 /// IDs as one-component elements.

@@ -55,7 +55,11 @@ pub fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
             Some(i) => accessor::read_indices(doc, i as usize, &format!("{place} indices"))?.len(),
             None => count,
         };
-        let tris = if mode == 4 { indices / 3 } else { 0 };
+        let tris = match mode {
+            4 => indices / 3,
+            5 | 6 => indices.saturating_sub(2),
+            _ => 0,
+        };
         vertices += count;
         triangles += tris;
         let mut entry = json!({

@@ -884,8 +884,7 @@ pub fn all() -> Vec<BadCase> {
     for (name, mode) in [
         ("mode-points-only.glb", 0),
         ("mode-lines-only.glb", 1),
-        ("mode-strip-only.glb", 5),
-        ("mode-fan-only.glb", 6),
+        ("mode-line-strip-only.glb", 3),
     ] {
         add(
             name,

@@ -219,7 +219,8 @@ pub fn bad_normals() -> Document {
     doc_with("bad-normals", &[(&s, BuildOptions::default())])
 }
 
-/// A mesh with a LINES primitive (skipped with a warning) beside a painted triangle primitive.
+/// A mesh with POINTS, LINES, LINE_LOOP and LINE_STRIP primitives (passed through with a
+/// warning) beside a painted triangle primitive.
 pub fn modes() -> Document {
     let s = plane("modes", 1, 1, comb_x);
     let mut doc = doc_with("modes", &[(&s, BuildOptions::default())]);
@@ -238,8 +239,75 @@ pub fn modes() -> Document {
         .and_then(|m| m.get_mut("primitives"))
         .and_then(serde_json::Value::as_array_mut)
     {
-        prims.push(json!({"attributes": attrs, "indices": lines, "mode": 1}));
+        prims.push(json!({"attributes": attrs.clone(), "indices": lines, "mode": 1}));
+        prims.push(json!({"attributes": attrs.clone(), "mode": 0}));
+        prims.push(json!({"attributes": attrs.clone(), "mode": 2}));
+        prims.push(json!({"attributes": attrs, "indices": lines, "mode": 3}));
     }
+    doc
+}
+
+/// Sets every primitive of mesh 0 to `mode`.
+fn set_mode(doc: &mut Document, mode: u64) {
+    let prims = doc
+        .json
+        .get_mut("meshes")
+        .and_then(|m| m.get_mut(0))
+        .and_then(|m| m.get_mut("primitives"))
+        .and_then(serde_json::Value::as_array_mut);
+    for p in prims.into_iter().flatten() {
+        p["mode"] = json!(mode);
+    }
+}
+
+/// The 4×3 plane drawn as one TRIANGLE_STRIP: each row top, bottom, top, … (counter-clockwise
+/// from +Z like the list), rows joined by repeating their last and the next row's first index
+/// (four degenerate triangles per join). Comb +X everywhere.
+pub fn strip() -> Document {
+    let (w, h) = (4, 3);
+    let mut s = plane("strip", w, h, comb_x);
+    s.indices.clear();
+    for y in 0..h {
+        let (bottom, top) = (y * (w + 1), (y + 1) * (w + 1));
+        if y > 0 {
+            s.indices.push(top);
+        }
+        for x in 0..=w {
+            s.indices.extend([top + x, bottom + x]);
+        }
+        if y + 1 < h {
+            s.indices.push(bottom + w);
+        }
+    }
+    let mut doc = doc_with("strip", &[(&s, BuildOptions::default())]);
+    set_mode(&mut doc, 5);
+    doc
+}
+
+/// A 12-sided disc in the XY plane (normal +Z) drawn as one TRIANGLE_FAN around its centre,
+/// counter-clockwise from +Z; comb pointing outward from the centre.
+pub fn fan() -> Document {
+    let mut s = Shape {
+        name: "fan".to_owned(),
+        ..Shape::default()
+    };
+    let n = 12;
+    for k in 0..=n {
+        let p = if k == 0 {
+            Vec3::ZERO
+        } else {
+            let a = (k - 1) as f32 / n as f32 * std::f32::consts::TAU;
+            Vec3::new(a.cos(), a.sin(), 0.0)
+        };
+        s.positions.push(p);
+        s.normals.push(Vec3::Z);
+        s.uvs.push(Vec2::new(0.5 + 0.5 * p.x, 0.5 - 0.5 * p.y));
+        let out = if k == 0 { Vec3::X } else { p };
+        s.colors.push(paint(out, 1.0));
+    }
+    s.indices = (0..=n).chain([1]).collect();
+    let mut doc = doc_with("fan", &[(&s, BuildOptions::default())]);
+    set_mode(&mut doc, 6);
     doc
 }
 
@@ -290,5 +358,7 @@ pub fn all() -> Vec<(&'static str, Document)> {
         ("sparse-color", sparse_color()),
         ("bad-normals", bad_normals()),
         ("modes", modes()),
+        ("strip", strip()),
+        ("fan", fan()),
     ]
 }

@@ -14,6 +14,7 @@
 //! - [`prune_textures`]: removing textures and images a re-bake replaces.
 //! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
 //!   `extras.pelt`, the fin-record bufferView).
+//! - [`triangles`]: strips and fans as triangle lists.
 //! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
 //! - [`typed`]: the `gltf` crate's typed view (skins, animations, materials) over the same
 //!   buffers, with pelt-io's bounds check before its readers run.
@@ -34,6 +35,7 @@ pub mod prune;
 pub mod prune_textures;
 pub mod texture;
 pub mod topology;
+pub mod triangles;
 pub mod typed;
 
 pub use document::{Buffer, Document, PrimitiveRef, ViewData};

@@ -11,6 +11,7 @@ use serde_json::Value;
 use crate::accessor::{self, ComponentType};
 use crate::document::{Document, PrimitiveRef};
 use crate::error::Result;
+use crate::triangles;
 
 /// How an attribute is stored, for reports.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,6 +51,10 @@ pub struct PrimitiveMesh {
     pub color: Option<Encoding>,
     /// Whether the source had an `indices` accessor.
     pub indexed: bool,
+    /// The source's mode: TRIANGLES, or a strip or fan whose indices were made a list.
+    pub mode: u64,
+    /// Degenerate strip or fan triangles dropped from the list.
+    pub dropped: usize,
 }
 
 /// The encoding of accessor `index`.
@@ -76,7 +81,8 @@ impl From<[f32; 3]> for Rgb {
     }
 }
 
-/// Reads primitive `r` (which must be TRIANGLES) into a [`PrimitiveMesh`].
+/// Reads primitive `r` (TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN; strips and fans become
+/// lists, [`crate::triangles`]) into a [`PrimitiveMesh`].
 pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> {
     let place = doc.place(r);
     let attr = |name: &str| -> Result<Option<usize>> { doc.attribute(r, name) };
@@ -142,6 +148,16 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
             None => ((0..n as u32).collect(), false),
         })
     };
+    let mode = doc.mode(r)?;
+    if !triangles::is_triangles(mode) {
+        return Err(doc.invalid(
+            &place,
+            format!(
+                "mode {mode} ({}) draws no triangles",
+                triangles::mode_name(mode)
+            ),
+        ));
+    }
     // The attributes and indices are decoded side by side; a file with several faults gets
     // the error of the first in this order, as if read one after another.
     let ((normals, uvs), (tangents, (colors, indices))) = rayon::join(
@@ -173,6 +189,7 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
     let (normals, uvs, tangents) = (normals?, uvs?, tangents?);
     let (colors, color) = colors?;
     let (indices, indexed) = indices?;
+    let (indices, dropped) = triangles::triangle_list(mode, indices);
 
     let mesh = Mesh {
         positions,
@@ -189,6 +206,8 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
         mesh,
         color,
         indexed,
+        mode,
+        dropped,
     })
 }
 

@@ -103,11 +103,7 @@ fn texture_sampler_refs(json: &mut Map<String, Value>, f: &mut dyn FnMut(&mut Va
 type Visit = fn(&mut Map<String, Value>, &mut dyn FnMut(&mut Value));
 
 /// Marks as used every index that `visit` reaches.
-fn used_by(
-    json: &mut Map<String, Value>,
-    len: usize,
-    visit: Visit,
-) -> Vec<bool> {
+fn used_by(json: &mut Map<String, Value>, len: usize, visit: Visit) -> Vec<bool> {
     let mut used = vec![false; len];
     visit(json, &mut |v| {
         if let Some(i) = v.as_u64().filter(|&i| (i as usize) < len) {

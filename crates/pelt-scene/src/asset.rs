@@ -431,7 +431,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
         let normal_world = Mat3::from_mat4(world).inverse().transpose();
         let flips = world.determinant() < 0.0;
         for r in doc.primitives().into_iter().filter(|r| r.mesh == mesh) {
-            if doc.mode(r)? != 4 {
+            if !pelt_io::triangles::is_triangles(doc.mode(r)?) {
                 continue;
             }
             let p = pelt_io::mesh::read_primitive(doc, r)?;
