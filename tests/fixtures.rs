@@ -22,6 +22,11 @@ fn generator_reproduces_the_committed_fixtures() {
                 .flatten()
                 .map(|e| format!("edge/{}", e.file_name().to_string_lossy())),
         )
+        .chain(
+            pelt_fixtures::obj::all()
+                .into_iter()
+                .map(|(rel, _)| format!("obj/{rel}")),
+        )
     {
         let made = std::fs::read(dir.join(&rel)).expect("generated");
         let kept = std::fs::read(fixture(&rel))
@@ -64,6 +69,12 @@ fn every_baked_fixture_passes_the_khronos_validator() {
             .expect("edge")
             .flatten()
             .map(|e| format!("edge/{}", e.file_name().to_string_lossy())),
+    );
+    inputs.extend(
+        pelt_fixtures::obj::all()
+            .into_iter()
+            .filter(|(rel, _)| rel.ends_with(".obj"))
+            .map(|(rel, _)| format!("obj/{rel}")),
     );
     let fur = fixture("fur.json");
     let variants = [

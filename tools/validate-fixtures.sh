@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 cargo build -q --bin pelt
 out=target/validate
 rm -rf "$out" && mkdir -p "$out/default" "$out/regen-u16" "$out/fur"
-inputs=(fixtures/*.glb fixtures/edge/*.gltf fixtures/edge/*.obj)
+inputs=(fixtures/*.glb fixtures/edge/*.gltf fixtures/edge/*.obj fixtures/obj/*.obj)
 ./target/debug/pelt bake -q "${inputs[@]}" -o "$out/default"
 ./target/debug/pelt bake -q "${inputs[@]}" -o "$out/regen-u16" --tangents regenerate --quantize u16
 ./target/debug/pelt bake -q "${inputs[@]}" -o "$out/fur" --config fixtures/fur.json

@@ -211,3 +211,32 @@ pub fn load_png(path: &Path) -> pelt_preview::Image {
         rgba,
     }
 }
+
+/// Runs the Khronos glTF-Validator on `files` and fails on any error or warning (skipped where
+/// the validator is not installed, unless PELT_REQUIRE_VALIDATOR is set, as CI does).
+pub fn validate_clean(files: &[&Path]) {
+    let script = root().join("tools/validator/validate.mjs");
+    let installed = root()
+        .join("tools/validator/node_modules/gltf-validator")
+        .exists();
+    if !tool_available(
+        installed,
+        "PELT_REQUIRE_VALIDATOR",
+        "the glTF validator",
+        "npm ci --prefix tools/validator",
+    ) {
+        return;
+    }
+    let o = Command::new("node")
+        .arg(script)
+        .args(files)
+        .output()
+        .expect("run node");
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    assert_eq!(
+        text.matches(": 0 errors, 0 warnings").count(),
+        files.len(),
+        "{text}"
+    );
+}

@@ -90,6 +90,8 @@ pub struct AssetReport {
 /// primitive is an error ("nothing to bake"): the output would be the input.
 pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetReport, IoError> {
     let mut report = AssetReport::default();
+    // What loading read past or repaired (an OBJ's missing materials, lossy text).
+    report.warnings.append(&mut doc.warnings);
     // Texture images decoded for comb lengths, once each.
     let mut images: Vec<(usize, Rgba8)> = Vec::new();
     for r in doc.primitives() {

@@ -7,6 +7,7 @@
 //! - [`comb_field`]: the known comb painted on them, so tests can check the bake against it.
 //! - [`edge`]: the small hand-specified edge cases (mirrored UVs, degenerate triangles, comb
 //!   along the normal, missing normals, VEC3 u8 colors, sparse colors, non-triangle modes, OBJ).
+//! - [`obj`]: OBJ files with materials, textures and the encodings peers read.
 //! - [`build`]: turning shapes into glTF documents.
 //! - [`bad`]: the bad-input corpus (`fixtures/bad/`): a valid quad broken one way per file.
 //! - [`mutate`]: seeded mutations (bit flips, truncations, splices, JSON number edits) for the
@@ -16,6 +17,7 @@ pub mod bad;
 pub mod build;
 pub mod edge;
 pub mod mutate;
+pub mod obj;
 pub mod shapes;
 pub mod skinned;
 
@@ -37,7 +39,7 @@ pub fn paint(d: Vec3, len: f32) -> [f32; 4] {
 }
 
 /// Writes the committed fixture set into `out`: sphere.glb, torus.glb, creature.glb and
-/// edge/*.gltf.
+/// edge/*.gltf and obj/*.
 pub fn write_all(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
     use build::{BuildOptions, ColorEncoding, document};
     use pelt_io::glb::{write_glb, write_gltf_embedded};
@@ -70,6 +72,12 @@ pub fn write_all(out: &std::path::Path) -> Result<(), pelt_io::IoError> {
     for (name, doc) in edge::all() {
         write_gltf_embedded(&doc, &out.join("edge").join(format!("{name}.gltf")))?;
     }
+    let objs = out.join("obj");
+    obj::write(&objs).map_err(|source| pelt_io::IoError::Fs {
+        path: objs,
+        action: "write",
+        source,
+    })?;
     Ok(())
 }
 

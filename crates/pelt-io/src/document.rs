@@ -184,6 +184,9 @@ pub struct Document {
     pub(crate) detached: Vec<usize>,
     /// BufferViews an edit stopped using (fin records replaced by a new bake).
     pub(crate) detached_views: Vec<usize>,
+    /// What loading read past or repaired (an OBJ's missing `.mtl`, text that was not UTF-8),
+    /// each naming the file and the place; a bake reports them.
+    pub warnings: Vec<String>,
 }
 
 impl Document {
@@ -235,6 +238,7 @@ impl Document {
             source_views: 0,
             detached: Vec::new(),
             detached_views: Vec::new(),
+            warnings: Vec::new(),
         };
         doc.check_asset()?;
         doc.load_buffers(bin)?;
@@ -263,6 +267,7 @@ impl Document {
             source_views,
             detached: Vec::new(),
             detached_views: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -714,7 +719,7 @@ fn mime_from_name(uri: &str) -> Option<String> {
     Some(m.to_owned())
 }
 
-fn mime_from_bytes(b: &[u8]) -> Option<String> {
+pub(crate) fn mime_from_bytes(b: &[u8]) -> Option<String> {
     let m = if b.starts_with(b"\x89PNG") {
         "image/png"
     } else if b.starts_with(&[0xFF, 0xD8, 0xFF]) {

@@ -20,6 +20,7 @@
 //!   buffers, with pelt-io's bounds check before its readers run.
 //! - [`picture`]: texture images decoded with the `image` crate (bounded), a material's
 //!   texture slot through `gltf`, bilinear lookups with the sampler's wrap modes.
+//! - [`text`]: OBJ and MTL text in any encoding peers read (UTF-8, UTF-16 with a BOM, lossy).
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -30,9 +31,11 @@ pub mod error;
 pub mod glb;
 pub mod mesh;
 pub mod obj;
+pub mod obj_material;
 pub mod picture;
 pub mod prune;
 pub mod prune_textures;
+pub mod text;
 pub mod texture;
 pub mod topology;
 pub mod triangles;

@@ -1,10 +1,13 @@
 //! Wavefront OBJ import through `tobj`: triangulated, one glTF mesh (one primitive) and node per
-//! OBJ object. Per-vertex colors written as `v x y z r g b` become COLOR_0 (VEC3 float, so comb
-//! length 1). OBJ's V axis points up, glTF's down: TEXCOORD_0 = (u, 1 - v).
+//! OBJ object and material. Per-vertex colors written as `v x y z r g b` become COLOR_0 (VEC3
+//! float, so comb length 1). OBJ's V axis points up, glTF's down: TEXCOORD_0 = (u, 1 - v).
 //!
-//! Every face, line and point index is checked first, with its line number, against the
-//! vertices the file really holds (negative indices count back from the last vertex read so
-//! far). `mtllib` is not followed: pelt uses no OBJ materials, so the only file read is the OBJ.
+//! The text is read as peers read it ([`crate::text`]: UTF-8, UTF-16 with a byte-order mark,
+//! other bytes decoded lossily with a warning). Every face, line and point index is checked
+//! first, with its line number, against the vertices the file really holds (negative indices
+//! count back from the last vertex read so far). `mtllib` files and their textures are read
+//! relative to the OBJ and never outside its folder ([`crate::obj_material`]); what cannot be
+//! read is a warning in [`Document::warnings`].
 
 use std::path::Path;
 
@@ -13,6 +16,7 @@ use serde_json::{Map, Value, json};
 use crate::document::Document;
 use crate::edit::{NewAccessor, push_to};
 use crate::error::{IoError, Result};
+use crate::obj_material::{MaterialWriter, MtlReader};
 
 /// Loads an OBJ file into a [`Document`].
 pub fn load(path: &Path) -> Result<Document> {
@@ -26,6 +30,9 @@ pub fn load(path: &Path) -> Result<Document> {
 
 /// Parses an OBJ held in memory; `path` names it in errors.
 pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
+    let mut warnings = Vec::new();
+    let text = crate::text::decode("", bytes, &mut warnings);
+    let bytes = text.as_bytes();
     check_indices(path, bytes)?;
     let opts = tobj::LoadOptions {
         single_index: true,
@@ -33,10 +40,13 @@ pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
         ignore_points: true,
         ignore_lines: true,
     };
-    let mut reader = std::io::Cursor::new(bytes);
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::OpenFileFailed))
-            .map_err(|e| IoError::invalid(path, "OBJ", format!("cannot load: {e}")))?;
+    let mut cursor = std::io::Cursor::new(bytes);
+    let mtl = MtlReader::new(path);
+    let (models, materials) = tobj::load_obj_buf(&mut cursor, &opts, |name| mtl.load(name))
+        .map_err(|e| IoError::invalid(path, "OBJ", format!("cannot load: {e}")))?;
+    // The loader never fails, so tobj's material list is whatever loaded.
+    let materials = materials.unwrap_or_default();
+    let mut writer = MaterialWriter::new(&mtl, &materials);
     let mut doc = Document::empty(path);
     for (i, m) in models.iter().enumerate() {
         let mesh = &m.mesh;
@@ -95,7 +105,24 @@ pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
             );
         }
         let idx = doc.push_accessor(NewAccessor::indices(&mesh.indices, n));
-        doc.add_mesh_node(&m.name, attrs, idx);
+        let mi = doc.add_mesh_node(&m.name, attrs, idx);
+        if let Some(material) = mesh
+            .material_id
+            .and_then(|id| writer.material(&mut doc, id))
+        {
+            let r = crate::PrimitiveRef {
+                mesh: mi,
+                primitive: 0,
+            };
+            doc.set_primitive_material(r, material)?;
+        }
+    }
+    warnings.extend(mtl.warnings.take());
+    doc.warnings = warnings;
+    for f in mtl.files.take() {
+        if !doc.files_read.contains(&f) {
+            doc.files_read.push(f);
+        }
     }
     if doc.array("meshes").is_empty() {
         return Err(IoError::invalid(path, "OBJ", "no faces"));
@@ -246,7 +273,7 @@ mod tests {
     const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
     #[test]
-    fn mtllib_is_not_followed() {
+    fn missing_or_escaping_mtllibs_are_warnings() {
         let dir = std::env::temp_dir().join(format!("pelt-obj-mtl-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("mkdir");
         let path = dir.join("a.obj");
@@ -254,6 +281,18 @@ mod tests {
         std::fs::write(&path, &text).expect("write");
         let doc = load(&path).expect("an OBJ whose materials are missing still loads");
         assert_eq!(doc.files_read, vec![path.clone()]);
+        assert_eq!(doc.warnings.len(), 2, "{:?}", doc.warnings);
+        assert!(
+            doc.warnings[0].contains("mtllib \"missing.mtl\""),
+            "{:?}",
+            doc.warnings
+        );
+        assert!(
+            doc.warnings[1].contains("leaves the OBJ's folder"),
+            "{:?}",
+            doc.warnings
+        );
+        assert!(doc.array("materials").is_empty());
         let _ = std::fs::remove_dir_all(&dir);
     }
 

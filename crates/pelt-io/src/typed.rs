@@ -17,7 +17,13 @@ use crate::error::{IoError, Result};
 /// The typed document of `doc` (validated by `gltf`: every index in range, required fields
 /// present). A validation failure is an error naming the first place `gltf` reports.
 pub fn document(doc: &Document) -> Result<gltf::Document> {
-    let root: gltf::json::Root = serde_json::from_value(Value::Object(doc.json.clone()))
+    let mut json = doc.json.clone();
+    // A document built in memory (an OBJ) keeps its data in new bufferViews on buffer 0,
+    // which the writer declares; declare it here too.
+    if doc.buffers.is_empty() && !doc.new_views.is_empty() && !json.contains_key("buffers") {
+        json.insert("buffers".into(), serde_json::json!([{ "byteLength": 1 }]));
+    }
+    let root: gltf::json::Root = serde_json::from_value(Value::Object(json))
         .map_err(|e| doc.invalid("JSON", format!("not a glTF 2.0 document: {e}")))?;
     gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => {
