@@ -960,3 +960,64 @@ fn interleaved_attributes_decode_like_separate_ones() {
     assert_eq!(separate.indices, interleaved.indices);
     assert!(separate.tangents.is_some() && interleaved.tangents.is_none());
 }
+
+/// Faults with one safe fix are repaired, said in a warning, and the output is valid: a wrong
+/// POSITION min/max, a missing one, and an image whose declared type is not its bytes'.
+#[test]
+fn unambiguous_faults_are_repaired_with_a_warning() {
+    let dir = scratch("repair");
+    let mut doc = pelt_io::Document::load(&fixture("fox/Fox.glb")).expect("fox");
+    let pos = doc.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+        .as_u64()
+        .expect("POSITION") as usize;
+    doc.json["accessors"][pos]["min"] = serde_json::json!([0.0, 0.0, 0.0]);
+    doc.json["images"][0]["mimeType"] = serde_json::json!("image/jpeg");
+    let input = dir.join("fox-faults.gltf");
+    pelt_io::glb::write_gltf_embedded(&doc, &input).expect("write");
+    let out = dir.join("fox.glb");
+    let o = pelt_ok(&[
+        "bake",
+        input.to_str().unwrap_or_default(),
+        "-o",
+        out.to_str().unwrap_or_default(),
+        "--comb",
+        "generate",
+        "--report",
+        "-",
+    ]);
+    let report: Value = serde_json::from_slice(&o.stdout).expect("report");
+    let warnings = report["inputs"][0]["warnings"].to_string();
+    assert!(
+        warnings.contains(&format!(
+            "accessors[{pos}]: the declared min/max did not match"
+        )),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("images[0]: declared image/jpeg but holds image/png"),
+        "{warnings}"
+    );
+    // Without min/max at all, the data's are added.
+    let mut doc = pelt_io::Document::load(&fixture("creature.glb")).expect("creature");
+    let acc = doc.json["accessors"][0].as_object_mut().expect("accessor");
+    acc.remove("min");
+    acc.remove("max");
+    let bare = dir.join("creature-bare.gltf");
+    pelt_io::glb::write_gltf_embedded(&doc, &bare).expect("write");
+    let o = pelt_ok(&[
+        "bake",
+        bare.to_str().unwrap_or_default(),
+        "-o",
+        dir.join("creature.glb").to_str().unwrap_or_default(),
+        "--report",
+        "-",
+    ]);
+    let report: Value = serde_json::from_slice(&o.stdout).expect("report");
+    assert!(
+        report["inputs"][0]["warnings"]
+            .to_string()
+            .contains("accessors[0]: POSITION had no min/max; the data's were added"),
+        "{report}"
+    );
+    validate_clean(&[&out, &dir.join("creature.glb")]);
+}

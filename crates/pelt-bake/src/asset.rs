@@ -260,6 +260,9 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         return Err(doc.invalid("meshes", format!("nothing to bake: {why}")));
     }
     let t3 = Instant::now();
+    // No fault the bake passed through reaches the output (before pruning, so that places
+    // name the input's indices: edits only append).
+    report.warnings.extend(pelt_io::validate::check(doc)?);
     let pruned = doc.prune_detached();
     report.removed_accessors = pruned.accessors;
     report.removed_buffer_views = pruned.buffer_views;

@@ -905,6 +905,126 @@ pub fn all() -> Vec<BadCase> {
         "nothing to bake",
     );
 
+    // Schema and validator rules in parts a bake passes through untouched.
+    type Case = (&'static str, fn(&mut Value), &'static str, &'static str);
+    let schema: [Case; 13] = [
+        (
+            "schema-name-number.glb",
+            |j| set(j, &["meshes", "0", "name"], json!(5)),
+            "meshes[0].name",
+            "invalid type: integer `5`, expected a string",
+        ),
+        (
+            "schema-extensions-number.glb",
+            |j| set(j, &["nodes", "0", "extensions"], json!(5)),
+            "nodes[0].extensions",
+            "does not follow the glTF 2.0 schema",
+        ),
+        (
+            "schema-extension-data-number.glb",
+            |j| {
+                set(j, &["nodes", "0", "extensions"], json!({"EXT_x": 5}));
+                set(j, &["extensionsUsed"], json!(["EXT_x"]));
+            },
+            "nodes[0].extensions.EXT_x",
+            "an extension's data must be a JSON object",
+        ),
+        (
+            "schema-extension-undeclared.glb",
+            |j| set(j, &["nodes", "0", "extensions"], json!({"EXT_x": {}})),
+            "extensionsUsed",
+            "EXT_x is used but not declared",
+        ),
+        (
+            "schema-index-negative.glb",
+            |j| set(j, &["scenes", "0", "nodes"], json!([-1])),
+            "scenes[0].nodes[0]",
+            "invalid type: integer `-1`",
+        ),
+        (
+            "schema-texcoord-1-without-0.glb",
+            |j| {
+                remove(j, &PRIM[..], "attributes");
+                set(
+                    j,
+                    &[&PRIM[..], &["attributes"]].concat(),
+                    json!({"POSITION": 0, "NORMAL": 1, "TEXCOORD_1": 2, "COLOR_0": 3}),
+                );
+            },
+            "meshes[0].primitives[0].attributes",
+            "TEXCOORD_n attributes must be numbered from 0 without gaps",
+        ),
+        (
+            "schema-matrix-and-trs.glb",
+            |j| {
+                set(
+                    j,
+                    &["nodes", "0", "matrix"],
+                    json!([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]),
+                );
+                set(j, &["nodes", "0", "scale"], json!([2, 2, 2]));
+            },
+            "nodes[0].matrix",
+            "either a matrix or translation/rotation/scale",
+        ),
+        (
+            "schema-rotation-not-unit.glb",
+            |j| set(j, &["nodes", "0", "rotation"], json!([0, 0, 0, 0.5])),
+            "nodes[0].rotation",
+            "not a unit quaternion",
+        ),
+        (
+            "schema-emissive-above-1.glb",
+            |j| {
+                set(j, &["materials"], json!([{"emissiveFactor": [2, 0, 0]}]));
+                set(j, &[&PRIM[..], &["material"]].concat(), json!(0));
+            },
+            "materials[0].emissiveFactor",
+            "2 is outside [0, 1]",
+        ),
+        (
+            "schema-weights-without-targets.glb",
+            |j| set(j, &["meshes", "0", "weights"], json!([0.5])),
+            "meshes[0].weights",
+            "1 weights for 0 morph targets",
+        ),
+        (
+            "schema-texcoord-missing-for-texture.glb",
+            |j| {
+                set(j, &["samplers"], json!([{}]));
+                set(
+                    j,
+                    &["images"],
+                    json!([{"uri": "data:image/png;base64,iVBORw0KGgo="}]),
+                );
+                set(j, &["textures"], json!([{"source": 0, "sampler": 0}]));
+                set(
+                    j,
+                    &["materials"],
+                    json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}]),
+                );
+                set(j, &[&PRIM[..], &["material"]].concat(), json!(0));
+            },
+            "meshes[0].primitives[0].material",
+            "reads TEXCOORD_1, which the primitive does not have",
+        ),
+        (
+            "schema-empty-array.glb",
+            |j| set(j, &["nodes", "0", "children"], json!([])),
+            "nodes[0].children",
+            "an array must not be empty",
+        ),
+        (
+            "schema-min-version-above-version.glb",
+            |j| set(j, &["asset", "minVersion"], json!("2.1")),
+            "asset.minVersion",
+            "minVersion 2.1 is above version 2.0",
+        ),
+    ];
+    for (name, edit, place, message) in schema {
+        add(name, glb_of(edited(edit)), place, message);
+    }
+
     // OBJ.
     add(
         "obj-index-past-end.obj",
@@ -968,11 +1088,12 @@ pub fn all() -> Vec<BadCase> {
         "meshes[0] \"unnamed_object\" primitives[0]",
         "POSITION: vertex 1 has a non-finite value",
     );
+    // Bytes that are not UTF-8 are decoded lossily, as peers do; noise still holds no faces.
     add(
         "obj-binary-noise.obj",
         (0..=255u8).cycle().take(1024).collect(),
-        "OBJ line 2",
-        "not UTF-8 text",
+        "OBJ",
+        "no faces",
     );
     cases
 }

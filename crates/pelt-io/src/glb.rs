@@ -187,7 +187,28 @@ pub fn write_glb(doc: &Document, out: &Path) -> Result<WriteStats> {
             source,
         });
     }
+    log_written(out);
     Ok(plan.stats())
+}
+
+/// A test hook: with `PELT_WRITTEN_LOG` set, the path of every `.glb` written is appended to
+/// that file (one absolute path per line), so that a test run can hand every output any test
+/// wrote to the Khronos validator (`tools/validate-written.sh`).
+fn log_written(out: &Path) {
+    use std::io::Write as _;
+    let Some(log) = std::env::var_os("PELT_WRITTEN_LOG") else {
+        return;
+    };
+    let path = std::path::absolute(out).unwrap_or_else(|_| out.to_owned());
+    let line = format!("{}\n", path.display());
+    // One short write with O_APPEND: lines from parallel writers do not interleave.
+    if let Ok(mut f) = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(log)
+    {
+        let _ = f.write_all(line.as_bytes());
+    }
 }
 
 /// The document as self-contained `.glb` bytes in memory.

@@ -21,6 +21,8 @@
 //! - [`picture`]: texture images decoded with the `image` crate (bounded), a material's
 //!   texture slot through `gltf`, bilinear lookups with the sampler's wrap modes.
 //! - [`text`]: OBJ and MTL text in any encoding peers read (UTF-8, UTF-16 with a BOM, lossy).
+//! - [`validate`]: the whole document checked against the glTF schema and the validator's
+//!   rules before a bake writes it.
 //! - [`obj`]: Wavefront OBJ (with `v x y z r g b` colors) into the same document model.
 
 pub mod accessor;
@@ -40,6 +42,7 @@ pub mod texture;
 pub mod topology;
 pub mod triangles;
 pub mod typed;
+pub mod validate;
 
 pub use document::{Buffer, Document, PrimitiveRef, ViewData};
 pub use error::IoError;

@@ -17,14 +17,24 @@ use crate::error::{IoError, Result};
 /// The typed document of `doc` (validated by `gltf`: every index in range, required fields
 /// present). A validation failure is an error naming the first place `gltf` reports.
 pub fn document(doc: &Document) -> Result<gltf::Document> {
+    position_indices(doc)?;
     let mut json = doc.json.clone();
     // A document built in memory (an OBJ) keeps its data in new bufferViews on buffer 0,
     // which the writer declares; declare it here too.
     if doc.buffers.is_empty() && !doc.new_views.is_empty() && !json.contains_key("buffers") {
         json.insert("buffers".into(), serde_json::json!([{ "byteLength": 1 }]));
     }
-    let root: gltf::json::Root = serde_json::from_value(Value::Object(json))
-        .map_err(|e| doc.invalid("JSON", format!("not a glTF 2.0 document: {e}")))?;
+    // pelt decides which required extensions it reads (pelt-io refuses the ones it cannot);
+    // `gltf` would refuse every one its own features do not cover.
+    json.remove("extensionsRequired");
+    let root: gltf::json::Root =
+        serde_path_to_error::deserialize(Value::Object(json)).map_err(|e| {
+            let path = e.path().to_string();
+            doc.invalid(
+                if path == "." { "JSON".to_owned() } else { path },
+                format!("does not follow the glTF 2.0 schema: {}", e.into_inner()),
+            )
+        })?;
     gltf::Document::from_json(root).map_err(|e| match e {
         gltf::Error::Validation(list) => {
             let n = list.len();
@@ -38,6 +48,25 @@ pub fn document(doc: &Document) -> Result<gltf::Document> {
         }
         other => doc.invalid("JSON", other.to_string()),
     })
+}
+
+/// Every primitive's POSITION names an accessor that exists: `gltf` 1.4's validation indexes
+/// the accessor list with it unchecked.
+fn position_indices(doc: &Document) -> Result<()> {
+    let n = doc.array("accessors").len() as u64;
+    for (m, mesh) in doc.array("meshes").iter().enumerate() {
+        let prims = mesh.get("primitives").and_then(Value::as_array);
+        for (p, prim) in prims.into_iter().flatten().enumerate() {
+            let pos = prim.get("attributes").and_then(|a| a.get("POSITION"));
+            if let Some(i) = pos.and_then(Value::as_u64).filter(|&i| i >= n) {
+                return Err(doc.invalid(
+                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    format!("accessor {i} does not exist (the file has {n})"),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The buffer data `gltf`'s readers ask for.
