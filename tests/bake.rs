@@ -550,7 +550,7 @@ fn nan_is_an_error_naming_file_place_and_vertex() {
         .unwrap_or(0) as usize;
     doc.buffers[0][off + 12 * 3 + 4..off + 12 * 3 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
     let bad = dir.join("nan.glb");
-    pelt_io::glb::write_glb(&doc, &bad).expect("write");
+    write_input(&doc, &bad);
     let out_path = dir.join("out.glb");
     let out = pelt(
         &[
@@ -797,7 +797,7 @@ fn generated_comb_length_follows_a_texture_channel() {
     doc.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] =
         serde_json::json!({"index": texture});
     let input = dir.join("textured.glb");
-    pelt_io::glb::write_glb(&doc, &input).expect("write");
+    write_input(&doc, &input);
     let config = dir.join("c.json");
     std::fs::write(
         &config,
@@ -860,7 +860,7 @@ fn auto_tangents_are_mikktspace_exactly_where_a_normal_map_needs_them() {
     let texture = doc.push_texture(image, sampler, "normal");
     doc.json["materials"][0]["normalTexture"] = serde_json::json!({ "index": texture });
     let mapped = dir.join("mapped.glb");
-    pelt_io::glb::write_glb(&doc, &mapped).expect("write");
+    write_input(&doc, &mapped);
 
     let run = |input: &std::path::Path, name: &str, extra: &[&str]| {
         let rep = dir.join(format!("{name}.json"));

@@ -400,7 +400,7 @@ fn a_killed_batch_leaves_no_partial_file_under_any_output_name() {
     let inputs = dir.join("in");
     std::fs::create_dir_all(&inputs).expect("mkdir");
     for i in 0..8 {
-        pelt_io::glb::write_glb(&doc, &inputs.join(format!("c{i}.glb"))).expect("write");
+        write_input(&doc, &inputs.join(format!("c{i}.glb")));
     }
     // The reference output of one copy (all copies bake to the same bytes).
     let reference = dir.join("reference.glb");

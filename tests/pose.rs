@@ -15,7 +15,7 @@ fn baked_cylinder(dir: &Path) -> PathBuf {
     let src = dir.join("src");
     std::fs::create_dir_all(&src).expect("mkdir");
     let src = src.join("bent-cylinder.glb");
-    pelt_io::glb::write_glb(&skinned::bent_cylinder(), &src).expect("write");
+    write_input(&skinned::bent_cylinder(), &src);
     bake(&src, dir, &[])
 }
 
@@ -217,7 +217,7 @@ fn bad_rigs_are_named_errors_with_no_output() {
         let mut d = doc.clone();
         edit(&mut d.json);
         let input = dir.join(format!("{}.glb", what.replace(' ', "-")));
-        pelt_io::glb::write_glb(&d, &input).expect("write");
+        write_input(&d, &input);
         let out = dir.join("out.glb");
         let o = pose(&input, &out, &["--animation", "Bend", "--time", "1"]);
         let err = String::from_utf8_lossy(&o.stderr);
@@ -250,7 +250,7 @@ fn nan_keys_and_unnormalized_weights() {
         .expect("output") as usize;
     poke_f32(&mut d, out_acc, 5, f32::NAN);
     let input = dir.join("nan.glb");
-    pelt_io::glb::write_glb(&d, &input).expect("write");
+    write_input(&d, &input);
     let o = pose(
         &input,
         &dir.join("out.glb"),
@@ -271,7 +271,7 @@ fn nan_keys_and_unnormalized_weights() {
         poke_f32(&mut d, ibm, k, 0.0);
     }
     let input = dir.join("singular.glb");
-    pelt_io::glb::write_glb(&d, &input).expect("write");
+    write_input(&d, &input);
     let o = pose(&input, &dir.join("out.glb"), &["--animation", "Bend"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
@@ -294,7 +294,7 @@ fn nan_keys_and_unnormalized_weights() {
         }
     }
     let input = dir.join("heavy.glb");
-    pelt_io::glb::write_glb(&d, &input).expect("write");
+    write_input(&d, &input);
     let heavy = dir.join("heavy-posed.glb");
     let o = pose(&input, &heavy, &["--animation", "Bend", "--time", "1"]);
     let err = String::from_utf8_lossy(&o.stderr);

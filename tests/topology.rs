@@ -532,7 +532,7 @@ fn with_pelt_extras(from: &Path, to: &Path, edit: impl FnOnce(&mut Value)) {
         .get_mut("pelt")
         .expect("extras.pelt");
     edit(pelt);
-    pelt_io::glb::write_glb(&doc, to).expect("write");
+    write_input(&doc, to);
 }
 
 #[test]
@@ -578,7 +578,7 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     );
     bad.buffers[buffer][offset + 8..offset + 12].copy_from_slice(&u32::MAX.to_le_bytes());
     let broken = dir.join("broken.glb");
-    pelt_io::glb::write_glb(&bad, &broken).expect("write");
+    write_input(&bad, &broken);
     let r = pelt(&["inspect", broken.to_str().unwrap_or_default()], &[]);
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success());

@@ -240,3 +240,10 @@ pub fn validate_clean(files: &[&Path]) {
         "{text}"
     );
 }
+
+/// Writes a test *input* (not a pelt output): the bytes pelt-io lays out, without the
+/// `PELT_WRITTEN_LOG` entry an output gets, since some inputs are broken on purpose.
+pub fn write_input(doc: &Document, path: &Path) {
+    let bytes = pelt_io::glb::to_vec(doc).expect("lay out the input");
+    std::fs::write(path, bytes).expect("write the input");
+}
