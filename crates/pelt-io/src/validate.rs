@@ -24,7 +24,11 @@ use crate::document::Document;
 use crate::error::{IoError, Result};
 
 /// Checks `doc` (see the module documentation); returns the repairs made, as warnings.
-pub fn check(doc: &mut Document) -> Result<Vec<String>> {
+///
+/// With `triangles_read`, the caller has read every triangle primitive through
+/// [`crate::mesh::read_primitive`], which checks their floats and indices as it decodes them;
+/// those accessors are not read a second time.
+pub fn check(doc: &mut Document, triangles_read: bool) -> Result<Vec<String>> {
     let mut repairs = position_bounds(doc)?;
     crate::typed::document(doc)?;
     let mut path = String::new();
@@ -33,7 +37,7 @@ pub fn check(doc: &mut Document) -> Result<Vec<String>> {
     asset_and_nodes(doc)?;
     materials(doc)?;
     meshes(doc)?;
-    accessor_data(doc)?;
+    accessor_data(doc, triangles_read)?;
     animations(doc)?;
     repairs.extend(repair_bounds(doc)?);
     repairs.extend(image_types(doc)?);
@@ -84,10 +88,25 @@ fn bounds(doc: &Document, a: usize, place: &str) -> Result<Option<Bounds>> {
     }
     let mut lo = vec![f64::INFINITY; comps];
     let mut hi = vec![f64::NEG_INFINITY; comps];
-    for i in 0..e.count * comps {
-        let v = accessor::raw(e.component, &e.bytes, i);
-        lo[i % comps] = lo[i % comps].min(v);
-        hi[i % comps] = hi[i % comps].max(v);
+    if e.component == ComponentType::F32 {
+        // Floats straight from their bytes, one element at a time (the common, large case).
+        let mut lo32 = vec![f32::INFINITY; comps];
+        let mut hi32 = vec![f32::NEG_INFINITY; comps];
+        for el in e.bytes.chunks_exact(4 * comps) {
+            for (k, c) in el.chunks_exact(4).enumerate() {
+                let v = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+                lo32[k] = lo32[k].min(v);
+                hi32[k] = hi32[k].max(v);
+            }
+        }
+        lo = lo32.into_iter().map(f64::from).collect();
+        hi = hi32.into_iter().map(f64::from).collect();
+    } else {
+        for i in 0..e.count * comps {
+            let v = accessor::raw(e.component, &e.bytes, i);
+            lo[i % comps] = lo[i % comps].min(v);
+            hi[i % comps] = hi[i % comps].max(v);
+        }
     }
     Ok(Some((lo, hi, e.component == ComponentType::F32)))
 }
@@ -567,18 +586,22 @@ fn semantics(
 }
 
 /// Floats finite in every accessor; indices inside their primitive's vertices.
-fn accessor_data(doc: &Document) -> Result<()> {
+fn accessor_data(doc: &Document, triangles_read: bool) -> Result<()> {
+    let read = if triangles_read {
+        triangle_accessors(doc)
+    } else {
+        vec![false; doc.array("accessors").len()]
+    };
     for (a, acc) in doc.array("accessors").iter().enumerate() {
         if acc.get("componentType").and_then(Value::as_u64) != Some(5126)
             || doc.detached.contains(&a)
+            || read.get(a).copied().unwrap_or(false)
         {
             continue;
         }
         let e = accessor::read_any(doc, a, &format!("accessors[{a}]"))?;
-        let n = e.count * e.components;
-        if let Some(i) =
-            (0..n).find(|&i| !accessor::raw(ComponentType::F32, &e.bytes, i).is_finite())
-        {
+        let finite = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite();
+        if let Some(i) = e.bytes.chunks_exact(4).position(|c| !finite(c)) {
             return Err(err(
                 doc,
                 &format!("accessors/{a}"),
@@ -592,6 +615,10 @@ fn accessor_data(doc: &Document) -> Result<()> {
     for (m, mesh) in doc.array("meshes").iter().enumerate() {
         let prims = mesh.get("primitives").and_then(Value::as_array);
         for (p, prim) in prims.into_iter().flatten().enumerate() {
+            let mode = prim.get("mode").and_then(Value::as_u64).unwrap_or(4);
+            if triangles_read && crate::triangles::is_triangles(mode) {
+                continue;
+            }
             let (Some(i), Some(pos)) = (
                 prim.get("indices").and_then(Value::as_u64),
                 prim.get("attributes")
@@ -615,6 +642,33 @@ fn accessor_data(doc: &Document) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The accessors triangle primitives use (attributes and morph targets).
+fn triangle_accessors(doc: &Document) -> Vec<bool> {
+    let mut used = vec![false; doc.array("accessors").len()];
+    for mesh in doc.array("meshes") {
+        let prims = mesh.get("primitives").and_then(Value::as_array);
+        for prim in prims.into_iter().flatten() {
+            let mode = prim.get("mode").and_then(Value::as_u64).unwrap_or(4);
+            if !crate::triangles::is_triangles(mode) {
+                continue;
+            }
+            let targets = prim.get("targets").and_then(Value::as_array);
+            let sets = prim
+                .get("attributes")
+                .into_iter()
+                .chain(targets.into_iter().flatten());
+            for set in sets.filter_map(Value::as_object) {
+                for v in set.values().filter_map(Value::as_u64) {
+                    if let Some(u) = used.get_mut(v as usize) {
+                        *u = true;
+                    }
+                }
+            }
+        }
+    }
+    used
 }
 
 /// Animation sampler inputs strictly increasing.
