@@ -9,20 +9,15 @@ use std::path::Path;
 use common::*;
 use serde_json::Value;
 
-fn bake_report(name: &str, dir: &Path) -> (std::path::PathBuf, Value) {
+fn bake_obj(name: &str, dir: &Path) -> (std::path::PathBuf, Value) {
     let out = dir.join(format!("{name}.glb"));
-    let o = pelt_ok(&[
-        "bake",
-        fixture(&format!("obj/{name}.obj"))
-            .to_str()
-            .unwrap_or_default(),
+    let input = fixture(&format!("obj/{name}.obj"));
+    let report = bake_report(&[
+        input.to_str().unwrap_or_default(),
         "-o",
         out.to_str().unwrap_or_default(),
-        "--report",
-        "-",
     ]);
-    let report: Value = serde_json::from_slice(&o.stdout).expect("report");
-    (out, report["inputs"][0].clone())
+    (out, report)
 }
 
 fn warnings(report: &Value) -> Vec<String> {
@@ -37,7 +32,7 @@ fn warnings(report: &Value) -> Vec<String> {
 #[test]
 fn mtl_materials_and_textures_become_gltf_materials() {
     let dir = scratch("obj-textured");
-    let (out, report) = bake_report("textured", &dir);
+    let (out, report) = bake_obj("textured", &dir);
     assert!(warnings(&report).is_empty(), "{report}");
     let doc = pelt_io::Document::load(&out).expect("load");
     let materials = doc.array("materials");
@@ -142,7 +137,7 @@ fn a_missing_or_empty_mtl_is_a_warning() {
         ("missing-mtl", "mtllib \"not-here.mtl\""),
         ("empty-mtl", "mtllib \"empty.mtl\" holds no materials"),
     ] {
-        let (out, report) = bake_report(name, &dir);
+        let (out, report) = bake_obj(name, &dir);
         let w = warnings(&report);
         assert!(w.iter().any(|w| w.contains(needle)), "{name}: {w:?}");
         assert!(
@@ -158,7 +153,7 @@ fn a_missing_or_empty_mtl_is_a_warning() {
 #[test]
 fn latin1_and_utf16_text_is_decoded() {
     let dir = scratch("obj-text");
-    let (out, report) = bake_report("latin1", &dir);
+    let (out, report) = bake_obj("latin1", &dir);
     let w = warnings(&report);
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(
@@ -174,9 +169,9 @@ fn latin1_and_utf16_text_is_decoded() {
     assert_eq!(doc.array("materials")[0]["name"], "caf\u{FFFD}");
     assert_eq!(doc.json["meshes"][0]["primitives"][0]["material"], 0);
 
-    let (utf16, report) = bake_report("utf16", &dir);
+    let (utf16, report) = bake_obj("utf16", &dir);
     assert!(warnings(&report).is_empty(), "{report}");
-    let (plain, _) = bake_report("missing-mtl", &dir);
+    let (plain, _) = bake_obj("missing-mtl", &dir);
     let (a, b) = (read_baked(&utf16, 0, 0), read_baked(&plain, 0, 0));
     assert_eq!(a.positions, b.positions);
     assert_eq!(a.indices, b.indices);

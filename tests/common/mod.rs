@@ -247,3 +247,13 @@ pub fn write_input(doc: &Document, path: &Path) {
     let bytes = pelt_io::glb::to_vec(doc).expect("lay out the input");
     std::fs::write(path, bytes).expect("write the input");
 }
+
+/// Runs `pelt bake ARGS --report -` (which must succeed) and returns the report's first input.
+pub fn bake_report(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["bake"];
+    all.extend_from_slice(args);
+    all.extend(["--report", "-"]);
+    let o = pelt_ok(&all);
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("report");
+    report["inputs"][0].clone()
+}

@@ -113,6 +113,39 @@ fn used_by(json: &mut Map<String, Value>, len: usize, visit: Visit) -> Vec<bool>
     used
 }
 
+/// Which entries of top-level array `key` are among `candidates` and reached by nothing that
+/// `visit` visits.
+fn unreferenced(
+    json: &mut Map<String, Value>,
+    key: &str,
+    candidates: &[usize],
+    visit: Visit,
+) -> Vec<bool> {
+    let len = json.get(key).and_then(Value::as_array).map_or(0, Vec::len);
+    let used = used_by(json, len, visit);
+    (0..len)
+        .map(|i| candidates.contains(&i) && !used[i])
+        .collect()
+}
+
+/// Index `field` of each entry of top-level array `key` marked in `removed`.
+fn field_of_removed(
+    json: &Map<String, Value>,
+    key: &str,
+    removed: &[bool],
+    field: &str,
+) -> Vec<usize> {
+    let entries = json.get(key).and_then(Value::as_array);
+    entries
+        .into_iter()
+        .flatten()
+        .zip(removed)
+        .filter(|&(_, &r)| r)
+        .filter_map(|(e, _)| e.get(field)?.as_u64())
+        .map(|v| v as usize)
+        .collect()
+}
+
 /// Removes the `removed` entries of top-level array `key`, renumbering the references `visit`
 /// reaches. Returns how many went.
 fn remove_and_renumber(
@@ -166,19 +199,9 @@ impl Document {
             ));
             return out;
         }
-        let n_tex = self.array("textures").len();
-        let used = used_by(&mut self.json, n_tex, materials_texture_refs);
-        let tex_removed: Vec<bool> = (0..n_tex)
-            .map(|t| textures.contains(&t) && !used[t])
-            .collect();
-        let samplers: Vec<usize> = self
-            .array("textures")
-            .iter()
-            .zip(&tex_removed)
-            .filter(|&(_, &r)| r)
-            .filter_map(|(t, _)| t.get("sampler")?.as_u64())
-            .map(|s| s as usize)
-            .collect();
+        let tex_removed =
+            unreferenced(&mut self.json, "textures", textures, materials_texture_refs);
+        let samplers = field_of_removed(&self.json, "textures", &tex_removed, "sampler");
         out.textures = remove_and_renumber(
             &mut self.json,
             "textures",
@@ -186,19 +209,9 @@ impl Document {
             materials_texture_refs,
         );
 
-        let n_img = self.array("images").len();
-        let used = used_by(&mut self.json, n_img, texture_image_refs);
-        let img_removed: Vec<bool> = (0..n_img)
-            .map(|i| images.contains(&i) && !used[i])
-            .collect();
-        let views: Vec<usize> = self
-            .array("images")
-            .iter()
-            .zip(&img_removed)
-            .filter(|&(_, &r)| r)
-            .filter_map(|(im, _)| im.get("bufferView")?.as_u64())
-            .map(|v| v as usize)
-            .collect();
+        let img_removed = unreferenced(&mut self.json, "images", images, texture_image_refs);
+        let views = field_of_removed(&self.json, "images", &img_removed, "bufferView");
+        let n_img = img_removed.len();
         self.uri_images.resize(n_img, None);
         let mut i = 0;
         self.uri_images.retain(|_| {
@@ -208,11 +221,7 @@ impl Document {
         out.images =
             remove_and_renumber(&mut self.json, "images", &img_removed, texture_image_refs);
 
-        let n_smp = self.array("samplers").len();
-        let used = used_by(&mut self.json, n_smp, texture_sampler_refs);
-        let smp_removed: Vec<bool> = (0..n_smp)
-            .map(|s| samplers.contains(&s) && !used[s])
-            .collect();
+        let smp_removed = unreferenced(&mut self.json, "samplers", &samplers, texture_sampler_refs);
         out.samplers = remove_and_renumber(
             &mut self.json,
             "samplers",
