@@ -1024,6 +1024,15 @@ pub fn all() -> Vec<BadCase> {
     for (name, edit, place, message) in schema {
         add(name, glb_of(edited(edit)), place, message);
     }
+    add(
+        "schema-color-above-1.glb",
+        glb(
+            &quad_json(),
+            Some(&bin_with(COLOR + 4, &2.0f32.to_le_bytes())),
+        ),
+        "meshes[0].primitives[0].attributes.COLOR_0",
+        "element 0 holds 2, outside [0, 1]",
+    );
 
     // OBJ.
     add(

@@ -11,7 +11,10 @@
 //! - attribute semantics: indexed ones (`TEXCOORD_n`, `COLOR_n`, `JOINTS_n`, `WEIGHTS_n`)
 //!   numbered from 0 without gaps, each in a format glTF allows for it, all of one count;
 //!   `normalized` only on byte and short accessors;
-//! - accessor data: floats finite, indices inside the vertices, animation inputs increasing.
+//! - accessor data: floats finite, float colours in [0, 1], normals and tangents unit length,
+//!   indices inside the vertices, animation inputs increasing;
+//! - bufferViews: indices or vertex data as the target says, a byteStride where several vertex
+//!   attributes share one.
 //!
 //! A fault is refused with the JSON path and the rule ([`IoError::Invalid`]). One is repaired
 //! instead, where the fix is unambiguous: declared `min`/`max` that do not match the data are
@@ -38,6 +41,8 @@ pub fn check(doc: &mut Document, triangles_read: bool) -> Result<Vec<String>> {
     materials(doc)?;
     meshes(doc)?;
     accessor_data(doc, triangles_read)?;
+    buffer_view_use(doc)?;
+    attribute_values(doc)?;
     animations(doc)?;
     repairs.extend(repair_bounds(doc)?);
     repairs.extend(image_types(doc)?);
@@ -669,6 +674,187 @@ fn triangle_accessors(doc: &Document) -> Vec<bool> {
         }
     }
     used
+}
+
+/// Every attribute and index accessor of every primitive (morph targets included), with
+/// whether it holds indices.
+fn primitive_accessors(doc: &Document) -> Vec<(String, usize, bool)> {
+    let mut out = Vec::new();
+    for (m, mesh) in doc.array("meshes").iter().enumerate() {
+        let prims = mesh.get("primitives").and_then(Value::as_array);
+        for (p, prim) in prims.into_iter().flatten().enumerate() {
+            let place = format!("meshes/{m}/primitives/{p}");
+            if let Some(i) = prim.get("indices").and_then(Value::as_u64) {
+                out.push((format!("{place}/indices"), i as usize, true));
+            }
+            let targets = prim.get("targets").and_then(Value::as_array);
+            let sets = prim
+                .get("attributes")
+                .into_iter()
+                .chain(targets.into_iter().flatten());
+            for set in sets.filter_map(Value::as_object) {
+                for (name, v) in set {
+                    if let Some(a) = v.as_u64() {
+                        out.push((format!("{place}/attributes/{name}"), a as usize, false));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A bufferView holds indices or vertex attributes, not both, as its target says; one shared
+/// by several vertex attributes states its byteStride.
+fn buffer_view_use(doc: &Document) -> Result<()> {
+    let accessors = doc.array("accessors");
+    let views = doc.array("bufferViews");
+    // view → (first user, used for indices, distinct vertex accessors)
+    let mut uses: std::collections::BTreeMap<usize, (String, bool, Vec<usize>)> =
+        std::collections::BTreeMap::new();
+    for (place, a, index) in primitive_accessors(doc) {
+        let Some(v) = accessors
+            .get(a)
+            .and_then(|acc| acc.get("bufferView"))
+            .and_then(Value::as_u64)
+        else {
+            continue;
+        };
+        let v = v as usize;
+        let target = views
+            .get(v)
+            .and_then(|x| x.get("target"))
+            .and_then(Value::as_u64);
+        let wrong = match target {
+            Some(34963) => !index,
+            Some(34962) => index,
+            _ => false,
+        };
+        if wrong {
+            return Err(err(
+                doc,
+                &place,
+                &format!("reads bufferViews[{v}], whose target is for the other kind of data"),
+            ));
+        }
+        let entry = uses
+            .entry(v)
+            .or_insert_with(|| (place.clone(), index, Vec::new()));
+        if entry.1 != index {
+            return Err(err(
+                doc,
+                &place,
+                &format!(
+                    "reads bufferViews[{v}] as {}, which {} reads as {}",
+                    if index { "indices" } else { "vertex data" },
+                    entry.0.replace('/', "."),
+                    if entry.1 { "indices" } else { "vertex data" }
+                ),
+            ));
+        }
+        if !index && !entry.2.contains(&a) {
+            entry.2.push(a);
+        }
+    }
+    for (v, (place, _, vertex)) in uses {
+        let stride = views.get(v).and_then(|x| x.get("byteStride"));
+        if vertex.len() > 1 && stride.is_none() {
+            return Err(err(
+                doc,
+                &place,
+                &format!(
+                    "bufferViews[{v}] holds {} vertex attributes but states no byteStride",
+                    vertex.len()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Float COLOR_n values lie in [0, 1]; float NORMAL and TANGENT vectors are unit length
+/// (and TANGENT's w is ±1).
+fn attribute_values(doc: &Document) -> Result<()> {
+    use rayon::prelude::*;
+    let accessors = doc.array("accessors");
+    let mut jobs: Vec<(String, usize, u8)> = Vec::new();
+    for (place, a, index) in primitive_accessors(doc) {
+        let name = place.rsplit('/').next().unwrap_or("");
+        let kind = if name.starts_with("COLOR_") {
+            0
+        } else if name == "NORMAL" && !place.contains("targets") {
+            1
+        } else if name == "TANGENT" {
+            2
+        } else {
+            continue;
+        };
+        let acc = accessors.get(a);
+        let float = acc
+            .and_then(|x| x.get("componentType"))
+            .and_then(Value::as_u64)
+            == Some(5126);
+        if index || !float || jobs.iter().any(|j| j.1 == a) || doc.detached.contains(&a) {
+            continue;
+        }
+        jobs.push((place, a, kind));
+    }
+    // One accessor per task; the first fault in document order is the one reported.
+    let faults: Vec<Result<Option<String>>> = jobs
+        .par_iter()
+        .map(|(place, a, kind)| values_fault(doc, *a, place, *kind))
+        .collect();
+    for ((place, _, _), fault) in jobs.iter().zip(faults) {
+        if let Some(why) = fault? {
+            return Err(err(doc, place, &why));
+        }
+    }
+    Ok(())
+}
+
+/// The first element of accessor `a` outside its range: kind 0 colours in [0, 1], 1 unit
+/// normals, 2 unit tangents with w = ±1.
+fn values_fault(doc: &Document, a: usize, place: &str, kind: u8) -> Result<Option<String>> {
+    let e = accessor::read_any(doc, a, place)?;
+    let comps = e.components.max(1);
+    let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+    if kind == 0 {
+        let out = e
+            .bytes
+            .chunks_exact(4)
+            .position(|c| !(0.0..=1.0).contains(&f(c)));
+        return Ok(out.map(|k| {
+            format!(
+                "element {} holds {}, outside [0, 1] (glTF colours are clamped)",
+                k / comps,
+                f(&e.bytes[4 * k..4 * k + 4])
+            )
+        }));
+    }
+    if comps < 3 {
+        return Ok(None);
+    }
+    Ok(e.bytes
+        .chunks_exact(4 * comps)
+        .enumerate()
+        .find_map(|(i, el)| {
+            let [x, y, z] = [0, 4, 8].map(|o| f(&el[o..o + 4]));
+            let len2 = x * x + y * y + z * z;
+            let w_bad = kind == 2 && comps == 4 && f(&el[12..16]).abs() != 1.0;
+            // |len - 1| <= 5e-4 is |len² - 1| <= about 1e-3.
+            ((len2 - 1.0).abs() > 1e-3 || !len2.is_finite() || w_bad).then(|| {
+                format!(
+                    "element {i} has length {}{}; glTF requires unit vectors{}",
+                    len2.sqrt(),
+                    if w_bad { " or w not ±1" } else { "" },
+                    if kind == 2 {
+                        " (bake with --tangents regenerate)"
+                    } else {
+                        ""
+                    }
+                )
+            })
+        }))
 }
 
 /// Animation sampler inputs strictly increasing.
