@@ -286,7 +286,16 @@ fn skin(doc: &Document, s: &gltf::Skin<'_>, in_scene: &[bool]) -> Result<Skin, I
                 ));
             }
             for (k, m) in m.iter().enumerate() {
-                let scale = m.to_cols_array().iter().fold(0f32, |a, x| a.max(x.abs()));
+                // Relative to the linear part (not the translation, which can be large where
+                // an exporter rescaled the mesh, as gltfpack's quantization does).
+                let linear = [
+                    m.x_axis.truncate(),
+                    m.y_axis.truncate(),
+                    m.z_axis.truncate(),
+                ];
+                let scale = linear
+                    .iter()
+                    .fold(0f32, |a, c| a.max(c.abs().max_element()));
                 let det = m.determinant();
                 if !m.is_finite() || !det.is_finite() || det.abs() <= 1e-12 * scale.powi(3) {
                     return Err(doc.invalid(

@@ -120,6 +120,16 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         let t0 = Instant::now();
         let prim = read_primitive(doc, r)?;
         report.timings.decode_ms += ms(t0);
+        if prim.mesh.indices.is_empty() {
+            // A strip or fan of degenerate triangles only: nothing to put fur on.
+            entry.status = format!(
+                "skipped: {} holds only degenerate triangles; passed through unchanged",
+                triangles::mode_name(prim.mode)
+            );
+            report.warnings.push(format!("{place}: {}", entry.status));
+            report.primitives.push(entry);
+            continue;
+        }
         entry.color_0 = prim.color.as_ref().map(pelt_io::mesh::Encoding::describe);
         let generate = matches!(opts.comb, CombSource::Generate(_));
         if generate && prim.mesh.colors.is_some() {
@@ -250,13 +260,13 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
     if report
         .primitives
         .iter()
-        .all(|p| p.status.starts_with("skipped: mode"))
+        .all(|p| p.status.starts_with("skipped: mode") || p.status.contains("only degenerate"))
     {
         let why = match report.primitives.len() {
             0 => "the file has no mesh primitives".to_owned(),
             n => format!(
-                "none of its {n} primitives draws triangles (all are points or lines), so \
-                 there is no surface to grow fur on"
+                "none of its {n} primitives has a triangle (points, lines, or strips and \
+                 fans of degenerate triangles only), so there is no surface to grow fur on"
             ),
         };
         return Err(doc.invalid("meshes", format!("nothing to bake: {why}")));

@@ -25,7 +25,12 @@ use pelt_bake::options::{Quantize, TangentGenerator, TangentMode};
 /// debug build (the edge cases, the bad corpus, fuzz finds, sphere and torus), sorted.
 pub fn corpus(root: &Path) -> std::io::Result<Vec<(PathBuf, Vec<u8>)>> {
     let mut files = Vec::new();
-    for dir in ["fixtures/edge", "fixtures/bad", "fixtures/fuzz"] {
+    for dir in [
+        "fixtures/edge",
+        "fixtures/bad",
+        "fixtures/fuzz",
+        "fixtures/compressed",
+    ] {
         let Ok(entries) = std::fs::read_dir(root.join(dir)) else {
             continue;
         };

@@ -15,7 +15,12 @@ fn every_mutant_that_bakes_is_a_valid_gltf() {
     let seeds: Vec<(String, Vec<u8>)> = pelt_fuzz::corpus(&root)
         .expect("corpus")
         .into_iter()
-        .filter(|(p, _)| !p.components().any(|c| c.as_os_str() == "bad"))
+        // Valid seeds only; not yet the compressed ones, whose animations reach sampler
+        // formats the whole-document check does not cover yet.
+        .filter(|(p, _)| {
+            !p.components()
+                .any(|c| c.as_os_str() == "bad" || c.as_os_str() == "compressed")
+        })
         .map(|(p, b)| (p.to_string_lossy().into_owned(), b))
         .collect();
     let dir = root.join("target/fuzz-valid");

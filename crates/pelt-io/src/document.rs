@@ -18,7 +18,7 @@ const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// Geometry extensions whose data pelt cannot decode.
-const UNSUPPORTED_EXTENSIONS: &[&str] = &["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+const UNSUPPORTED_EXTENSIONS: &[&str] = &["KHR_draco_mesh_compression"];
 
 /// One primitive: `meshes[mesh].primitives[primitive]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -243,6 +243,7 @@ impl Document {
         doc.check_asset()?;
         doc.load_buffers(bin)?;
         doc.load_images()?;
+        doc.decode_meshopt()?;
         doc.source_views = doc.array("bufferViews").len();
         Ok(doc)
     }
@@ -404,20 +405,26 @@ impl Document {
     }
 
     fn load_buffers(&mut self, mut bin: Option<Buffer>) -> Result<()> {
-        let specs: Vec<(Option<String>, Option<u64>)> = self
+        let specs: Vec<(Option<String>, Option<u64>, bool)> = self
             .array("buffers")
             .iter()
             .map(|b| {
                 (
                     b.get("uri").and_then(Value::as_str).map(str::to_owned),
                     b.get("byteLength").and_then(Value::as_u64),
+                    crate::meshopt::is_fallback(b),
                 )
             })
             .collect();
-        for (i, (uri, len)) in specs.into_iter().enumerate() {
+        for (i, (uri, len, fallback)) in specs.into_iter().enumerate() {
             let place = format!("buffers[{i}]");
             let len =
                 len.ok_or_else(|| self.invalid(&place, "byteLength is missing or not an integer"))?;
+            // A meshopt fallback buffer holds nothing: its views are decoded instead.
+            if fallback && uri.is_none() {
+                self.buffers.push(Buffer::from(Vec::new()));
+                continue;
+            }
             let mut data = match uri {
                 None if i == 0 => bin.take().ok_or_else(|| {
                     self.invalid(&place, "has no uri, and the file has no GLB BIN chunk")

@@ -9,6 +9,7 @@
 //!   primitives.
 //! - [`glb`]: the self-contained `.glb` writer (all buffers and images in one BIN chunk),
 //!   streamed and written atomically.
+//! - [`meshopt`]: `EXT_meshopt_compression`/`KHR_meshopt_compression` views decoded at load.
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
 //! - [`prune_textures`]: removing textures and images a re-bake replaces.
@@ -32,6 +33,7 @@ pub mod edit;
 pub mod error;
 pub mod glb;
 pub mod mesh;
+pub mod meshopt;
 pub mod obj;
 pub mod obj_material;
 pub mod picture;

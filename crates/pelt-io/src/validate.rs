@@ -5,6 +5,7 @@
 //!
 //! - `extensions` are objects of objects, every extension used is declared in
 //!   `extensionsUsed`, `extensionsRequired` is part of it, neither lists a name twice;
+//! - nodes form a forest (one parent at most, no loops, scenes list roots);
 //! - arrays are not empty (outside `extras` and extension data), `asset.minVersion` is not
 //!   above `asset.version`, a node has a matrix or TRS, not both, rotations are unit
 //!   quaternions, material factors lie in [0, 1], mesh `weights` match the morph targets;
@@ -38,6 +39,7 @@ pub fn check(doc: &mut Document, triangles_read: bool) -> Result<Vec<String>> {
     walk(doc, &Value::Object(doc.json.clone()), &mut path, false)?;
     extensions_declared(doc)?;
     asset_and_nodes(doc)?;
+    node_forest(doc)?;
     materials(doc)?;
     meshes(doc)?;
     accessor_data(doc, triangles_read)?;
@@ -299,6 +301,59 @@ fn asset_and_nodes(doc: &Document) -> Result<()> {
                     doc,
                     &format!("nodes/{i}/rotation"),
                     &format!("the rotation is not a unit quaternion (length {len})"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Nodes form a forest: at most one parent each, no loops, and a scene lists roots only.
+fn node_forest(doc: &Document) -> Result<()> {
+    let nodes = doc.array("nodes");
+    let mut parent: Vec<Option<usize>> = vec![None; nodes.len()];
+    for (i, n) in nodes.iter().enumerate() {
+        let children = n.get("children").and_then(Value::as_array);
+        for c in children.into_iter().flatten().filter_map(Value::as_u64) {
+            let c = c as usize;
+            match parent.get_mut(c) {
+                Some(Some(p)) => {
+                    return Err(err(
+                        doc,
+                        &format!("nodes/{i}/children"),
+                        &format!("node {c} is already a child of node {p}"),
+                    ));
+                }
+                Some(slot) => *slot = Some(i),
+                None => {}
+            }
+        }
+    }
+    for start in 0..nodes.len() {
+        let (mut at, mut steps) = (start, 0);
+        while let Some(p) = parent[at] {
+            at = p;
+            steps += 1;
+            if at == start || steps > nodes.len() {
+                return Err(err(
+                    doc,
+                    &format!("nodes/{start}"),
+                    "the node is part of a loop of children",
+                ));
+            }
+        }
+    }
+    for (s, scene) in doc.array("scenes").iter().enumerate() {
+        let roots = scene.get("nodes").and_then(Value::as_array);
+        for (k, n) in roots.into_iter().flatten().enumerate() {
+            if let Some(p) = n
+                .as_u64()
+                .and_then(|n| parent.get(n as usize).copied().flatten())
+            {
+                return Err(err(
+                    doc,
+                    &format!("scenes/{s}/nodes/{k}"),
+                    &format!("a scene lists root nodes only, and this one is a child of node {p}"),
                 ));
             }
         }
