@@ -18,7 +18,8 @@ use serde_json::{Map, Value, json};
 
 use crate::comb;
 use crate::options::{
-    BakeOptions, CombSource, GeneratedComb, LengthTexture, Quantize, TangentGenerator, TopologyMode,
+    BakeOptions, CombSource, Compression, GeneratedComb, LengthTexture, Quantize, TangentGenerator,
+    TopologyMode,
 };
 use crate::primitive::{
     PrimitiveStats, TangentSource, TopologyStats, bake_primitive_with, group_primitive,
@@ -63,6 +64,9 @@ pub struct Timings {
     pub encode_ms: f64,
     /// Checking the whole document before it is written ([`pelt_io::validate`]).
     pub validate_ms: f64,
+    /// Ordering, quantizing and compressing for `--compress` ([`pelt_io::pack`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compress_ms: Option<f64>,
 }
 
 /// The bake of one asset.
@@ -84,6 +88,9 @@ pub struct AssetReport {
     pub removed_buffer_views: usize,
     /// Warnings, each naming its primitive.
     pub warnings: Vec<String>,
+    /// What `--compress` did (absent for plain output).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compression: Option<pelt_io::pack::PackReport>,
     /// Stage timings.
     pub timings: Timings,
 }
@@ -215,7 +222,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             let a = doc.push_accessor(NewAccessor::f32_owned(t));
             doc.set_attribute(r, "TANGENT", a)?;
         }
-        let comb = match opts.quantize {
+        let comb = match comb_storage(opts) {
             Quantize::Float => NewAccessor::f32_owned(std::mem::take(&mut baked.comb)),
             Quantize::U16 => NewAccessor::u16_norm(
                 &baked
@@ -294,6 +301,32 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         *v = (*v * 100.0).round() / 100.0;
     }
     Ok(report)
+}
+
+/// Packs a baked document for output as `opts.compress` asks (nothing for plain output):
+/// the last step before writing, after fur textures and records are embedded, since the
+/// compressed streams name bufferViews by index.
+pub fn pack_output(
+    doc: &mut Document,
+    opts: &BakeOptions,
+    report: &mut AssetReport,
+) -> Result<(), IoError> {
+    if opts.compress == Compression::Meshopt {
+        let tc = Instant::now();
+        report.compression = Some(doc.pack_meshopt()?);
+        report.timings.compress_ms = Some(ms(tc));
+    }
+    Ok(())
+}
+
+/// How `_FUR_COMB` is stored: as asked, except that compressed output stores a float comb
+/// as normalized u8, as precise as its 8-bit normals and tangents (the bound is stated in
+/// docs/bake.md).
+fn comb_storage(opts: &BakeOptions) -> Quantize {
+    match (opts.compress, opts.quantize) {
+        (Compression::Meshopt, Quantize::Float) => Quantize::U8,
+        (_, q) => q,
+    }
 }
 
 /// Writes a strip or fan primitive's triangles as a list (mode TRIANGLES), with a warning

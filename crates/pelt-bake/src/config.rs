@@ -4,7 +4,9 @@
 //! - `comb` generates the comb of unpainted meshes (`source`, `length`, `smoothing`; the
 //!   `--comb` flag overrides `source`);
 //! - `normals` sets the crease angle of the smooth normals made for meshes without NORMAL
-//!   (`creaseAngle`, degrees; the `--crease-angle` flag overrides it).
+//!   (`creaseAngle`, degrees; the `--crease-angle` flag overrides it);
+//! - `compress`: `"meshopt"` packs the output with `EXT_meshopt_compression`, `"none"` (the
+//!   default) writes it plain (the `--compress` flag overrides it).
 //!
 //! Unknown keys are errors; every error names the file, and the line and column or the field.
 
@@ -28,6 +30,9 @@ pub struct BakeConfig {
     /// Normals made for meshes without NORMAL; absent = defaults.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub normals: Option<NormalsConfig>,
+    /// How the output is packed; absent = plain.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compress: Option<crate::options::Compression>,
 }
 
 /// The `comb` section.

@@ -5,7 +5,7 @@
 
 use crate::config::BakeConfig;
 use crate::options::{
-    AxisMap, BakeOptions, ColorSpace, CombSource, DEFAULT_CREASE_ANGLE_DEG, Quantize,
+    AxisMap, BakeOptions, ColorSpace, CombSource, Compression, DEFAULT_CREASE_ANGLE_DEG, Quantize,
     TangentGenerator, TangentMode, TopologyMode, TopologyOptions,
 };
 
@@ -32,6 +32,12 @@ pub struct Flags {
     /// Storage of _FUR_COMB: float, or normalized u16 / u8.
     #[cfg_attr(feature = "cli", arg(long, default_value = "float", value_parser = parse::named::<Quantize>(Quantize::NAMES)))]
     pub quantize: Quantize,
+    /// Pack the output for shipping: `--compress` (or `--compress meshopt`) quantizes
+    /// positions, normals, tangents, UVs and colours and compresses every vertex, index and
+    /// fin-record stream with EXT_meshopt_compression (a float comb is stored as u8);
+    /// `none` writes plain data. Overrides the config's `compress`.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "meshopt", value_parser = parse::named::<Compression>(Compression::NAMES)))]
+    pub compress: Option<Compression>,
     /// Topology to write: full (_NORMAL_GROUP and fin edges), groups (_NORMAL_GROUP only) or
     /// off (the comb bake alone, for engines that use neither).
     #[cfg_attr(feature = "cli", arg(long, default_value = "full", value_parser = parse::named::<TopologyMode>(TopologyMode::NAMES)))]
@@ -65,6 +71,7 @@ impl Default for Flags {
             comb_color_space: ColorSpace::default(),
             comb_axes: AxisMap::default(),
             quantize: Quantize::default(),
+            compress: None,
             topology: TopologyMode::default(),
             weld_epsilon: 0.0,
             normal_tolerance: pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG,
@@ -96,6 +103,10 @@ impl Flags {
             color_space: self.comb_color_space,
             axes: self.comb_axes,
             quantize: self.quantize,
+            compress: self
+                .compress
+                .or_else(|| config.and_then(|c| c.compress))
+                .unwrap_or_default(),
             topology_mode: self.topology,
             topology: TopologyOptions {
                 weld_epsilon: self.weld_epsilon,

@@ -25,5 +25,5 @@ pub mod options;
 pub mod primitive;
 mod vertex_pass;
 
-pub use asset::{AssetReport, bake_document};
+pub use asset::{AssetReport, bake_document, pack_output};
 pub use options::BakeOptions;

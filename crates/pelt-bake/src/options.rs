@@ -53,6 +53,31 @@ pub enum Quantize {
     U8,
 }
 
+/// How the output is packed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Compression {
+    /// Plain: float attributes, uncompressed bufferViews.
+    #[default]
+    None,
+    /// `EXT_meshopt_compression`: quantized attributes and compressed streams
+    /// ([`pelt_io::pack`]); a float comb is stored as normalized u8.
+    Meshopt,
+}
+
+impl serde::Serialize for Compression {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Compression {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse()
+            .map_err(|e| serde::de::Error::custom(format!("compress: {e}")))
+    }
+}
+
 /// How much topology a bake writes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum TopologyMode {
@@ -113,6 +138,7 @@ named!(TangentMode { Keep => "keep", Regenerate => "regenerate" });
 named!(TangentGenerator { Auto => "auto", Mikktspace => "mikktspace", Gradient => "gradient" });
 named!(ColorSpace { Linear => "linear", Srgb => "srgb" });
 named!(Quantize { Float => "float", U16 => "u16", U8 => "u8" });
+named!(Compression { None => "none", Meshopt => "meshopt" });
 named!(TopologyMode { Full => "full", Groups => "groups", Off => "off" });
 
 /// A remapping of the comb's axes: output axis i = sign_i · input axis src_i.
@@ -321,6 +347,8 @@ pub struct BakeOptions {
     pub axes: AxisMap,
     /// Storage of `_FUR_COMB`.
     pub quantize: Quantize,
+    /// How the output is packed.
+    pub compress: Compression,
     /// Welding and the normal-group rule.
     pub topology: TopologyOptions,
     /// How much topology to write.
@@ -340,6 +368,7 @@ impl Default for BakeOptions {
             color_space: ColorSpace::default(),
             axes: AxisMap::default(),
             quantize: Quantize::default(),
+            compress: Compression::default(),
             topology: TopologyOptions::default(),
             topology_mode: TopologyMode::default(),
             comb: CombSource::default(),

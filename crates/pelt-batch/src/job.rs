@@ -117,6 +117,7 @@ fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, Stri
                 .to_owned(),
         );
     }
+    pelt_bake::pack_output(&mut doc, &s.options, &mut bake).map_err(|e| e.to_string())?;
     if let Some(dir) = job.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: create: {e}", dir.display()))?;
     }

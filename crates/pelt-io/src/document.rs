@@ -145,6 +145,22 @@ pub enum ViewData {
     Bytes(Vec<u8>),
     /// Little-endian 32-bit words.
     Words(Vec<u32>),
+    /// Bytes written through a meshopt filter ([`crate::pack`]): what a reader decodes, and
+    /// the filtered bytes the compressed stream holds.
+    Filtered(Box<Filtered>),
+}
+
+/// A bufferView's data as a meshopt filter stores it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Filtered {
+    /// What the filter's decoder gives back: the view's data for every reader.
+    pub data: Vec<u8>,
+    /// The filter's output, which the vertex codec compresses.
+    pub encoded: Vec<u8>,
+    /// The filter.
+    pub filter: crate::pack_codec::Filter,
+    /// Bytes per element.
+    pub stride: usize,
 }
 
 impl ViewData {
@@ -153,6 +169,7 @@ impl ViewData {
         match self {
             ViewData::Bytes(b) => b,
             ViewData::Words(w) => bytemuck::cast_slice(w),
+            ViewData::Filtered(f) => &f.data,
         }
     }
 }
@@ -184,6 +201,8 @@ pub struct Document {
     pub(crate) detached: Vec<usize>,
     /// BufferViews an edit stopped using (fin records replaced by a new bake).
     pub(crate) detached_views: Vec<usize>,
+    /// Each bufferView's compressed stream ([`Document::pack_meshopt`]), for the writer.
+    pub(crate) packed: Option<Vec<Option<crate::pack::Packed>>>,
     /// What loading read past or repaired (an OBJ's missing `.mtl`, text that was not UTF-8),
     /// each naming the file and the place; a bake reports them.
     pub warnings: Vec<String>,
@@ -235,6 +254,7 @@ impl Document {
             uri_images: Vec::new(),
             files_read: vec![path.to_owned()],
             new_views: Vec::new(),
+            packed: None,
             source_views: 0,
             detached: Vec::new(),
             detached_views: Vec::new(),
@@ -265,6 +285,7 @@ impl Document {
             uri_images: vec![None; images],
             files_read: vec![path.to_owned()],
             new_views: Vec::new(),
+            packed: None,
             source_views,
             detached: Vec::new(),
             detached_views: Vec::new(),

@@ -145,8 +145,17 @@ impl NewAccessor {
         self.components * self.component.size()
     }
 
+    /// Bytes from one element to the next in the data as given (filtered data is laid out
+    /// with its filter's stride already).
+    fn given_stride(&self) -> usize {
+        match &self.bytes {
+            ViewData::Filtered(f) => f.stride,
+            _ => self.element_size(),
+        }
+    }
+
     fn count(&self) -> usize {
-        self.bytes.bytes().len() / self.element_size()
+        self.bytes.bytes().len() / self.given_stride()
     }
 
     /// Per-component (min, max) in the accessor's own type, as JSON numbers.
@@ -193,20 +202,21 @@ impl Document {
     /// Appends an accessor (and its bufferView); returns the accessor index.
     pub fn push_accessor(&mut self, a: NewAccessor) -> usize {
         let size = a.element_size();
+        let given = a.given_stride();
         let count = a.count();
         let stride = if a.target == ARRAY_BUFFER {
-            size.next_multiple_of(4)
+            given.next_multiple_of(4)
         } else {
-            size
+            given
         };
         let bounds = (a.min_max && count > 0).then(|| a.bounds());
-        let data = if stride == size {
+        let data = if stride == given {
             a.bytes
         } else {
             let mut d = vec![0u8; count * stride];
             let src = a.bytes.bytes();
-            for (dst, src) in d.chunks_exact_mut(stride).zip(src.chunks_exact(size)) {
-                dst[..size].copy_from_slice(src);
+            for (dst, src) in d.chunks_exact_mut(stride).zip(src.chunks_exact(given)) {
+                dst[..given].copy_from_slice(src);
             }
             ViewData::Bytes(d)
         };

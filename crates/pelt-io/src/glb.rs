@@ -49,11 +49,36 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         .and_then(Value::as_array)
         .cloned()
         .unwrap_or_default();
+    let packed = match &doc.packed {
+        Some(p) if p.len() != views.len() => {
+            return Err(doc.invalid(
+                "bufferViews",
+                "the document changed after it was compressed (internal)",
+            ));
+        }
+        Some(p) => &p[..],
+        None => &[],
+    };
+    // Compressed views read from a fallback buffer (buffer 1) that holds no bytes.
+    let mut fallback = 0u64;
     for (i, v) in views.iter_mut().enumerate() {
         let vplace = format!("bufferViews[{i}]");
         let obj = v
             .as_object_mut()
             .ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
+        if let Some(Some(p)) = packed.get(i) {
+            let off = place(p.stream.len());
+            let at = fallback.next_multiple_of(4);
+            fallback = at + (p.count * p.stride) as u64;
+            obj.insert("buffer".into(), json!(1));
+            obj.insert("byteOffset".into(), json!(at));
+            let exts = obj.entry("extensions").or_insert_with(|| json!({}));
+            if let Some(e) = exts.as_object_mut() {
+                e.insert(crate::pack::EXTENSION.into(), compressed_view(p, off));
+            }
+            pieces.push((off, Piece(&p.stream)));
+            continue;
+        }
         let (data, _) = crate::accessor::view_bytes(doc, i, "output")?;
         let bytes = Piece(data);
         let off = place(bytes.bytes().len());
@@ -110,7 +135,14 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
             .unwrap_or_default();
         buffer.remove("uri");
         buffer.insert("byteLength".into(), json!(bin_len));
-        json.insert("buffers".into(), json!([Value::Object(buffer)]));
+        let mut buffers = vec![Value::Object(buffer)];
+        if fallback > 0 {
+            buffers.push(json!({
+                "byteLength": fallback,
+                "extensions": { crate::pack::EXTENSION: { "fallback": true } }
+            }));
+        }
+        json.insert("buffers".into(), Value::Array(buffers));
     } else {
         json.remove("buffers");
     }
@@ -118,6 +150,21 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
     let text = serde_json::to_vec(&Value::Object(json))
         .map_err(|e| doc.invalid("JSON", format!("cannot serialize: {e}")))?;
     Ok((text, pieces, bin_len))
+}
+
+/// The `EXT_meshopt_compression` object of a view whose stream starts at BIN offset `off`.
+fn compressed_view(p: &crate::pack::Packed, off: u64) -> Value {
+    let mut e = Map::new();
+    e.insert("buffer".into(), json!(0));
+    e.insert("byteOffset".into(), json!(off));
+    e.insert("byteLength".into(), json!(p.stream.len()));
+    e.insert("byteStride".into(), json!(p.stride));
+    e.insert("mode".into(), json!(p.mode));
+    if let Some(f) = p.filter {
+        e.insert("filter".into(), json!(f.name()));
+    }
+    e.insert("count".into(), json!(p.count));
+    Value::Object(e)
 }
 
 /// Writes the document as a `.gltf` whose single buffer is a base64 data URI (for small,

@@ -10,11 +10,16 @@
 //! - [`glb`]: the self-contained `.glb` writer (all buffers and images in one BIN chunk),
 //!   streamed and written atomically.
 //! - [`meshopt`]: `EXT_meshopt_compression`/`KHR_meshopt_compression` views decoded at load.
+//! - [`pack`]: compressed output (`EXT_meshopt_compression`): vertex-cache order, quantized
+//!   attributes through the extension's filters, a compressed stream per bufferView;
+//!   [`pack_codec`] wraps meshoptimizer's encoders.
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
 //! - [`prune_textures`]: removing textures and images a re-bake replaces.
 //! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
 //!   `extras.pelt`, the fin-record bufferView).
+//! - [`fin_predict`]: fin records derived from the index list (compressed output stores only
+//!   the exceptions).
 //! - [`triangles`]: strips and fans as triangle lists.
 //! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
 //! - [`typed`]: the `gltf` crate's typed view (skins, animations, materials) over the same
@@ -31,11 +36,16 @@ pub mod contract;
 pub mod document;
 pub mod edit;
 pub mod error;
+pub mod fin_predict;
 pub mod glb;
 pub mod mesh;
 pub mod meshopt;
 pub mod obj;
 pub mod obj_material;
+pub mod pack;
+pub mod pack_codec;
+mod pack_order;
+mod pack_quantize;
 pub mod picture;
 pub mod prune;
 pub mod prune_textures;

@@ -55,7 +55,7 @@ pub struct Pruned {
 }
 
 /// Every place that holds an accessor index, visited mutably.
-fn for_each_accessor_ref(
+pub(crate) fn for_each_accessor_ref(
     json: &mut serde_json::Map<String, Value>,
     f: &mut impl FnMut(&mut Value),
 ) {
@@ -137,13 +137,12 @@ fn for_each_view_ref(json: &mut serde_json::Map<String, Value>, f: &mut impl FnM
         for m in meshes {
             let prims = m.get_mut("primitives").and_then(Value::as_array_mut);
             for p in prims.into_iter().flatten() {
-                let view = p
+                let fins = p
                     .get_mut("extras")
                     .and_then(|e| e.get_mut("pelt"))
-                    .and_then(|e| e.get_mut("fins"))
-                    .and_then(|e| e.get_mut("bufferView"));
-                if let Some(v) = view {
-                    f(v);
+                    .and_then(|e| e.get_mut("fins"));
+                if let Some(fins) = fins {
+                    crate::topology::for_each_fin_view(fins, f);
                 }
             }
         }

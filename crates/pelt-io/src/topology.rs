@@ -56,6 +56,21 @@ pub fn decode_fins(bytes: &[u8]) -> Vec<FinEdge> {
         .collect()
 }
 
+/// Every bufferView reference in a primitive's `extras.pelt.fins` (the records, or the
+/// exceptions of fins derived from the index list), visited mutably.
+pub(crate) fn for_each_fin_view(fins: &mut Value, f: &mut impl FnMut(&mut Value)) {
+    if let Some(v) = fins.get_mut("bufferView") {
+        f(v);
+    }
+    if let Some(d) = fins.get_mut("fromIndices") {
+        for part in ["added", "removed"] {
+            if let Some(v) = d.get_mut(part).and_then(|p| p.get_mut("bufferView")) {
+                f(v);
+            }
+        }
+    }
+}
+
 /// What a renderer needs of one fin, decoded through the index list.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinGeometry {
@@ -118,13 +133,12 @@ impl Document {
         if !extras_ok {
             return Ok(false);
         }
-        if let Some(old) = self
-            .pelt_extras(r)?
-            .and_then(|p| p.get("fins"))
-            .and_then(|f| f.get("bufferView"))
-            .and_then(Value::as_u64)
-        {
-            self.detached_views.push(old as usize);
+        if let Some(mut old) = self.pelt_extras(r)?.and_then(|p| p.get("fins")).cloned() {
+            for_each_fin_view(&mut old, &mut |v| {
+                if let Some(v) = v.as_u64() {
+                    self.detached_views.push(v as usize);
+                }
+            });
         }
         if let Some(data) = fins.filter(|d| !d.bytes().is_empty()) {
             let view = self.push_view(data, None);
@@ -166,6 +180,10 @@ impl Document {
                 format!("byteStride is {stride}; version {FORMAT_VERSION} records are {FIN_RECORD_SIZE} bytes"),
             ));
         }
+        if let Some(derived) = fins.get("fromIndices") {
+            let edges = self.derived_fins(r, derived, count, &place)?;
+            return self.check_corners(r, edges, &place).map(Some);
+        }
         let Some(view) = fins.get("bufferView") else {
             return if count == 0 {
                 Ok(Some(Vec::new()))
@@ -176,13 +194,19 @@ impl Document {
                 ))
             };
         };
+        let edges = self.fin_records(view, count, &place)?;
+        self.check_corners(r, edges, &place).map(Some)
+    }
+
+    /// `count` records from bufferView `view`.
+    fn fin_records(&self, view: &Value, count: u64, place: &str) -> Result<Vec<FinEdge>> {
         let view = view
             .as_u64()
-            .ok_or_else(|| self.invalid(&place, "bufferView is not an index"))?;
-        let (bytes, _) = view_bytes(self, view as usize, &place)?;
+            .ok_or_else(|| self.invalid(place, "bufferView is not an index"))?;
+        let (bytes, _) = view_bytes(self, view as usize, place)?;
         if (bytes.len() as u64) != count.saturating_mul(FIN_RECORD_SIZE as u64) {
             return Err(self.invalid(
-                &place,
+                place,
                 format!(
                     "count {count} needs {} bytes of {FIN_RECORD_SIZE}-byte records, bufferView {view} holds {}",
                     count.saturating_mul(FIN_RECORD_SIZE as u64),
@@ -190,7 +214,93 @@ impl Document {
                 ),
             ));
         }
-        let edges = decode_fins(bytes);
+        Ok(decode_fins(bytes))
+    }
+
+    /// Fins stored as their difference from the index list's edges ([`crate::fin_predict`]).
+    fn derived_fins(
+        &self,
+        r: PrimitiveRef,
+        derived: &Value,
+        count: u64,
+        place: &str,
+    ) -> Result<Vec<FinEdge>> {
+        let list = |part: &str| -> Result<Vec<FinEdge>> {
+            let lplace = format!("{place}.fromIndices.{part}");
+            let Some(l) = derived.get(part) else {
+                return Ok(Vec::new());
+            };
+            let n = l
+                .get("count")
+                .and_then(Value::as_u64)
+                .ok_or_else(|| self.invalid(&lplace, "count is missing or not an integer"))?;
+            let view = l
+                .get("bufferView")
+                .ok_or_else(|| self.invalid(&lplace, "bufferView is missing"))?;
+            self.fin_records(view, n, &lplace)
+        };
+        let (added, removed) = (list("added")?, list("removed")?);
+        let idx = self
+            .primitive(r)?
+            .get("indices")
+            .and_then(Value::as_u64)
+            .ok_or_else(|| self.invalid(place, "fromIndices needs the primitive's indices"))?;
+        let indices = crate::accessor::read_indices(self, idx as usize, place)?;
+        let edges =
+            crate::fin_predict::apply(&crate::fin_predict::predict(&indices), &added, &removed)
+                .ok_or_else(|| {
+                    self.invalid(
+                        format!("{place}.fromIndices.removed"),
+                        "a removed record is not an edge of the index list",
+                    )
+                })?;
+        if edges.len() as u64 != count {
+            return Err(self.invalid(
+                place,
+                format!(
+                    "count is {count}, the index list's edges and the exceptions give {}",
+                    edges.len()
+                ),
+            ));
+        }
+        Ok(edges)
+    }
+
+    /// Sets the primitive's `extras.pelt` with its fins stored as their difference from the
+    /// index list's edges: `added` and `removed` records ([`crate::fin_predict`]), `count`
+    /// fins in all.
+    pub(crate) fn set_derived_fins(
+        &mut self,
+        r: PrimitiveRef,
+        mut pelt: Map<String, Value>,
+        count: usize,
+        added: Vec<FinEdge>,
+        removed: Vec<FinEdge>,
+    ) -> Result<bool> {
+        let mut derived = Map::new();
+        for (part, list) in [("added", added), ("removed", removed)] {
+            if !list.is_empty() {
+                let n = list.len();
+                let view = self.push_view(fins_view(list), None);
+                derived.insert(part.into(), json!({ "bufferView": view, "count": n }));
+            }
+        }
+        if let Some(f) = pelt.get_mut("fins").and_then(Value::as_object_mut) {
+            f.remove("bufferView");
+            f.insert("count".into(), json!(count));
+            f.insert("byteStride".into(), json!(FIN_RECORD_SIZE));
+            f.insert("fromIndices".into(), Value::Object(derived));
+        }
+        self.set_pelt_extras(r, pelt, None)
+    }
+
+    /// Every corner of `edges` must name an element of the primitive's index list.
+    fn check_corners(
+        &self,
+        r: PrimitiveRef,
+        edges: Vec<FinEdge>,
+        place: &str,
+    ) -> Result<Vec<FinEdge>> {
         let corners = self.corner_count(r)?;
         // The corner's whole face must exist, so its next and previous corners do too.
         let out_of_range = |c: u32| u64::from(c) / 3 * 3 + 2 >= corners;
@@ -208,7 +318,7 @@ impl Document {
                 ),
             ));
         }
-        Ok(Some(edges))
+        Ok(edges)
     }
 
     /// Checks `extras.pelt.version`: only [`FORMAT_VERSION`] is read.
