@@ -61,10 +61,8 @@ pub fn predict(indices: &[u32]) -> Vec<FinEdge> {
         sides[*at as usize] = (high(c), c as u32);
         *at += 1;
     }
-    // Per edge, the record sits at its first corner (NONE: the corner starts no record; the
-    // index list is at most 2^28 elements, so it is never a corner).
-    const NONE: u32 = u32::MAX - 1;
-    let mut second = vec![NONE; corners];
+    // Per edge, the record sits at its first corner.
+    let mut second = vec![NO_RECORD; corners];
     for v in 0..vertices {
         let bucket = &mut sides[start[v] as usize..start[v + 1] as usize];
         bucket.sort_unstable();
@@ -72,10 +70,19 @@ pub fn predict(indices: &[u32]) -> Vec<FinEdge> {
             second[g[0].1 as usize] = g.get(1).map_or(NO_CORNER, |s| s.1);
         }
     }
+    by_first_corner(&second)
+}
+
+/// In a table of second corners indexed by first corner: no record starts at this corner (an
+/// index list is at most 2^28 elements, so this is never a corner).
+pub(crate) const NO_RECORD: u32 = u32::MAX - 1;
+
+/// The records of a table of second corners indexed by first corner, in first-corner order.
+pub(crate) fn by_first_corner(second: &[u32]) -> Vec<FinEdge> {
     second
         .iter()
         .enumerate()
-        .filter(|&(_, &s)| s != NONE)
+        .filter(|&(_, &s)| s != NO_RECORD)
         .map(|(c, &s)| FinEdge {
             corner: c as u32,
             second_corner: s,

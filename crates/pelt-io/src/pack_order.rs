@@ -15,7 +15,7 @@ use crate::accessor;
 use crate::document::{Document, PrimitiveRef};
 use crate::edit::NewAccessor;
 use crate::error::Result;
-use crate::fin_predict::{diff, lower_first, predict};
+use crate::fin_predict::{NO_RECORD, by_first_corner, diff, lower_first, predict};
 use crate::pack_codec::{encode_triangles, fetch_remap};
 use crate::topology::fins_view;
 
@@ -94,27 +94,16 @@ fn remap_fins(edges: &[FinEdge], map: &[u32]) -> Option<Vec<FinEdge>> {
         .collect::<Option<Vec<_>>>()?;
     // A corner starts one edge of its face, so records are placed by first corner (linear);
     // a list that repeats one (not a bake's) is sorted instead.
-    const FREE: u32 = u32::MAX - 1;
-    let mut second = vec![FREE; map.len()];
+    let mut second = vec![NO_RECORD; map.len()];
     for e in &out {
         let s = &mut second[e.corner as usize];
-        if *s != FREE {
+        if *s != NO_RECORD {
             out.sort_unstable_by_key(|e| (e.corner, e.second_corner));
             return Some(out);
         }
         *s = e.second_corner;
     }
-    Some(
-        second
-            .iter()
-            .enumerate()
-            .filter(|&(_, &s)| s != FREE)
-            .map(|(c, &s)| FinEdge {
-                corner: c as u32,
-                second_corner: s,
-            })
-            .collect(),
-    )
+    Some(by_first_corner(&second))
 }
 
 /// The new order of a primitive: (new vertex → old vertex, indices in new vertices).
