@@ -45,6 +45,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Err(e) => return Ok(fail(e)),
     };
     let (mut scene, meshes, of) = (input.scene, input.meshes, input.mesh_of);
+    for w in meshes.iter().flat_map(|m| &m.warnings) {
+        eprintln!("pelt: warning: {w}");
+    }
     scene.time = args.time;
     let mode = match args.knobs.mode {
         crate::RenderMode::Gpu(m) => m,

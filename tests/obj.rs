@@ -178,3 +178,38 @@ fn latin1_and_utf16_text_is_decoded() {
     assert_eq!(a.comb, b.comb);
     validate_clean(&[&out, &utf16]);
 }
+
+#[test]
+fn a_texture_past_max_texture_is_drawn_smaller_with_a_warning() {
+    let dir = scratch("obj-max-texture");
+    let png = dir.join("small.png");
+    let o = pelt_ok(&[
+        "render",
+        fixture("obj/textured.obj").to_str().unwrap_or_default(),
+        "-o",
+        png.to_str().unwrap_or_default(),
+        "--size",
+        "96x72",
+        "--max-texture",
+        "1",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("images[0]: 8×8 is larger than the 1 texture limit: drawn at 1×1"),
+        "{err}"
+    );
+    // The 8×8 checker averaged to one texel: purple, no red or blue square left (the full
+    // texture draws both: a_textured_obj_renders_its_texture).
+    let img = load_png(&png);
+    let px = img.rgba.chunks(4);
+    let pure = |p: &[u8], a: usize, b: usize| p[a] as u32 > 2 * p[b] as u32 && p[a] > 60;
+    let red = px.clone().filter(|p| pure(p, 0, 2)).count();
+    let blue = px.clone().filter(|p| pure(p, 2, 0)).count();
+    let purple = px
+        .filter(|p| p[0] > 60 && p[2] > 60 && p[0].abs_diff(p[2]) < 40 && p[1] < p[0] / 2)
+        .count();
+    assert!(
+        red < 5 && blue < 5 && purple > 20,
+        "{red} red, {blue} blue, {purple} purple"
+    );
+}

@@ -26,6 +26,7 @@
 //!   buffers, with pelt-io's bounds check before its readers run.
 //! - [`picture`]: texture images decoded with the `image` crate (bounded), a material's
 //!   texture slot through `gltf`, bilinear lookups with the sampler's wrap modes.
+//! - [`picture_bounded`]: images larger than a texture limit halved while they decode.
 //! - [`text`]: OBJ and MTL text in any encoding peers read (UTF-8, UTF-16 with a BOM, lossy).
 //! - [`validate`]: the whole document checked against the glTF schema and the validator's
 //!   rules before a bake writes it.
@@ -47,6 +48,7 @@ pub mod pack_codec;
 mod pack_order;
 mod pack_quantize;
 pub mod picture;
+pub mod picture_bounded;
 pub mod prune;
 pub mod prune_textures;
 pub mod text;

@@ -27,8 +27,23 @@ pub struct Rgba8 {
     pub pixels: Vec<u8>,
 }
 
-/// Decodes `images[image]` of `doc` (PNG or JPEG); errors name the image.
+/// Largest width or height of an image decoded smaller than it is stored
+/// ([`decode_within`]): its memory follows the size used.
+pub const MAX_STORED_SIDE: u32 = 65535;
+
+/// Decodes `images[image]` of `doc` (PNG or JPEG) at its stored size; errors name the image.
 pub fn decode(doc: &Document, image: usize) -> Result<Rgba8> {
+    decode_within(doc, image, MAX_SIDE).map(|(img, _)| img)
+}
+
+/// Decodes `images[image]` of `doc` with no side longer than `max_side`: a larger image is
+/// halved until it fits while it is decoded ([`crate::picture_bounded`]), and its stored
+/// size is returned with it (None when it was decoded as stored). Errors name the image.
+pub fn decode_within(
+    doc: &Document,
+    image: usize,
+    max_side: u32,
+) -> Result<(Rgba8, Option<(u32, u32)>)> {
     let place = format!("images[{image}]");
     let bytes = doc.image_bytes(image)?;
     let format = match image::guess_format(bytes) {
@@ -40,16 +55,39 @@ pub fn decode(doc: &Document, image: usize) -> Result<Rgba8> {
             ));
         }
     };
+    let (w, h) = image::ImageReader::with_format(Cursor::new(bytes), format)
+        .into_dimensions()
+        .map_err(|e| doc.invalid(&place, format!("cannot be decoded: {e}")))?;
+    let k = crate::picture_bounded::halvings(w, h, max_side.clamp(1, MAX_SIDE));
+    if k == 1 {
+        return decode_stored(doc, bytes, format, &place).map(|i| (i, None));
+    }
+    let small = match format {
+        image::ImageFormat::Png => crate::picture_bounded::png(bytes, k, MAX_STORED_SIDE),
+        _ => crate::picture_bounded::jpeg(bytes, k, MAX_STORED_SIDE),
+    };
+    let small = small.map_err(|e| doc.invalid(&place, format!("cannot be decoded: {e}")))?;
+    Ok((small, Some((w, h))))
+}
+
+/// The image at its stored size, through the `image` crate (at most [`MAX_SIDE`] a side).
+fn decode_stored(
+    doc: &Document,
+    bytes: &[u8],
+    format: image::ImageFormat,
+    place: &str,
+) -> Result<Rgba8> {
     let mut reader = image::ImageReader::with_format(Cursor::new(bytes), format);
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_SIDE);
     limits.max_image_height = Some(MAX_SIDE);
     limits.max_alloc = Some(MAX_ALLOC);
     reader.limits(limits);
+    // into_rgba8: an RGBA image is not copied (RGB: 1.75× the result at the peak).
     let img = reader
         .decode()
-        .map_err(|e| doc.invalid(&place, format!("cannot be decoded: {e}")))?
-        .to_rgba8();
+        .map_err(|e| doc.invalid(place, format!("cannot be decoded: {e}")))?
+        .into_rgba8();
     Ok(Rgba8 {
         width: img.width(),
         height: img.height(),

@@ -339,17 +339,25 @@ fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let device = &r.gpu.device;
     let height = r
         .gpu
-        .upload_levels("heightfield", HEIGHT_FORMAT, &fur.heightfield, |&h| {
-            f16_bits(f32::from(h) / 65535.0).to_le_bytes().to_vec()
+        .upload_levels("heightfield", HEIGHT_FORMAT, &fur.heightfield, |l| {
+            l.iter()
+                .flat_map(|&h| f16_bits(f32::from(h) / 65535.0).to_le_bytes())
+                .collect::<Vec<u8>>()
+                .into()
         });
     let fin = r
         .gpu
-        .upload_levels("fin texture", FIN_FORMAT, &fur.fin, |t| t.to_vec());
+        .upload_levels("fin texture", FIN_FORMAT, &fur.fin, |l| {
+            bytemuck::cast_slice(l).into()
+        });
     let [density_lo, density_hi] = [0, 4].map(|first| {
         let levels = density_levels(&fur.density, first);
         r.gpu
-            .upload_levels("fur density", DENSITY_FORMAT, &levels, |t| {
-                t.iter().flat_map(|&v| f16_bits(v).to_le_bytes()).collect()
+            .upload_levels("fur density", DENSITY_FORMAT, &levels, |l| {
+                l.iter()
+                    .flat_map(|t| t.iter().flat_map(|&v| f16_bits(v).to_le_bytes()))
+                    .collect::<Vec<u8>>()
+                    .into()
             })
     });
     let sampler = |v_mode| {

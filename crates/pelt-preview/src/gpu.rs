@@ -328,7 +328,7 @@ impl Gpu {
         label: &str,
         format: wgpu::TextureFormat,
         levels: &[Level<T>],
-        texel_bytes: impl Fn(&T) -> Vec<u8>,
+        level_bytes: impl Fn(&[T]) -> std::borrow::Cow<'_, [u8]>,
     ) -> wgpu::TextureView {
         let device = &self.device;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -346,7 +346,8 @@ impl Gpu {
             view_formats: &[],
         });
         for (i, l) in levels.iter().enumerate() {
-            let bytes: Vec<u8> = l.texels.iter().flat_map(&texel_bytes).collect();
+            // A level's bytes at once (RGBA8 texels are borrowed as they are, no copy).
+            let bytes = level_bytes(&l.texels);
             let bpp = bytes.len() as u32 / (l.width * l.height).max(1);
             self.write_texture(
                 wgpu::TexelCopyTextureInfo {

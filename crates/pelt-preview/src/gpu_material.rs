@@ -59,17 +59,22 @@ fn address(w: WrappingMode) -> wgpu::AddressMode {
     }
 }
 
-fn levels(image: &Rgba8, srgb: bool) -> Vec<Level<[u8; 4]>> {
-    mip_chain(image, srgb)
+/// The mip chain of `image`, halved first where it is larger than the device's 2D texture
+/// limit `max` (an asset loaded with a larger `--max-texture` than the device takes).
+fn levels(image: &Rgba8, srgb: bool, max: u32) -> Vec<Level<[u8; 4]>> {
+    let k = pelt_io::picture_bounded::halvings(image.width, image.height, max);
+    let halved = (k > 1).then(|| pelt_io::picture_bounded::halve(image, k));
+    mip_chain(halved.as_ref().unwrap_or(image), srgb)
         .into_iter()
         .map(|l| Level {
             width: l.width,
             height: l.height,
-            texels: l
-                .pixels
-                .chunks_exact(4)
-                .map(|p| [p[0], p[1], p[2], p[3]])
-                .collect(),
+            // The level's bytes become its texels without a copy where the allocation allows.
+            texels: bytemuck::allocation::try_cast_vec(l.pixels).unwrap_or_else(|(_, p)| {
+                p.chunks_exact(4)
+                    .map(|p| [p[0], p[1], p[2], p[3]])
+                    .collect()
+            }),
         })
         .collect()
 }
@@ -104,7 +109,14 @@ fn slot(
 ) -> (wgpu::TextureView, wgpu::Sampler) {
     let srgb = format == BASE_FORMAT;
     let (lv, wrap) = match t {
-        Some(t) => (levels(&t.image, srgb), t.wrap),
+        Some(t) => (
+            levels(
+                &t.image,
+                srgb,
+                r.gpu.device.limits().max_texture_dimension_2d,
+            ),
+            t.wrap,
+        ),
         None => (
             vec![Level {
                 width: 1,
@@ -114,7 +126,9 @@ fn slot(
             [WrappingMode::Repeat; 2],
         ),
     };
-    let view = r.gpu.upload_levels(label, format, &lv, |t| t.to_vec());
+    let view = r
+        .gpu
+        .upload_levels(label, format, &lv, |l| bytemuck::cast_slice(l).into());
     let sampler = r.gpu.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some(label),
         address_mode_u: address(wrap[0]),

@@ -53,6 +53,28 @@ pub struct MeshData {
     pub primitive_bases: Vec<(PrimitiveRef, u32)>,
     /// GPU skinning data, when the asset is skinned and loaded for it ([`skinned`]).
     pub skin: Option<std::sync::Arc<SkinBinding>>,
+    /// What loading changed, each naming the file and the place (a texture halved to fit
+    /// [`LoadOptions::max_texture`]).
+    pub warnings: Vec<String>,
+}
+
+/// The largest texture side an asset is loaded with unless told otherwise: 8192, the 2D
+/// texture limit every device wgpu opens with its default limits offers.
+pub const DEFAULT_MAX_TEXTURE: u32 = 8192;
+
+/// How assets load.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Textures with a longer side are halved until they fit, while they decode.
+    pub max_texture: u32,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            max_texture: DEFAULT_MAX_TEXTURE,
+        }
+    }
 }
 
 impl MeshData {
@@ -70,6 +92,7 @@ impl MeshData {
             materials: vec![Material::default()],
             primitive_bases: Vec::new(),
             skin: None,
+            warnings: Vec::new(),
         }
     }
 
@@ -123,6 +146,15 @@ pub fn load_scene_at(
     scene: &crate::scene::Scene,
     pose: Option<&PoseAt>,
 ) -> Result<(Vec<MeshData>, Vec<usize>), ObjectAssetError> {
+    load_scene_with(scene, pose, LoadOptions::default())
+}
+
+/// [`load_scene_at`] with `opts`.
+pub fn load_scene_with(
+    scene: &crate::scene::Scene,
+    pose: Option<&PoseAt>,
+    opts: LoadOptions,
+) -> Result<(Vec<MeshData>, Vec<usize>), ObjectAssetError> {
     let mut paths: Vec<&Path> = Vec::new();
     let mut meshes = Vec::new();
     let mut of = Vec::with_capacity(scene.objects.len());
@@ -130,7 +162,7 @@ pub fn load_scene_at(
         match paths.iter().position(|p| *p == o.asset.as_path()) {
             Some(k) => of.push(k),
             None => {
-                let m = load_at(&o.asset, pose).map_err(|source| ObjectAssetError {
+                let m = load_at_with(&o.asset, pose, opts).map_err(|source| ObjectAssetError {
                     object: i,
                     path: o.asset.clone(),
                     source,
@@ -149,30 +181,53 @@ pub const BUILTIN: &str = "builtin:";
 
 /// Loads `path`: a `builtin:` shape, an `.obj`, or a `.gltf`/`.glb`.
 pub fn load(path: &Path) -> Result<MeshData, AssetError> {
+    load_with(path, LoadOptions::default())
+}
+
+/// [`load`] with `opts`.
+pub fn load_with(path: &Path, opts: LoadOptions) -> Result<MeshData, AssetError> {
     let name = path.to_string_lossy();
     if let Some(shape) = name.strip_prefix(BUILTIN) {
         return builtin(shape).ok_or_else(|| AssetError::UnknownBuiltin {
             path: name.into_owned(),
         });
     }
-    flatten(&pelt_io::load(path)?)
+    flatten_with(&pelt_io::load(path)?, opts)
 }
 
 /// [`load`], posed at `pose` when the asset has animations (on the CPU, `pelt_anim::posed`:
 /// the same skinning `pelt pose` writes), with its GPU skinning data ([`skinned`]) so later
 /// poses are skinned by the renderer.
 pub fn load_at(path: &Path, pose: Option<&PoseAt>) -> Result<MeshData, AssetError> {
+    load_at_with(path, pose, LoadOptions::default())
+}
+
+/// [`load_at`] with `opts`.
+pub fn load_at_with(
+    path: &Path,
+    pose: Option<&PoseAt>,
+    opts: LoadOptions,
+) -> Result<MeshData, AssetError> {
     let Some(pose) = pose.filter(|_| !path.to_string_lossy().starts_with(BUILTIN)) else {
-        return load(path);
+        return load_with(path, opts);
     };
-    skinned(&pelt_io::load(path)?, pose)
+    skinned_with(&pelt_io::load(path)?, pose, opts)
 }
 
 /// `doc` (a rest document) posed at `pose` on the CPU, with the GPU skinning data attached when
 /// the asset can be skinned there ([`crate::skin::binding`]): the renderer then skins the
 /// mesh for each pose drawn, and the CPU pose gives the first frame's bounds.
 pub fn skinned(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
-    let mut m = posed(doc, pose)?;
+    skinned_with(doc, pose, LoadOptions::default())
+}
+
+/// [`skinned`] with `opts`.
+pub fn skinned_with(
+    doc: &Document,
+    pose: &PoseAt,
+    opts: LoadOptions,
+) -> Result<MeshData, AssetError> {
+    let mut m = posed_with(doc, pose, opts)?;
     if let Some(mut b) = crate::skin::binding(doc, &m.primitive_bases)? {
         b.fins = m
             .fur
@@ -188,12 +243,21 @@ pub fn skinned(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
 /// `doc` posed at `pose` (when it has animations) and flattened; `doc` itself is unchanged,
 /// so a viewer keeps one document and poses it frame after frame.
 pub fn posed(doc: &Document, pose: &PoseAt) -> Result<MeshData, AssetError> {
+    posed_with(doc, pose, LoadOptions::default())
+}
+
+/// [`posed`] with `opts`.
+pub fn posed_with(
+    doc: &Document,
+    pose: &PoseAt,
+    opts: LoadOptions,
+) -> Result<MeshData, AssetError> {
     if doc.array("animations").is_empty() {
-        return flatten(doc);
+        return flatten_with(doc, opts);
     }
     let mut doc = doc.clone();
     pelt_anim::posed::pose_document(&mut doc, Some(&pose.animation), pose.time)?;
-    flatten(&doc)
+    flatten_with(&doc, opts)
 }
 
 /// A built-in shape by name (`cube`, `sphere`, `quad`), white; the closed shapes are
@@ -418,10 +482,15 @@ fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec
 /// Flattens every TRIANGLES primitive of every mesh instance into one mesh, with the fur
 /// of primitives that have a baked comb.
 pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
+    flatten_with(doc, LoadOptions::default())
+}
+
+/// [`flatten`] with `opts`.
+pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, AssetError> {
     let mut out = MeshData::untextured(Vec::new(), Vec::new());
     out.parts.clear();
     out.materials.clear();
-    let mut reader = MaterialReader::default();
+    let mut reader = MaterialReader::with_max_texture(opts.max_texture);
     let mut fur_vertices: Vec<FurVertex> = Vec::new();
     let mut fins = Vec::new();
     let mut fin_sources = Vec::new();
@@ -518,6 +587,7 @@ pub fn flatten(doc: &Document) -> Result<MeshData, AssetError> {
             push_part(&mut out.parts, first, out.indices.len() as u32, material);
         }
     }
+    out.warnings = std::mem::take(&mut reader.warnings);
     out.materials = reader.read.into_iter().map(|(_, m)| m).collect();
     if out.indices.is_empty() {
         return Err(AssetError::Empty {

@@ -68,6 +68,10 @@ pub struct Knobs {
     /// material's secondary motion on an animated asset (overrides the scene's).
     #[cfg_attr(feature = "cli", arg(long, value_name = "K,D|off", value_parser = flags::spring))]
     pub spring: Option<pelt_anim::spring::Spring>,
+    /// Largest texture side drawn, 1 to 16384 (default 8192): a larger image is halved until
+    /// it fits while it decodes, with a warning.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, 1..=pelt_io::picture::MAX_SIDE)))]
+    pub max_texture: Option<u32>,
 }
 
 /// Overrides of the scene's `reflections` block; `None` keeps the scene's value.
@@ -126,6 +130,13 @@ impl ReflectionKnobs {
 }
 
 impl Knobs {
+    /// How assets load under these knobs (the texture limit).
+    pub fn load_options(&self) -> asset::LoadOptions {
+        asset::LoadOptions {
+            max_texture: self.max_texture.unwrap_or(asset::DEFAULT_MAX_TEXTURE),
+        }
+    }
+
     /// Applies the overrides to `scene`.
     pub fn apply(&self, scene: &mut Scene) {
         if let Some((w, h)) = self.size {
@@ -217,12 +228,13 @@ pub fn load_at(
     default_size: (u32, u32),
     pose: Option<&asset::PoseAt>,
 ) -> Result<Input, InputError> {
+    let opts = knobs.load_options();
     let (mut scene, meshes, mesh_of) = if is_scene(path) {
         let scene = Scene::load(path)?;
-        let (meshes, of) = asset::load_scene_at(&scene, pose)?;
+        let (meshes, of) = asset::load_scene_with(&scene, pose, opts)?;
         (scene, meshes, of)
     } else {
-        let mesh = asset::load_at(path, pose)?;
+        let mesh = asset::load_at_with(path, pose, opts)?;
         let (w, h) = knobs.size.unwrap_or(default_size);
         let scene = crate::framing::asset_scene(path, &mesh, w, h);
         (scene, vec![mesh], vec![0])
@@ -342,6 +354,8 @@ mod tests {
                 stiffness: 900.0,
                 damping: 12.0,
             }),
+            // A load-time knob: it changes nothing in the scene.
+            max_texture: Some(64),
         }
         .apply(&mut s);
         assert_eq!(

@@ -81,15 +81,35 @@ pub struct Part {
     pub material: u32,
 }
 
-/// Reads a document's materials on demand, decoding each image once.
-#[derive(Debug, Default)]
+/// Reads a document's materials on demand, decoding each image once, no side longer than
+/// its `max_texture` (a larger image is halved while it decodes, with a warning).
+#[derive(Debug)]
 pub struct MaterialReader {
     images: HashMap<usize, Arc<Rgba8>>,
+    max_texture: u32,
     /// Materials read so far, by glTF index (None: a primitive without a material).
     pub read: Vec<(Option<usize>, Material)>,
+    /// Images decoded smaller than stored, each naming the file and the image.
+    pub warnings: Vec<String>,
+}
+
+impl Default for MaterialReader {
+    fn default() -> Self {
+        MaterialReader::with_max_texture(crate::asset::DEFAULT_MAX_TEXTURE)
+    }
 }
 
 impl MaterialReader {
+    /// A reader that decodes no image side longer than `max_texture`.
+    pub fn with_max_texture(max_texture: u32) -> Self {
+        MaterialReader {
+            images: HashMap::new(),
+            max_texture,
+            read: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
     /// The index (into [`MaterialReader::read`]) of glTF material `m`, read now unless it
     /// already was.
     pub fn index(&mut self, doc: &Document, m: Option<usize>) -> Result<u32, IoError> {
@@ -118,7 +138,18 @@ impl MaterialReader {
         let image = match self.images.get(&t.image) {
             Some(i) => Arc::clone(i),
             None => {
-                let i = Arc::new(picture::decode(doc, t.image)?);
+                let (i, stored) = picture::decode_within(doc, t.image, self.max_texture)?;
+                if let Some((w, h)) = stored {
+                    self.warnings.push(format!(
+                        "{}: images[{}]: {w}×{h} is larger than the {} texture limit: drawn at {}×{}",
+                        doc.path.display(),
+                        t.image,
+                        self.max_texture,
+                        i.width,
+                        i.height
+                    ));
+                }
+                let i = Arc::new(i);
                 self.images.insert(t.image, Arc::clone(&i));
                 i
             }

@@ -418,6 +418,7 @@ fn scene_knobs(v: &Viewer) -> Knobs {
         pcf: Some(s.shadow_maps.pcf),
         opacity_layers: Some(s.shadow_maps.opacity_layers),
         spring: fur.and_then(|f| f.spring),
+        max_texture: None,
     }
 }
 

@@ -186,7 +186,7 @@ impl Viewer {
         let posed_at = anim.as_ref().map(|(_, t)| t.pose());
         // Framed on the first pose drawn, as `pelt render --animation` frames it; the camera
         // then stays while the clip plays.
-        let input = load_posed(path, surface.size, posed_at.as_ref())?;
+        let input = load_posed(path, surface.size, posed_at.as_ref(), &settings.knobs)?;
         let (animated, timeline) = anim.unzip();
         let clock = (timeline.is_none() && input.scene.wind.is_some())
             .then_some(WindClock { time, playing });
@@ -361,7 +361,12 @@ impl Viewer {
             None => animation_of(path, None, 0.0, true)?,
         };
         let posed_at = anim.as_ref().map(|(_, t)| t.pose());
-        let input = load_posed(path, self.surface.size, posed_at.as_ref())?;
+        let input = load_posed(
+            path,
+            self.surface.size,
+            posed_at.as_ref(),
+            &self.settings.knobs,
+        )?;
         let scene = scene_of(&input, &self.settings.knobs, self.surface.size);
         let full = prepare(
             preview,
@@ -694,13 +699,23 @@ impl Viewer {
 }
 
 /// Loads an input for a window of `size` (an asset's default scene takes the window's
-/// size), posed at `pose` when there is one.
+/// size), posed at `pose` when there is one, with the load-time knobs of `k` (the texture
+/// limit; the others apply to the scene after loading). Load warnings go to standard error.
 fn load_posed(
     path: &Path,
     size: (u32, u32),
     pose: Option<&pelt_preview::asset::PoseAt>,
+    k: &Knobs,
 ) -> Result<Input, ViewError> {
-    knobs::load_at(path, &Knobs::default(), size, pose).map_err(ViewError::Input)
+    let load = Knobs {
+        max_texture: k.max_texture,
+        ..Knobs::default()
+    };
+    let input = knobs::load_at(path, &load, size, pose).map_err(ViewError::Input)?;
+    for w in input.meshes.iter().flat_map(|m| &m.warnings) {
+        eprintln!("pelt view: warning: {w}");
+    }
+    Ok(input)
 }
 
 /// The input's scene with the knobs applied, at the window's size.
