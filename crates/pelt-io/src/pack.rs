@@ -184,8 +184,9 @@ impl Document {
     fn plan_views(&mut self) -> Result<Vec<Option<Packed>>> {
         use rayon::prelude::*;
         let uses = self.accessor_uses();
+        let fin_views = self.fin_views();
         let jobs: Vec<Option<Job>> = (0..self.array("bufferViews").len())
-            .map(|v| self.job(v, &uses))
+            .map(|v| self.job(v, &uses, fin_views[v]))
             .collect::<Result<_>>()?;
         let doc = &*self;
         Ok(jobs
@@ -196,7 +197,7 @@ impl Document {
     }
 
     /// What view `v` holds, as far as the codecs care.
-    fn job(&self, v: usize, uses: &Uses) -> Result<Option<Job>> {
+    fn job(&self, v: usize, uses: &Uses, fin: bool) -> Result<Option<Job>> {
         let place = format!("bufferViews[{v}]");
         let (bytes, stride) = view_bytes(self, v, &place)?;
         if bytes.is_empty() || self.view_holds_image(v) {
@@ -231,7 +232,6 @@ impl Document {
                 }));
             }
         }
-        let fin = self.is_fin_view(v);
         let sizes: Vec<usize> = on_view
             .iter()
             .filter_map(|(a, _)| accessor::read_any(self, *a, &place).ok())
@@ -259,21 +259,24 @@ impl Document {
             .any(|i| i.get("bufferView").and_then(Value::as_u64) == Some(v as u64))
     }
 
-    fn is_fin_view(&self, v: usize) -> bool {
-        self.primitives().into_iter().any(|r| {
+    /// The bufferViews that hold fin records (or their exceptions), found once per plan.
+    fn fin_views(&self) -> Vec<bool> {
+        let mut fin = vec![false; self.array("bufferViews").len()];
+        for r in self.primitives() {
             let fins = self
                 .pelt_extras(r)
                 .ok()
                 .flatten()
                 .and_then(|p| p.get("fins"));
-            let mut found = false;
             if let Some(mut fins) = fins.cloned() {
                 crate::topology::for_each_fin_view(&mut fins, &mut |x| {
-                    found |= x.as_u64() == Some(v as u64);
+                    if let Some(f) = x.as_u64().and_then(|v| fin.get_mut(v as usize)) {
+                        *f = true;
+                    }
                 });
             }
-            found
-        })
+        }
+        fin
     }
 }
 
