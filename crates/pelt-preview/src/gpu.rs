@@ -321,7 +321,54 @@ pub fn private_runtime_dir() -> Option<std::path::PathBuf> {
     private.then_some(dir)
 }
 
+/// Most bytes of one level written before the queue is flushed: wgpu stages each
+/// `write_texture` in a buffer of its own until the next submission, so a large level written
+/// at once holds a second copy of itself (on a CPU driver, in system memory).
+const WRITE_CHUNK: usize = 16 << 20;
+
 impl Gpu {
+    /// Writes `bytes`, the `height` rows of level `mip_level` of a 2D `texture`, top first;
+    /// a level larger than [`WRITE_CHUNK`] goes in bands of rows, each submitted and waited
+    /// for before the next is staged, so staging never holds more than one band.
+    pub fn write_level(&self, texture: &wgpu::Texture, mip_level: u32, height: u32, bytes: &[u8]) {
+        let row = bytes.len() / height.max(1) as usize;
+        let rows_per_band = (WRITE_CHUNK / row.max(1)).max(1);
+        let banded = bytes.len() > WRITE_CHUNK;
+        let width = texture.width() >> mip_level;
+        for (i, band) in bytes.chunks(rows_per_band * row.max(1)).enumerate() {
+            let rows = (band.len() / row.max(1)) as u32;
+            self.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: (i * rows_per_band) as u32,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                band,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row as u32),
+                    rows_per_image: Some(rows),
+                },
+                wgpu::Extent3d {
+                    width: width.max(1),
+                    height: rows,
+                    depth_or_array_layers: 1,
+                },
+            );
+            if banded {
+                self.queue.submit([]);
+                // Waiting only frees the band's staging buffer sooner; a device that stops
+                // answering is reported by the frame that follows (take_error, readback).
+                let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+            }
+        }
+    }
+
     /// A 2D texture of `format` with `levels` (level 0 first), its view.
     pub fn upload_levels<T>(
         &self,
@@ -330,45 +377,41 @@ impl Gpu {
         levels: &[Level<T>],
         level_bytes: impl Fn(&[T]) -> std::borrow::Cow<'_, [u8]>,
     ) -> wgpu::TextureView {
-        let device = &self.device;
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
+        let texture = self.texture_2d(
+            label,
+            format,
+            (levels[0].width, levels[0].height),
+            levels.len() as u32,
+        );
+        for (i, l) in levels.iter().enumerate() {
+            // A level's bytes at once (RGBA8 texels are borrowed as they are, no copy).
+            self.write_level(&texture, i as u32, l.height, &level_bytes(&l.texels));
+        }
+        texture.create_view(&wgpu::TextureViewDescriptor::default())
+    }
+
+    /// A sampled 2D texture of `format`, `size` texels at level 0 with `levels` levels, to be
+    /// written ([`Gpu::write_level`]).
+    pub fn texture_2d(
+        &self,
+        label: &str,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+        levels: u32,
+    ) -> wgpu::Texture {
+        self.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d {
-                width: levels[0].width,
-                height: levels[0].height,
+                width: size.0,
+                height: size.1,
                 depth_or_array_layers: 1,
             },
-            mip_level_count: levels.len() as u32,
+            mip_level_count: levels,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
-        });
-        for (i, l) in levels.iter().enumerate() {
-            // A level's bytes at once (RGBA8 texels are borrowed as they are, no copy).
-            let bytes = level_bytes(&l.texels);
-            let bpp = bytes.len() as u32 / (l.width * l.height).max(1);
-            self.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: i as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(l.width * bpp),
-                    rows_per_image: Some(l.height),
-                },
-                wgpu::Extent3d {
-                    width: l.width,
-                    height: l.height,
-                    depth_or_array_layers: 1,
-                },
-            );
-        }
-        texture.create_view(&wgpu::TextureViewDescriptor::default())
+        })
     }
 }

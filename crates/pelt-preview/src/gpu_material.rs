@@ -8,7 +8,7 @@
 
 use pelt_io::picture::{Rgba8, WrappingMode};
 use pelt_scene::fur::Level;
-use pelt_scene::material::{Material, Texture, mip_chain};
+use pelt_scene::material::{Material, Texture, mip_count, next_level};
 
 use crate::layout::{D2, FILTERABLE, LayoutDesc, sampler, texture, uniform};
 use crate::renderer::Renderer;
@@ -59,24 +59,34 @@ fn address(w: WrappingMode) -> wgpu::AddressMode {
     }
 }
 
-/// The mip chain of `image`, halved first where it is larger than the device's 2D texture
-/// limit `max` (an asset loaded with a larger `--max-texture` than the device takes).
-fn levels(image: &Rgba8, srgb: bool, max: u32) -> Vec<Level<[u8; 4]>> {
+/// `image` and its full mip chain as a texture of `format` (sRGB averaging for
+/// [`BASE_FORMAT`]), halved first where it is larger than the device's 2D texture limit
+/// (an asset loaded with a larger `--max-texture` than the device takes). Levels are made
+/// and written one at a time from the one above, so besides the image and the texture the
+/// upload holds one level below it (a quarter of the image) and one staging band.
+fn upload_image(
+    r: &Renderer,
+    label: &str,
+    format: wgpu::TextureFormat,
+    image: &Rgba8,
+) -> wgpu::TextureView {
+    let max = r.gpu.device.limits().max_texture_dimension_2d;
     let k = pelt_io::picture_bounded::halvings(image.width, image.height, max);
     let halved = (k > 1).then(|| pelt_io::picture_bounded::halve(image, k));
-    mip_chain(halved.as_ref().unwrap_or(image), srgb)
-        .into_iter()
-        .map(|l| Level {
-            width: l.width,
-            height: l.height,
-            // The level's bytes become its texels without a copy where the allocation allows.
-            texels: bytemuck::allocation::try_cast_vec(l.pixels).unwrap_or_else(|(_, p)| {
-                p.chunks_exact(4)
-                    .map(|p| [p[0], p[1], p[2], p[3]])
-                    .collect()
-            }),
-        })
-        .collect()
+    let base = halved.as_ref().unwrap_or(image);
+    let count = mip_count(base.width, base.height);
+    let texture = r
+        .gpu
+        .texture_2d(label, format, (base.width, base.height), count);
+    let mut below: Option<Rgba8> = None;
+    for level in 0..count {
+        let l = below.as_ref().unwrap_or(base);
+        r.gpu.write_level(&texture, level, l.height, &l.pixels);
+        if level + 1 < count {
+            below = Some(next_level(l, format == BASE_FORMAT));
+        }
+    }
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 /// The override constant of the shaders that read a material (gbuffer.wgsl, material.wgsl,
@@ -107,28 +117,22 @@ fn slot(
     format: wgpu::TextureFormat,
     neutral: [u8; 4],
 ) -> (wgpu::TextureView, wgpu::Sampler) {
-    let srgb = format == BASE_FORMAT;
-    let (lv, wrap) = match t {
-        Some(t) => (
-            levels(
-                &t.image,
-                srgb,
-                r.gpu.device.limits().max_texture_dimension_2d,
-            ),
-            t.wrap,
-        ),
+    let (view, wrap) = match t {
+        Some(t) => (upload_image(r, label, format, &t.image), t.wrap),
         None => (
-            vec![Level {
-                width: 1,
-                height: 1,
-                texels: vec![neutral],
-            }],
+            r.gpu.upload_levels(
+                label,
+                format,
+                &[Level {
+                    width: 1,
+                    height: 1,
+                    texels: vec![neutral],
+                }],
+                |l| bytemuck::cast_slice(l).into(),
+            ),
             [WrappingMode::Repeat; 2],
         ),
     };
-    let view = r
-        .gpu
-        .upload_levels(label, format, &lv, |l| bytemuck::cast_slice(l).into());
     let sampler = r.gpu.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some(label),
         address_mode_u: address(wrap[0]),

@@ -216,51 +216,73 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 }
 
 /// The full mip chain of `image`, level 0 first, each level a 2×2 box filter of the one above
-/// (odd sides clamp their last texel). With `srgb`, colour channels are averaged in linear
-/// light and stored sRGB-encoded again; alpha (and every channel of a linear image) is
-/// averaged as stored. Normal maps are averaged as stored too (the shader renormalizes).
+/// ([`next_level`]).
 pub fn mip_chain(image: &Rgba8, srgb: bool) -> Vec<Rgba8> {
     let mut levels = vec![image.clone()];
-    let to_linear: Vec<f32> = (0..=255u8)
+    while let Some(top) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
+        let next = next_level(top, srgb);
+        levels.push(next);
+    }
+    levels
+}
+
+/// How many levels a full mip chain of a `width` × `height` image has (down to 1×1).
+pub fn mip_count(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
+}
+
+/// The level below `top`: each texel the 2×2 box filter of the texels above it (odd sides
+/// clamp their last texel). With `srgb`, colour channels are averaged in linear light and
+/// stored sRGB-encoded again (the nearest byte, found among the 255 midpoints between
+/// encoded bytes); alpha (and every channel of a linear image) is averaged as stored. Normal
+/// maps are averaged as stored too (the shader renormalizes).
+pub fn next_level(top: &Rgba8, srgb: bool) -> Rgba8 {
+    let decode = |b: usize| {
+        let c = b as f32 / 255.0;
+        if srgb { srgb_to_linear(c) } else { c }
+    };
+    let to_linear: Vec<f32> = (0..256).map(decode).collect();
+    // Byte b is nearest to a linear value v when v lies between the midpoints b-½ and b+½
+    // (in encoded terms), so the byte is the count of midpoints at or below v.
+    let midpoints: Vec<f32> = (0..255)
         .map(|b| {
-            let c = f32::from(b) / 255.0;
+            let c = (b as f32 + 0.5) / 255.0;
             if srgb { srgb_to_linear(c) } else { c }
         })
         .collect();
-    while let Some(top) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
-        let (w, h) = ((top.width / 2).max(1), (top.height / 2).max(1));
-        let mut pixels = Vec::with_capacity(w as usize * h as usize * 4);
-        for y in 0..h {
-            for x in 0..w {
-                for c in 0..4 {
-                    let mut sum = 0.0;
-                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                        let sx = (2 * x + dx).min(top.width - 1) as usize;
-                        let sy = (2 * y + dy).min(top.height - 1) as usize;
-                        let b = top.pixels[(sy * top.width as usize + sx) * 4 + c];
+    let (tw, th) = (top.width as usize, top.height as usize);
+    let (w, h) = ((tw / 2).max(1), (th / 2).max(1));
+    let mut pixels = Vec::with_capacity(w * h * 4);
+    for y in 0..h {
+        let rows = [(2 * y).min(th - 1), (2 * y + 1).min(th - 1)];
+        for x in 0..w {
+            let cols = [(2 * x).min(tw - 1), (2 * x + 1).min(tw - 1)];
+            for c in 0..4 {
+                let mut sum = 0.0;
+                for sy in rows {
+                    for sx in cols {
+                        let b = usize::from(top.pixels[(sy * tw + sx) * 4 + c]);
                         sum += if c < 3 {
-                            to_linear[b as usize]
+                            to_linear[b]
                         } else {
-                            f32::from(b) / 255.0
+                            b as f32 / 255.0
                         };
                     }
-                    let mean = sum / 4.0;
-                    let stored = if srgb && c < 3 {
-                        linear_to_srgb(mean)
-                    } else {
-                        mean
-                    };
-                    pixels.push((stored * 255.0).round().clamp(0.0, 255.0) as u8);
                 }
+                let mean = sum / 4.0;
+                pixels.push(if c < 3 {
+                    midpoints.partition_point(|&m| m <= mean) as u8
+                } else {
+                    (mean * 255.0).round().clamp(0.0, 255.0) as u8
+                });
             }
         }
-        levels.push(Rgba8 {
-            width: w,
-            height: h,
-            pixels,
-        });
     }
-    levels
+    Rgba8 {
+        width: w as u32,
+        height: h as u32,
+        pixels,
+    }
 }
 
 #[cfg(test)]
@@ -286,6 +308,43 @@ mod tests {
         assert_eq!(expect, 188);
         // Linear images average as stored.
         assert_eq!(mip_chain(&image, false)[1].pixels, vec![128, 128, 128, 255]);
+    }
+
+    #[test]
+    fn levels_round_to_the_nearest_encoded_byte() {
+        // Every 2×2 block of these bytes, against the encoding computed directly.
+        let bytes = [0u8, 1, 2, 17, 60, 127, 128, 188, 200, 254, 255];
+        let mut checked = 0;
+        for &a in &bytes {
+            for &b in &bytes {
+                for &c in &bytes {
+                    let top = Rgba8 {
+                        width: 2,
+                        height: 2,
+                        pixels: [[a, a, a, a], [b, b, b, b], [c, c, c, c], [a, b, c, 255]].concat(),
+                    };
+                    let mean = [a, b, c, a, b, c]
+                        .map(|v| srgb_to_linear(f32::from(v) / 255.0))
+                        .iter()
+                        .take(4)
+                        .sum::<f32>()
+                        / 4.0;
+                    let direct = (linear_to_srgb(mean) * 255.0).round();
+                    let got = f32::from(next_level(&top, true).pixels[0]);
+                    // Equal but where the mean falls within float error of a midpoint.
+                    assert!(
+                        (got - direct).abs() <= 1.0,
+                        "{a} {b} {c}: {got} vs {direct}"
+                    );
+                    checked += usize::from(got == direct);
+                }
+            }
+        }
+        assert!(checked >= bytes.len().pow(3) - 2, "{checked} exact");
+        assert_eq!(
+            (mip_count(1, 1), mip_count(3, 2), mip_count(8192, 8192)),
+            (1, 2, 14)
+        );
     }
 
     #[test]
