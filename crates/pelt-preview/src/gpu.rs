@@ -331,12 +331,12 @@ impl Gpu {
     /// a level larger than [`WRITE_CHUNK`] goes in bands of rows, each submitted and waited
     /// for before the next is staged, so staging never holds more than one band.
     pub fn write_level(&self, texture: &wgpu::Texture, mip_level: u32, height: u32, bytes: &[u8]) {
-        let row = bytes.len() / height.max(1) as usize;
-        let rows_per_band = (WRITE_CHUNK / row.max(1)).max(1);
+        let row = (bytes.len() / height.max(1) as usize).max(1);
+        let rows_per_band = (WRITE_CHUNK / row).max(1);
         let banded = bytes.len() > WRITE_CHUNK;
         let width = texture.width() >> mip_level;
-        for (i, band) in bytes.chunks(rows_per_band * row.max(1)).enumerate() {
-            let rows = (band.len() / row.max(1)) as u32;
+        for (i, band) in bytes.chunks(rows_per_band * row).enumerate() {
+            let rows = (band.len() / row) as u32;
             self.write_texture(
                 wgpu::TexelCopyTextureInfo {
                     texture,
