@@ -113,6 +113,41 @@ fn decode(c: &Compressed, src: &[u8]) -> std::result::Result<Vec<u8>, i32> {
     Ok(out)
 }
 
+/// Decodes every job's view, in parallel: views cannot be split (their blocks decode in
+/// sequence), so each worker takes the largest view not yet started (longest first: the
+/// cores finish close together). The results are in `jobs`' order.
+fn decode_all(
+    buffers: &[Buffer],
+    jobs: &[(usize, &'static str, Compressed)],
+) -> Vec<std::result::Result<Vec<u8>, i32>> {
+    use std::sync::OnceLock;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(jobs[k].2.count * jobs[k].2.stride));
+    let next = AtomicUsize::new(0);
+    let results: Vec<OnceLock<std::result::Result<Vec<u8>, i32>>> =
+        jobs.iter().map(|_| OnceLock::new()).collect();
+    let work = || {
+        while let Some(&k) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+            let c = &jobs[k].2;
+            let _ = results[k].set(decode(c, &buffers[c.buffer][c.offset..c.offset + c.length]));
+        }
+    };
+    // One puller per thread: a thread busy elsewhere (another file of a batch) leaves the
+    // views to the others.
+    let pullers = rayon::current_num_threads().min(jobs.len());
+    rayon::scope(|s| {
+        for _ in 1..pullers {
+            s.spawn(|_| work());
+        }
+        work();
+    });
+    results
+        .into_iter()
+        .map(|r| r.into_inner().unwrap_or(Err(-1)))
+        .collect()
+}
+
 impl Document {
     /// Decodes every meshopt-compressed bufferView (see the module documentation).
     pub(crate) fn decode_meshopt(&mut self) -> Result<()> {
@@ -131,14 +166,7 @@ impl Document {
                 jobs.push(job);
             }
         }
-        // Views decode independently: one task each.
-        let decoded: Vec<std::result::Result<Vec<u8>, i32>> = {
-            use rayon::prelude::*;
-            let buffers = &self.buffers;
-            jobs.par_iter()
-                .map(|(_, _, c)| decode(c, &buffers[c.buffer][c.offset..c.offset + c.length]))
-                .collect()
-        };
+        let decoded = decode_all(&self.buffers, &jobs);
         for ((v, ext, c), data) in jobs.into_iter().zip(decoded) {
             let place = format!("bufferViews[{v}].extensions.{ext}");
             let data = data.map_err(|code| {
