@@ -100,22 +100,8 @@ fn count(c: &BTreeMap<String, usize>, kind: &str) -> usize {
 /// Copies `bazel/` and `examples/bazel/` into `dir`, keeping their relative places (the
 /// example's WORKSPACE finds the rules at `../../bazel`).
 fn copy_example(dir: &Path) -> PathBuf {
-    let status = Command::new("cp")
-        .arg("-r")
-        .arg(root().join("bazel"))
-        .arg(dir)
-        .status()
-        .expect("cp");
-    assert!(status.success());
-    std::fs::create_dir_all(dir.join("examples")).expect("mkdir");
-    let status = Command::new("cp")
-        .arg("-r")
-        .arg(root().join("examples/bazel"))
-        .arg(dir.join("examples"))
-        .status()
-        .expect("cp");
-    assert!(status.success());
-    dir.join("examples/bazel")
+    copy_into(&root().join("bazel"), dir);
+    copy_into(&root().join("examples/bazel"), &dir.join("examples"))
 }
 
 /// Flips the lowest bit of the first NORMAL component in `NAME.gltf`'s `.bin`: new content,

@@ -182,15 +182,10 @@ fn blender_add_on_combs_from_hair_and_exports_baked() {
         return;
     }
     let dir = scratch("blender");
-    let addons = dir.join("scripts/addons");
-    std::fs::create_dir_all(&addons).expect("mkdir");
-    let status = Command::new("cp")
-        .arg("-r")
-        .arg(root().join("blender/pelt_fur"))
-        .arg(&addons)
-        .status()
-        .expect("cp");
-    assert!(status.success());
+    copy_into(
+        &root().join("blender/pelt_fur"),
+        &dir.join("scripts/addons"),
+    );
     let out = dir.join("out");
     std::fs::create_dir_all(&out).expect("mkdir");
     let run = Command::new("blender")
@@ -223,4 +218,13 @@ fn blender_add_on_combs_from_hair_and_exports_baked() {
     check_hair(&out, "curves");
     check_painted(&out);
     check_failure(&out);
+    // pelt's warnings reach the panel.
+    let plain: Value =
+        serde_json::from_slice(&std::fs::read(out.join("plain.json")).expect("plain.json"))
+            .expect("JSON");
+    let panel = plain["panel"].as_str().expect("panel text");
+    assert!(
+        panel.starts_with("baked 1 object(s)") && panel.contains("no COLOR_0"),
+        "pelt's warning is not in the panel: {panel}"
+    );
 }

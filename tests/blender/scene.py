@@ -12,7 +12,8 @@ add-on's operators and writes what tests/blender.rs checks into OUT:
 - failure.json: two exports with preview (pelt view is started once: `view_calls`), then an
   export whose bake fails (a bake config that is not JSON): the error the
   operator raised, and whether the earlier output at that path is unchanged; and the error
-  when the add-on's pelt path names no file.
+  when the add-on's pelt path names no file;
+- plain.glb, plain.json: a grid without a comb: what the panel shows (pelt's warning).
 """
 
 import json
@@ -170,6 +171,16 @@ def painted_scene():
         }, f)
 
 
+def plain_scene():
+    """A mesh without any comb: pelt bakes it with a warning, which the panel shows."""
+    reset()
+    wavy_grid("plain", cuts=4)
+    bpy.ops.pelt.export_baked(filepath=os.path.join(OUT, "plain.glb"))
+    with open(os.path.join(OUT, "plain.json"), "w") as f:
+        json.dump({"panel": bpy.context.scene.pelt_fur.last_report}, f)
+
+
 hair_scene(as_curves=False)
 hair_scene(as_curves=True)
 painted_scene()
+plain_scene()

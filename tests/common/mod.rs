@@ -35,6 +35,25 @@ pub fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Copies `src` (a file or a folder, recursively) into folder `parent` (created), under its
+/// own name; returns the copy's path.
+pub fn copy_into(src: &Path, parent: &Path) -> PathBuf {
+    std::fs::create_dir_all(parent).expect("create folder");
+    let status = Command::new("cp")
+        .arg("-r")
+        .arg(src)
+        .arg(parent)
+        .status()
+        .expect("run cp");
+    assert!(
+        status.success(),
+        "cp -r {} {}",
+        src.display(),
+        parent.display()
+    );
+    parent.join(src.file_name().expect("a named source"))
+}
+
 /// Every file under `dir`, relative to it, sorted (none when it does not exist).
 pub fn files_under(dir: &Path) -> Vec<PathBuf> {
     fn go(base: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
