@@ -52,6 +52,19 @@ def color_space(objects, wanted):
     return ('srgb' if 'BYTE_COLOR' in kinds else 'linear'), None
 
 
+def exporter_color_options():
+    """The glTF exporter's options that write the active/render colour as COLOR_0: Blender 4.2
+    and later choose with `export_vertex_color` (whose default exports only colours a material
+    uses), earlier versions with `export_colors`."""
+    props = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
+    if "export_vertex_color" in props:
+        options = {"export_vertex_color": 'ACTIVE'}
+        if "export_all_vertex_colors" in props:
+            options["export_all_vertex_colors"] = False
+        return options
+    return {"export_colors": True}
+
+
 def bake_command(pelt, src, out, report, settings, space):
     cmd = [pelt, "bake", "-q", src, "-o", out, "--report", report,
            "--comb-axes", COMB_AXES, "--comb-color-space", space,
@@ -120,25 +133,28 @@ class PELT_OT_export_baked(bpy.types.Operator, ExportHelper):
         selection and each mesh's render colour afterwards."""
         selected = list(context.selected_objects)
         active = context.view_layer.objects.active
-        render = {}
+        indices = {}
         for o in objects:
             attr = comb_attribute(o.data, settings.comb_attribute)
-            if attr is not None and o.data.name not in render:
-                render[o.data.name] = o.data.color_attributes.render_color_index
+            colors = o.data.color_attributes
+            if attr is not None and o.data.name not in indices:
+                indices[o.data.name] = (colors.active_color_index, colors.render_color_index)
                 comb.make_exported(o.data, attr.name)
         try:
             for o in context.view_layer.objects:
                 o.select_set(o in objects)
             context.view_layer.objects.active = objects[0]
             bpy.ops.export_scene.gltf(
-                filepath=path, export_format='GLB', use_selection=True, export_colors=True,
-                export_normals=True, export_yup=True, export_apply=True)
+                filepath=path, export_format='GLB', use_selection=True, export_normals=True,
+                export_yup=True, export_apply=True, **exporter_color_options())
         finally:
             for o in context.view_layer.objects:
                 o.select_set(o in selected)
             context.view_layer.objects.active = active
-            for name, index in render.items():
-                bpy.data.meshes[name].color_attributes.render_color_index = index
+            for name, (active_index, render_index) in indices.items():
+                colors = bpy.data.meshes[name].color_attributes
+                colors.active_color_index = active_index
+                colors.render_color_index = render_index
 
     def fail(self, settings, message):
         settings.last_report = message
