@@ -222,6 +222,10 @@ fn blender_add_on_combs_from_hair_and_exports_baked() {
     let plain: Value =
         serde_json::from_slice(&std::fs::read(out.join("plain.json")).expect("plain.json"))
             .expect("JSON");
+    let no_hair = plain["no_hair"]
+        .as_str()
+        .expect("comb_from_hair without hair raised nothing");
+    assert!(no_hair.contains("plain: no hair"), "{no_hair}");
     let panel = plain["panel"].as_str().expect("panel text");
     assert!(
         panel.starts_with("baked 1 object(s)") && panel.contains("no COLOR_0"),

@@ -13,7 +13,8 @@ add-on's operators and writes what tests/blender.rs checks into OUT:
   export whose bake fails (a bake config that is not JSON): the error the
   operator raised, and whether the earlier output at that path is unchanged; and the error
   when the add-on's pelt path names no file;
-- plain.glb, plain.json: a grid without a comb: what the panel shows (pelt's warning).
+- plain.glb, plain.json: a grid without a comb or hair: Comb from hair's error, and what
+  the panel shows after its export (pelt's warning).
 """
 
 import json
@@ -175,9 +176,14 @@ def plain_scene():
     """A mesh without any comb: pelt bakes it with a warning, which the panel shows."""
     reset()
     wavy_grid("plain", cuts=4)
+    no_hair = None
+    try:
+        bpy.ops.pelt.comb_from_hair()
+    except RuntimeError as e:
+        no_hair = str(e)
     bpy.ops.pelt.export_baked(filepath=os.path.join(OUT, "plain.glb"))
     with open(os.path.join(OUT, "plain.json"), "w") as f:
-        json.dump({"panel": bpy.context.scene.pelt_fur.last_report}, f)
+        json.dump({"panel": bpy.context.scene.pelt_fur.last_report, "no_hair": no_hair}, f)
 
 
 hair_scene(as_curves=False)
