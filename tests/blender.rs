@@ -31,6 +31,12 @@ fn vec3(v: &Value) -> DVec3 {
     DVec3::new(a(0), a(1), a(2))
 }
 
+/// A JSON file `scene.py` wrote.
+fn read_json(path: &Path) -> Value {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// Position key: the exporter writes Blender's coordinates as f32, the bake keeps them.
 fn key(p: DVec3) -> [i64; 3] {
     [p.x, p.y, p.z].map(|c| (c * 1e4).round() as i64)
@@ -62,10 +68,7 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 fn check_hair(out: &Path, name: &str) {
-    let expected: Value = serde_json::from_slice(
-        &std::fs::read(out.join(format!("{name}.json"))).expect("hair JSON"),
-    )
-    .expect("JSON");
+    let expected = read_json(&out.join(format!("{name}.json")));
     let near: Vec<_> = pairs(&out.join(format!("{name}.glb")), &expected)
         .into_iter()
         .filter(|(_, _, e)| e["near_root"].as_bool() == Some(true))
@@ -108,9 +111,7 @@ fn check_hair(out: &Path, name: &str) {
 }
 
 fn check_painted(out: &Path) {
-    let expected: Value =
-        serde_json::from_slice(&std::fs::read(out.join("painted.json")).expect("painted.json"))
-            .expect("JSON");
+    let expected = read_json(&out.join("painted.json"));
     let mut worst: f64 = 0.0;
     let mut checked = 0;
     for (comb, n, e) in pairs(&out.join("painted.glb"), &expected) {
@@ -132,9 +133,7 @@ fn check_painted(out: &Path) {
 }
 
 fn check_failure(out: &Path) {
-    let f: Value =
-        serde_json::from_slice(&std::fs::read(out.join("failure.json")).expect("failure.json"))
-            .expect("JSON");
+    let f = read_json(&out.join("failure.json"));
     let error = f["error"]
         .as_str()
         .expect("the failing export raised no error");
@@ -219,9 +218,7 @@ fn blender_add_on_combs_from_hair_and_exports_baked() {
     check_painted(&out);
     check_failure(&out);
     // pelt's warnings reach the panel.
-    let plain: Value =
-        serde_json::from_slice(&std::fs::read(out.join("plain.json")).expect("plain.json"))
-            .expect("JSON");
+    let plain = read_json(&out.join("plain.json"));
     let no_hair = plain["no_hair"]
         .as_str()
         .expect("comb_from_hair without hair raised nothing");
