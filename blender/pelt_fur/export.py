@@ -7,9 +7,9 @@
   8-bit sRGB and the exporter writes it linearized), `linear` for a float one (Comb from hair
   writes the encoded value itself).
 
-pelt's warnings and errors come back through `self.report` and the panel; the output is
-written only when the bake succeeds (a temporary file in the output's folder, renamed over
-it), so a failure leaves any earlier output as it was.
+pelt's warnings and errors come back through `self.report` and the panel; the export and
+the bake happen in a temporary folder beside the output, and the baked file is renamed over
+the output only when the bake succeeds, so a failure leaves any earlier output as it was.
 """
 
 import json
@@ -104,7 +104,11 @@ class PELT_OT_export_baked(bpy.types.Operator, ExportHelper):
         if error:
             return self.fail(settings, error)
         target = bpy.path.abspath(self.filepath)
-        with tempfile.TemporaryDirectory(prefix="pelt-") as tmp:
+        folder = os.path.dirname(target) or "."
+        os.makedirs(folder, exist_ok=True)
+        # Exported and baked in a folder beside the target (one file system), the result
+        # renamed over the target only when the bake succeeded.
+        with tempfile.TemporaryDirectory(prefix=".pelt-", dir=folder) as tmp:
             src = os.path.join(tmp, "export.glb")
             self.export_gltf(context, objects, settings, src)
             out = os.path.join(tmp, "baked.glb")
@@ -115,10 +119,10 @@ class PELT_OT_export_baked(bpy.types.Operator, ExportHelper):
                 message = (run.stderr.strip() or run.stdout.strip()
                            or f"pelt bake exited with {run.returncode}")
                 return self.fail(settings, message.replace(src, "export.glb"))
-            warnings = read_warnings(report)
-            publish(out, target)
+            warnings = [w.replace(src, "export.glb") for w in read_warnings(report)]
+            os.replace(out, target)
         for w in warnings:
-            self.report({'WARNING'}, w.replace(src, "export.glb"))
+            self.report({'WARNING'}, w)
         summary = f"baked {len(objects)} object(s) to {target}"
         settings.last_report = "\n".join([summary] + warnings)
         self.report({'INFO'}, summary)
@@ -167,25 +171,6 @@ def read_warnings(report):
     with open(report, encoding="utf-8") as f:
         data = json.load(f)
     return [w for i in data.get("inputs", []) for w in i.get("warnings", [])]
-
-
-def publish(baked, target):
-    """Moves the baked file to `target` atomically (a temporary name in its folder first)."""
-    folder = os.path.dirname(target) or "."
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".pelt-", suffix=".glb", dir=folder)
-    try:
-        # mkstemp makes the file private; the output gets the usual permissions.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        with os.fdopen(fd, "wb") as dst, open(baked, "rb") as src:
-            dst.write(src.read())
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
 
 
 def register():

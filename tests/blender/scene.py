@@ -30,6 +30,15 @@ from mathutils import Vector
 OUT = sys.argv[sys.argv.index("--") + 1]
 
 
+def error_of(operator, **kwargs):
+    """The error `operator` raises (as Blender reports it), or None if it succeeds."""
+    try:
+        operator(**kwargs)
+    except RuntimeError as e:
+        return str(e)
+    return None
+
+
 def gltf_axes(v):
     """Blender (x, y, z) to glTF (x, z, -y)."""
     return [v[0], v[2], -v[1]]
@@ -148,18 +157,10 @@ def painted_scene():
     with open(bad, "w") as f:
         f.write("{ not json")
     bpy.context.scene.pelt_fur.config = bad
-    error = None
-    try:
-        bpy.ops.pelt.export_baked(filepath=path)
-    except RuntimeError as e:
-        error = str(e)
+    error = error_of(bpy.ops.pelt.export_baked, filepath=path)
     panel = bpy.context.scene.pelt_fur.last_report
     prefs.pelt_path = os.path.join(OUT, "no-such-pelt")
-    missing = None
-    try:
-        bpy.ops.pelt.export_baked(filepath=path)
-    except RuntimeError as e:
-        missing = str(e)
+    missing = error_of(bpy.ops.pelt.export_baked, filepath=path)
     prefs.pelt_path = ""
     with open(os.path.join(OUT, "failure.json"), "w") as f:
         json.dump({
@@ -176,11 +177,7 @@ def plain_scene():
     """A mesh without any comb: pelt bakes it with a warning, which the panel shows."""
     reset()
     wavy_grid("plain", cuts=4)
-    no_hair = None
-    try:
-        bpy.ops.pelt.comb_from_hair()
-    except RuntimeError as e:
-        no_hair = str(e)
+    no_hair = error_of(bpy.ops.pelt.comb_from_hair)
     bpy.ops.pelt.export_baked(filepath=os.path.join(OUT, "plain.glb"))
     with open(os.path.join(OUT, "plain.json"), "w") as f:
         json.dump({"panel": bpy.context.scene.pelt_fur.last_report, "no_hair": no_hair}, f)

@@ -237,19 +237,15 @@ pub fn mip_count(width: u32, height: u32) -> u32 {
 /// encoded bytes); alpha (and every channel of a linear image) is averaged as stored. Normal
 /// maps are averaged as stored too (the shader renormalizes).
 pub fn next_level(top: &Rgba8, srgb: bool) -> Rgba8 {
-    let decode = |b: usize| {
-        let c = b as f32 / 255.0;
+    // An encoded value (in bytes, fractions allowed) in linear light.
+    let decode = |b: f32| {
+        let c = b / 255.0;
         if srgb { srgb_to_linear(c) } else { c }
     };
-    let to_linear: Vec<f32> = (0..256).map(decode).collect();
+    let to_linear: Vec<f32> = (0..256).map(|b| decode(b as f32)).collect();
     // Byte b is nearest to a linear value v when v lies between the midpoints b-½ and b+½
     // (in encoded terms), so the byte is the count of midpoints at or below v.
-    let midpoints: Vec<f32> = (0..255)
-        .map(|b| {
-            let c = (b as f32 + 0.5) / 255.0;
-            if srgb { srgb_to_linear(c) } else { c }
-        })
-        .collect();
+    let midpoints: Vec<f32> = (0..255).map(|b| decode(b as f32 + 0.5)).collect();
     let (tw, th) = (top.width as usize, top.height as usize);
     let (w, h) = ((tw / 2).max(1), (th / 2).max(1));
     let mut pixels = Vec::with_capacity(w * h * 4);
