@@ -13,6 +13,7 @@ pub mod knob;
 pub mod plot;
 pub mod rebake;
 pub mod report;
+pub mod table;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -26,13 +27,13 @@ use pelt_scene::scene::{Material, Scene};
 
 use crate::Flip;
 use crate::reflections::MeasureError;
-use knob::{Knob, KnobError, Setting, Truth, Value};
+use knob::{KNOBS, Knob, KnobError, Need, Own, Setting, Truth, Value};
 
 /// What to sweep and how.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// Knobs with their values; empty: every knob that applies, at its default values.
-    pub knobs: Vec<(Knob, Vec<Value>)>,
+    pub knobs: Vec<(&'static Knob, Vec<Value>)>,
     /// Every combination instead of one knob at a time.
     pub grid: bool,
     /// Timed frames per setting.
@@ -206,24 +207,22 @@ fn contents(scene: &Scene, meshes: &[MeshData], of: &[usize]) -> Contents {
 }
 
 /// Checks that `knob` has something to change in the scene.
-fn applies(knob: Knob, c: &Contents) -> Result<(), KnobError> {
-    let shadow_knob = matches!(knob, Knob::ShadowSize | Knob::Pcf | Knob::OpacityLayers);
-    let why = match knob.truth() {
-        _ if shadow_knob && !c.shadows => Some("the scene has no light that casts shadows"),
-        _ if knob == Knob::OpacityLayers && !c.fur => {
-            Some("the scene has no fur object with a baked comb")
-        }
-        _ if shadow_knob => None,
-        Truth::Strands if !c.fur => Some("the scene has no fur object with a baked comb"),
-        Truth::RayTracer if !c.optics => Some("the scene has no mirror or glass object"),
-        _ if knob.rebakes() && c.fur_assets.iter().any(|(_, p)| p.is_none()) => {
+fn applies(knob: &Knob, c: &Contents) -> Result<(), KnobError> {
+    let missing = knob.needs.iter().find(|n| match n {
+        Need::Fur => !c.fur,
+        Need::Optics => !c.optics,
+        Need::CastingLight => !c.shadows,
+    });
+    let why = match missing {
+        Some(n) => Some(n.missing()),
+        None if knob.rebakes() && c.fur_assets.iter().any(|(_, p)| p.is_none()) => {
             Some("a fur object's asset is built in and cannot be baked again")
         }
-        _ => None,
+        None => None,
     };
     match why {
         Some(why) => Err(KnobError::NotApplicable {
-            knob: knob.name(),
+            knob: knob.name,
             why,
         }),
         None => Ok(()),
@@ -240,30 +239,31 @@ fn plan(
     c: &Contents,
 ) -> Result<Vec<Planned>, SweepError> {
     let size = (scene.output.width, scene.output.height);
-    let lists: Vec<(Knob, Vec<Value>)> = if opts.knobs.is_empty() {
-        Knob::ALL
-            .into_iter()
-            .filter(|&k| applies(k, c).is_ok())
+    let lists: Vec<(&Knob, Vec<Value>)> = if opts.knobs.is_empty() {
+        KNOBS
+            .iter()
+            .filter(|k| applies(k, c).is_ok())
             .map(|k| (k, k.defaults(size)))
             .collect()
     } else {
         for (k, _) in &opts.knobs {
-            applies(*k, c)?;
+            applies(k, c)?;
         }
         opts.knobs.clone()
     };
-    let default = |k: Knob, v: &Value| default_value(k, scene, meshes) == Some(*v);
+    let own = own(scene, meshes);
+    let default = |k: &Knob, v: &Value| k.own(&own) == Some(*v);
     if !opts.grid {
         let mut out = Vec::new();
         for (k, values) in &lists {
             for v in values {
-                let s = Setting::default().with(*k, *v);
+                let s = Setting::default().with(k, *v);
                 out.push((
-                    k.name().to_string(),
+                    k.name.to_string(),
                     v.to_string(),
                     s,
                     k.truth(),
-                    default(*k, v),
+                    default(k, v),
                 ));
             }
         }
@@ -284,7 +284,7 @@ fn plan(
         .unwrap_or(Truth::Deferred);
     let name = lists
         .iter()
-        .map(|(k, _)| k.name())
+        .map(|(k, _)| k.name)
         .collect::<Vec<_>>()
         .join("+");
     let mut out = Vec::with_capacity(total);
@@ -294,49 +294,25 @@ fn plan(
         for (k, values) in &lists {
             let v = values[rest % values.len()];
             rest /= values.len();
-            s = s.with(*k, v);
+            s = s.with(k, v);
             labels.push(v.to_string());
-            all_default &= default(*k, &v);
+            all_default &= default(k, &v);
         }
         out.push((name.clone(), labels.join("+"), s, truth, all_default));
     }
     Ok(out)
 }
 
-/// The scene's own value of `knob` (None where it cannot be told).
-fn default_value(knob: Knob, scene: &Scene, meshes: &[MeshData]) -> Option<Value> {
-    let fur = meshes.iter().find_map(|m| m.fur.as_ref());
-    let furset = scene.objects.iter().find_map(|o| match o.material {
-        Material::Fur(f) => Some(f),
-        _ => None,
-    });
-    let r = &scene.reflections;
-    Some(match knob {
-        Knob::Shells => Value::Count(furset?.shells.unwrap_or(fur?.look.shells)),
-        Knob::Fins => Value::Switch(
-            furset?.fins_with(scene.fur_coverage) && fur.is_some_and(|f| !f.fins.is_empty()),
-        ),
-        Knob::FurBlend => Value::Blend(scene.fur_blend),
-        Knob::Coverage => Value::Coverage(scene.fur_coverage),
-        Knob::FurLighting => Value::Lighting(scene.fur_lighting),
-        Knob::Mode => Value::Mode(Mode::Inferred),
-        Knob::TextureSize => Value::Count(fur?.model.size),
-        Knob::HeightBits => Value::Bits(fur?.model.height_bits),
-        Knob::Quantize => return None,
-        Knob::LbufferScale => Value::Scale(scene.lbuffer_scale),
-        Knob::Dsf => Value::Switch(scene.dsf),
-        Knob::Size => Value::Size(scene.output.width, scene.output.height),
-        Knob::Reflections => Value::Technique(r.technique),
-        Knob::LinearSteps => Value::Count(r.linear_steps),
-        Knob::SecantSteps => Value::Count(r.secant_steps),
-        Knob::Layers => Value::Count(r.layers),
-        Knob::CubeSize => Value::Count(r.cube_size),
-        Knob::MaxDepth => Value::Count(r.max_depth),
-        Knob::MinMax => Value::Switch(r.min_max),
-        Knob::ShadowSize => Value::Count(scene.shadow_maps.size),
-        Knob::Pcf => Value::Count(scene.shadow_maps.pcf),
-        Knob::OpacityLayers => Value::Count(scene.shadow_maps.opacity_layers),
-    })
+/// What the scene itself sets, for [`Knob::own`].
+fn own<'a>(scene: &'a Scene, meshes: &'a [MeshData]) -> Own<'a> {
+    Own {
+        scene,
+        fur: meshes.iter().find_map(|m| m.fur.as_ref()),
+        settings: scene.objects.iter().find_map(|o| match o.material {
+            Material::Fur(f) => Some(f),
+            _ => None,
+        }),
+    }
 }
 
 fn write_png(dir: &Path, rel: &str, image: &Image) -> Result<(), SweepError> {
