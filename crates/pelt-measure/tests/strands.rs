@@ -23,6 +23,7 @@ use pelt_preview::scene::{
     Camera, FurCoverage, FurSettings, Light, Material, Object, Size, Transform,
 };
 use pelt_preview::uniforms::{FurVertex, Vertex};
+use pelt_preview::wind::Wind;
 use pelt_preview::{Image, Mode, Preview, Scene};
 
 /// A flat unit square in the XY plane (normal +Z), UVs 0..1, with `model`'s fur: comb
@@ -718,14 +719,18 @@ fn linear_of(image: &Image) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// Fur shadows itself (Yuksel & Keyser's deep opacity maps in the shells, shadow rays
-/// through every strand in the reference): lit from the side by a shadow-casting light, the
-/// furry sphere's shells darken by the fraction its strands do (within 10 %), and their FLIP
-/// against the strands is no worse than 1.15× the same comparison without shadows. The
-/// negative control: with no opacity layers (fur casts as its base mesh alone) the shells
-/// miss the strands' self-shadowing.
-#[test]
-fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
+/// How much the furry sphere lit from the side darkens when its light casts shadows, in the
+/// strands, the shells, and the shells without opacity layers, and the shells' FLIP against
+/// the strands without and with shadows; `name` tags the images written.
+struct SelfShadowing {
+    strands: f64,
+    shells: f64,
+    base: f64,
+    flip_off: f32,
+    flip_on: f32,
+}
+
+fn self_shadowing(name: &str, wind: Option<Wind>) -> SelfShadowing {
     let mut p = preview();
     let sphere = furry_sphere();
     let meshes = std::slice::from_ref(&sphere);
@@ -744,6 +749,8 @@ fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
         length: None,
         ..FurSettings::default()
     });
+    s.wind = wind;
+    s.time = 0.3;
     let opts = Options {
         target: 0.01,
         min_samples: 64,
@@ -766,14 +773,14 @@ fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
     no_layers.shadow_maps.opacity_layers = 0;
     let shells_base = shells(&mut p, &no_layers);
     let dir = out_dir();
-    for (name, img) in [
+    for (part, img) in [
         ("strands-off", &strands_off.image),
         ("strands-on", &strands_on.image),
         ("shells-off", &shells_off),
         ("shells-on", &shells_on),
         ("shells-no-layers", &shells_base),
     ] {
-        img.save(&dir.join(format!("fur-self-shadow-{name}.png")))
+        img.save(&dir.join(format!("{name}-{part}.png")))
             .expect("write");
     }
     // The fur: where the unshadowed strands differ from the background.
@@ -785,34 +792,242 @@ fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
         .collect();
     let darkening =
         |off: &[[f32; 3]], on: &[[f32; 3]]| 1.0 - masked_mean(on, &mask) / masked_mean(off, &mask);
-    let strands_d = darkening(&strands_off.linear, &strands_on.linear);
-    let shells_d = darkening(&linear_of(&shells_off), &linear_of(&shells_on));
-    let base_d = darkening(&linear_of(&shells_off), &linear_of(&shells_base));
     let flip = |a: &Image, b: &Image| pelt_measure::Flip::new(a, b).expect("same size").mean();
-    let flip_off = flip(&shells_off, &strands_off.image);
-    let flip_on = flip(&shells_on, &strands_on.image);
+    let r = SelfShadowing {
+        strands: darkening(&strands_off.linear, &strands_on.linear),
+        shells: darkening(&linear_of(&shells_off), &linear_of(&shells_on)),
+        base: darkening(&linear_of(&shells_off), &linear_of(&shells_base)),
+        flip_off: flip(&shells_off, &strands_off.image),
+        flip_on: flip(&shells_on, &strands_on.image),
+    };
     eprintln!(
-        "darkening: strands {strands_d:.4}, shells {shells_d:.4} ({:.3}×), without layers {base_d:.4} ({:.3}×); FLIP against the strands {flip_off:.4} unshadowed, {flip_on:.4} shadowed ({:.3}×); {} + {} samples",
-        shells_d / strands_d,
-        base_d / strands_d,
-        flip_on / flip_off,
+        "{name}: darkening: strands {:.4}, shells {:.4} ({:.3}×), without layers {:.4} ({:.3}×); FLIP against the strands {:.4} unshadowed, {:.4} shadowed ({:.3}×); {} + {} samples",
+        r.strands,
+        r.shells,
+        r.shells / r.strands,
+        r.base,
+        r.base / r.strands,
+        r.flip_off,
+        r.flip_on,
+        r.flip_on / r.flip_off,
         strands_off.samples,
         strands_on.samples
     );
+    r
+}
+
+/// The floors: the shells darken by the fraction the strands do (within 10 %), their FLIP
+/// against the strands is no worse than 1.15× the same comparison without shadows, and the
+/// negative control (no opacity layers: fur casts as its base mesh alone) misses the strands'
+/// self-shadowing.
+fn assert_shells_shadow_as_strands(r: &SelfShadowing) {
     assert!(
-        strands_d > 0.05,
-        "the strands' shadow rays darken the fur: {strands_d}"
+        r.strands > 0.05,
+        "the strands' shadow rays darken the fur: {}",
+        r.strands
     );
     assert!(
-        (shells_d / strands_d - 1.0).abs() <= 0.10,
-        "shells darken by {shells_d:.4}, strands by {strands_d:.4}"
+        (r.shells / r.strands - 1.0).abs() <= 0.10,
+        "shells darken by {:.4}, strands by {:.4}",
+        r.shells,
+        r.strands
     );
     assert!(
-        flip_on <= 1.15 * flip_off,
-        "FLIP {flip_on:.4} shadowed, {flip_off:.4} unshadowed"
+        r.flip_on <= 1.15 * r.flip_off,
+        "FLIP {:.4} shadowed, {:.4} unshadowed",
+        r.flip_on,
+        r.flip_off
     );
     assert!(
-        (base_d / strands_d - 1.0).abs() > 0.10,
-        "the control without opacity layers darkens by {base_d:.4}, as the strands ({strands_d:.4})"
+        (r.base / r.strands - 1.0).abs() > 0.10,
+        "the control without opacity layers darkens by {:.4}, as the strands ({:.4})",
+        r.base,
+        r.strands
+    );
+}
+
+/// Fur shadows itself (Yuksel & Keyser's deep opacity maps in the shells, shadow rays
+/// through every strand in the reference), on the furry sphere lit from the side by a
+/// shadow-casting light ([`assert_shells_shadow_as_strands`]).
+#[test]
+fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
+    assert_shells_shadow_as_strands(&self_shadowing("fur-self-shadow", None));
+}
+
+/// The same in the demo's gusting breeze, blowing away from the light (the lit side's fur
+/// pressed toward the skin): the shells, fins and the strands' paths blow alike, and the
+/// strands' shadow rays start from where the wind blew them. (Past a strength of about 1 the
+/// shells' self-shadowing departs from the strands': docs/preview.md, "Shadows".)
+#[test]
+fn blown_fur_shadows_itself_as_the_blown_strands_find() {
+    let wind = Wind {
+        direction: Vec3::new(-1.0, 0.0, 0.2).normalize(),
+        strength: 0.5,
+        gust_hz: 0.8,
+        turbulence: 0.5,
+    };
+    assert_shells_shadow_as_strands(&self_shadowing("fur-self-shadow-wind", Some(wind)));
+}
+
+/// The strand reference's shadow rays follow the wind: a furry sphere under a casting light in
+/// a gusting wind, prepared at one time and moved to another (as `pelt view` plays it), draws
+/// the frame prepared at the second time byte for byte, shadow bits included; the gust
+/// changes the frame.
+#[test]
+fn blown_strands_are_shadowed_where_the_wind_blows_them_at_each_time() {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let meshes = std::slice::from_ref(&sphere);
+    let mut s = scene(
+        (96, 72),
+        Vec3::new(0.0, 0.8, 4.0),
+        Vec3::ZERO,
+        40.0,
+        (0.5, 20.0),
+    );
+    s.lights = vec![light(Vec3::new(3.0, 2.0, 0.5), 14.0, 12.0)];
+    s.lights[0].shadows = true;
+    s.wind = Some(Wind {
+        direction: Vec3::new(-1.0, 0.0, 0.2).normalize(),
+        strength: 1.5,
+        gust_hz: 1.0,
+        turbulence: 0.5,
+    });
+    let at = |time: f32| Scene { time, ..s.clone() };
+    let fresh = |p: &mut Preview, time: f32| {
+        let sv = p
+            .prepare_loaded(&at(time), meshes, &[0], Mode::Strands)
+            .expect("prepare");
+        p.render(&sv).expect("render")
+    };
+    let calm = fresh(&mut p, 0.0);
+    let gust = fresh(&mut p, 0.25);
+    let mut sv = p
+        .prepare_loaded(&at(0.0), meshes, &[0], Mode::Strands)
+        .expect("prepare");
+    p.update(&mut sv, &at(0.25), Mode::Strands).expect("update");
+    let moved = p.render(&sv).expect("render");
+    let dir = out_dir();
+    for (name, img) in [("calm", &calm), ("gust", &gust), ("moved", &moved)] {
+        img.save(&dir.join(format!("strands-wind-{name}.png")))
+            .expect("write");
+    }
+    let flip = pelt_measure::Flip::new(&calm, &gust)
+        .expect("same size")
+        .mean();
+    assert!(flip > 0.005, "the gust moves the fur: FLIP {flip}");
+    if moved.rgba != gust.rgba {
+        common::save_failure("strands-wind", &gust, &moved);
+        panic!("moved to 0.25 s differs from prepared at 0.25 s");
+    }
+}
+
+/// The wind the strand reference's shadow rays start from (`pelt_scene::wind::bend`, on the
+/// CPU) is the wind strands.wgsl draws the strands in: in a strong sideways wind, the fur's
+/// extent per row on screen as the GPU draws it matches the extent of the strands placed by
+/// the CPU twin within a pixel on each side (the strands' own width is the rest), where the
+/// strands at rest miss it by more than twice as much.
+#[test]
+fn the_cpu_wind_places_the_tips_where_the_gpu_draws_them() {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let meshes = std::slice::from_ref(&sphere);
+    let (w, h) = (256u32, 192u32);
+    let mut s = scene(
+        (w, h),
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::ZERO,
+        40.0,
+        (0.5, 20.0),
+    );
+    s.lights = vec![light(Vec3::new(0.0, 2.0, 4.0), 14.0, 12.0)];
+    s.wind = Some(Wind {
+        direction: Vec3::X,
+        strength: 1.5,
+        gust_hz: 1.0,
+        turbulence: 0.5,
+    });
+    s.time = 0.3;
+    let sv = p
+        .prepare_loaded(&s, meshes, &[0], Mode::Strands)
+        .expect("prepare");
+    let image = p.render(&sv).expect("render");
+    image
+        .save(&out_dir().join("strands-wind-tips.png"))
+        .expect("write");
+    let bg = &image.rgba[..4];
+    let fur = |x: u32, y: u32| {
+        let i = 4 * (y * w + x) as usize;
+        (0..3).any(|c| image.rgba[i + c].abs_diff(bg[c]) > 2)
+    };
+    // Per row, the fur's leftmost and rightmost pixel as drawn.
+    let drawn: Vec<Option<(f32, f32)>> = (0..h)
+        .map(|y| {
+            let xs: Vec<u32> = (0..w).filter(|&x| fur(x, y)).collect();
+            Some((*xs.first()? as f32, *xs.last()? as f32))
+        })
+        .collect();
+    let view = pelt_scene::view::View::new(&s);
+    let clip = view.proj * view.view;
+    let length = sphere.fur.as_ref().expect("fur").look.length;
+    let consts = pelt_scene::wind::constants(s.wind.as_ref(), s.time);
+    let on = pelt_scene::wind::WindOn::new(consts, glam::Mat4::IDENTITY, length);
+    let roots = pelt_scene::strands::plant(&sphere).expect("plant");
+    // Per row, the strands' leftmost and rightmost pixel centre (9 points along each),
+    // blown by the CPU twin or at rest.
+    let tips = |blow: bool| {
+        let mut rows = vec![None::<(f32, f32)>; h as usize];
+        for r in &roots {
+            let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
+            let (root, n, comb) = (v(r.root), v(r.normal), v(r.comb));
+            let comb = if blow {
+                pelt_scene::wind::bend(comb, n, root, &on)
+            } else {
+                comb
+            };
+            for k in 0..=8 {
+                let z = r.root[3] * k as f32 / 8.0;
+                let at = root
+                    + v(r.lean) * z
+                    + (n.normalize() + comb * z).normalize() * (z * length * r.normal[3]);
+                let c = clip * at.extend(1.0);
+                let (x, y) = (
+                    (c.x / c.w + 1.0) / 2.0 * w as f32,
+                    (1.0 - c.y / c.w) / 2.0 * h as f32,
+                );
+                if y >= 0.0 && (y as u32) < h {
+                    let row = &mut rows[y as usize];
+                    let (lo, hi) = row.unwrap_or((x, x));
+                    *row = Some((lo.min(x - 0.5), hi.max(x - 0.5)));
+                }
+            }
+        }
+        rows
+    };
+    // The mean miss per side over the rows both have.
+    let miss = |rows: &[Option<(f32, f32)>]| {
+        let pairs: Vec<_> = rows
+            .iter()
+            .zip(&drawn)
+            .filter_map(|(t, d)| Some(((*t)?, (*d)?)))
+            .collect();
+        let n = pairs.len() as f32;
+        let left = pairs.iter().map(|(t, d)| (t.0 - d.0).abs()).sum::<f32>() / n;
+        let right = pairs.iter().map(|(t, d)| (t.1 - d.1).abs()).sum::<f32>() / n;
+        (left, right, pairs.len())
+    };
+    let blown = miss(&tips(true));
+    let still = miss(&tips(false));
+    eprintln!(
+        "tips against the drawn fur, mean miss per row (left, right, rows): blown {blown:?}, at rest {still:?}"
+    );
+    assert!(blown.2 > 100, "{} rows", blown.2);
+    assert!(
+        blown.0 <= 1.0 && blown.1 <= 1.0,
+        "blown tips miss by {blown:?}"
+    );
+    assert!(
+        still.0 + still.1 > 2.0 * (blown.0 + blown.1),
+        "the control at rest misses by {still:?}"
     );
 }

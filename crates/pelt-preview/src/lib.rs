@@ -395,10 +395,11 @@ impl Preview {
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
         let plan = &sv.scene_plan;
-        if let Some(t) = sv.owned.get::<TracedShadows>()
-            && !t.fits(plan)
-        {
-            return Err(RenderError::StaleStrandShadows);
+        if let Some(t) = sv.owned.get_mut::<TracedShadows>() {
+            if !t.fits(plan) {
+                return Err(RenderError::StaleStrandShadows);
+            }
+            t.follow(&self.renderer, plan);
         }
         match sv.owned.get_mut::<ShadowCubes>() {
             Some(c) if c.fits(plan) => c.write(&self.renderer, plan),

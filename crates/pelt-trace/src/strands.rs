@@ -4,8 +4,9 @@
 //! about its segments, in a BVH of their boxes) and the scene's triangles ([`World::sees`]).
 //! What reaches the light is one bit per sample and light, which the strands' fragments blend
 //! linearly along each segment. The strands follow the shells' path (Revie Listing 2.1) as
-//! strands.wgsl builds them, at rest: without the wind (a blown strand reads its still
-//! self's bits).
+//! strands.wgsl builds them, bent by the frame's wind as they are drawn
+//! ([`pelt_scene::wind::bend`], the CPU twin of `wind_comb`), so a blown strand is shadowed
+//! where it is blown to.
 
 use glam::{Mat4, Vec3};
 use glam34::Vec3A;
@@ -17,6 +18,7 @@ use rayon::prelude::*;
 
 use pelt_scene::shading::Emitter;
 use pelt_scene::vertex::StrandRoot;
+use pelt_scene::wind::{self, WindOn};
 
 use crate::World;
 
@@ -34,13 +36,23 @@ pub struct StrandSet<'a> {
     pub length: f32,
     /// The planted strands.
     pub roots: &'a [StrandRoot],
+    /// The frame's wind constants (`pelt_scene::wind::constants`; all zero: none).
+    pub wind: ([f32; 4], [f32; 4]),
 }
 
-/// A strand's sample points in world space, root to tip, and its world radius.
-fn samples(set: &StrandSet<'_>, s: &StrandRoot) -> ([Vec3; SEGMENTS + 1], f32) {
+impl StrandSet<'_> {
+    /// The wind on these strands.
+    fn wind_on(&self) -> WindOn {
+        WindOn::new(self.wind, self.model, self.length)
+    }
+}
+
+/// A strand's sample points in world space, root to tip, and its world radius, its comb
+/// bent by the wind `on` as strands.wgsl bends it.
+fn samples(set: &StrandSet<'_>, on: &WindOn, s: &StrandRoot) -> ([Vec3; SEGMENTS + 1], f32) {
     let root = Vec3::from_slice(&s.root[..3]);
     let n = Vec3::from_slice(&s.normal[..3]);
-    let comb = Vec3::from_slice(&s.comb[..3]);
+    let comb = wind::bend(Vec3::from_slice(&s.comb[..3]), n, root, on);
     let lean = Vec3::from_slice(&s.lean[..3]);
     let reach = set.length * s.normal[3];
     let points = std::array::from_fn(|k| {
@@ -123,8 +135,9 @@ impl Occluders {
         let mut capsules = Vec::new();
         let mut strand = 0u32;
         for set in sets {
+            let on = set.wind_on();
             for s in set.roots {
-                let (p, r) = samples(set, s);
+                let (p, r) = samples(set, &on, s);
                 for k in 0..SEGMENTS {
                     if p[k] != p[k + 1] && r > 0.0 {
                         capsules.push(Capsule {
@@ -206,11 +219,12 @@ pub fn shadow_bits(
             let base = first;
             first += set.roots.len() as u32;
             let normal_model = set.model.inverse().transpose();
+            let on = set.wind_on();
             set.roots
                 .par_iter()
                 .enumerate()
                 .map(|(i, s)| {
-                    let (p, _) = samples(set, s);
+                    let (p, _) = samples(set, &on, s);
                     let n = normal_model
                         .transform_vector3(Vec3::from_slice(&s.normal[..3]))
                         .normalize_or_zero();
@@ -277,6 +291,7 @@ mod tests {
             model: Mat4::IDENTITY,
             length: 1.0,
             roots: &roots,
+            wind: ([0.0; 4], [0.0; 4]),
         };
         let light = Emitter::Directional {
             direction: Vec3::new(-1.0, 0.0, 0.0),
@@ -296,5 +311,63 @@ mod tests {
             bits[0][0][0], 0b11000,
             "only samples above 0.5 see past strand 1"
         );
+    }
+
+    /// A steady wind along +z bends each strand as a comb along +z of the wind's strength
+    /// does (strands.wgsl's path), so a strand blown behind another toward a light from +z
+    /// is shadowed where it stood in the open at rest.
+    #[test]
+    fn the_wind_bends_the_strands_the_rays_start_from() {
+        let world = World::empty();
+        fn blown(roots: &[StrandRoot], strength: f32) -> StrandSet<'_> {
+            StrandSet {
+                model: Mat4::from_scale(Vec3::splat(2.0)),
+                length: 1.0,
+                roots,
+                wind: ([0.0, 0.0, strength, 0.0], [0.0; 4]),
+            }
+        }
+        let one = [strand(0.0, 0.0, 0.05)];
+        let combed = [StrandRoot {
+            comb: [0.0, 0.0, 0.8, 0.05],
+            ..one[0]
+        }];
+        let (p, _) = samples(&blown(&one, 0.8), &blown(&one, 0.8).wind_on(), &one[0]);
+        let still = blown(&combed, 0.0);
+        let (q, _) = samples(&still, &still.wind_on(), &combed[0]);
+        for k in 0..=SEGMENTS {
+            assert!(
+                (p[k] - q[k]).length() < 1e-5,
+                "sample {k}: {} vs {}",
+                p[k],
+                q[k]
+            );
+        }
+        assert!(
+            p[SEGMENTS].z > 0.5,
+            "the tip is blown along +z: {}",
+            p[SEGMENTS]
+        );
+        // Light low from +x; a strand combed toward −z between the first and the light. A
+        // strong wind along +z blows both out along +z, the first lower and farther, into the
+        // other's shadow: the bits are those of the strands combed by the wind, not those of
+        // the strands at rest.
+        let light = Emitter::Directional {
+            direction: Vec3::new(-1.0, 0.0, 0.0),
+        };
+        let back = |r: StrandRoot, dz: f32| StrandRoot {
+            comb: [0.0, 0.0, r.comb[2] + dz, r.comb[3]],
+            ..r
+        };
+        let roots = [strand(0.0, 0.0, 0.2), back(strand(0.5, 0.0, 0.2), -0.8)];
+        let windy = shadow_bits(&world, &[blown(&roots, 3.0)], &[light]);
+        let combed = roots.map(|r| back(r, 3.0));
+        let as_combed = shadow_bits(&world, &[blown(&combed, 0.0)], &[light]);
+        let still = shadow_bits(&world, &[blown(&roots, 0.0)], &[light]);
+        assert_eq!(
+            windy, as_combed,
+            "the wind bends the strands as a comb does"
+        );
+        assert_ne!(windy, still, "blown strands are not shadowed as still ones");
     }
 }

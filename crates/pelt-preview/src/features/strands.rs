@@ -7,7 +7,9 @@
 //! Where a light of the view casts shadows, each strand is lit as its shadow rays found it
 //! ([`TracedShadows`], `pelt_trace::strands`): a bit per sample (its segments' ends) and
 //! light, traced on the CPU through every other strand and the scene when the view is
-//! prepared, blended along each segment (the `TRACED_SHADOWS` def of strands.wgsl).
+//! prepared, with the strands where the frame's wind blows them, and again when the scene's
+//! time (so the wind) changes; blended along each segment (the `TRACED_SHADOWS` def of
+//! strands.wgsl).
 
 use crate::draw::{MissingInput, object_blends, object_depth, slot};
 use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
@@ -76,17 +78,26 @@ pub fn pipeline(traced: bool) -> PipelineDesc {
     }
 }
 
-/// Each fur object's strands' shadow bits (`pelt_trace::strands::shadow_bits`), on the GPU.
+/// Each fur object's strands' shadow bits (`pelt_trace::strands::shadow_bits`), on the GPU,
+/// with what they are traced through, so a new wind (a new scene time) traces them again.
 #[derive(Debug)]
 pub struct TracedShadows {
     /// By scene object index: one `[u32; 2]` per strand.
     bits: HashMap<usize, wgpu::Buffer>,
     /// What they were traced for (the casting lights, the objects and their fur).
     key: String,
+    /// The wind they were traced in.
+    wind: ([f32; 4], [f32; 4]),
+    /// The scene's triangles, which the rays pass through.
+    world: pelt_trace::World,
+    /// Each fur object with strands: scene index, object to world, fur length, strands.
+    sets: Vec<(usize, glam::Mat4, f32, Arc<crate::assets::GpuStrands>)>,
+    /// The casting lights.
+    lights: Vec<pelt_scene::shading::Emitter>,
 }
 
 impl TracedShadows {
-    /// What `plan`'s bits depend on.
+    /// What `plan`'s bits depend on, besides the wind.
     fn key_of(plan: &ScenePlan) -> String {
         let lights: Vec<_> = plan.shadow_lights().map(|l| l.emitter).collect();
         let objects: Vec<_> = plan
@@ -97,55 +108,87 @@ impl TracedShadows {
         format!("{lights:?} {objects:?}")
     }
 
-    /// Whether these bits were traced for `plan`.
+    /// Whether these bits were traced for `plan`'s lights and objects (the wind aside:
+    /// [`TracedShadows::follow`] traces them again in a new one).
     pub fn fits(&self, plan: &ScenePlan) -> bool {
         self.key == Self::key_of(plan)
     }
 
     /// Traces the shadow rays of every fur object's `strands` (by mesh) of `plan` toward its
-    /// shadow-casting lights through the strands and `meshes`, and uploads the bits.
+    /// shadow-casting lights through the strands and `meshes`, in `plan`'s wind, and uploads
+    /// the bits.
     pub fn new(
         r: &crate::renderer::Renderer,
         plan: &ScenePlan,
         meshes: &[MeshData],
         strands: &[Option<Arc<crate::assets::GpuStrands>>],
     ) -> TracedShadows {
-        let lights: Vec<_> = plan.shadow_lights().map(|l| l.emitter).collect();
-        let mut objects = Vec::new();
-        let mut sets = Vec::new();
-        for (o, _) in &plan.objects {
-            if let (Some(f), Some(Some(s))) = (o.fur, strands.get(o.mesh)) {
-                objects.push(o.scene_index);
-                sets.push(pelt_trace::strands::StrandSet {
-                    model: o.model,
-                    length: f.length,
-                    roots: &s.planted,
-                });
-            }
-        }
-        let bits = if lights.is_empty() || sets.is_empty() {
-            Vec::new()
-        } else {
-            let world = pelt_trace::World::new(plan, meshes, pelt_trace::SkyModel::Background);
-            pelt_trace::strands::shadow_bits(&world, &sets, &lights)
+        let sets = plan
+            .objects
+            .iter()
+            .filter_map(|(o, _)| {
+                let (f, s) = (o.fur?, strands.get(o.mesh)?.as_ref()?);
+                Some((o.scene_index, o.model, f.length, Arc::clone(s)))
+            })
+            .collect();
+        let mut t = TracedShadows {
+            bits: HashMap::new(),
+            key: Self::key_of(plan),
+            wind: plan.wind,
+            world: pelt_trace::World::new(plan, meshes, pelt_trace::SkyModel::Background),
+            sets,
+            lights: plan.shadow_lights().map(|l| l.emitter).collect(),
         };
-        let bits = objects
-            .into_iter()
-            .zip(bits)
-            .map(|(k, b)| {
-                // A buffer of zero bytes cannot be bound: an empty set keeps one record.
-                let b = if b.is_empty() { vec![[0; 2]] } else { b };
+        t.bits = t
+            .sets
+            .iter()
+            .zip(t.trace())
+            .map(|((k, ..), b)| {
                 let buffer = r.gpu.buffer_init(
                     "strand shadow bits",
                     bytemuck::cast_slice(&b),
-                    wgpu::BufferUsages::VERTEX,
+                    wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 );
-                (k, buffer)
+                (*k, buffer)
             })
             .collect();
-        TracedShadows {
-            bits,
-            key: Self::key_of(plan),
+        t
+    }
+
+    /// Each set's bits in the wind last followed (one record for an empty set: a buffer of
+    /// zero bytes cannot be bound).
+    fn trace(&self) -> Vec<Vec<[u32; 2]>> {
+        let sets: Vec<_> = self
+            .sets
+            .iter()
+            .map(|(_, model, length, s)| pelt_trace::strands::StrandSet {
+                model: *model,
+                length: *length,
+                roots: &s.planted,
+                wind: self.wind,
+            })
+            .collect();
+        let bits = if self.lights.is_empty() || sets.is_empty() {
+            vec![Vec::new(); sets.len()]
+        } else {
+            pelt_trace::strands::shadow_bits(&self.world, &sets, &self.lights)
+        };
+        bits.into_iter()
+            .map(|b| if b.is_empty() { vec![[0; 2]] } else { b })
+            .collect()
+    }
+
+    /// Traces the bits again where `plan`'s wind (its time) is not the one they were traced
+    /// in, and uploads them. The strands blow as strands.wgsl draws them.
+    pub fn follow(&mut self, r: &crate::renderer::Renderer, plan: &ScenePlan) {
+        if plan.wind == self.wind {
+            return;
+        }
+        self.wind = plan.wind;
+        for ((k, ..), b) in self.sets.iter().zip(self.trace()) {
+            if let Some(buffer) = self.bits.get(k) {
+                r.gpu.write_buffer(buffer, 0, bytemuck::cast_slice(&b));
+            }
         }
     }
 }
