@@ -720,16 +720,10 @@ fn wind_bends_the_fur_along_it_in_shells_fins_and_strands_and_none_is_still() {
     }
 }
 
-/// Fur casts by its coverage (deep opacity maps): under a shadow-casting light overhead, the
-/// furry sphere's shadow on a floor gains a band around the base mesh's shadow, soft (most of
-/// its pixels between the floor's lit and shadowed levels); the base mesh's own shadow, the
-/// negative control, has a hard edge.
-#[test]
-fn fur_casts_a_soft_shadow_by_its_coverage() {
-    let mut f = Fixture::new();
+/// The furry sphere (16 shells, 0.3 long) over a wide floor at height `floor`, under a light
+/// overhead; the scene's objects are drawn with meshes `[0, 1]`.
+fn furry_sphere_over_floor(floor: f32) -> Scene {
     let mut s = scene(16, false, FurBlend::Stipple);
-    s.camera.position = [0.0, 7.0, 6.0];
-    s.camera.target = [0.0, -1.3, 0.0];
     s.camera.far = 30.0;
     s.objects[0].material = Material::Fur(FurSettings {
         shells: Some(16),
@@ -740,7 +734,7 @@ fn fur_casts_a_soft_shadow_by_its_coverage() {
     s.objects.push(Object {
         asset: PathBuf::from("cube"),
         transform: Transform {
-            translation: [0.0, -1.35, 0.0],
+            translation: [0.0, floor, 0.0],
             scale: [8.0, 0.05, 8.0],
             ..Transform::default()
         },
@@ -748,6 +742,41 @@ fn fur_casts_a_soft_shadow_by_its_coverage() {
         color: [0.8; 3],
     });
     s.lights = vec![light(Vec3::new(0.0, 6.0, 0.0), Vec3::ONE, 40.0, 20.0)];
+    s
+}
+
+/// Pixels `test` darkens by a tenth or more against `reference`, and the share of them
+/// between a tenth and nine tenths of the unshadowed floor's light `lit` (soft).
+fn shadow_band(reference: &Image, test: &Image, lit: &Image) -> (usize, f64) {
+    let luma = |img: &Image, i: usize| -> f64 {
+        img.rgba[4 * i..4 * i + 3]
+            .iter()
+            .map(|&c| f64::from(pelt_scene::shading::linear_of_srgb8(c)))
+            .sum()
+    };
+    let (mut darker, mut soft) = (0usize, 0usize);
+    for i in 0..(lit.width * lit.height) as usize {
+        let (r, t, l) = (luma(reference, i), luma(test, i), luma(lit, i));
+        if t < 0.9 * r {
+            darker += 1;
+            if t > 0.1 * l && t < 0.9 * l {
+                soft += 1;
+            }
+        }
+    }
+    (darker, soft as f64 / darker.max(1) as f64)
+}
+
+/// Fur casts by its coverage (deep opacity maps): under a shadow-casting light overhead, the
+/// furry sphere's shadow on a floor gains a band around the base mesh's shadow, soft (most of
+/// its pixels between the floor's lit and shadowed levels); the base mesh's own shadow, the
+/// negative control, has a hard edge.
+#[test]
+fn fur_casts_a_soft_shadow_by_its_coverage() {
+    let mut f = Fixture::new();
+    let mut s = furry_sphere_over_floor(-1.35);
+    s.camera.position = [0.0, 7.0, 6.0];
+    s.camera.target = [0.0, -1.3, 0.0];
     let of = [0, 1];
     let unshadowed = f.render_with(&s, &of, Mode::Forward);
     s.lights[0].shadows = true;
@@ -759,34 +788,8 @@ fn fur_casts_a_soft_shadow_by_its_coverage() {
         img.save(&dir.join(format!("fur-casts-{name}.png")))
             .expect("write");
     }
-    let luma = |img: &Image, i: usize| -> f64 {
-        img.rgba[4 * i..4 * i + 3]
-            .iter()
-            .map(|&c| f64::from(pelt_scene::shading::linear_of_srgb8(c)))
-            .sum()
-    };
-    // Pixels `test` darkens by a tenth or more against `reference`, and the share of them
-    // between a tenth and nine tenths of the unshadowed floor's light (soft).
-    let (w, h) = (unshadowed.width as usize, unshadowed.height as usize);
-    let floor_rows = 0..h;
-    let band = |reference: &Image, test: &Image| {
-        let (mut darker, mut soft) = (0usize, 0usize);
-        for y in floor_rows.clone() {
-            for x in 0..w {
-                let i = y * w + x;
-                let (r, t, lit) = (luma(reference, i), luma(test, i), luma(&unshadowed, i));
-                if t < 0.9 * r {
-                    darker += 1;
-                    if t > 0.1 * lit && t < 0.9 * lit {
-                        soft += 1;
-                    }
-                }
-            }
-        }
-        (darker, soft as f64 / darker.max(1) as f64)
-    };
-    let (fur_px, fur_soft) = band(&base, &dom);
-    let (mesh_px, mesh_soft) = band(&unshadowed, &base);
+    let (fur_px, fur_soft) = shadow_band(&base, &dom, &unshadowed);
+    let (mesh_px, mesh_soft) = shadow_band(&unshadowed, &base, &unshadowed);
     eprintln!(
         "the fur's band: {fur_px} pixels, {:.0} % soft; the base mesh's shadow: {mesh_px} pixels, {:.0} % soft",
         100.0 * fur_soft,
@@ -802,4 +805,66 @@ fn fur_casts_a_soft_shadow_by_its_coverage() {
         mesh_soft <= 0.3,
         "control: the base mesh's edge is hard: {mesh_soft:.2}"
     );
+}
+
+/// Fur off screen casts by its coverage too: the camera looks down at the floor beside the
+/// sphere, which is behind it, so the view draws no fur; the edge of the sphere's shadow in
+/// view still gains the fur's band, soft at its outer edge (the opacity maps draw every fur
+/// object that casts, `Plan::fur_casters`), in forward and inferred modes alike. Without
+/// them the band is empty: the fur casts as its base mesh alone.
+#[test]
+fn fur_off_screen_casts_by_its_coverage() {
+    let mut f = Fixture::new();
+    let mut s = furry_sphere_over_floor(-3.0);
+    s.camera.position = [1.6, -1.7, 0.0];
+    s.camera.target = [1.6, -3.0, 0.0];
+    s.camera.up = [0.0, 0.0, -1.0];
+    s.camera.fov_y_deg = 70.0;
+    let of = [0, 1];
+    for mode in [Mode::Forward, Mode::Inferred] {
+        let unshadowed = f.render_with(&s, &of, mode);
+        let mut lit = s.clone();
+        lit.lights[0].shadows = true;
+        let plan = pelt_scene::Plan::new(&lit, &f.meshes, &of, mode).expect("plan");
+        assert_eq!((plan.shown, plan.fur.len()), (1, 0), "only the floor shows");
+        assert_eq!(plan.fur_casters.len(), 1, "the sphere's fur casts");
+        let e = plan.explain();
+        assert!(e.contains("(1 fur object(s) off screen cast too)"), "{e}");
+        let mut none = lit.clone();
+        none.shadow_maps.opacity_layers = 0;
+        let plain = pelt_scene::Plan::new(&none, &f.meshes, &of, mode).expect("plan");
+        assert_eq!(
+            (plain.objects.len(), plain.fur_casters.len()),
+            (1, 0),
+            "without opacity layers nothing off screen is kept"
+        );
+        let dom = f.render_with(&lit, &of, mode);
+        lit.shadow_maps.opacity_layers = 0;
+        let base = f.render_with(&lit, &of, mode);
+        for (name, img) in [("lit", &unshadowed), ("coverage", &dom), ("base", &base)] {
+            img.save(&out_dir().join(format!("fur-off-screen-casts-{mode}-{name}.png")))
+                .expect("write");
+        }
+        let (fur_px, fur_soft) = shadow_band(&base, &dom, &unshadowed);
+        let (mesh_px, mesh_soft) = shadow_band(&unshadowed, &base, &unshadowed);
+        eprintln!(
+            "{mode}: the off-screen fur's band: {fur_px} pixels, {:.0} % soft; the base mesh's shadow: {mesh_px} pixels, {:.0} % soft",
+            100.0 * fur_soft,
+            100.0 * mesh_soft
+        );
+        assert!(
+            mesh_px > 200,
+            "{mode}: the base mesh casts: {mesh_px} pixels"
+        );
+        assert!(
+            fur_px > 100,
+            "{mode}: the off-screen fur casts by its coverage: {fur_px} pixels"
+        );
+        // Seen from just above the floor, most of the band is the fur's dense inner part;
+        // its outer part is soft where the base mesh's edge is hard.
+        assert!(
+            fur_soft >= 0.2 && fur_soft >= 5.0 * mesh_soft,
+            "{mode}: the fur's shadow is soft ({fur_soft:.2}), the mesh's hard ({mesh_soft:.2})"
+        );
+    }
 }

@@ -295,8 +295,15 @@ pub struct Plan {
     pub lbuffer: Option<(u32, u32)>,
     /// Discontinuity sensitive filtering in the material pass.
     pub dsf: bool,
-    /// Objects to draw.
+    /// Objects to draw (the first [`Plan::shown`]), then the fur objects off screen that
+    /// still cast shadows by their coverage (into the deep opacity maps).
     pub objects: Vec<PlannedObject>,
+    /// How many of `objects` are on screen and drawn.
+    pub shown: usize,
+    /// Every fur object whose shells the deep opacity maps draw: those on screen and those
+    /// off screen whose shadow may fall on it (every fur object while opacity layers are on
+    /// and a light casts shadows).
+    pub fur_casters: Vec<usize>,
     /// Opaque objects, nearest first (early depth rejection).
     pub opaque: Vec<usize>,
     /// Alpha objects, farthest first (blending order).
@@ -657,10 +664,23 @@ impl Plan {
         let mut objects = Vec::new();
         let mut rects = Vec::new();
         let mut culled_objects = 0;
+        // Off screen, fur still casts by its coverage where the opacity maps are drawn.
+        let fur_casts = scene.shadow_maps.opacity_layers > 0 && scene.shadow_lights().count() > 0;
+        let mut casting = Vec::new();
         for (o, (lo, hi)) in &scene.objects {
             let (vlo, vhi) = view.view_box(o.model, *lo, *hi);
             let Some(rect) = view.screen_rect(vlo, vhi, output) else {
                 culled_objects += 1;
+                if let Some(f) = o.fur.filter(|_| fur_casts) {
+                    casting.push(PlannedObject {
+                        depth: -(vlo.z + vhi.z) / 2.0,
+                        fur: Some(PlannedFur {
+                            resolved: false,
+                            ..f
+                        }),
+                        ..o.clone()
+                    });
+                }
                 continue;
             };
             rects.push(rect);
@@ -723,6 +743,16 @@ impl Plan {
         by_depth(&mut fur, true);
         let mut alpha = alpha_idx;
         by_depth(&mut alpha, true);
+        let shown = objects.len();
+        let fur_casters = if fur_casts {
+            fur.iter()
+                .copied()
+                .chain(shown..shown + casting.len())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        objects.extend(casting);
 
         let mode = scene.mode;
         let light_target = scene.lbuffer.unwrap_or(output);
@@ -753,7 +783,7 @@ impl Plan {
         let (mut passes, lbuffer) = match mode {
             Mode::Forward | Mode::Strands => (vec![Pass::Forward], None),
             Mode::Debug(_) => (vec![Pass::Debug], None),
-            _ if lights.is_empty() || objects.is_empty() => (vec![Pass::Material], None),
+            _ if lights.is_empty() || shown == 0 => (vec![Pass::Material], None),
             _ if !fur.is_empty() => (
                 vec![
                     Pass::Geometry,
@@ -792,6 +822,8 @@ impl Plan {
             dsf: scene.dsf && lbuffer.is_some(),
             lbuffer,
             objects,
+            shown,
+            fur_casters,
             opaque,
             alpha,
             fur,
@@ -836,7 +868,7 @@ impl Plan {
         let _ = writeln!(
             s,
             "\nobjects: {} drawn ({} opaque, {} alpha), {} off screen; lights: {} on screen, {} culled",
-            self.objects.len(),
+            self.shown,
             self.opaque.len(),
             self.alpha.len(),
             self.culled_objects,
@@ -903,11 +935,15 @@ impl Plan {
                         pcf = self.shadow_maps.pcf
                     );
                     let layers = self.shadow_maps.opacity_layers;
-                    if layers > 0 && !self.fur.is_empty() {
+                    if layers > 0 && !self.fur_casters.is_empty() {
                         let _ = write!(
                             s,
                             "; the fur from each: its nearest distance, then {layers} deep opacity layer(s) of its shells' optical depth (Yuksel & Keyser 2008), which fur and everything behind it read"
                         );
+                        let off = self.fur_casters.len() - self.fur.len();
+                        if off > 0 {
+                            let _ = write!(s, " ({off} fur object(s) off screen cast too)");
+                        }
                     }
                 }
                 Pass::MinMax => {
@@ -962,7 +998,7 @@ impl Plan {
                     let _ = write!(
                         s,
                         "{w}×{h}: {} objects unlit, {}",
-                        self.objects.len(),
+                        self.shown,
                         match self.mode {
                             Mode::Debug(DebugView::Comb) =>
                                 "the decoded comb as colour, its length as brightness",
@@ -1028,7 +1064,7 @@ impl Plan {
                     let _ = write!(
                         s,
                         "{w}×{h}: {} objects × {} lights in a per-pixel loop; {} alpha back to front",
-                        self.objects.len(),
+                        self.shown,
                         self.lights.len(),
                         self.alpha.len()
                     );

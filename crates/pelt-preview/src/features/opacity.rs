@@ -225,8 +225,8 @@ impl OpacityMaps {
     }
 
     /// The two passes of drawn layer `i` (the nearest fur into `cube`, the cube's layer,
-    /// then the opacity layers) drawing the view's fur objects with `depth` (the cubes' depth
-    /// target).
+    /// then the opacity layers) drawing the fur objects that cast into the view with `depth`
+    /// (the cubes' depth target).
     pub fn passes<'a>(
         &'a self,
         f: &Frame<'a>,
@@ -272,10 +272,10 @@ impl OpacityMaps {
     }
 }
 
-/// Every fur object of the view: its outer shell (`nearest`), or its shells without the base
-/// mesh.
+/// Every fur object that casts into the view, on screen or off ([`crate::plan::Plan`]'s
+/// `fur_casters`): its outer shell (`nearest`), or its shells without the base mesh.
 fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), MissingInput> {
-    for &k in &f.plan.fur {
+    for &k in &f.plan.fur_casters {
         let Some(planned) = f.plan.objects[k].fur else {
             continue;
         };

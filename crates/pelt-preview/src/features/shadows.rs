@@ -291,7 +291,7 @@ impl ShadowCubes {
             return 0;
         }
         let mut h = std::hash::DefaultHasher::new();
-        for &k in &f.plan.fur {
+        for &k in &f.plan.fur_casters {
             let o = &f.plan.objects[k];
             let fur = o.fur.map(|p| {
                 (
