@@ -730,10 +730,8 @@ struct SelfShadowing {
     flip_on: f32,
 }
 
-fn self_shadowing(name: &str, wind: Option<Wind>) -> SelfShadowing {
-    let mut p = preview();
-    let sphere = furry_sphere();
-    let meshes = std::slice::from_ref(&sphere);
+/// The furry sphere at 96×72, lit from the side and above by a point light.
+fn side_lit() -> Scene {
     let mut s = scene(
         (96, 72),
         Vec3::new(0.0, 0.8, 4.0),
@@ -742,6 +740,14 @@ fn self_shadowing(name: &str, wind: Option<Wind>) -> SelfShadowing {
         (0.5, 20.0),
     );
     s.lights = vec![light(Vec3::new(3.0, 2.0, 0.5), 14.0, 12.0)];
+    s
+}
+
+fn self_shadowing(name: &str, wind: Option<Wind>) -> SelfShadowing {
+    let mut p = preview();
+    let sphere = furry_sphere();
+    let meshes = std::slice::from_ref(&sphere);
+    let mut s = side_lit();
     s.ambient = [0.05; 3];
     s.objects[0].material = Material::Fur(FurSettings {
         shells: Some(32),
@@ -859,7 +865,7 @@ fn fur_shadows_itself_in_the_shells_as_the_strands_shadow_rays_find() {
 /// strands' shadow rays start from where the wind blew them. (Past a strength of about 1 the
 /// shells' self-shadowing departs from the strands': docs/preview.md, "Shadows".)
 #[test]
-fn blown_fur_shadows_itself_as_the_blown_strands_find() {
+fn fur_shadows_itself_in_the_wind_as_the_blown_strands_find() {
     let wind = Wind {
         direction: Vec3::new(-1.0, 0.0, 0.2).normalize(),
         strength: 0.5,
@@ -878,14 +884,7 @@ fn blown_strands_are_shadowed_where_the_wind_blows_them_at_each_time() {
     let mut p = preview();
     let sphere = furry_sphere();
     let meshes = std::slice::from_ref(&sphere);
-    let mut s = scene(
-        (96, 72),
-        Vec3::new(0.0, 0.8, 4.0),
-        Vec3::ZERO,
-        40.0,
-        (0.5, 20.0),
-    );
-    s.lights = vec![light(Vec3::new(3.0, 2.0, 0.5), 14.0, 12.0)];
+    let mut s = side_lit();
     s.lights[0].shadows = true;
     s.wind = Some(Wind {
         direction: Vec3::new(-1.0, 0.0, 0.2).normalize(),

@@ -767,6 +767,33 @@ fn shadow_band(reference: &Image, test: &Image, lit: &Image) -> (usize, f64) {
     (darker, soft as f64 / darker.max(1) as f64)
 }
 
+/// What scene `s` (meshes `[0, 1]`, its light not yet casting) shows of the fur's shadow in
+/// `mode`: the band the fur's coverage adds to the base mesh's shadow and its soft share,
+/// and the base mesh's own shadow and its soft share (writes `NAME-{lit,coverage,base}.png`).
+fn fur_shadow_bands(f: &mut Fixture, s: &Scene, mode: Mode, name: &str) -> [(usize, f64); 2] {
+    let of = [0, 1];
+    let unshadowed = f.render_with(s, &of, mode);
+    let mut lit = s.clone();
+    lit.lights[0].shadows = true;
+    let dom = f.render_with(&lit, &of, mode);
+    lit.shadow_maps.opacity_layers = 0;
+    let base = f.render_with(&lit, &of, mode);
+    for (part, img) in [("lit", &unshadowed), ("coverage", &dom), ("base", &base)] {
+        img.save(&out_dir().join(format!("{name}-{part}.png")))
+            .expect("write");
+    }
+    let fur = shadow_band(&base, &dom, &unshadowed);
+    let mesh = shadow_band(&unshadowed, &base, &unshadowed);
+    eprintln!(
+        "{name}: the fur's band: {} pixels, {:.0} % soft; the base mesh's shadow: {} pixels, {:.0} % soft",
+        fur.0,
+        100.0 * fur.1,
+        mesh.0,
+        100.0 * mesh.1
+    );
+    [fur, mesh]
+}
+
 /// Fur casts by its coverage (deep opacity maps): under a shadow-casting light overhead, the
 /// furry sphere's shadow on a floor gains a band around the base mesh's shadow, soft (most of
 /// its pixels between the floor's lit and shadowed levels); the base mesh's own shadow, the
@@ -777,24 +804,8 @@ fn fur_casts_a_soft_shadow_by_its_coverage() {
     let mut s = furry_sphere_over_floor(-1.35);
     s.camera.position = [0.0, 7.0, 6.0];
     s.camera.target = [0.0, -1.3, 0.0];
-    let of = [0, 1];
-    let unshadowed = f.render_with(&s, &of, Mode::Forward);
-    s.lights[0].shadows = true;
-    let dom = f.render_with(&s, &of, Mode::Forward);
-    s.shadow_maps.opacity_layers = 0;
-    let base = f.render_with(&s, &of, Mode::Forward);
-    let dir = out_dir();
-    for (name, img) in [("lit", &unshadowed), ("coverage", &dom), ("base", &base)] {
-        img.save(&dir.join(format!("fur-casts-{name}.png")))
-            .expect("write");
-    }
-    let (fur_px, fur_soft) = shadow_band(&base, &dom, &unshadowed);
-    let (mesh_px, mesh_soft) = shadow_band(&unshadowed, &base, &unshadowed);
-    eprintln!(
-        "the fur's band: {fur_px} pixels, {:.0} % soft; the base mesh's shadow: {mesh_px} pixels, {:.0} % soft",
-        100.0 * fur_soft,
-        100.0 * mesh_soft
-    );
+    let [(fur_px, fur_soft), (mesh_px, mesh_soft)] =
+        fur_shadow_bands(&mut f, &s, Mode::Forward, "fur-casts");
     assert!(mesh_px > 200, "the base mesh casts: {mesh_px} pixels");
     assert!(
         fur_px > 100,
@@ -822,7 +833,6 @@ fn fur_off_screen_casts_by_its_coverage() {
     s.camera.fov_y_deg = 70.0;
     let of = [0, 1];
     for mode in [Mode::Forward, Mode::Inferred] {
-        let unshadowed = f.render_with(&s, &of, mode);
         let mut lit = s.clone();
         lit.lights[0].shadows = true;
         let plan = pelt_scene::Plan::new(&lit, &f.meshes, &of, mode).expect("plan");
@@ -830,28 +840,15 @@ fn fur_off_screen_casts_by_its_coverage() {
         assert_eq!(plan.fur_casters.len(), 1, "the sphere's fur casts");
         let e = plan.explain();
         assert!(e.contains("(1 fur object(s) off screen cast too)"), "{e}");
-        let mut none = lit.clone();
-        none.shadow_maps.opacity_layers = 0;
-        let plain = pelt_scene::Plan::new(&none, &f.meshes, &of, mode).expect("plan");
+        lit.shadow_maps.opacity_layers = 0;
+        let plain = pelt_scene::Plan::new(&lit, &f.meshes, &of, mode).expect("plan");
         assert_eq!(
             (plain.objects.len(), plain.fur_casters.len()),
             (1, 0),
             "without opacity layers nothing off screen is kept"
         );
-        let dom = f.render_with(&lit, &of, mode);
-        lit.shadow_maps.opacity_layers = 0;
-        let base = f.render_with(&lit, &of, mode);
-        for (name, img) in [("lit", &unshadowed), ("coverage", &dom), ("base", &base)] {
-            img.save(&out_dir().join(format!("fur-off-screen-casts-{mode}-{name}.png")))
-                .expect("write");
-        }
-        let (fur_px, fur_soft) = shadow_band(&base, &dom, &unshadowed);
-        let (mesh_px, mesh_soft) = shadow_band(&unshadowed, &base, &unshadowed);
-        eprintln!(
-            "{mode}: the off-screen fur's band: {fur_px} pixels, {:.0} % soft; the base mesh's shadow: {mesh_px} pixels, {:.0} % soft",
-            100.0 * fur_soft,
-            100.0 * mesh_soft
-        );
+        let name = format!("fur-off-screen-casts-{mode}");
+        let [(fur_px, fur_soft), (mesh_px, mesh_soft)] = fur_shadow_bands(&mut f, &s, mode, &name);
         assert!(
             mesh_px > 200,
             "{mode}: the base mesh casts: {mesh_px} pixels"
