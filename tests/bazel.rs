@@ -183,9 +183,11 @@ fn assert_same_outputs(ws: &Path, direct: &Path) {
 
 #[test]
 fn bazel_rules_build_in_the_sandbox_and_hit_a_remote_cache() {
-    let found = Command::new("bazel").arg("--version").output().is_ok();
-    let hint = "apt-get install bazel-bootstrap";
-    if !tool_available(found, "PELT_REQUIRE_BAZEL", "bazel", hint) {
+    if !program_available(
+        "bazel",
+        "PELT_REQUIRE_BAZEL",
+        "apt-get install bazel-bootstrap",
+    ) {
         return;
     }
     let dir = scratch("bazel");

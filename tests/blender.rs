@@ -175,9 +175,8 @@ fn check_failure(out: &Path) {
 
 #[test]
 fn blender_add_on_combs_from_hair_and_exports_baked() {
-    let found = Command::new("blender").arg("--version").output().is_ok();
     let hint = "apt-get install blender python3-numpy";
-    if !tool_available(found, "PELT_REQUIRE_BLENDER", "blender", hint) {
+    if !program_available("blender", "PELT_REQUIRE_BLENDER", hint) {
         return;
     }
     let dir = scratch("blender");

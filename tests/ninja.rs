@@ -61,13 +61,7 @@ fn mtime(p: &Path) -> SystemTime {
 
 #[test]
 fn ninja_rebuilds_exactly_the_output_whose_bin_changed() {
-    let found = Command::new("ninja").arg("--version").output().is_ok();
-    if !tool_available(
-        found,
-        "PELT_REQUIRE_NINJA",
-        "ninja",
-        "apt-get install ninja-build",
-    ) {
+    if !program_available("ninja", "PELT_REQUIRE_NINJA", "apt-get install ninja-build") {
         return;
     }
     let dir = scratch("ninja");

@@ -215,6 +215,13 @@ pub fn tool_available(found: bool, require_env: &str, what: &str, hint: &str) ->
     found
 }
 
+/// Whether `program` runs here (`program --version`); [`tool_available`] decides whether
+/// its absence skips or fails.
+pub fn program_available(program: &str, require_env: &str, hint: &str) -> bool {
+    let found = Command::new(program).arg("--version").output().is_ok();
+    tool_available(found, require_env, program, hint)
+}
+
 /// An RGBA PNG written by pelt, read back.
 pub fn load_png(path: &Path) -> pelt_preview::Image {
     let bytes = std::fs::read(path).expect("png written");

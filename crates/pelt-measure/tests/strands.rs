@@ -970,35 +970,28 @@ fn the_cpu_wind_places_the_tips_where_the_gpu_draws_them() {
     let clip = view.proj * view.view;
     let length = sphere.fur.as_ref().expect("fur").look.length;
     let consts = pelt_scene::wind::constants(s.wind.as_ref(), s.time);
-    let on = pelt_scene::wind::WindOn::new(consts, glam::Mat4::IDENTITY, length);
     let roots = pelt_scene::strands::plant(&sphere).expect("plant");
     // Per row, the strands' leftmost and rightmost pixel centre (9 points along each),
     // blown by the CPU twin or at rest.
     let tips = |blow: bool| {
+        let set = pelt_trace::strands::StrandSet {
+            model: glam::Mat4::IDENTITY,
+            length,
+            roots: &roots,
+            wind: if blow { consts } else { ([0.0; 4], [0.0; 4]) },
+        };
+        let on = set.wind_on();
         let mut rows = vec![None::<(f32, f32)>; h as usize];
-        for r in &roots {
-            let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
-            let (root, n, comb) = (v(r.root), v(r.normal), v(r.comb));
-            let comb = if blow {
-                pelt_scene::wind::bend(comb, n, root, &on)
-            } else {
-                comb
-            };
-            for k in 0..=8 {
-                let z = r.root[3] * k as f32 / 8.0;
-                let at = root
-                    + v(r.lean) * z
-                    + (n.normalize() + comb * z).normalize() * (z * length * r.normal[3]);
-                let c = clip * at.extend(1.0);
-                let (x, y) = (
-                    (c.x / c.w + 1.0) / 2.0 * w as f32,
-                    (1.0 - c.y / c.w) / 2.0 * h as f32,
-                );
-                if y >= 0.0 && (y as u32) < h {
-                    let row = &mut rows[y as usize];
-                    let (lo, hi) = row.unwrap_or((x, x));
-                    *row = Some((lo.min(x - 0.5), hi.max(x - 0.5)));
-                }
+        for at in roots.iter().flat_map(|r| set.points::<9>(&on, r)) {
+            let c = clip * at.extend(1.0);
+            let (x, y) = (
+                (c.x / c.w + 1.0) / 2.0 * w as f32,
+                (1.0 - c.y / c.w) / 2.0 * h as f32,
+            );
+            if y >= 0.0 && (y as u32) < h {
+                let row = &mut rows[y as usize];
+                let (lo, hi) = row.unwrap_or((x, x));
+                *row = Some((lo.min(x - 0.5), hi.max(x - 0.5)));
             }
         }
         rows

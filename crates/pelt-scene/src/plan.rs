@@ -468,6 +468,31 @@ fn world_box(model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 }
 
 impl ScenePlan {
+    /// The longest fur in world units (its length times its object's largest scale); 0
+    /// without fur.
+    pub fn fur_depth(&self) -> f32 {
+        self.objects
+            .iter()
+            .filter_map(|(o, _)| {
+                let f = o.fur?;
+                let m = o.model;
+                let scale = [m.x_axis, m.y_axis, m.z_axis]
+                    .iter()
+                    .map(|a| a.truncate().length())
+                    .fold(0.0f32, f32::max);
+                Some(f.length * scale)
+            })
+            .fold(0.0, f32::max)
+    }
+
+    /// Whether fur shadows by its coverage (deep opacity maps): opacity layers, a light that
+    /// casts shadows and fur to cast.
+    pub fn fur_casts(&self) -> bool {
+        self.shadow_maps.opacity_layers > 0
+            && self.shadow_lights().next().is_some()
+            && self.fur_depth() > 0.0
+    }
+
     /// The lights that cast shadows, in slot order.
     pub fn shadow_lights(&self) -> impl Iterator<Item = &Light> {
         self.lights.iter().filter(|l| l.shadows)
@@ -665,7 +690,7 @@ impl Plan {
         let mut rects = Vec::new();
         let mut culled_objects = 0;
         // Off screen, fur still casts by its coverage where the opacity maps are drawn.
-        let fur_casts = scene.shadow_maps.opacity_layers > 0 && scene.shadow_lights().count() > 0;
+        let fur_casts = scene.fur_casts();
         let mut casting = Vec::new();
         for (o, (lo, hi)) in &scene.objects {
             let (vlo, vhi) = view.view_box(o.model, *lo, *hi);

@@ -41,26 +41,32 @@ pub struct StrandSet<'a> {
 }
 
 impl StrandSet<'_> {
-    /// The wind on these strands.
-    fn wind_on(&self) -> WindOn {
+    /// The wind on these strands (what [`StrandSet::points`] bends them by).
+    pub fn wind_on(&self) -> WindOn {
         WindOn::new(self.wind, self.model, self.length)
+    }
+
+    /// `N` points of strand `s` in world space, evenly spaced from root to tip, as
+    /// strands.wgsl draws it: its comb bent by the wind `on` ([`StrandSet::wind_on`]).
+    pub fn points<const N: usize>(&self, on: &WindOn, s: &StrandRoot) -> [Vec3; N] {
+        let root = Vec3::from_slice(&s.root[..3]);
+        let n = Vec3::from_slice(&s.normal[..3]);
+        let comb = wind::bend(Vec3::from_slice(&s.comb[..3]), n, root, on);
+        let lean = Vec3::from_slice(&s.lean[..3]);
+        let reach = self.length * s.normal[3];
+        let last = N.saturating_sub(1).max(1) as f32;
+        std::array::from_fn(|k| {
+            let z = s.root[3] * k as f32 / last;
+            let dir = (n.normalize_or_zero() + comb * z).normalize_or_zero();
+            self.model
+                .transform_point3(root + lean * z + dir * (z * reach))
+        })
     }
 }
 
-/// A strand's sample points in world space, root to tip, and its world radius, its comb
-/// bent by the wind `on` as strands.wgsl bends it.
+/// A strand's sample points in world space, root to tip, and its world radius.
 fn samples(set: &StrandSet<'_>, on: &WindOn, s: &StrandRoot) -> ([Vec3; SEGMENTS + 1], f32) {
-    let root = Vec3::from_slice(&s.root[..3]);
-    let n = Vec3::from_slice(&s.normal[..3]);
-    let comb = wind::bend(Vec3::from_slice(&s.comb[..3]), n, root, on);
-    let lean = Vec3::from_slice(&s.lean[..3]);
-    let reach = set.length * s.normal[3];
-    let points = std::array::from_fn(|k| {
-        let z = s.root[3] * k as f32 / SEGMENTS as f32;
-        let dir = (n.normalize_or_zero() + comb * z).normalize_or_zero();
-        set.model
-            .transform_point3(root + lean * z + dir * (z * reach))
-    });
+    let points = set.points(on, s);
     let m = set.model;
     let scale = (m.x_axis.truncate().length()
         + m.y_axis.truncate().length()

@@ -119,22 +119,6 @@ pub fn boundaries(n: u32, depth: f32) -> ([f32; 4], [f32; 4]) {
     (sum, read)
 }
 
-/// The longest fur of `plan` in world units (its length times its object's largest scale).
-pub fn fur_depth(plan: &ScenePlan) -> f32 {
-    plan.objects
-        .iter()
-        .filter_map(|(o, _)| {
-            let f = o.fur?;
-            let m = o.model;
-            let scale = [m.x_axis, m.y_axis, m.z_axis]
-                .iter()
-                .map(|a| a.truncate().length())
-                .fold(0.0f32, f32::max);
-            Some(f.length * scale)
-        })
-        .fold(0.0, f32::max)
-}
-
 /// One layer's light frame: its view and projection (world to the light's face), the
 /// opacity boundaries in `lbuffer_size`, the layer in `flags.x`, the most shells drawn from
 /// the light in `flags.y` ([`SHELLS`]), the near plane in

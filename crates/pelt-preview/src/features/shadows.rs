@@ -217,7 +217,7 @@ impl ShadowCubes {
             .flat_map(|(slot, l)| (0..layers_of(&l.emitter)).map(move |f| slot as u32 * 6 + f))
             .collect();
         let views = drawn.iter().map(|&i| (i, cubes.layer(i, 0))).collect();
-        let opacity = OpacityMaps::new(r, fur_shadows(plan), &cubes, &drawn);
+        let opacity = OpacityMaps::new(r, plan.fur_casts(), &cubes, &drawn);
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
         let faces = r.buffer(
             "shadow faces",
@@ -281,7 +281,7 @@ impl ShadowCubes {
             && self.views.len() == Self::layers_drawn(plan)
             && self.size == plan.shadow_maps.size
             && plan.objects.len() <= self.capacity
-            && self.opacity.on == fur_shadows(plan)
+            && self.opacity.on == plan.fur_casts()
     }
 
     /// What fur view `f` draws into the opacity maps (each object's scene index, shells,
@@ -331,7 +331,7 @@ impl ShadowCubes {
         } else {
             0
         };
-        let (sum, layers) = opacity::boundaries(n, opacity::fur_depth(plan));
+        let (sum, layers) = opacity::boundaries(n, plan.fur_depth());
         let mut k = 0;
         for (slot, l) in plan.shadow_lights().enumerate() {
             let mut put = |(u, light): (ShadowFace, LightFrame)| {
@@ -414,14 +414,6 @@ fn layers_of(emitter: &Emitter) -> u32 {
         Emitter::Point { .. } => 6,
         Emitter::Directional { .. } => 1,
     }
-}
-
-/// Whether `plan`'s fur shadows by its coverage: opacity layers, a light that casts shadows
-/// and fur to cast.
-fn fur_shadows(plan: &ScenePlan) -> bool {
-    plan.shadow_maps.opacity_layers > 0
-        && plan.shadow_lights().next().is_some()
-        && opacity::fur_depth(plan) > 0.0
 }
 
 /// The six faces of a point light's cube, each with its light frame (layer unset).

@@ -88,8 +88,9 @@ pub struct TracedShadows {
     key: String,
     /// The wind they were traced in.
     wind: ([f32; 4], [f32; 4]),
-    /// The scene's triangles, which the rays pass through.
-    world: pelt_trace::World,
+    /// The scene's triangles, which the rays pass through (None: no light casts, nothing is
+    /// traced).
+    world: Option<pelt_trace::World>,
     /// Each fur object with strands: scene index, object to world, fur length, strands.
     sets: Vec<(usize, glam::Mat4, f32, Arc<crate::assets::GpuStrands>)>,
     /// The casting lights.
@@ -131,13 +132,16 @@ impl TracedShadows {
                 Some((o.scene_index, o.model, f.length, Arc::clone(s)))
             })
             .collect();
+        let lights: Vec<_> = plan.shadow_lights().map(|l| l.emitter).collect();
+        let world = (!lights.is_empty())
+            .then(|| pelt_trace::World::new(plan, meshes, pelt_trace::SkyModel::Background));
         let mut t = TracedShadows {
             bits: HashMap::new(),
             key: Self::key_of(plan),
             wind: plan.wind,
-            world: pelt_trace::World::new(plan, meshes, pelt_trace::SkyModel::Background),
+            world,
             sets,
-            lights: plan.shadow_lights().map(|l| l.emitter).collect(),
+            lights,
         };
         t.bits = t
             .sets
@@ -168,10 +172,11 @@ impl TracedShadows {
                 wind: self.wind,
             })
             .collect();
-        let bits = if self.lights.is_empty() || sets.is_empty() {
-            vec![Vec::new(); sets.len()]
-        } else {
-            pelt_trace::strands::shadow_bits(&self.world, &sets, &self.lights)
+        let bits = match &self.world {
+            Some(world) if !sets.is_empty() => {
+                pelt_trace::strands::shadow_bits(world, &sets, &self.lights)
+            }
+            _ => vec![Vec::new(); sets.len()],
         };
         bits.into_iter()
             .map(|b| if b.is_empty() { vec![[0; 2]] } else { b })
@@ -181,7 +186,7 @@ impl TracedShadows {
     /// Traces the bits again where `plan`'s wind (its time) is not the one they were traced
     /// in, and uploads them. The strands blow as strands.wgsl draws them.
     pub fn follow(&mut self, r: &crate::renderer::Renderer, plan: &ScenePlan) {
-        if plan.wind == self.wind {
+        if plan.wind == self.wind || self.world.is_none() {
             return;
         }
         self.wind = plan.wind;
