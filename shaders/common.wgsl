@@ -214,32 +214,43 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// The unit direction from view-space point `p` toward `light` (xyz) and its falloff there
-// (w): a point light's inverse-square falloff is windowed to reach exactly zero at its radius
-// (all zero beyond it); a directional light (radius 0, xyz its unit direction toward the
-// light) has none. Keep in sync with `Emitter::reach` in crates/pelt-scene/src/shading.rs.
-fn light_reach(p: vec3<f32>, light: Light) -> vec4<f32> {
+// A point light's reach at view-space point `p`: the unit direction toward it (xyz) and its
+// inverse-square falloff, windowed to reach exactly zero at its radius and beyond (the window
+// clamps to zero there, so every term it scales is exactly zero with no branch: a CPU
+// rasterizer runs both sides of a branch its lanes disagree on).
+fn point_reach(p: vec3<f32>, light: Light) -> vec4<f32> {
     let radius = light.position_radius.w;
-    if radius == 0.0 {
-        return vec4<f32>(light.position_radius.xyz, 1.0);
-    }
     let to_light = light.position_radius.xyz - p;
     let dist = length(to_light);
-    if dist >= radius {
-        return vec4<f32>(0.0);
-    }
     let x = dist / radius;
     let window = clamp(1.0 - x * x * x * x, 0.0, 1.0);
     return vec4<f32>(to_light / max(dist, 1e-6), window * window / (1.0 + dist * dist));
 }
 
-// One light at view-space point `p` with normal `n`: rgb = diffuse irradiance, a = specular
-// intensity (Blinn-Phong, scalar, as the L-buffer stores it), with light_reach's falloff.
-fn one_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
-    let r = light_reach(p, light);
-    if r.w == 0.0 {
-        return vec4<f32>(0.0);
+// A directional light's reach (radius 0, xyz its unit view-space direction toward the light):
+// everywhere, with no falloff.
+fn sun_reach(light: Light) -> vec4<f32> {
+    return vec4<f32>(light.position_radius.xyz, 1.0);
+}
+
+// Either reach, by the light's kind, for a loop over lights of both kinds. `suns`: whether the
+// view may hold a directional light; pass the pipeline's SUNS override, so a view of point
+// lights alone compiles the branch out (a CPU rasterizer pays for a branch it cannot prove
+// uniform: light_reach's run-time branch made lavapipe's light pass five times slower). Keep in
+// sync with `Emitter::reach` in crates/pelt-scene/src/shading.rs.
+fn light_reach(p: vec3<f32>, light: Light, suns: bool) -> vec4<f32> {
+    if suns {
+        if light.position_radius.w == 0.0 {
+            return sun_reach(light);
+        }
     }
+    return point_reach(p, light);
+}
+
+// One light of reach `r` (light_reach) at view-space point `p` with normal `n`: rgb = diffuse
+// irradiance, a = specular intensity (Blinn-Phong, scalar, as the L-buffer stores it). Out of
+// reach (r.w zero) every term is exactly zero, with no branch of its own.
+fn one_light(p: vec3<f32>, n: vec3<f32>, r: vec4<f32>, light: Light, spec_power: f32) -> vec4<f32> {
     let l = r.xyz;
     let atten = r.w;
     let ndl = max(dot(n, l), 0.0);
@@ -255,13 +266,9 @@ fn one_light(p: vec3<f32>, n: vec3<f32>, light: Light, spec_power: f32) -> vec4<
 const STRAND_LIT: u32 = 65536u;
 
 // one_light for a strand running along `t` (either sign) instead of a surface with normal
-// `n`: Kajiya-Kay (Revie Listing 2.4), diffuse sin(T, L), specular (sin(T, L) sin(T, V) −
+// `n`, with reach `r`: Kajiya-Kay (Revie Listing 2.4), diffuse sin(T, L), specular (sin(T, L) sin(T, V) −
 // (T·L)(T·V))^p, with the same falloff; fur_light_forward.wgsl evaluates the same terms.
-fn strand_light(p: vec3<f32>, t: vec3<f32>, light: Light, spec_power: f32) -> vec4<f32> {
-    let r = light_reach(p, light);
-    if r.w == 0.0 {
-        return vec4<f32>(0.0);
-    }
+fn strand_light(p: vec3<f32>, t: vec3<f32>, r: vec4<f32>, light: Light, spec_power: f32) -> vec4<f32> {
     let l = r.xyz;
     let atten = r.w;
     let v = normalize(-p);

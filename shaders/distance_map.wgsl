@@ -13,7 +13,7 @@
 //
 // Keep in sync with FaceUniforms in crates/pelt-preview/src/features/reflect/mod.rs.
 
-#import pelt::common::{Light, VertexIn, pack_geometry, one_light, texel_distance}
+#import pelt::common::{Light, VertexIn, light_reach, pack_geometry, one_light, texel_distance}
 #import pelt::object_bindings::{object}
 
 struct Face {
@@ -27,6 +27,9 @@ struct Face {
 }
 
 const MAX_MAP_LIGHTS: u32 = 256u;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out (lights.rs's `suns_for_view`).
+override SUNS: bool = true;
 
 @group(0) @binding(0) var<uniform> face: Face;
 @group(2) @binding(0) var<uniform> lights: array<Light, MAX_MAP_LIGHTS>;
@@ -73,7 +76,7 @@ fn radiance(albedo: vec3<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
                 light.position_radius.w,
             );
         }
-        diffuse += one_light(p, n, light, face.ambient.w).rgb;
+        diffuse += one_light(p, n, light_reach(p, light, SUNS), light, face.ambient.w).rgb;
     }
     return albedo * diffuse;
 }

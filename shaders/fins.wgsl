@@ -22,6 +22,9 @@
 // weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
 // point serves both; the revealage output has a target only under WBOIT.
 override WBOIT: bool = false;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out (lights.rs's `suns_for_view`).
+override SUNS: bool = true;
 
 const FIN_SILHOUETTE: f32 = 0.35;
 
@@ -114,7 +117,7 @@ fn shade(s: FinOut) -> vec4<f32> {
     let tex = textureSample(fin_texture, fin_sampler, s.uv);
     let l = fur_lighting(fur_query(
         s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, s.depths.z, frame,
-    ));
+    ), SUNS);
     let albedo = object.tint.rgb * s.under * mix(object.fur_base.rgb, object.fur_tip.rgb, tex.r);
     return vec4<f32>(albedo * l.diffuse + object.params.y * l.specular, tex.a * s.depths.w);
 }

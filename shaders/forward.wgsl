@@ -3,7 +3,7 @@
 // full resolution, with the specular colour taken from each light rather than rebuilt, and the
 // same material textures as the G-buffer and material passes read.
 
-#import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, one_light, to_surface}
+#import pelt::common::{Light, Surface, VertexIn, facing_normal, metal_rough, perturb_normal, light_reach, one_light, to_surface}
 #import pelt::object_bindings::{frame, object}
 #import pelt::shadows::{shadow_seen}
 #import pelt::material_bindings::{base_sampler, base_texture, material, mr_sampler, mr_texture, normal_sampler, normal_texture}
@@ -17,6 +17,9 @@ const MAX_FORWARD_LIGHTS: u32 = 256u;
 // map) without sampling: an untextured material pays for no texture fetch. Keep the neutral
 // values in sync with crates/pelt-preview/src/gpu_material.rs.
 override TEXTURED: bool = true;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out, so a view of point lights pays nothing for directional ones.
+override SUNS: bool = true;
 // SHADOWS: whether any light of the view casts shadows; false compiles the lookup out.
 override SHADOWS: bool = true;
 // FUR_SHADOWS: whether the fur casts by its coverage too (deep opacity maps); false compiles
@@ -47,9 +50,11 @@ fn fs_main(s: Surface, @builtin(front_facing) front: bool) -> @location(0) vec4<
     let count = min(frame.flags.y, MAX_FORWARD_LIGHTS);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        var r = one_light(s.view_pos, n, light, frame.ambient.w);
-        if SHADOWS && any(r != vec4<f32>(0.0)) {
-            r *= shadow_seen(s.view_pos, n, light, FUR_SHADOWS);
+        var r = one_light(s.view_pos, n, light_reach(s.view_pos, light, SUNS), light, frame.ambient.w);
+        if SHADOWS {
+            if any(r != vec4<f32>(0.0)) {
+                r *= shadow_seen(s.view_pos, n, light, FUR_SHADOWS);
+            }
         }
         diffuse += r.rgb;
         if light.color.w > 0.0 {

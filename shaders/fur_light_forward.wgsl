@@ -39,7 +39,8 @@ fn traced_seen(q: FurQuery, light: Light) -> f32 {
 
 @group(2) @binding(0) var<uniform> lights: array<Light, 256>;
 
-fn fur_lighting(q: FurQuery) -> FurLight {
+// `suns`: the caller's SUNS override (whether the view may hold a directional light).
+fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
     var out: FurLight;
     out.diffuse = frame.ambient.rgb;
     let t = q.strand;
@@ -49,7 +50,7 @@ fn fur_lighting(q: FurQuery) -> FurLight {
     let count = min(frame.flags.y, 256u);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        let r = light_reach(q.view_pos, light);
+        let r = light_reach(q.view_pos, light, suns);
         if r.w == 0.0 {
             continue;
         }

@@ -50,7 +50,8 @@ fn fur_taps(pixel: vec2<f32>, id: u32, depth: f32, threshold: f32, stipple: bool
     return t;
 }
 
-fn fur_lighting(q: FurQuery) -> FurLight {
+// `suns`: unused here (the L-buffer holds every light); fur_light_forward.wgsl's signature.
+fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
     var out: FurLight;
     if frame.flags.w == 0u {
         out.diffuse = frame.ambient.rgb;

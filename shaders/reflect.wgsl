@@ -25,6 +25,9 @@
 
 const MAX_MAPS: u32 = 64u;
 const MAX_MAP_LIGHTS: u32 = 256u;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out (lights.rs's `suns_for_view`).
+override SUNS: bool = true;
 
 struct Reflect {
     // x: linear steps per quarter turn; y: secant steps; z: layers; w: most bounces.
@@ -421,7 +424,7 @@ fn specular(w: vec3<f32>, n_in: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
     let count = min(u32(params.shading.z), MAX_MAP_LIGHTS);
     for (var i = 0u; i < count; i++) {
         let light = lights[i];
-        let r = light_reach(w, light);
+        let r = light_reach(w, light, SUNS);
         if r.w == 0.0 {
             continue;
         }

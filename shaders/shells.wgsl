@@ -34,6 +34,9 @@
 // weighted blended OIT pass, false where they blend straight alpha "over". One fragment entry
 // point serves both; the revealage output has a target only under WBOIT.
 override WBOIT: bool = false;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out (lights.rs's `suns_for_view`).
+override SUNS: bool = true;
 
 // The coverage code this pipeline holds (`Coverage` in shaders.rs): 0 the medium alone,
 // 1 the medium and the strand-resolving taps (only for objects the plan finds near enough
@@ -292,7 +295,7 @@ fn shade(s: ShellOut) -> vec4<f32> {
     let a = coverage_of(s);
     let l = fur_lighting(fur_query(
         s.view_pos, s.strand, s.base_clip, s.top_clip, s.depths.x, s.depths.y, s.group, sd, frame,
-    ));
+    ), SUNS);
     // With the fur config's colorFromTexture, the base colour texture under the strand
     // colours the whole strand (root and tip colours then shade it).
     let tint = select(vec3<f32>(1.0), under, object.params.w == 1.0);

@@ -18,6 +18,9 @@
 #import pelt::object_bindings::{frame, object}
 
 const SEGMENTS: u32 = 4u;
+// SUNS: whether any light of the view is directional; false compiles light_reach's branch on
+// the kind out (lights.rs's `suns_for_view`).
+override SUNS: bool = true;
 
 struct StrandIn {
     // xyz: root (asset space); w: height (fraction of the fur length).
@@ -248,7 +251,7 @@ fn fs_main(f: StrandOut) -> StrandFragment {
     q.traced = f.traced;
     q.segment = f.segment;
     q.along = t;
-    let l = fur_lighting(q);
+    let l = fur_lighting(q, SUNS);
     let height = mix(f.z.x, f.z.y, t);
     let albedo = f.albedo * mix(object.fur_base.rgb, object.fur_tip.rgb, height);
     var o: StrandFragment;

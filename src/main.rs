@@ -244,7 +244,9 @@ pub struct RenderArgs {
     /// Print the passes this scene needs (no GPU is opened unless -o or --bench is given).
     #[arg(long)]
     pub explain: bool,
-    /// Time this many frames after warm-up and print the medians (whole frame and per pass).
+    /// Time this many frames after warm-up and print the medians (whole frame and per pass)
+    /// and each pass's profile (draws, state changes, triangles, and the fragment-shader
+    /// invocations and samples written the GPU counts).
     #[arg(long, value_name = "FRAMES", value_parser = clap::value_parser!(usize))]
     pub bench: Option<usize>,
     /// Untimed frames before --bench (not with --json, whose frame 0 is the cold first frame).

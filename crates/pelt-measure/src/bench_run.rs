@@ -56,7 +56,8 @@ pub struct Settings {
     #[cfg_attr(feature = "cli", arg(long, default_value = "forward"))]
     pub mode: Mode,
     /// After each experiment's table, each row's profile: per pass, the device's time, the
-    /// CPU's encode time, draws, pipeline and bind-group changes, triangles and vertex bytes.
+    /// CPU's encode time, draws, pipeline and bind-group changes, triangles, vertex bytes, and
+    /// the fragment-shader invocations and samples written the GPU counts.
     #[cfg_attr(feature = "cli", arg(long))]
     pub profile: bool,
     /// Write the reflections experiment's pictures here: ours, the ray tracer's, the

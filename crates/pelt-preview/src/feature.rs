@@ -231,7 +231,6 @@ pub enum Shared {
 }
 
 /// What the draws of one shared pass share.
-#[derive(Debug, Clone, Copy)]
 pub struct Shade {
     /// Which shared pass.
     pub shared: Shared,
@@ -239,8 +238,9 @@ pub struct Shade {
     pub pass: Pass,
     /// How ordinary objects and fur are lit.
     pub lit: Lighting,
-    /// The pipeline ordinary objects are drawn with (the material or the forward shader's).
-    pub object: fn(Blend) -> PipelineDesc,
+    /// The pipeline ordinary objects are drawn with (the material or the forward shader's,
+    /// as the view needs it).
+    pub object: Box<dyn Fn(Blend) -> PipelineDesc>,
 }
 
 /// The output colour a frame renders into.

@@ -9,12 +9,13 @@ use crate::draw::MissingInput;
 use crate::feature::{DrawsInto, Frame, Output, PassDesc};
 use crate::features;
 use crate::plan::Pass;
-use crate::recipe::{Counts, Recipe};
+use crate::recipe::{Counts, Queries, Recipe};
 use crate::renderer::Renderer;
 use crate::targets::Target;
+use crate::work::{self, Work};
 
 pub use crate::readback::{FrameError, Image, read_back, read_back_layer, read_buffer, wait};
-use crate::readback::{encoder, map_read};
+use crate::readback::{encoder, map_read, query_buffers};
 
 /// Whether a frame renders the distance maps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,7 +87,7 @@ fn prepared<'a>(r: &Renderer, f: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a
 fn submit_frame(r: &Renderer, recipes: &[Recipe<'_>]) -> Result<(), FrameError> {
     let mut enc = encoder(r);
     for p in recipes {
-        p.encode(r, &mut enc, None)?;
+        p.encode(r, &mut enc, Queries::default())?;
     }
     r.gpu.queue.submit([enc.finish()]);
     Ok(())
@@ -166,6 +167,10 @@ pub struct PassProfile {
     /// Draws, state changes, triangles and vertex bytes.
     #[serde(flatten)]
     pub counts: Counts,
+    /// Fragment-shader invocations and samples written, counted by the GPU in one frame
+    /// (where it counts them; [`crate::work`]).
+    #[serde(flatten)]
+    pub work: Work,
 }
 
 /// Medians over timed frames, in milliseconds: where a frame's time goes.
@@ -200,17 +205,22 @@ impl Timings {
     }
 
     /// The profile as a Markdown table: a row per pass (device time, CPU encode time, draws,
-    /// pipeline and bind-group changes, triangles, vertex bytes) and the frame's CPU rows.
+    /// pipeline and bind-group changes, triangles, vertex bytes, fragment-shader invocations
+    /// and samples written, "–" where the device does not count them) and the frame's CPU
+    /// rows.
     pub fn profile_table(&self) -> String {
         let mut t = String::from(
-            "| pass | ms | encode ms | draws | pipelines | binds | buffers | triangles | vertex bytes |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+            "| pass | ms | encode ms | draws | pipelines | binds | buffers | triangles | vertex bytes | fragments | samples |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         );
+        let counted = |v: Option<u64>| v.map_or_else(|| "–".to_string(), |v| v.to_string());
         let mut total = Counts::default();
+        let mut all = Work::default();
         for p in &self.profile {
             let c = &p.counts;
             total += *c;
+            all += p.work;
             t += &format!(
-                "| {} | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} |\n",
+                "| {} | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
                 p.pass,
                 p.ms,
                 p.encode_ms,
@@ -219,12 +229,14 @@ impl Timings {
                 c.binds,
                 c.buffers,
                 c.triangles,
-                c.vertex_bytes
+                c.vertex_bytes,
+                counted(p.work.fragments),
+                counted(p.work.samples)
             );
         }
         let c = total;
         t += &format!(
-            "| all passes | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} |\n| submit (CPU) | | {:.3} | | | | | | |\n| frame (wall) | {:.2} | | | | | | | |\n",
+            "| all passes | {:.2} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |\n| submit (CPU) | | {:.3} | | | | | | | | |\n| frame (wall) | {:.2} | | | | | | | | | |\n",
             self.profile.iter().map(|p| p.ms).sum::<f64>(),
             self.encode_ms,
             c.draws,
@@ -233,6 +245,8 @@ impl Timings {
             c.buffers,
             c.triangles,
             c.vertex_bytes,
+            counted(all.fragments),
+            counted(all.samples),
             self.submit_ms,
             self.frame_ms
         );
@@ -298,15 +312,17 @@ pub fn time(
     } else {
         (wall_pass_times(r, &recipes, frames)?, PassClock::Wall)
     };
+    let counted = work::count(r, &recipes)?;
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(FrameError::Device(e.to_string()));
     }
     // A pass of many recipes (a distance map's faces) is their sum.
     let mut profile: Vec<(Pass, PassProfile)> = Vec::new();
-    for ((recipe, ms), encode_ms) in recipes
+    for (((recipe, ms), encode_ms), counted) in recipes
         .iter()
         .zip(per.into_iter().map(median))
         .zip(cpu.encode.into_iter().map(median))
+        .zip(counted)
     {
         let pass = recipe.pass;
         let at = match profile.iter().position(|(p, _)| *p == pass) {
@@ -319,6 +335,7 @@ pub fn time(
                         ms: 0.0,
                         encode_ms: 0.0,
                         counts: Counts::default(),
+                        work: Work::default(),
                     },
                 ));
                 profile.len() - 1
@@ -328,6 +345,7 @@ pub fn time(
         p.ms += ms;
         p.encode_ms += encode_ms;
         p.counts += recipe.counts();
+        p.work += counted.unwrap_or_default();
     }
     Ok(Timings {
         frame_ms: median(whole),
@@ -364,7 +382,7 @@ impl CpuTimes {
         let mut enc = encoder(r);
         for (p, times) in recipes.iter().zip(&mut self.encode) {
             let t = Instant::now();
-            p.encode(r, &mut enc, None)?;
+            p.encode(r, &mut enc, Queries::default())?;
             times.push(ms(t));
         }
         let buffer = enc.finish();
@@ -390,33 +408,22 @@ fn gpu_pass_times(
         count: n,
     });
     let bytes = u64::from(n) * 8;
-    let buffer = |label, usage| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes,
-            usage,
-            mapped_at_creation: false,
-        })
-    };
-    let resolve = buffer(
-        "timestamps",
-        wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-    );
-    let read = buffer(
-        "timestamps read",
-        wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-    );
+    let (resolve, read) = query_buffers(r, "timestamps", bytes);
     let period = f64::from(r.gpu.queue.get_timestamp_period());
     let mut per: Vec<Vec<f64>> = vec![Vec::with_capacity(frames); recipes.len()];
     for _ in 0..frames {
         let mut enc = encoder(r);
         for (i, p) in recipes.iter().enumerate() {
-            let ts = Some(wgpu::RenderPassTimestampWrites {
+            let timestamps = Some(wgpu::RenderPassTimestampWrites {
                 query_set: &set,
                 beginning_of_pass_write_index: Some(2 * i as u32),
                 end_of_pass_write_index: Some(2 * i as u32 + 1),
             });
-            p.encode(r, &mut enc, ts)?;
+            let q = Queries {
+                timestamps,
+                ..Queries::default()
+            };
+            p.encode(r, &mut enc, q)?;
         }
         enc.resolve_query_set(&set, 0..n, &resolve, 0);
         enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, bytes);
@@ -445,7 +452,7 @@ fn wall_pass_times(
         for (i, p) in recipes.iter().enumerate() {
             let t = Instant::now();
             let mut enc = encoder(r);
-            p.encode(r, &mut enc, None)?;
+            p.encode(r, &mut enc, Queries::default())?;
             r.gpu.queue.submit([enc.finish()]);
             wait(r)?;
             per[i].push(t.elapsed().as_secs_f64() * 1e3);

@@ -2,7 +2,9 @@
 //! machines without a GPU this is Mesa's CPU drivers: Vulkan on lavapipe, GL on llvmpipe.
 //! Decides the few format and feature questions once: the normal buffer's 16-bit format and
 //! whether GPU timestamps can be trusted (Vulkan yes; GL on llvmpipe reports them but its values
-//! are wrong, so wall time is used there).
+//! are wrong, so wall time is used there), and which of a pass's work the GPU can count
+//! (fragment-shader invocations where the adapter has pipeline-statistics queries; samples
+//! written where its occlusion queries count them, Vulkan).
 
 use std::fmt;
 use std::str::FromStr;
@@ -114,6 +116,11 @@ pub struct Gpu {
     pub normal_format: wgpu::TextureFormat,
     /// GPU timestamp queries that track real time are available.
     pub timestamps: bool,
+    /// Pipeline-statistics queries (fragment-shader invocations) are available.
+    pub statistics: bool,
+    /// Occlusion queries count samples (Vulkan); elsewhere wgpu's say only whether any
+    /// sample passed (GL's ANY_SAMPLES_PASSED), which counts nothing.
+    pub samples: bool,
     /// Weighted blended OIT accumulation: 32-bit float where the adapter blends it
     /// (`FLOAT32_BLENDABLE`), else 16-bit float with weights scaled so the sum cannot pass
     /// 65504 (see `draw::wboit_scale`).
@@ -205,6 +212,11 @@ impl Gpu {
         if timestamps {
             features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        let statistics = available.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY);
+        if statistics {
+            features |= wgpu::Features::PIPELINE_STATISTICS_QUERY;
+        }
+        let samples = info.backend == wgpu::Backend::Vulkan;
         let (device, queue) =
             pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
                 label: Some("pelt-preview"),
@@ -227,6 +239,8 @@ impl Gpu {
             info,
             normal_format,
             timestamps,
+            statistics,
+            samples,
             accum_format,
             uploaded: AtomicU64::new(0),
         })

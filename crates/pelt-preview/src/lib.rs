@@ -39,6 +39,7 @@ pub mod shaders;
 pub mod shading;
 pub mod targets;
 pub mod uniforms;
+pub mod work;
 
 pub use pelt_scene::{
     asset, budget, debug, flags, framing, fur, knobs, orbit, plan, procedural, scene, sky, strands,

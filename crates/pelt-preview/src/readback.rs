@@ -126,6 +126,22 @@ pub fn wait(r: &Renderer) -> Result<(), FrameError> {
     }
 }
 
+/// A buffer of `bytes` that queries resolve into, and the mappable buffer it is copied to.
+pub fn query_buffers(r: &Renderer, label: &str, bytes: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+    let buffer = |suffix: &str, usage| {
+        r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(&format!("{label}{suffix}")),
+            size: bytes,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    (
+        buffer("", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+        buffer(" read", wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
+    )
+}
+
 /// Maps a `MAP_READ` buffer whose copy was submitted, waiting for the device.
 pub fn map_read(r: &Renderer, buffer: &wgpu::Buffer) -> Result<wgpu::BufferView, FrameError> {
     let fail = |e: &dyn std::fmt::Display| FrameError::Readback(e.to_string());

@@ -168,6 +168,19 @@ enum Kind<'a> {
     },
 }
 
+/// The queries a pass writes as it is encoded, each optional: its two timestamps, and one
+/// occlusion query (samples that passed its depth test and were written) and one
+/// pipeline-statistics query (fragment-shader invocations) around all its draws.
+#[derive(Default)]
+pub struct Queries<'q> {
+    /// Timestamps at its start and end.
+    pub timestamps: Option<wgpu::RenderPassTimestampWrites<'q>>,
+    /// An occlusion query set and the index to write.
+    pub occlusion: Option<(&'q wgpu::QuerySet, u32)>,
+    /// A pipeline-statistics query set (fragment-shader invocations) and the index to write.
+    pub statistics: Option<(&'q wgpu::QuerySet, u32)>,
+}
+
 /// A pass before encoding.
 #[derive(Debug)]
 pub struct Recipe<'a> {
@@ -375,14 +388,15 @@ impl<'a> Recipe<'a> {
     }
 
     /// Encodes the pass (its render pipelines must be prepared; compute pipelines are made
-    /// on first use). A copy has no pass of its own: it times an empty compute pass before
-    /// it, so every recipe writes its two timestamps.
+    /// on first use), writing the queries `q` asks for. A copy has no pass of its own: it
+    /// times an empty compute pass before it, so every recipe writes its two timestamps.
     pub fn encode(
         &self,
         r: &Renderer,
         enc: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        q: Queries<'_>,
     ) -> Result<(), PipelineError> {
+        let timestamps = q.timestamps;
         let compute_ts = timestamps
             .as_ref()
             .map(|t| wgpu::ComputePassTimestampWrites {
@@ -452,9 +466,15 @@ impl<'a> Recipe<'a> {
                 stencil_ops: None,
             }),
             timestamp_writes: timestamps,
-            occlusion_query_set: None,
+            occlusion_query_set: q.occlusion.map(|(set, _)| set),
             multiview_mask: None,
         });
+        if let Some((_, i)) = q.occlusion {
+            pass.begin_occlusion_query(i);
+        }
+        if let Some((set, i)) = q.statistics {
+            pass.begin_pipeline_statistics_query(set, i);
+        }
         for s in self.effective() {
             match s {
                 Step::Pipeline(k) => pass.set_pipeline(&r.pipeline(k)?),
@@ -473,7 +493,24 @@ impl<'a> Recipe<'a> {
                 Step::Compute(_) | Step::Dispatch(_) => {}
             }
         }
+        if q.statistics.is_some() {
+            pass.end_pipeline_statistics_query();
+        }
+        if q.occlusion.is_some() {
+            pass.end_occlusion_query();
+        }
         Ok(())
+    }
+
+    /// Whether the pass is a render pass (the kind whose draws [`Queries`] count).
+    pub fn renders(&self) -> bool {
+        matches!(self.kind, Kind::Render)
+    }
+
+    /// The pass's steps, to change in place (experiments and negative controls: the same
+    /// pass drawn with another depth test, specialization or scissor; none added or removed).
+    pub fn steps_mut(&mut self) -> &mut [Step<'a>] {
+        &mut self.steps
     }
 
     fn encode_compute(

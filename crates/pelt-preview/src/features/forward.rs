@@ -2,7 +2,7 @@
 //! shading pass's phases ([`crate::shading`]) with its own shader; fur is lit per strand
 //! with Kajiya-Kay (Revie Listing 2.4).
 
-use super::shadows;
+use super::{lights, shadows};
 use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
 use crate::gpu_material::with_untextured;
@@ -29,12 +29,19 @@ pub fn unshadowed(blend: Blend) -> PipelineDesc {
     shadows::unshadowed(pipeline(blend))
 }
 
-/// The forward pipeline function the view needs.
-pub fn for_view(f: &Frame<'_>) -> fn(Blend) -> PipelineDesc {
-    match (shadows::any(f), shadows::fur_casts(f)) {
+/// The forward pipeline the view needs, by blend: the shadow lookups compiled out where no
+/// light casts shadows (or the fur casts no coverage), `light_reach`'s branch on the kind
+/// where no light is directional.
+pub fn for_view(f: &Frame<'_>) -> Box<dyn Fn(Blend) -> PipelineDesc> {
+    let shadowed: fn(Blend) -> PipelineDesc = match (shadows::any(f), shadows::fur_casts(f)) {
         (false, _) => unshadowed,
         (true, false) => without_fur,
         (true, true) => pipeline,
+    };
+    if lights::suns(f) {
+        Box::new(shadowed)
+    } else {
+        Box::new(move |b| lights::without_suns(shadowed(b)))
     }
 }
 
@@ -46,10 +53,10 @@ pub fn without_fur(blend: Blend) -> PipelineDesc {
 /// The forward reference's feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || {
-        with_untextured(shadows::with_unshadowed(vec![
-            pipeline(Blend::None),
-            pipeline(Blend::Over),
-        ]))
+        let kinds = [pipeline(Blend::None), pipeline(Blend::Over)]
+            .into_iter()
+            .flat_map(|d| [d.clone(), lights::without_suns(d)]);
+        with_untextured(shadows::with_unshadowed(kinds.collect()))
     },
     passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
     ..Feature::named(

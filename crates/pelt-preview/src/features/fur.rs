@@ -22,7 +22,7 @@ use crate::shaders::{Coverage, Entry, Lighting, ShaderDesc};
 use crate::shading;
 use crate::uniforms::FinInstance;
 
-use super::shadows;
+use super::{lights, shadows};
 
 /// Bind-group slots of obliterate.wgsl.
 pub mod obliterate_slot {
@@ -98,9 +98,14 @@ pub fn shadowed(mut desc: PipelineDesc, fur: bool) -> PipelineDesc {
 }
 
 /// The layer pipeline `f`'s view needs: forward-lit layers read the shadow cubes where a
-/// light of the view casts shadows, and the opacity layers where its fur casts.
+/// light of the view casts shadows, and the opacity layers where its fur casts, and leave
+/// `light_reach`'s branch on the kind out where no light is directional.
 fn for_view(f: &Frame<'_>, lighting: Lighting, desc: PipelineDesc) -> PipelineDesc {
-    if lighting == Lighting::Forward && shadows::any(f) {
+    if lighting == Lighting::Inferred {
+        return desc;
+    }
+    let desc = lights::suns_for_view(f, desc);
+    if shadows::any(f) {
         shadowed(desc, shadows::fur_casts(f))
     } else {
         desc
@@ -223,6 +228,13 @@ fn pipelines() -> Vec<PipelineDesc> {
             }
             out.push(layer_pipeline(Layer::Fins, lighting, blend));
         }
+    }
+    for blend in [Blend::None, Blend::Over, Blend::Wboit] {
+        for coverage in [Coverage::Medium, Coverage::Resolved, Coverage::Binary] {
+            let desc = layer_pipeline(Layer::Shells(coverage), Lighting::Forward, blend);
+            out.push(lights::without_suns(desc));
+        }
+        out.push(lights::without_suns(layer_pipeline(Layer::Fins, Lighting::Forward, blend)));
     }
     for blend in [Blend::None, Blend::Over, Blend::Wboit] {
         for fur in [false, true] {

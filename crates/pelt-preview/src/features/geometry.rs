@@ -115,7 +115,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         shared: Shared::Geometry,
         pass: Pass::Geometry,
         lit: Lighting::Inferred,
-        object: |_| pipeline(),
+        object: Box::new(|_| pipeline()),
     };
     shading::run_phases(f, &mut r, &s)?;
     Ok(r)

@@ -2,6 +2,9 @@
 //! light adds its diffuse and specular intensity over its scissor rectangle only, reading
 //! position and normal back from the G-buffer. The geometry pass's depth, tested read-only
 //! against the far side of each light's reach, rejects the pixels behind it before shading.
+//! A directional light covers the L-buffer. Each kind of light is drawn by a pipeline of its
+//! own (light.wgsl's `DIRECTIONAL`), and a view without shadow-casting lights by pipelines
+//! with the shadow lookup compiled out, so a light pays only for the code its kind needs.
 
 use super::shadows;
 use crate::draw::{ADD, MissingInput};
@@ -12,6 +15,7 @@ use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::FurLighting;
+use pelt_scene::shading::Emitter;
 use crate::shaders::{Entry, ShaderDesc};
 
 /// Bind-group slots of light.wgsl.
@@ -57,6 +61,43 @@ pub fn pipeline() -> PipelineDesc {
 /// light.wgsl's override: whether any texel may hold a strand tangent.
 const STRAND_LIGHTS: &str = "STRAND_LIGHTS";
 
+/// light.wgsl's override: whether the pipeline draws directional lights (true) or point
+/// lights (false).
+pub const DIRECTIONAL: &str = "DIRECTIONAL";
+
+/// The override of the shaders that loop over every light (forward.wgsl): whether the view
+/// may hold a directional light; false compiles `light_reach`'s branch on the kind out.
+pub const SUNS: &str = "SUNS";
+
+/// `desc` (light.wgsl) for lights of `emitter`'s kind.
+pub fn for_kind(desc: PipelineDesc, emitter: &Emitter) -> PipelineDesc {
+    let directional = matches!(emitter, Emitter::Directional { .. });
+    desc.with_constant(DIRECTIONAL, directional.then_some(1.0))
+}
+
+/// Whether any light of `f`'s view is directional.
+pub fn suns(f: &Frame<'_>) -> bool {
+    f.plan
+        .lights
+        .iter()
+        .any(|l| matches!(l.emitter, Emitter::Directional { .. }))
+}
+
+/// `desc`, a shader that loops over every light, as `f`'s view needs it: without `light_reach`'s
+/// branch on the kind unless a light of the view is directional.
+pub fn suns_for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
+    if suns(f) {
+        desc
+    } else {
+        without_suns(desc)
+    }
+}
+
+/// `desc` with `light_reach`'s branch on the kind compiled out (point lights only).
+pub fn without_suns(desc: PipelineDesc) -> PipelineDesc {
+    desc.with_constant(SUNS, Some(0.0))
+}
+
 /// `desc` for views without fur lit as strands: no shell-table lookup per pixel.
 fn without_strands(desc: PipelineDesc) -> PipelineDesc {
     desc.with_constant(STRAND_LIGHTS, Some(0.0))
@@ -78,7 +119,14 @@ pub const FEATURE: Feature = Feature {
         "the scene's (0.625)",
         Reference::Deferred,
     )],
-    pipelines: || shadows::with_unshadowed(vec![pipeline(), without_strands(pipeline())]),
+    pipelines: || {
+        let directional = Emitter::Directional {
+            direction: glam::Vec3::NEG_Y,
+        };
+        let kinds = [pipeline(), for_kind(pipeline(), &directional)];
+        let strands = kinds.into_iter().flat_map(|d| [d.clone(), without_strands(d)]);
+        shadows::with_unshadowed(strands.collect())
+    },
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
     ..Feature::named("lights", "scissored point lights into the L-buffer")
 };
@@ -118,12 +166,14 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
             load: wgpu::LoadOp::Load,
         }),
     );
-    let desc = if strand_lit(f) {
-        pipeline()
-    } else {
-        without_strands(pipeline())
-    };
-    r.pipeline(shadows::for_view(f, desc));
+    let desc = shadows::for_view(
+        f,
+        if strand_lit(f) {
+            pipeline()
+        } else {
+            without_strands(pipeline())
+        },
+    );
     r.bind(
         slot::FRAME,
         f.data.frame(),
@@ -132,7 +182,15 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     r.bind(slot::GBUFFER, &g.read, None);
     r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
     shadows::bind(f, &mut r, Pass::Light)?;
+    let mut kind = None;
     for (i, light) in f.plan.lights.iter().enumerate() {
+        // In the scene's order (the L-buffer's sums stay as they were), switching pipeline
+        // where the kind changes.
+        let k = std::mem::discriminant(&light.emitter);
+        if kind != Some(k) {
+            r.pipeline(for_kind(desc.clone(), &light.emitter));
+            kind = Some(k);
+        }
         r.push(Step::Scissor(light.rect));
         r.bind(
             slot::LIGHT,

@@ -65,7 +65,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         shared: Shared::Shading,
         pass: Pass::Material,
         lit: Lighting::Inferred,
-        object: pipeline,
+        object: Box::new(pipeline),
     };
     shading::shade(f, &s)
 }

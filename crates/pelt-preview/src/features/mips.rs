@@ -6,7 +6,7 @@
 use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
 use crate::plan::Pass;
-use crate::recipe::{Color, Recipe, Step};
+use crate::recipe::{Color, Queries, Recipe, Step};
 use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
 use crate::targets::LayeredTarget;
@@ -126,7 +126,7 @@ pub fn mip_chain(r: &Renderer, t: &LayeredTarget) -> Result<(), crate::FrameErro
             recipe.bind(slot::PARAMS, &l.params, None);
             recipe.push(Step::Draw(0..3, 0..1));
             r.prepare(recipe.keys())?;
-            recipe.encode(r, &mut enc, None)?;
+            recipe.encode(r, &mut enc, Queries::default())?;
         }
     }
     r.gpu.queue.submit([enc.finish()]);

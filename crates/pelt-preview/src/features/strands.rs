@@ -11,6 +11,7 @@
 //! time (so the wind) changes; blended along each segment (the `TRACED_SHADOWS` def of
 //! strands.wgsl).
 
+use super::lights;
 use crate::draw::{MissingInput, object_blends, object_depth, slot};
 use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
 use crate::plan::ScenePlan;
@@ -200,7 +201,10 @@ impl TracedShadows {
 
 /// The strand reference's feature.
 pub const FEATURE: Feature = Feature {
-    pipelines: || vec![pipeline(false), pipeline(true)],
+    pipelines: || {
+        let both = [pipeline(false), pipeline(true)];
+        both.into_iter().flat_map(|d| [d.clone(), lights::without_suns(d)]).collect()
+    },
     draws: &[DrawDesc {
         into: Shared::Shading,
         phase: Phase::FurLayers,
@@ -233,7 +237,7 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
     } else {
         None
     };
-    r.pipeline(pipeline(traced));
+    r.pipeline(lights::suns_for_view(f, pipeline(traced)));
     for &k in &f.plan.fur {
         let o = &f.plan.objects[k];
         let strands = f

@@ -111,7 +111,7 @@ fn alpha_shade(f: &Frame<'_>) -> Shade {
         pass: Pass::Composite,
         lit,
         object: match lit {
-            Lighting::Inferred => super::material::pipeline,
+            Lighting::Inferred => Box::new(super::material::pipeline),
             Lighting::Forward => super::forward::for_view(f),
         },
     }

@@ -174,3 +174,51 @@ pub fn set_shells(s: &mut Scene, shells: u32) {
     }
     .apply(s);
 }
+
+pub mod reach;
+
+/// The depth (0..1) of a `size` Depth32Float texture with `COPY_SRC` usage, row-major.
+pub fn read_depth(r: &pelt_preview::Renderer, texture: &wgpu::Texture, size: (u32, u32)) -> Vec<f32> {
+    let row = (size.0 * 4).div_ceil(256) * 256;
+    let buffer = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("depth read"),
+        size: u64::from(row * size.1),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut enc = r
+        .gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::DepthOnly,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(size.1),
+            },
+        },
+        wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+    );
+    r.gpu.queue.submit([enc.finish()]);
+    let bytes = pelt_preview::frame::read_buffer(r, &buffer).expect("depth read back");
+    bytes
+        .chunks_exact(row as usize)
+        .flat_map(|line| {
+            line[..size.0 as usize * 4]
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        })
+        .collect()
+}

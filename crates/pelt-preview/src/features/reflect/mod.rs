@@ -15,6 +15,7 @@ use bytemuck::{Pod, Zeroable};
 
 pub use crate::cube::face_view;
 
+use super::lights;
 use crate::draw::{MissingInput, vertex_layout};
 use crate::feature::{
     Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared, Sides,
@@ -395,7 +396,10 @@ pub const FEATURE: Feature = Feature {
         KnobDesc::new("max-depth", "1 to 16", "4", Reference::RayTracer),
         KnobDesc::new("min-max", "on or off", "on", Reference::RayTracer),
     ],
-    pipelines: || vec![map_pipeline(), reflect_pipeline()],
+    pipelines: || {
+        let both = [map_pipeline(), reflect_pipeline()];
+        both.into_iter().flat_map(|d| [d.clone(), lights::without_suns(d)]).collect()
+    },
     compute: &[MINMAX],
     passes: &[
         PassDesc {
@@ -478,7 +482,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                         load: wgpu::LoadOp::Clear(1.0),
                     }),
                 );
-                r.pipeline(map_pipeline());
+                r.pipeline(lights::suns_for_view(f, map_pipeline()));
                 r.bind(
                     slot::FACE,
                     &m.inputs.faces_group,
@@ -521,7 +525,7 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
         return Ok(());
     }
     let m = maps(f, pass)?;
-    r.pipeline(reflect_pipeline());
+    r.pipeline(lights::suns_for_view(f, reflect_pipeline()));
     r.bind(slot::MAPS, &m.read, None);
     r.bind(slot::SKY, &m.sky, None);
     f.draw_objects(r, pass, None, Sides::Both, &f.plan.reflective)
