@@ -137,8 +137,14 @@ pub fn query_buffers(r: &Renderer, label: &str, bytes: u64) -> (wgpu::Buffer, wg
         })
     };
     (
-        buffer("", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
-        buffer(" read", wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
+        buffer(
+            "",
+            wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        ),
+        buffer(
+            " read",
+            wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        ),
     )
 }
 

@@ -48,7 +48,9 @@ pub fn count(r: &Renderer, recipes: &[Recipe<'_>]) -> Result<Vec<Option<Work>>, 
             count: rendered.max(1),
         })
     };
-    let samples = gpu.samples.then(|| set(wgpu::QueryType::Occlusion, "samples"));
+    let samples = gpu
+        .samples
+        .then(|| set(wgpu::QueryType::Occlusion, "samples"));
     let fragments = gpu.statistics.then(|| {
         let ty = wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS;
         set(wgpu::QueryType::PipelineStatistics(ty), "fragments")

@@ -46,7 +46,7 @@ fn mixed_scene() -> Scene {
         emitter: Emitter::Directional {
             direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
         },
-        ..s.lights[0].clone()
+        ..s.lights[0]
     };
     s.lights.insert(12, sun);
     s
@@ -79,7 +79,9 @@ fn used(sv: &SceneView, pass: Option<Pass>) -> Vec<PipelineDesc> {
 
 /// Whether any pipeline of `descs` can run a directional light's code.
 fn any_sun(descs: &[PipelineDesc]) -> bool {
-    descs.iter().any(|d| holds(&reached(d), COMMON, "sun_reach"))
+    descs
+        .iter()
+        .any(|d| holds(&reached(d), COMMON, "sun_reach"))
 }
 
 #[test]
@@ -91,12 +93,20 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
     let names = reached(&point[0]);
     eprintln!("point lights reach: {names:?}");
     assert!(holds(&names, COMMON, "point_reach"));
-    assert!(!holds(&names, COMMON, "sun_reach"), "directional code compiled out");
-    assert!(!holds(&names, SHADOWS, "shadow_seen"), "shadow lookup compiled out");
+    assert!(
+        !holds(&names, COMMON, "sun_reach"),
+        "directional code compiled out"
+    );
+    assert!(
+        !holds(&names, SHADOWS, "shadow_seen"),
+        "shadow lookup compiled out"
+    );
     // Negative controls: the same pipeline with its constants back at the shader's defaults.
     let shadowed = point[0].clone().with_constant(shadows::SHADOWS, None);
     assert!(holds(&reached(&shadowed), SHADOWS, "shadow_seen"));
-    let either = point[0].clone().with_constant(lights::DIRECTIONAL, Some(1.0));
+    let either = point[0]
+        .clone()
+        .with_constant(lights::DIRECTIONAL, Some(1.0));
     let either = reached(&either);
     assert!(holds(&either, COMMON, "sun_reach") && !holds(&either, COMMON, "point_reach"));
 
@@ -108,7 +118,10 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
         .map(|d| {
             let n = reached(d);
             assert!(!holds(&n, SHADOWS, "shadow_seen"));
-            (holds(&n, COMMON, "point_reach"), holds(&n, COMMON, "sun_reach"))
+            (
+                holds(&n, COMMON, "point_reach"),
+                holds(&n, COMMON, "sun_reach"),
+            )
         })
         .collect();
     assert_eq!(kinds, [(true, false), (false, true)]);
@@ -127,7 +140,10 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
         assert!(!holds(&n, COMMON, "sun_reach") && !holds(&n, SHADOWS, "shadow_seen"));
         assert!(holds(&n, COMMON, "point_reach"));
         let suns = d.clone().with_constant(lights::SUNS, None);
-        assert!(holds(&reached(&suns), COMMON, "sun_reach"), "negative control");
+        assert!(
+            holds(&reached(&suns), COMMON, "sun_reach"),
+            "negative control"
+        );
     }
     for d in pipelines(&mut p, &mixed_scene(), Mode::Forward, Pass::Forward) {
         assert!(holds(&reached(&d), COMMON, "sun_reach"));
@@ -155,16 +171,22 @@ fn every_pipeline_of_a_view_without_a_sun_leaves_directional_code_out() {
             };
             let sv = prepare(&mut p, &scene).expect("prepare");
             let descs = used(&sv, None);
-            assert!(!any_sun(&descs), "{name} {mode:?}: no sun, no directional code");
+            assert!(
+                !any_sun(&descs),
+                "{name} {mode:?}: no sun, no directional code"
+            );
             let sun = Light {
                 emitter: Emitter::Directional {
                     direction: Vec3::new(0.2, -1.0, -0.3).normalize(),
                 },
-                ..scene.lights[0].clone()
+                ..scene.lights[0]
             };
             scene.lights.push(sun);
             let sv = prepare(&mut p, &scene).expect("prepare");
-            assert!(any_sun(&used(&sv, None)), "{name} {mode:?}: a sun's code is there");
+            assert!(
+                any_sun(&used(&sv, None)),
+                "{name} {mode:?}: a sun's code is there"
+            );
         }
     }
 }
@@ -222,7 +244,7 @@ fn light_work(p: &Preview, sv: &SceneView, change: impl Fn(&mut [Step<'_>])) -> 
     let g = sv.targets.gbuffer.as_ref().expect("a G-buffer");
     let size = f.plan.lbuffer.expect("an L-buffer");
     let depth = common::read_depth(r, &g.depth.texture, size);
-    let (expected, unrejected, blocks) = expected_work(&f.plan, &depth, size);
+    let (expected, unrejected, blocks) = expected_work(f.plan, &depth, size);
     LightWork {
         samples: counted.samples.expect("the device counts samples"),
         fragments: counted.fragments,
@@ -236,7 +258,11 @@ fn light_work(p: &Preview, sv: &SceneView, change: impl Fn(&mut [Step<'_>])) -> 
 /// `size`): the depth-tested samples (certain, at most), the untested ones, and 16 × the 4×4
 /// blocks the scissor rectangles touch. Each point light's triangle lies at light.wgsl's
 /// depth of the far side of its reach; a directional light's on the far plane.
-fn expected_work(plan: &pelt_preview::Plan, depth: &[f32], size: (u32, u32)) -> ((u64, u64), u64, u64) {
+fn expected_work(
+    plan: &pelt_preview::Plan,
+    depth: &[f32],
+    size: (u32, u32),
+) -> ((u64, u64), u64, u64) {
     let v = &plan.view;
     let step = (v.far - v.near) / 65534.0;
     let (mut lo, mut hi, mut unrejected, mut blocks) = (0, 0, 0, 0);
@@ -245,7 +271,11 @@ fn expected_work(plan: &pelt_preview::Plan, depth: &[f32], size: (u32, u32)) -> 
             Emitter::Point { position, radius } => {
                 let z = v.view.transform_point3(position).z - (1.001 * radius + 4.0 * step);
                 let c = v.proj * glam::Vec4::new(0.0, 0.0, z, 1.0);
-                if c.w > 0.0 { (c.z / c.w).clamp(0.0, 1.0) } else { 0.0 }
+                if c.w > 0.0 {
+                    (c.z / c.w).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
             }
             Emitter::Directional { .. } => 1.0,
         };
@@ -289,7 +319,10 @@ fn the_light_pass_shades_only_what_its_scissor_and_depth_test_leave() {
     let Some(mut p) = counting_preview() else {
         return;
     };
-    for (name, scene) in [("point lights", point_scene()), ("with a sun", mixed_scene())] {
+    for (name, scene) in [
+        ("point lights", point_scene()),
+        ("with a sun", mixed_scene()),
+    ] {
         let sv = p.prepare(&scene, Mode::Inferred).expect("prepare");
         let w = light_work(&p, &sv, |_| {});
         eprintln!(
@@ -310,9 +343,15 @@ fn the_light_pass_shades_only_what_its_scissor_and_depth_test_leave() {
                 }
             }
         });
-        assert_eq!(open.samples, open.unrejected, "{name}: untested, every pixel");
+        assert_eq!(
+            open.samples, open.unrejected,
+            "{name}: untested, every pixel"
+        );
         if name == "point lights" {
-            assert!(open.check().is_err(), "the check sees a lost depth rejection");
+            assert!(
+                open.check().is_err(),
+                "the check sees a lost depth rejection"
+            );
         }
 
         // Negative control: the scissor opened to the whole L-buffer.
@@ -325,7 +364,10 @@ fn the_light_pass_shades_only_what_its_scissor_and_depth_test_leave() {
             }
         });
         if whole.fragments.is_some() {
-            assert!(whole.check().is_err(), "{name}: the check sees a lost scissor");
+            assert!(
+                whole.check().is_err(),
+                "{name}: the check sees a lost scissor"
+            );
         }
     }
 }
@@ -338,7 +380,10 @@ fn the_light_pass_switches_pipeline_where_the_kind_of_light_changes() {
     let sv = p.prepare(&mixed_scene(), Mode::Inferred).expect("prepare");
     let f = sv.own_frame().expect("frame");
     let recipes = frame::recipes(&f, Maps::Always).expect("recipes");
-    let light = recipes.iter().find(|r| r.pass == Pass::Light).expect("light pass");
+    let light = recipes
+        .iter()
+        .find(|r| r.pass == Pass::Light)
+        .expect("light pass");
     let mut runs: Vec<Option<f64>> = Vec::new();
     for l in &f.plan.lights {
         let kind = matches!(l.emitter, Emitter::Directional { .. }).then_some(1.0);
@@ -346,7 +391,11 @@ fn the_light_pass_switches_pipeline_where_the_kind_of_light_changes() {
             runs.push(kind);
         }
     }
-    assert_eq!(runs, [None, Some(1.0), None], "the sun lies among the point lights");
+    assert_eq!(
+        runs,
+        [None, Some(1.0), None],
+        "the sun lies among the point lights"
+    );
     let switches: Vec<Option<f64>> = light
         .keys()
         .map(|k| k.desc.constant(lights::DIRECTIONAL))
@@ -355,4 +404,3 @@ fn the_light_pass_switches_pipeline_where_the_kind_of_light_changes() {
     assert_eq!(light.counts().pipelines, 3);
     assert_eq!(light.counts().draws as usize, f.plan.lights.len());
 }
-

@@ -234,7 +234,11 @@ fn pipelines() -> Vec<PipelineDesc> {
             let desc = layer_pipeline(Layer::Shells(coverage), Lighting::Forward, blend);
             out.push(lights::without_suns(desc));
         }
-        out.push(lights::without_suns(layer_pipeline(Layer::Fins, Lighting::Forward, blend)));
+        out.push(lights::without_suns(layer_pipeline(
+            Layer::Fins,
+            Lighting::Forward,
+            blend,
+        )));
     }
     for blend in [Blend::None, Blend::Over, Blend::Wboit] {
         for fur in [false, true] {

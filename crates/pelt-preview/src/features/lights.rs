@@ -15,8 +15,8 @@ use crate::plan::Pass;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::FurLighting;
-use pelt_scene::shading::Emitter;
 use crate::shaders::{Entry, ShaderDesc};
+use pelt_scene::shading::Emitter;
 
 /// Bind-group slots of light.wgsl.
 pub mod slot {
@@ -86,11 +86,7 @@ pub fn suns(f: &Frame<'_>) -> bool {
 /// `desc`, a shader that loops over every light, as `f`'s view needs it: without `light_reach`'s
 /// branch on the kind unless a light of the view is directional.
 pub fn suns_for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
-    if suns(f) {
-        desc
-    } else {
-        without_suns(desc)
-    }
+    if suns(f) { desc } else { without_suns(desc) }
 }
 
 /// `desc` with `light_reach`'s branch on the kind compiled out (point lights only).
@@ -124,7 +120,9 @@ pub const FEATURE: Feature = Feature {
             direction: glam::Vec3::NEG_Y,
         };
         let kinds = [pipeline(), for_kind(pipeline(), &directional)];
-        let strands = kinds.into_iter().flat_map(|d| [d.clone(), without_strands(d)]);
+        let strands = kinds
+            .into_iter()
+            .flat_map(|d| [d.clone(), without_strands(d)]);
         shadows::with_unshadowed(strands.collect())
     },
     passes: &[PassDesc::new(Pass::Light, Build::One(pass))],

@@ -203,7 +203,9 @@ impl TracedShadows {
 pub const FEATURE: Feature = Feature {
     pipelines: || {
         let both = [pipeline(false), pipeline(true)];
-        both.into_iter().flat_map(|d| [d.clone(), lights::without_suns(d)]).collect()
+        both.into_iter()
+            .flat_map(|d| [d.clone(), lights::without_suns(d)])
+            .collect()
     },
     draws: &[DrawDesc {
         into: Shared::Shading,

@@ -178,7 +178,11 @@ pub fn set_shells(s: &mut Scene, shells: u32) {
 pub mod reach;
 
 /// The depth (0..1) of a `size` Depth32Float texture with `COPY_SRC` usage, row-major.
-pub fn read_depth(r: &pelt_preview::Renderer, texture: &wgpu::Texture, size: (u32, u32)) -> Vec<f32> {
+pub fn read_depth(
+    r: &pelt_preview::Renderer,
+    texture: &wgpu::Texture,
+    size: (u32, u32),
+) -> Vec<f32> {
     let row = (size.0 * 4).div_ceil(256) * 256;
     let buffer = r.gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("depth read"),

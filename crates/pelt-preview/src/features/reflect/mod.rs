@@ -398,7 +398,9 @@ pub const FEATURE: Feature = Feature {
     ],
     pipelines: || {
         let both = [map_pipeline(), reflect_pipeline()];
-        both.into_iter().flat_map(|d| [d.clone(), lights::without_suns(d)]).collect()
+        both.into_iter()
+            .flat_map(|d| [d.clone(), lights::without_suns(d)])
+            .collect()
     },
     compute: &[MINMAX],
     passes: &[
