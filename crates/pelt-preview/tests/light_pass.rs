@@ -5,14 +5,15 @@
 //!   the scissor rectangles and the depth test against each light's far side leave: the
 //!   samples written equal, within a rounding band, the count this file makes on the CPU from
 //!   the G-buffer's depth read back, and the fragment-shader invocations lie between those
-//!   samples and the 4×4 blocks the scissor rectangles touch. Negative controls: the same
-//!   recipes with the depth test disabled, and with the scissor opened to the whole L-buffer,
-//!   each fail the check.
+//!   samples and the pixels of the 8×8 blocks the scissor rectangles touch (drivers shade 2×2
+//!   quads or, as llvmpipe, 4×4 blocks; lavapipe measured within 4 % of its 4×4 bound here).
+//!   Negative controls: the same recipes with the depth test disabled, and with the scissor
+//!   opened to the whole L-buffer, each fail the check.
 //! - Code: every light pipeline a view builds has what its lights do not need compiled out
 //!   (the shadow lookup without a casting light; each kind's reach without the other's; the
-//!   forward pass's branch on the kind without a directional light), read off the composed
-//!   shader with the pipeline's override constants folded. Negative control: the constants
-//!   forced back on reach that code again.
+//!   branch on the kind in every loop over lights without a directional light: forward, fur,
+//!   strands, mirrors), read off the composed shader with the pipeline's override constants
+//!   folded. Negative control: the constants forced back on reach that code again.
 
 mod common;
 
@@ -202,8 +203,8 @@ struct LightWork {
     expected: (u64, u64),
     /// Non-empty pixels inside the scissor rectangles (what passes with no depth test).
     unrejected: u64,
-    /// 16 × the 4×4 blocks the scissor rectangles touch: the most invocations a driver
-    /// shading whole blocks (llvmpipe) or 2×2 quads makes.
+    /// 64 × the 8×8 blocks the scissor rectangles touch: more than a driver shading whole
+    /// 2×2 quads or 4×4 blocks (llvmpipe) invokes.
     blocks: u64,
 }
 
@@ -255,7 +256,7 @@ fn light_work(p: &Preview, sv: &SceneView, change: impl Fn(&mut [Step<'_>])) -> 
 }
 
 /// What the light pass should leave of `plan`'s lights over a G-buffer of `depth` (row-major,
-/// `size`): the depth-tested samples (certain, at most), the untested ones, and 16 × the 4×4
+/// `size`): the depth-tested samples (certain, at most), the untested ones, and 64 × the 8×8
 /// blocks the scissor rectangles touch. Each point light's triangle lies at light.wgsl's
 /// depth of the far side of its reach; a directional light's on the far plane.
 fn expected_work(
