@@ -11,6 +11,8 @@
 #import pelt::fur_common::{comb_object}
 
 const FIN_FLOATS: u32 = 32u;
+// crates/pelt-scene/src/fur.rs's FIN_MIN_LENGTH.
+const FIN_MIN_LENGTH: f32 = 0.05;
 // Per fin in `fin_in`: 8 source indices, then the loaded instance's 32 words.
 const FIN_IN_WORDS: u32 = 40u;
 
@@ -38,7 +40,9 @@ fn fur_of(v: u32, at: u32) -> vec4<f32> {
 // The combed direction (object space) bent by the springs, and the comb length, of vertex v.
 fn comb_at(v: u32) -> vec4<f32> {
     let c = fur_of(v, 6u);
-    return vec4<f32>(comb_object(normal_of(v), fur_of(v, 0u), c.xyz) + fur_of(v, 10u).xyz, c.w);
+    let bend = fur_of(v, 10u);
+    // w: the comb length in the asset's units (fur_common.wgsl's comb_length).
+    return vec4<f32>(comb_object(normal_of(v), fur_of(v, 0u), c.xyz) + bend.xyz, c.w * bend.w);
 }
 
 fn face_normal(a: u32, b: u32, c: u32) -> vec3<f32> {
@@ -73,8 +77,13 @@ fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
     put3(o + 3u, position_of(b));
     put3(o + 6u, normal_of(a));
     put3(o + 9u, normal_of(b));
-    put4(o + 12u, comb_at(a));
-    put4(o + 16u, comb_at(b));
+    // As the loaded instances (crates/pelt-scene/src/fur.rs, fin_instances): no fin where the
+    // fur at both ends is shorter than FIN_MIN_LENGTH of the fur length.
+    let keep = select(0.0, 1.0, max(fur_of(a, 6u).w, fur_of(b, 6u).w) > FIN_MIN_LENGTH);
+    let ca = comb_at(a);
+    let cb = comb_at(b);
+    put4(o + 12u, vec4<f32>(ca.xyz, ca.w * keep));
+    put4(o + 16u, vec4<f32>(cb.xyz, cb.w * keep));
     put3(o + 20u, face_normal(fin_in[s + 2u], fin_in[s + 3u], fin_in[s + 4u]));
     put3(o + 23u, face_normal(fin_in[s + 5u], fin_in[s + 6u], fin_in[s + 7u]));
     // u (2 floats), group (u32 bits), albedo (3 floats): as loaded.

@@ -74,7 +74,9 @@ fn fin_fade(fin: FinIn, to_view: mat4x4<f32>) -> f32 {
     let fin_normal = cross(edge, up);
     let len = length(fin_normal);
     let face_on = select(0.0, abs(dot(fin_normal / len, to_eye)), len > 1e-6);
-    let has_fur = select(0.0, 1.0, max(fin.c0.w, fin.c1.w) > 0.05);
+    // The comb lengths are 0 at both ends where the fur is too short for a fin (under
+    // 5 % of the fur length at both ends: crates/pelt-scene/src/fur.rs, FIN_MIN_LENGTH).
+    let has_fur = select(0.0, 1.0, max(fin.c0.w, fin.c1.w) > 0.0);
     return silhouette * smoothstep(0.05, 0.3, face_on) * has_fur;
 }
 

@@ -17,7 +17,9 @@ struct FurIn {
     @location(5) uv: vec2<f32>,
     // Tangent-space comb direction; w = comb length (0 = no fur).
     @location(6) comb: vec4<f32>,
-    // The springs' bend of the comb, object space (xyz; crates/pelt-scene/src/springs.rs).
+    // xyz: the springs' bend of the comb, object space (crates/pelt-scene/src/springs.rs);
+    // w: the length scale, what the asset's node transforms make of one mesh unit across the
+    // surface (fur length is in mesh units; crates/pelt-scene/src/fur.rs, fur_vertices).
     @location(8) bend: vec4<f32>,
 }
 
@@ -103,6 +105,12 @@ fn wind_comb(comb: vec3<f32>, n: vec3<f32>, root: vec3<f32>, frame: Frame, objec
     let nn = normalize(n);
     let vn = dot(v, nn);
     return comb + v + nn * (max(vn, -0.8) - vn);
+}
+
+// The vertex's comb length in the asset's units: the baked length (0..1, what the fade
+// below 5 % reads) times the node's length scale.
+fn comb_length(f: FurIn) -> f32 {
+    return f.comb.w * f.bend.w;
 }
 
 // The object-space comb of a shell or fur G-buffer vertex as it moves: the baked comb carried

@@ -12,7 +12,7 @@
 // (fur_light_inferred.wgsl).
 
 #import pelt::common::{VertexIn, depth_code, encode_normal, facing_normal}
-#import pelt::fur_common::{FurIn, grain_normal, rim_normal, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#import pelt::fur_common::{FurIn, comb_length, grain_normal, rim_normal, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
 #import pelt::object_bindings::{frame, object}
 
 // The heights whose strand tangents the base and outer passes store (Kajiya-Kay lighting).
@@ -38,7 +38,7 @@ struct GBufferOut {
 fn fur_surface(v: VertexIn, f: FurIn, sd: f32, lit_at: f32) -> FurSurface {
     var s: FurSurface;
     let comb = moving_comb(v.normal, f, v.position, frame, object);
-    let p = v.position + shell_offset(v.normal, comb, sd, object.fur_base.w, f.comb.w);
+    let p = v.position + shell_offset(v.normal, comb, sd, object.fur_base.w, comb_length(f));
     let view = frame.view * (object.model * vec4<f32>(p, 1.0));
     s.clip = frame.proj * view;
     s.view_pos = view.xyz;

@@ -19,7 +19,7 @@
 // seen from the light, −ln(1 − α), into the opacity layers at and past its depth in the fur.
 
 #import pelt::common::{VertexIn}
-#import pelt::fur_common::{FurIn, FurOut, MIN_COS, fur_out, fur_query, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_length, fur_out, fur_query, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
 #ifndef OPACITY_MAP
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
@@ -88,11 +88,11 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     let comb = moving_comb(v.normal, f, v.position, frame, object);
     let len = object.fur_base.w;
     let to_view = frame.view * object.model;
-    let p = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, sd, len, f.comb.w), 1.0);
+    let p = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, sd, len, comb_length(f)), 1.0);
     let pb = to_view * vec4<f32>(v.position, 1.0);
-    let pt = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, 1.0, len, f.comb.w), 1.0);
-    let p0 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z0, len, f.comb.w), 1.0);
-    let p1 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z1, len, f.comb.w), 1.0);
+    let pt = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, 1.0, len, comb_length(f)), 1.0);
+    let p0 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z0, len, comb_length(f)), 1.0);
+    let p1 = to_view * vec4<f32>(v.position + shell_offset(v.normal, comb, z1, len, comb_length(f)), 1.0);
     o.clip = frame.proj * p;
     o.view_pos = p.xyz;
     o.strand = view_dir_of(strand_tangent(v.normal, comb, sd), frame, object);

@@ -17,6 +17,11 @@ use crate::BakeArgs;
 /// Runs `pelt bake`.
 pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
+    // The report and the depfile are checked (their folders made) before any input is baked,
+    // so a bad path costs no work and leaves no output behind.
+    for path in args.report.iter().chain(&args.depfile) {
+        crate::outputs::file(path)?;
+    }
     let jobs = pelt_batch::plan(&args.inputs, &args.output)?;
     let (config, config_bytes) = match &args.config {
         Some(path) => BakeConfig::read(path).map(|(c, b)| (Some(c), Some(b)))?,

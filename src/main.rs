@@ -6,7 +6,9 @@
 mod bake;
 mod demo;
 mod inspect;
+mod outputs;
 mod pose;
+mod progress;
 mod render;
 mod sweep;
 mod textures;

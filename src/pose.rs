@@ -7,6 +7,10 @@ use crate::PoseArgs;
 
 /// Runs `pelt pose`.
 pub fn run(args: &PoseArgs) -> anyhow::Result<ExitCode> {
+    crate::outputs::file(&args.output)?;
+    if let Some(report) = &args.report {
+        crate::outputs::file(report)?;
+    }
     let result = pelt_io::Document::load(&args.input).and_then(|mut doc| {
         let report =
             pelt_anim::posed::pose_document(&mut doc, args.animation.as_deref(), args.time)?;

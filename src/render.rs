@@ -12,6 +12,7 @@ use pelt_preview::knobs::{self, InputError};
 use pelt_preview::{Mode, Plan, Preview, RenderError, Scene};
 
 use crate::RenderArgs;
+use crate::progress::Progress;
 
 /// Exit code for an input that could not be rendered.
 const FAILED: u8 = 1;
@@ -26,6 +27,10 @@ fn fail(e: impl std::fmt::Display) -> ExitCode {
 
 /// Runs `pelt render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
+    // Checked (its folder made) before minutes of rendering, not after.
+    if let Some(out) = &args.output {
+        crate::outputs::file(out)?;
+    }
     if let (Some(frames), Some(animation)) = (args.frames, &args.animation) {
         return contact_sheet(args, animation, frames);
     }
@@ -130,7 +135,18 @@ fn strands(
     out: &Path,
 ) -> ExitCode {
     let opts = args.reference.options();
-    let r = match pelt_measure::strands::reference(preview, scene, meshes, of, opts) {
+    let mut bar = Progress::new("strand reference", 1, args.quiet);
+    bar.say(&format!(
+        "strand reference: {}×{}, up to {} samples per pixel, until two halves of them agree \
+         within FLIP {}",
+        scene.output.width, scene.output.height, opts.max_samples, opts.target
+    ));
+    let mut steps = crate::progress::StrandSteps::default();
+    let r = pelt_measure::strands::reference_with(preview, (scene, meshes, of), opts, &mut |s| {
+        steps.show(&mut bar, s);
+    });
+    bar.finish();
+    let r = match r {
         Ok(r) => r,
         Err(e) => return fail(e),
     };
@@ -169,7 +185,19 @@ fn raytrace(
         return Ok(ExitCode::SUCCESS);
     };
     let start = std::time::Instant::now();
-    let traced = match pelt_trace::trace_scene(scene, meshes, of) {
+    let rows = scene.output.height;
+    let bar = std::sync::Mutex::new(Progress::new("ray tracer", u64::from(rows), args.quiet));
+    let row_done = |n: u32| {
+        if let Ok(mut b) = bar.lock() {
+            let msg = format!("{n} of {rows} rows, {:.1} s", start.elapsed().as_secs_f64());
+            b.set(u64::from(n), &msg, false);
+        }
+    };
+    let traced = pelt_trace::trace_scene_with(scene, meshes, of, &row_done);
+    if let Ok(b) = bar.lock() {
+        b.finish();
+    }
+    let traced = match traced {
         Ok(t) => t,
         Err(e) => return Ok(fail(e)),
     };
@@ -198,7 +226,16 @@ fn raytrace(
 pub fn bench(args: &pelt_measure::bench_run::Settings) -> anyhow::Result<ExitCode> {
     let mut preview = Preview::new(args.backend).context("opening the GPU device")?;
     println!("adapter: {}", preview.adapter());
-    pelt_measure::bench_run::run(&mut preview, args, &mut |md| print!("{md}"))
+    if let Some(dir) = &args.pictures {
+        crate::outputs::folder(dir)?;
+    }
+    let quiet = args.quiet;
+    let mut status = |line: &str| {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    };
+    pelt_measure::bench_run::run(&mut preview, args, &mut |md| print!("{md}"), &mut status)
         .context("render-bench")?;
     Ok(ExitCode::SUCCESS)
 }

@@ -5,14 +5,22 @@
 use std::process::ExitCode;
 
 use pelt_measure::sweep::knob::Knob;
-use pelt_measure::sweep::{self, Row, SweepError, report};
+use pelt_measure::sweep::{self, Event, Row, SweepError, report};
 use pelt_preview::Preview;
 use pelt_preview::knobs::InputError;
 
 use crate::SweepArgs;
+use crate::progress::Progress;
 
 /// Runs `pelt sweep`.
 pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+    // The folder the output folder goes into takes new files (made if missing), before the
+    // references and the sweep run.
+    match args.output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => crate::outputs::folder(p)?,
+        _ => crate::outputs::folder(std::path::Path::new("."))?,
+    }
+    remove_staging_on_interrupt(&args.output)?;
     let knobs = args
         .knob
         .iter()
@@ -41,23 +49,21 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let quiet = args.quiet;
-    let mut progress = |r: &Row| {
-        if !quiet {
-            let lum = r
-                .fur_luminance
-                .map_or(String::new(), |l| format!(", fur luminance {l:.3}×"));
-            eprintln!(
-                "{}={}: {:.1} ms, FLIP {:.4} against {}{lum}",
-                r.knob,
-                r.value,
-                r.ms,
-                r.error,
-                r.truth.name()
-            );
+    let mut bar = Progress::new("sweep", 1, quiet);
+    let mut strands = crate::progress::StrandSteps::default();
+    let mut progress = |e: Event<'_>| match e {
+        Event::Reference(t) => bar.say(&format!("sweep: computing the {} reference", t.name())),
+        Event::Strands(s) => strands.show(&mut bar, s),
+        Event::Row(r, i, n) => {
+            bar.set_length(n as u64);
+            bar.say(&row_line(r));
+            bar.set(i as u64, &format!("{i} of {n} settings"), false);
         }
     };
     let input = (args.input.as_path(), &base, crate::render::DEFAULT_SIZE);
-    let s = match report::run_into(&mut preview, input, opts, &args.output, &mut progress) {
+    let s = report::run_into(&mut preview, input, opts, &args.output, &mut progress);
+    bar.finish();
+    let s = match s {
         Ok(s) => s,
         Err(
             e @ (SweepError::Knob(_)
@@ -92,4 +98,42 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Ctrl-C or SIGTERM while the sweep runs: its staging folder (and the output folder, when
+/// the sweep made it and it is empty) is removed before exiting with 130, so an interrupted
+/// sweep leaves nothing half-written.
+fn remove_staging_on_interrupt(output: &std::path::Path) -> anyhow::Result<()> {
+    let staging = output.join(report::STAGING);
+    let made = !output.exists();
+    let output = output.to_path_buf();
+    ctrlc::set_handler(move || {
+        // A file being written as the folder goes can leave it behind: try again.
+        for _ in 0..3 {
+            if std::fs::remove_dir_all(&staging).is_ok() || !staging.exists() {
+                break;
+            }
+        }
+        if made {
+            let _ = std::fs::remove_dir(&output);
+        }
+        eprintln!("pelt: sweep interrupted: nothing written");
+        std::process::exit(130);
+    })
+    .map_err(|e| anyhow::anyhow!("cannot watch for Ctrl-C: {e}"))
+}
+
+/// One measured setting, as a line.
+fn row_line(r: &Row) -> String {
+    let lum = r
+        .fur_luminance
+        .map_or(String::new(), |l| format!(", fur luminance {l:.3}×"));
+    format!(
+        "{}={}: {:.1} ms, FLIP {:.4} against {}{lum}",
+        r.knob,
+        r.value,
+        r.ms,
+        r.error,
+        r.truth.name()
+    )
 }

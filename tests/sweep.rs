@@ -258,4 +258,134 @@ fn a_strand_reference_that_cannot_converge_writes_nothing() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("did not converge"), "{stderr}");
     assert!(!png.exists());
+    // It said where it stood from the start: what it will do, then its first frame (a line
+    // each, standard error not being a terminal here).
+    assert!(
+        stderr.contains("strand reference: 64×36, up to 2 samples per pixel"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("strand reference: 1 samples per pixel,")
+            || stderr.contains("strand reference: 4 samples per pixel,")
+            || stderr.contains("strand reference: 9 samples per pixel,")
+            || stderr.contains("strand reference: 16 samples per pixel,"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn quiet_strands_say_nothing_but_the_error() {
+    let dir = scratch("strands-quiet");
+    let b = backend();
+    let scene = common::fixture("scenes/showcase.json");
+    let png = dir.join("strands.png");
+    let out = pelt(
+        &[
+            "render",
+            scene.to_str().expect("utf8"),
+            "--mode",
+            "strands",
+            "--size",
+            "64x36",
+            "--max-samples",
+            "2",
+            "--target-flip",
+            "0.0001",
+            "--backend",
+            &b,
+            "-q",
+            "-o",
+            png.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("did not converge"), "{stderr}");
+}
+
+/// A scene of the fixture sphere baked with fur, in `dir`.
+fn furred_sphere_scene(dir: &Path) -> std::path::PathBuf {
+    let baked = dir.join("sphere.glb");
+    common::pelt_ok(&[
+        "bake",
+        "-q",
+        "fixtures/sphere.glb",
+        "-o",
+        baked.to_str().expect("utf8"),
+        "--config",
+        "fixtures/fur.json",
+    ]);
+    let scene = dir.join("scene.json");
+    let text = r#"{
+        "camera": { "position": [0, 1.2, 4.5], "target": [0, 0.5, 0] },
+        "objects": [{ "asset": "sphere.glb", "material": { "kind": "fur" } }],
+        "lights": [{ "position": [1.5, 2, 2], "color": [1, 1, 1], "intensity": 6, "radius": 8 }]
+    }"#;
+    std::fs::write(&scene, text).expect("scene");
+    scene
+}
+
+/// Starts `pelt sweep` on a furred sphere into `out`, waits for its staging folder, sends
+/// `signal` and returns the exit status.
+fn interrupted_sweep(out: &Path, signal: &str) -> std::process::ExitStatus {
+    let b = backend();
+    let scene = furred_sphere_scene(out.parent().expect("a parent"));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_pelt"))
+        .arg("sweep")
+        .arg(&scene)
+        .args(["--size", "64x36", "--knob"])
+        .args([
+            "shells=4,8",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--backend",
+            &b,
+            "-q",
+            "-o",
+        ])
+        .arg(out)
+        .current_dir(common::root())
+        .spawn()
+        .expect("start pelt sweep");
+    let staging = out.join(".sweep-partial");
+    let started = std::time::Instant::now();
+    while !staging.join("images").is_dir() {
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(120),
+            "no staging folder"
+        );
+        assert!(
+            child.try_wait().expect("poll").is_none(),
+            "the sweep ended first"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let kill = std::process::Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    child.wait().expect("wait")
+}
+
+#[test]
+fn an_interrupted_sweep_leaves_nothing_behind() {
+    let dir = scratch("sweep-interrupted");
+    let out = dir.join("sweep");
+    let status = interrupted_sweep(&out, "-INT");
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert!(
+        !out.exists(),
+        "left behind: {:?}",
+        common::files_under(&out)
+    );
+    // Negative control: killed outright (no handler runs), the staging folder stays; the
+    // check above would have seen it.
+    let status = interrupted_sweep(&out, "-KILL");
+    assert_eq!(status.code(), None);
+    assert!(out.join(".sweep-partial").is_dir());
 }

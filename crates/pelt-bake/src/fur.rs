@@ -91,7 +91,10 @@ pub fn embed(
             }
         }
         if !bare.is_empty() {
-            let m = doc.push_material(FUR_MATERIAL_NAME);
+            let m = match find_added_material(doc) {
+                Some(m) => m,
+                None => doc.push_material(FUR_MATERIAL_NAME),
+            };
             for r in bare {
                 doc.set_primitive_material(r, m)?;
             }
@@ -101,6 +104,15 @@ pub fn embed(
     }
     materials.sort_unstable();
     materials.dedup();
+    for &m in &materials {
+        if doc.material_name(m) == Some(FUR_MATERIAL_NAME) && doc.make_neutral_if_default(m) {
+            report.warnings.push(format!(
+                "materials[{m}] {FUR_MATERIAL_NAME:?}: an earlier bake added it with glTF's \
+                 default factors (metal, drawn black where unlit); it is now the neutral \
+                 dielectric (metallic 0, roughness 0.5) a primitive without a material is drawn with"
+            ));
+        }
+    }
     if materials.is_empty() {
         report
             .warnings
@@ -146,6 +158,12 @@ pub fn embed(
         }
     }
     Ok(report)
+}
+
+/// The material an earlier bake added to primitives without one, reused when baking its output
+/// again (so a re-bake adds no second copy).
+fn find_added_material(doc: &Document) -> Option<usize> {
+    (0..doc.array("materials").len()).find(|&m| doc.material_name(m) == Some(FUR_MATERIAL_NAME))
 }
 
 /// Removes the fur an earlier bake embedded (each material's `extras.pelt.fur` and the

@@ -186,6 +186,45 @@ pub struct BakedPrimitive {
     pub topology_ms: f64,
 }
 
+/// The comb's fallbacks, said aloud: combs along the normal (or straight into the surface),
+/// which nothing is left of on the surface and which point along the tangent instead; fur of
+/// length 0 everywhere (every comb grey, or alpha 0); and fur without TEXCOORD_0, which the
+/// shells' strand textures and the strand reference are laid out by.
+fn comb_warnings(stats: &PrimitiveStats, comb: &[[f32; 4]], has_uvs: bool, out: &mut Vec<String>) {
+    let n = comb.len();
+    if stats.parallel_combs > 0 {
+        out.push(format!(
+            "{} of {n} vertices' combs lie along the normal or point straight into the surface \
+             (within {:.2}°): no direction is left on the surface, so the fur there is combed \
+             along the tangent (+U) instead",
+            stats.parallel_combs,
+            comb::PARALLEL_TOLERANCE.to_degrees()
+        ));
+    }
+    let furred = comb.iter().filter(|c| c[3] > 0.0).count();
+    if n > 0 && furred == 0 {
+        let why = if stats.gray_combs == n {
+            "every comb is grey (no direction painted)".to_owned()
+        } else if stats.gray_combs == 0 {
+            "every comb has alpha 0".to_owned()
+        } else {
+            format!(
+                "{} combs are grey and the rest have alpha 0",
+                stats.gray_combs
+            )
+        };
+        out.push(format!(
+            "no fur: {why}, so the fur length is 0 at every vertex"
+        ));
+    } else if !has_uvs && furred > 0 {
+        out.push(
+            "no TEXCOORD_0: the fur's strand textures are laid out by it, so shells draw \
+             untextured fur and the strand reference grows no strands on this primitive"
+                .to_owned(),
+        );
+    }
+}
+
 /// Per-vertex or per-corner data; per-vertex data is borrowed from the mesh when usable as is.
 enum Attr<'a, T: Clone> {
     Vertex(Cow<'a, [T]>),
@@ -484,6 +523,7 @@ pub fn bake_primitive_with(
     stats.gray_combs = counts.gray;
     stats.parallel_combs = counts.parallel;
     let (comb, out_normals, mut out_tangents) = (out.comb, out.normals, out.tangents);
+    comb_warnings(&stats, &comb, mesh.uvs.is_some(), &mut warnings);
 
     // The group ID of every output vertex: its first corner's face's.
     let only_id = (groups == 1).then(|| u16::from(corner_id(0)));

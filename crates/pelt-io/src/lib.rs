@@ -41,6 +41,7 @@ pub mod fin_predict;
 pub mod glb;
 pub mod mesh;
 pub mod meshopt;
+pub mod nodes;
 pub mod obj;
 pub mod obj_material;
 pub mod pack;

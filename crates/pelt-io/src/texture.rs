@@ -19,6 +19,15 @@ pub mod gl {
     pub const CLAMP_TO_EDGE: u32 = 33071;
 }
 
+/// `metallicFactor` of the material a bake adds: a dielectric.
+pub const NEUTRAL_METALLIC: f32 = 0.0;
+/// `roughnessFactor` of the material a bake adds.
+pub const NEUTRAL_ROUGHNESS: f32 = 0.5;
+
+fn neutral_pbr() -> Value {
+    json!({ "metallicFactor": NEUTRAL_METALLIC, "roughnessFactor": NEUTRAL_ROUGHNESS })
+}
+
 impl Document {
     /// Appends an image stored in a new bufferView; returns the image index.
     pub fn push_image(&mut self, bytes: Vec<u8>, mime: &str, name: &str) -> usize {
@@ -51,9 +60,39 @@ impl Document {
         )
     }
 
-    /// Appends a material (glTF defaults everywhere) named `name`; returns its index.
+    /// Appends a material named `name`: a dielectric of roughness 0.5 ([`NEUTRAL_METALLIC`],
+    /// [`NEUTRAL_ROUGHNESS`]), the surface pelt's preview draws for a primitive without a
+    /// material, where glTF's defaults (metallic 1, roughness 1) would be black metal in a
+    /// renderer without environment light. Returns its index.
     pub fn push_material(&mut self, name: &str) -> usize {
-        push_to(&mut self.json, "materials", json!({ "name": name }))
+        push_to(
+            &mut self.json,
+            "materials",
+            json!({ "name": name, "pbrMetallicRoughness": neutral_pbr() }),
+        )
+    }
+
+    /// Gives `materials[material]` the neutral dielectric's factors when it has no
+    /// `pbrMetallicRoughness` at all (a material made with glTF's defaults). Returns whether
+    /// it changed anything.
+    pub fn make_neutral_if_default(&mut self, material: usize) -> bool {
+        let Some(m) = self.material_mut(material) else {
+            return false;
+        };
+        if m.contains_key("pbrMetallicRoughness") {
+            return false;
+        }
+        m.insert("pbrMetallicRoughness".to_owned(), neutral_pbr());
+        true
+    }
+
+    /// `materials[material]` as an object, when it is one.
+    fn material_mut(&mut self, material: usize) -> Option<&mut Map<String, Value>> {
+        self.json
+            .get_mut("materials")
+            .and_then(Value::as_array_mut)
+            .and_then(|a| a.get_mut(material))
+            .and_then(Value::as_object_mut)
     }
 
     /// Whether `materials[material]` has a `normalTexture` (false for a material that does
@@ -73,13 +112,7 @@ impl Document {
     /// Sets `materials[material].extras[key]`, keeping other extras. Returns false, and
     /// changes nothing, when the material does not exist or its `extras` is not an object.
     pub fn set_material_extra(&mut self, material: usize, key: &str, value: Value) -> bool {
-        let Some(m) = self
-            .json
-            .get_mut("materials")
-            .and_then(Value::as_array_mut)
-            .and_then(|a| a.get_mut(material))
-            .and_then(Value::as_object_mut)
-        else {
+        let Some(m) = self.material_mut(material) else {
             return false;
         };
         let extras = m

@@ -48,6 +48,7 @@ pub fn check(doc: &mut Document, triangles_read: bool) -> Result<Vec<String>> {
     animations(doc)?;
     repairs.extend(repair_bounds(doc)?);
     repairs.extend(image_types(doc)?);
+    repairs.extend(crate::nodes::collapsed(doc));
     Ok(repairs)
 }
 

@@ -64,6 +64,9 @@ pub struct Settings {
     /// environment map's and FLIP heat maps.
     #[cfg_attr(feature = "cli", arg(long, value_name = "DIR"))]
     pub pictures: Option<PathBuf>,
+    /// Print nothing but the tables and errors (no line as each experiment starts).
+    #[cfg_attr(feature = "cli", arg(short, long))]
+    pub quiet: bool,
 }
 
 /// Runs the experiments `s` chooses on `preview`, giving `emit` each one's Markdown (and,
@@ -73,6 +76,7 @@ pub fn run(
     preview: &mut Preview,
     s: &Settings,
     emit: &mut dyn FnMut(&str),
+    status: &mut dyn FnMut(&str),
 ) -> Result<(), BenchError> {
     use Experiment::{All, Fur, Lbuffer, Objects, Reflections};
     let frames = Frames {
@@ -80,7 +84,12 @@ pub fn run(
         timed: s.frames,
     };
     let e = s.experiment;
+    let each = format!("{} untimed and {} timed frames each", s.warmup, s.frames);
     if matches!(e, Reflections | All) {
+        status(&format!(
+            "render-bench: reflections ({}): the ray tracer, then every configuration, {each}",
+            s.scene.display()
+        ));
         let r = render_bench::reflection_tables(preview, &s.scene, s.mode, frames)?;
         emit(&format!("{}\n", r.intro));
         r.tables.iter().for_each(|t| emit(&t.markdown()));
@@ -102,10 +111,16 @@ pub fn run(
         }
     };
     if matches!(e, Fur | All) {
+        status(&format!(
+            "render-bench: the fur demo at 1280×720, every configuration, {each}"
+        ));
         timed(render_bench::fur(preview, frames)?);
     }
     if matches!(e, Objects | Lbuffer | All) {
         let which = (matches!(e, Objects | All), matches!(e, Lbuffer | All));
+        status(&format!(
+            "render-bench: the inferred-lighting paper's experiments at 1280×720, {each}"
+        ));
         timed(render_bench::paper(
             preview,
             Path::new(&s.asset),

@@ -162,13 +162,49 @@ pub fn reference(
     mesh_of: &[usize],
     opts: Options,
 ) -> Result<Reference, RenderError> {
+    reference_with(preview, (scene, meshes, mesh_of), opts, &mut |_| {})
+}
+
+/// Where the strand reference stands: told once when it is prepared (`frames` 0) and after
+/// every frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// Frames drawn so far.
+    pub frames: u32,
+    /// The most frames it will draw (`max_samples`); it stops sooner once converged.
+    pub max_frames: u32,
+    /// Samples per pixel so far.
+    pub samples: u32,
+    /// The two halves' FLIP at the last check (None before the first).
+    pub half_vs_half: Option<f32>,
+    /// The FLIP it stops at.
+    pub target: f32,
+    /// Strands drawn each frame.
+    pub strands: u64,
+    /// Seconds since it started preparing.
+    pub elapsed: f64,
+}
+
+/// [`reference`], telling `progress` where it stands (for a progress bar).
+pub fn reference_with(
+    preview: &mut Preview,
+    (scene, meshes, mesh_of): (&Scene, &[MeshData], &[usize]),
+    opts: Options,
+    progress: &mut dyn FnMut(&Step),
+) -> Result<Reference, RenderError> {
+    let started = Instant::now();
     let size = (scene.output.width, scene.output.height);
     let k = opts.grid(size);
     let mut fine = scene.clone();
     fine.output.width = size.0 * k;
     fine.output.height = size.1 * k;
     let mut sv = preview.prepare_loaded(&fine, meshes, mesh_of, Mode::Strands)?;
-    accumulate(preview, &mut sv, k, opts)
+    accumulate(preview, &mut sv, k, opts, &mut |s: &Step| {
+        progress(&Step {
+            elapsed: started.elapsed().as_secs_f64(),
+            ..*s
+        });
+    })
 }
 
 /// Adds frame `img` (k× the output size) into `sum`: each output pixel takes its k × k
@@ -195,6 +231,7 @@ pub fn accumulate(
     sv: &mut SceneView,
     k: u32,
     opts: Options,
+    progress: &mut dyn FnMut(&Step),
 ) -> Result<Reference, RenderError> {
     let k = k.max(1);
     let (w, h) = (sv.plan.output.0 / k, sv.plan.output.1 / k);
@@ -212,6 +249,22 @@ pub fn accumulate(
     let started = Instant::now();
     let mut n = 0;
     let mut last = f32::INFINITY;
+    let strands = sv
+        .strands
+        .iter()
+        .flatten()
+        .map(|s| u64::from(s.count))
+        .sum();
+    let mut step = Step {
+        frames: 0,
+        max_frames,
+        samples: 0,
+        half_vs_half: None,
+        target: opts.target,
+        strands,
+        elapsed: 0.0,
+    };
+    progress(&step);
     while n < max_frames {
         preview.jitter(sv, &base, jitter(n));
         let img = preview.render(sv)?;
@@ -222,6 +275,13 @@ pub fn accumulate(
             let (b, _) = mean_image(w, h, &halves[1], n / 2 * per_frame);
             last = Flip::new(&a, &b).map_or(f32::INFINITY, |f| f.mean());
             history.push((n * per_frame, last));
+            step.half_vs_half = Some(last);
+        }
+        step.frames = n;
+        step.samples = n * per_frame;
+        step.elapsed = started.elapsed().as_secs_f64();
+        progress(&step);
+        if n == next_check {
             if last <= opts.target {
                 break;
             }
@@ -237,12 +297,6 @@ pub fn accumulate(
         .collect();
     let samples = n * per_frame;
     let (image, linear) = mean_image(w, h, &total, samples);
-    let strands = sv
-        .strands
-        .iter()
-        .flatten()
-        .map(|s| u64::from(s.count))
-        .sum();
     Ok(Reference {
         image,
         linear,

@@ -48,7 +48,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
                     tangent: [1.0, 0.0, 0.0, 1.0],
                     uv,
                     comb: [comb[0], comb[1], comb[2], 1.0],
-                    bend: [0.0; 4],
+                    bend: FurVertex::NONE.bend,
                 })
                 .collect(),
             fins: Vec::new(),

@@ -496,6 +496,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
     let mut fin_sources = Vec::new();
     let mut manifest = None;
     let mut any_comb = false;
+    let mut fur_without_uvs = false;
     for (mesh, world) in mesh_instances(doc) {
         let normal_world = Mat3::from_mat4(world).inverse().transpose();
         let flips = world.determinant() < 0.0;
@@ -535,6 +536,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                     let comb = fur::read_comb(doc, r, m.vertex_count())?;
                     if comb.is_some() {
                         any_comb = true;
+                        fur_without_uvs |= m.uvs.is_none();
                         if manifest.is_none() {
                             manifest = fur::manifest(doc, r)?;
                         }
@@ -588,6 +590,16 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
         }
     }
     out.warnings = std::mem::take(&mut reader.warnings);
+    let file = doc.path.display();
+    let collapsed = pelt_io::nodes::collapsed(doc);
+    out.warnings
+        .extend(collapsed.iter().map(|w| format!("{file}: {w}")));
+    if fur_without_uvs {
+        out.warnings.push(format!(
+            "{file}: a furred primitive has no TEXCOORD_0: the fur's strand textures are laid \
+             out by it, so shells draw untextured fur and the strand reference grows no strands"
+        ));
+    }
     out.materials = reader.read.into_iter().map(|(_, m)| m).collect();
     if out.indices.is_empty() {
         return Err(AssetError::Empty {

@@ -14,7 +14,10 @@ use crate::scene::{Camera, FurSettings, Light, Material, Object, Scene, Size, Sk
 pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Scene {
     let (lo, hi) = mesh.bounds();
     let center = (lo + hi) / 2.0;
-    let fur_length = mesh.fur.as_ref().map_or(0.0, |f| f.look.length);
+    let fur_length = mesh.fur.as_ref().map_or(0.0, |f| {
+        let scale = f.vertices.iter().map(|v| v.bend[3]).fold(0.0, f32::max);
+        f.look.length * scale
+    });
     let radius = ((hi - lo).length() / 2.0 + fur_length).max(1e-3);
     let fov_y_deg = 40.0_f32;
     let aspect = width as f32 / height as f32;

@@ -307,7 +307,9 @@ pub fn look_and_textures(
 
 pub use pelt_io::contract::{comb_object, read_comb};
 
-/// One primitive's fur vertices, in the asset's space (`world` applied to the tangent).
+/// One primitive's fur vertices, in the asset's space (`world` applied to the tangent). Fur
+/// length is in mesh units (docs/format.md), so each vertex carries what `world` makes of a
+/// mesh unit along its normal ([`length_scale`]).
 pub fn fur_vertices(
     world: Mat4,
     normals: &[Vec3],
@@ -316,6 +318,7 @@ pub fn fur_vertices(
     comb: Option<&[Vec4]>,
 ) -> Vec<FurVertex> {
     let m3 = Mat3::from_mat4(world);
+    let normal_world = m3.inverse().transpose();
     let flip = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
     (0..normals.len())
         .map(|k| {
@@ -328,10 +331,19 @@ pub fn fur_vertices(
                     .into(),
                 uv: uvs.map_or([0.0; 2], |u| u[k].into()),
                 comb: comb.map_or([1.0, 0.0, 0.0, 0.0], |c| c[k].into()),
-                bend: [0.0; 4],
+                bend: [0.0, 0.0, 0.0, length_scale(normal_world, normals[k])],
             }
         })
         .collect()
+}
+
+/// What a linear map whose inverse transpose is `normal_world` makes of a mesh unit along the
+/// unit normal `n`: the distance between the surface and the surface offset by one unit along
+/// its normal, once mapped (1 / |M⁻ᵀ n|; s for a uniform scale s, the scale across the
+/// surface for a non-uniform one). 0 where the map collapses space (a zero scale axis).
+pub fn length_scale(normal_world: Mat3, n: Vec3) -> f32 {
+    let s = 1.0 / (normal_world * n.normalize_or_zero()).length();
+    if s.is_finite() { s } else { 0.0 }
 }
 
 /// A small hash of an edge, for the fin texture's horizontal offset (so neighbouring fins do
@@ -340,6 +352,10 @@ fn edge_offset(a: u32, b: u32) -> f32 {
     let z = pelt_fur::rng::mix64((u64::from(a.min(b)) << 32) | u64::from(a.max(b)));
     (z >> 40) as f32 / (1u64 << 24) as f32
 }
+
+/// Fins stand only where the fur at one end of the edge is longer than this share of the
+/// fur length (the shells fade fur below 5 %; fin_rebuild.wgsl applies the same rule).
+pub const FIN_MIN_LENGTH: f32 = 0.05;
 
 /// The primitive's fin edges as instances, in the asset's space. `base` is the index of the
 /// primitive's first vertex in `verts` (already in the asset's space); `mesh` is the primitive
@@ -375,9 +391,13 @@ pub fn fin_instances(
         let [f0, f1] = g
             .face_normals
             .map(|f| (normal_world * f).normalize_or_zero());
+        // w: the comb length in the asset's units; 0 at both ends of an edge whose fur is
+        // shorter than FIN_MIN_LENGTH at either end (fins.wgsl draws no fin there).
+        let bare = fa.comb[3].max(fb.comb[3]) <= FIN_MIN_LENGTH;
         let comb = |v: &crate::vertex::Vertex, f: &FurVertex| {
             let c = Vec4::from(f.comb);
-            comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(c.w)
+            let length = if bare { 0.0 } else { f.comb_length() };
+            comb_object(Vec3::from(v.normal), Vec4::from(f.tangent), c.truncate()).extend(length)
         };
         let uv_len = (Vec2::from(fa.uv) - Vec2::from(fb.uv)).length();
         let mid_uv = 0.5 * (Vec2::from(va.uv) + Vec2::from(vb.uv));

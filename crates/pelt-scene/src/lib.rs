@@ -27,6 +27,7 @@ pub mod knobs;
 pub mod material;
 pub mod orbit;
 pub mod plan;
+pub mod precision;
 pub mod procedural;
 pub mod scene;
 pub mod shading;

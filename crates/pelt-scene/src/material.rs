@@ -46,17 +46,19 @@ pub struct Material {
 impl Default for Material {
     /// The material of a primitive without one and of built-in shapes: no textures, a
     /// dielectric (metallic 0) of roughness 0.5, the preview's neutral surface (its specular
-    /// term unscaled), single-sided as glTF's default material is. glTF's own default (metallic 1, roughness 1) would draw such meshes as
-    /// unlit black metal in a renderer without environment reflections; materials that exist
-    /// get glTF's defaults for the factors they leave out.
+    /// term unscaled), single-sided as glTF's default material is; the material a bake adds to
+    /// a furred primitive without one has the same factors. glTF's own default (metallic 1,
+    /// roughness 1) would draw such meshes as unlit black metal in a renderer without
+    /// environment reflections; materials that exist get glTF's defaults for the factors they
+    /// leave out.
     fn default() -> Self {
         Material {
             base_color: None,
             normal: None,
             normal_scale: 1.0,
             metallic_roughness: None,
-            metallic: 0.0,
-            roughness: 0.5,
+            metallic: pelt_io::texture::NEUTRAL_METALLIC,
+            roughness: pelt_io::texture::NEUTRAL_ROUGHNESS,
             tex_coord: 0,
             double_sided: false,
         }

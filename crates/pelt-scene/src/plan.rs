@@ -180,8 +180,11 @@ pub struct PlannedFur {
     pub fins: bool,
     /// DSF object ID of its outer shell's stippled texels.
     pub shell_id: u32,
-    /// Fur length in the asset's units.
+    /// Fur length in mesh units (the asset's units where no node scales the mesh).
     pub length: f32,
+    /// The most the fur reaches out from the mesh, in the asset's units: the length times the
+    /// largest length scale of the mesh's nodes (`FurVertex::bend`'s w).
+    pub reach: f32,
     /// Linear root colour (times the object's colour).
     pub base_color: Vec3,
     /// Linear tip colour (times the object's colour).
@@ -361,6 +364,9 @@ pub struct MeshInfo {
     pub texel_density: f32,
     /// Whether the GPU skins it (a fur spring has motion to follow).
     pub skinned: bool,
+    /// The largest length scale of its fur vertices (what its nodes make of a mesh unit
+    /// across the surface); 1 without fur.
+    pub fur_scale: f32,
 }
 
 impl MeshInfo {
@@ -377,6 +383,9 @@ impl MeshInfo {
             }),
             texel_density: crate::footprint::texel_density(mesh),
             skinned: mesh.skin.is_some(),
+            fur_scale: mesh.fur.as_ref().map_or(1.0, |f| {
+                f.vertices.iter().map(|v| v.bend[3]).fold(0.0, f32::max)
+            }),
         }
     }
 }
@@ -480,7 +489,7 @@ impl ScenePlan {
                     .iter()
                     .map(|a| a.truncate().length())
                     .fold(0.0f32, f32::max);
-                Some(f.length * scale)
+                Some(f.reach * scale)
             })
             .fold(0.0, f32::max)
     }
@@ -542,6 +551,7 @@ impl ScenePlan {
                                     && mode != Mode::Strands,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
                                 length: f.length.unwrap_or(look.length),
+                                reach: f.length.unwrap_or(look.length) * info.fur_scale,
                                 base_color: look.base_color * color,
                                 tip_color: look.tip_color * color,
                                 uv_scale: look.uv_scale,
@@ -616,13 +626,19 @@ impl ScenePlan {
             };
             // Fur reaches out to its length (times a comb length of at most 1) beyond the
             // mesh: an object whose base mesh is off screen can still show its fur.
-            let reach = planned.fur.map_or(0.0, |f| f.length.max(0.0) * 1.1);
+            let reach = planned.fur.map_or(0.0, |f| f.reach.max(0.0) * 1.1);
             let bounds = (
                 info.bounds.0 - Vec3::splat(reach),
                 info.bounds.1 + Vec3::splat(reach),
             );
+            notes.extend(crate::precision::fur_note(
+                &scene.camera,
+                &planned,
+                info.bounds,
+            ));
             objects.push((planned, bounds));
         }
+        notes.extend(crate::precision::range_note(&scene.camera));
         let lights: Vec<Light> = scene
             .lights
             .iter()

@@ -68,11 +68,13 @@ impl FurSprings {
     }
 
     /// Each vertex's bend at `t` s of the clip (xyz; zero where no range skins the vertex or
-    /// it has no fur), given its fur records.
+    /// it has no fur), given its fur records; w is the record's length scale, kept.
     pub fn bends(&mut self, t: f32, fur: &[FurVertex]) -> Vec<[f32; 4]> {
         let (binding, clip) = (&self.binding, self.clip);
         let offsets = self.cycle.offsets(t, &|t| roots(binding, clip, t));
-        let mut out = vec![[0.0; 4]; self.count];
+        let mut out: Vec<[f32; 4]> = (0..self.count)
+            .map(|i| [0.0, 0.0, 0.0, fur.get(i).map_or(1.0, |f| f.bend[3])])
+            .collect();
         if offsets.iter().all(|y| *y == Vec3::ZERO) {
             return out;
         }
@@ -82,7 +84,8 @@ impl FurSprings {
             for v in 0..r.job.positions.len() {
                 let i = r.base as usize + v;
                 if let (Some(o), Some(f)) = (out.get_mut(i), fur.get(i)) {
-                    *o = bend(offsets[k], normals[k], self.length * f.comb[3]);
+                    let [x, y, z, _] = bend(offsets[k], normals[k], self.length * f.comb_length());
+                    *o = [x, y, z, f.bend[3]];
                 }
                 k += 1;
             }

@@ -193,7 +193,8 @@ fn root(mesh: &MeshData, t: &Tri, s: &pelt_fur::strands::Strand, w: [f64; 3]) ->
     let vert = |i: usize| &mesh.vertices[i];
     let p = lerp3(&|i| Vec3::from(vert(i).position));
     let n = lerp3(&|i| Vec3::from(vert(i).normal)).normalize_or(Vec3::Z);
-    let (mut comb, mut comb_len) = (Vec3::ZERO, 0.0);
+    // The comb length (0..1, what the fade reads) and its length in the asset's units.
+    let (mut comb, mut comb_len, mut length) = (Vec3::ZERO, 0.0, 0.0);
     if let Some(fv) = fur {
         comb = lerp3(&|i| {
             let c = Vec4::from(fv[i].comb);
@@ -207,6 +208,7 @@ fn root(mesh: &MeshData, t: &Tri, s: &pelt_fur::strands::Strand, w: [f64; 3]) ->
             // The springs' bend (crate::springs), as the shells add it.
             + lerp3(&|i| Vec4::from(fv[i].bend).truncate());
         comb_len = (0..3).map(|k| fv[t.v[k]].comb[3] * w[k] as f32).sum();
+        length = (0..3).map(|k| fv[t.v[k]].comb_length() * w[k] as f32).sum();
     }
     let mut albedo: Vec4 = (0..3).fold(Vec4::ZERO, |acc, k| {
         acc + Vec4::from(vert(t.v[k]).albedo) * w[k] as f32
@@ -228,7 +230,7 @@ fn root(mesh: &MeshData, t: &Tri, s: &pelt_fur::strands::Strand, w: [f64; 3]) ->
     let fade = (comb_len * 20.0).clamp(0.0, 1.0);
     StrandRoot {
         root: p.extend(s.h as f32).into(),
-        normal: n.extend(comb_len).into(),
+        normal: n.extend(length).into(),
         comb: comb.extend(s.r as f32 * per_uv * fade).into(),
         lean: lean.extend(s.tint as f32).into(),
         albedo: albedo.into(),
@@ -278,7 +280,7 @@ mod tests {
                 tangent: [1.0, 0.0, 0.0, 1.0],
                 uv,
                 comb: [1.0, 0.0, 0.0, 1.0],
-                bend: [0.0; 4],
+                bend: FurVertex::NONE.bend,
             })
             .collect();
         MeshData {

@@ -32,8 +32,11 @@ pub struct FurVertex {
     pub uv: [f32; 2],
     /// `_FUR_COMB`: tangent-space comb direction, w = length (0 = no fur).
     pub comb: [f32; 4],
-    /// The springs' bend of the comb in the asset's space, added to the combed direction
-    /// (`crate::springs`; xyz, w unused): zero at rest and wherever no spring moves the fur.
+    /// xyz: the springs' bend of the comb in the asset's space, added to the combed direction
+    /// (`crate::springs`): zero at rest and wherever no spring moves the fur. w: the length
+    /// scale, the asset's units per mesh unit across the surface at this vertex (its node
+    /// transforms' scale along the normal; 1 without a scaling node), which the fur length
+    /// and the comb length, both in mesh units, are multiplied by.
     pub bend: [f32; 4],
 }
 
@@ -43,8 +46,14 @@ impl FurVertex {
         tangent: [1.0, 0.0, 0.0, 1.0],
         uv: [0.0; 2],
         comb: [1.0, 0.0, 0.0, 0.0],
-        bend: [0.0; 4],
+        bend: [0.0, 0.0, 0.0, 1.0],
     };
+
+    /// The comb length in the asset's units per unit of fur length: the baked length (0..1)
+    /// times the length scale (shaders/fur_common.wgsl's `comb_length`).
+    pub fn comb_length(&self) -> f32 {
+        self.comb[3] * self.bend[3]
+    }
 }
 
 /// One fin edge, expanded for the fin quads (an instanced vertex buffer). Keep in sync with

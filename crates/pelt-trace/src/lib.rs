@@ -42,6 +42,19 @@ pub struct Traced {
 
 /// Traces the scene of `plan` seen through `view` at `size`; `max_depth` bounces.
 pub fn render(world: &World, plan: &ScenePlan, view: &View, size: (u32, u32)) -> Traced {
+    render_with(world, plan, view, size, &|_| {})
+}
+
+/// [`render`], calling `row_done` with the number of rows finished as each row finishes
+/// (from the worker threads, in no set order).
+pub fn render_with(
+    world: &World,
+    plan: &ScenePlan,
+    view: &View,
+    size: (u32, u32),
+    row_done: &(dyn Fn(u32) + Sync),
+) -> Traced {
+    let finished = std::sync::atomic::AtomicU32::new(0);
     let tracer = Tracer {
         world,
         max_depth: plan.reflections.max_depth,
@@ -66,6 +79,7 @@ pub fn render(world: &World, plan: &ScenePlan, view: &View, size: (u32, u32)) ->
                 rgba.push(255);
                 mask.push(hit.is_some_and(|o| o != Optics::Diffuse));
             }
+            row_done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
             (rgba, mask)
         })
         .collect();
@@ -89,6 +103,17 @@ pub fn trace_scene(
     meshes: &[pelt_scene::asset::MeshData],
     mesh_of: &[usize],
 ) -> Result<Traced, pelt_scene::sky::SkyError> {
+    trace_scene_with(scene, meshes, mesh_of, &|_| {})
+}
+
+/// [`trace_scene`], calling `row_done` as each of the output's rows is finished
+/// ([`render_with`]).
+pub fn trace_scene_with(
+    scene: &pelt_scene::Scene,
+    meshes: &[pelt_scene::asset::MeshData],
+    mesh_of: &[usize],
+    row_done: &(dyn Fn(u32) + Sync),
+) -> Result<Traced, pelt_scene::sky::SkyError> {
     let infos: Vec<pelt_scene::plan::MeshInfo> =
         meshes.iter().map(pelt_scene::plan::MeshInfo::of).collect();
     let plan = ScenePlan::new(scene, &infos, mesh_of, pelt_scene::Mode::Forward);
@@ -101,10 +126,11 @@ pub fn trace_scene(
     };
     let world = World::new(&plan, meshes, sky);
     let view = View::new(scene);
-    Ok(render(
+    Ok(render_with(
         &world,
         &plan,
         &view,
         (scene.output.width, scene.output.height),
+        row_done,
     ))
 }

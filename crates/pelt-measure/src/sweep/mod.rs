@@ -345,11 +345,23 @@ struct References {
     fur: Option<crate::luminance::FurMask>,
 }
 
+/// What a sweep tells its caller as it goes (for progress on long runs).
+#[derive(Debug, Clone, Copy)]
+pub enum Event<'a> {
+    /// A reference starts.
+    Reference(Truth),
+    /// The strand reference's progress.
+    Strands(&'a crate::strands::Step),
+    /// Setting `.1` of `.2` is measured.
+    Row(&'a Row, usize, usize),
+}
+
 fn references(
     preview: &mut Preview,
     loaded: (&Scene, &[MeshData], &[usize]),
     planned: &[Planned],
     opts: &Options,
+    progress: &mut dyn FnMut(Event<'_>),
 ) -> Result<References, SweepError> {
     let (scene, meshes, of) = loaded;
     let mut truths: Vec<Truth> = planned.iter().map(|p| p.3).collect();
@@ -361,11 +373,17 @@ fn references(
         fur: None,
     };
     for t in truths {
+        progress(Event::Reference(t));
         let started = Instant::now();
         let (image, samples, half, per_sample, strands, frames) = match t {
             Truth::Strands => {
-                let r = crate::strands::reference(preview, scene, meshes, of, opts.reference)?
-                    .converged(opts.reference.target)?;
+                let r = crate::strands::reference_with(
+                    preview,
+                    (scene, meshes, of),
+                    opts.reference,
+                    &mut |s| progress(Event::Strands(s)),
+                )?
+                .converged(opts.reference.target)?;
                 let bare = crate::luminance::bare(preview, scene, meshes, of)?;
                 out.fur = Some(crate::luminance::mask(&r.image, &bare));
                 (
@@ -490,14 +508,15 @@ fn measure(
 }
 
 /// Runs the sweep of `input` (a scene file or an asset) with `base` overrides applied first.
-/// `progress` sees each row as it is measured.
+/// `progress` hears of each reference as it starts, the strand reference's steps and each row
+/// as it is measured.
 pub fn run(
     preview: &mut Preview,
     input: &Path,
     base: &Knobs,
     default_size: (u32, u32),
     opts: &Options,
-    progress: &mut dyn FnMut(&Row),
+    progress: &mut dyn FnMut(Event<'_>),
 ) -> Result<Sweep, SweepError> {
     let started = Instant::now();
     let loaded = knobs::load(input, base, default_size)?;
@@ -510,7 +529,8 @@ pub fn run(
             message: e.to_string(),
         })?;
     }
-    let refs = references(preview, (scene, meshes, of), &planned, opts)?;
+    let refs = references(preview, (scene, meshes, of), &planned, opts, progress)?;
+    let settings = planned.len();
     let mut sv = preview.prepare_loaded(scene, meshes, of, Mode::Inferred)?;
     let mut rows = Vec::with_capacity(planned.len());
     let mut clock = "wall";
@@ -559,7 +579,7 @@ pub fn run(
         };
         write_png(&opts.out, &row.image, &image)?;
         write_png(&opts.out, &row.heat, &flip.heat_map())?;
-        progress(&row);
+        progress(Event::Row(&row, rows.len() + 1, settings));
         rows.push(row);
     }
     report::mark_pareto(&mut rows);

@@ -198,6 +198,9 @@ pub fn write_all(s: &Sweep, dir: &Path) -> Result<(), SweepError> {
     Ok(())
 }
 
+/// The staging folder inside a sweep's output folder.
+pub const STAGING: &str = ".sweep-partial";
+
 /// [`super::run`] with its outputs put into `output` whole: the sweep writes into a staging
 /// folder inside it (`opts.out` is replaced), the report is written there too, and only when
 /// everything succeeded is it moved into place; a failed sweep leaves no partial output.
@@ -206,9 +209,9 @@ pub fn run_into(
     (input, base, default_size): (&Path, &pelt_preview::knobs::Knobs, (u32, u32)),
     opts: super::Options,
     output: &Path,
-    progress: &mut dyn FnMut(&Row),
+    progress: &mut dyn FnMut(super::Event<'_>),
 ) -> Result<Sweep, SweepError> {
-    let staging = output.join(".sweep-partial");
+    let staging = output.join(STAGING);
     let io = |path: &Path, e: std::io::Error| SweepError::Write {
         path: path.display().to_string(),
         message: e.to_string(),

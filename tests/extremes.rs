@@ -1,0 +1,336 @@
+//! Edge cases that once gave a wrong picture or a late error without a word, end to end:
+//! output paths checked before the work (missing folders made, impossible paths refused at
+//! once, nothing left behind), the material the bake adds drawn as the unbaked file is, and
+//! node scales that collapse a mesh named at bake and at render time. Each with a control
+//! that shows the check can fail.
+
+mod common;
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use common::*;
+use pelt_io::Document;
+use serde_json::{Value, json};
+
+fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// `fixtures/sphere.glb` changed by `edit`, written to `dir/name`.
+fn sphere_with(
+    dir: &Path,
+    name: &str,
+    edit: impl FnOnce(&mut serde_json::Map<String, Value>),
+) -> std::path::PathBuf {
+    let mut doc = Document::load(&fixture("sphere.glb")).expect("sphere");
+    edit(&mut doc.json);
+    let path = dir.join(name);
+    write_input(&doc, &path);
+    path
+}
+
+#[test]
+fn a_bad_report_or_depfile_path_fails_before_the_bake_and_writes_nothing() {
+    let dir = scratch("extremes-report-path");
+    std::fs::write(dir.join("file"), b"not a folder").expect("write");
+    let out = dir.join("out/sphere.glb");
+    for flag in ["--report", "--depfile"] {
+        let bad = dir.join("file/r.json");
+        let started = Instant::now();
+        let o = pelt(
+            &[
+                "bake",
+                fixture("sphere.glb").to_str().unwrap_or_default(),
+                "-o",
+                out.to_str().unwrap_or_default(),
+                flag,
+                bad.to_str().unwrap_or_default(),
+            ],
+            &[],
+        );
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{flag}: {e}");
+        assert!(
+            started.elapsed() < Duration::from_secs(5),
+            "{flag}: not before the work"
+        );
+        assert!(
+            e.contains("file/r.json") && e.contains("is a file, not a folder"),
+            "{flag}: {e}"
+        );
+        // The OS error is said once, not repeated by every layer.
+        assert_eq!(e.matches("file/r.json").count(), 1, "{flag}: {e}");
+        assert!(!out.exists(), "{flag}: the .glb was written");
+    }
+    // Control: a report and a depfile in folders that do not exist yet are made and written.
+    let report = dir.join("new/reports/r.json");
+    let depfile = dir.join("new/deps/baked.d");
+    pelt_ok(&[
+        "bake",
+        "-q",
+        fixture("sphere.glb").to_str().unwrap_or_default(),
+        "-o",
+        out.to_str().unwrap_or_default(),
+        "--report",
+        report.to_str().unwrap_or_default(),
+        "--depfile",
+        depfile.to_str().unwrap_or_default(),
+    ]);
+    assert!(out.exists() && report.exists() && depfile.exists());
+}
+
+#[test]
+fn a_render_checks_its_output_before_it_renders() {
+    let dir = scratch("extremes-render-path");
+    std::fs::write(dir.join("file"), b"not a folder").expect("write");
+    let sphere = fixture("sphere.glb");
+    let bad = dir.join("file/s.png");
+    let o = pelt(
+        &[
+            "render",
+            sphere.to_str().unwrap_or_default(),
+            "-o",
+            bad.to_str().unwrap_or_default(),
+            "--size",
+            "32x18",
+        ],
+        &[],
+    );
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("file/s.png: cannot be written") && !e.contains("wrote"),
+        "{e}"
+    );
+    // A missing folder is made, as `pelt bake` makes its output folders.
+    let made = dir.join("missing/deeper/s.png");
+    pelt_ok(&[
+        "render",
+        "-q",
+        sphere.to_str().unwrap_or_default(),
+        "-o",
+        made.to_str().unwrap_or_default(),
+        "--size",
+        "32x18",
+    ]);
+    assert!(made.is_file());
+    assert_eq!(
+        files_under(&dir.join("missing")).len(),
+        1,
+        "a probe file was left behind"
+    );
+}
+
+#[test]
+fn a_node_scale_with_a_zero_axis_is_named_at_bake_and_render_time() {
+    let dir = scratch("extremes-zero-scale");
+    let flat = sphere_with(&dir, "flat.glb", |j| {
+        j["nodes"][0]["scale"] = json!([1.0, 0.0, 1.0]);
+    });
+    let want = "nodes[0]: its scale [1.0, 0.0, 1.0] has a zero axis: the meshes under it are flattened to nothing";
+    let o = pelt_ok(&[
+        "bake",
+        flat.to_str().unwrap_or_default(),
+        "-o",
+        dir.join("baked.glb").to_str().unwrap_or_default(),
+    ]);
+    assert!(stderr(&o).contains(want), "{}", stderr(&o));
+    let o = pelt_ok(&[
+        "render",
+        flat.to_str().unwrap_or_default(),
+        "-o",
+        dir.join("flat.png").to_str().unwrap_or_default(),
+        "--size",
+        "32x18",
+    ]);
+    assert!(stderr(&o).contains(want), "{}", stderr(&o));
+    // Control: a negative (mirroring) scale collapses nothing and says nothing.
+    let mirrored = sphere_with(&dir, "mirrored.glb", |j| {
+        j["nodes"][0]["scale"] = json!([1.0, -1.0, 1.0]);
+    });
+    let o = pelt_ok(&[
+        "bake",
+        mirrored.to_str().unwrap_or_default(),
+        "-o",
+        dir.join("mirrored-baked.glb").to_str().unwrap_or_default(),
+    ]);
+    assert!(!stderr(&o).contains("zero axis"), "{}", stderr(&o));
+}
+
+/// Writes `scene` to `dir/name.json`, renders it to `dir/name.png` and returns the image.
+fn render_scene(dir: &Path, name: &str, scene: &Value) -> pelt_preview::Image {
+    let scene_path = dir.join(format!("{name}.json"));
+    std::fs::write(&scene_path, scene.to_string()).expect("scene");
+    let png = dir.join(format!("{name}.png"));
+    pelt_ok(&[
+        "render",
+        "-q",
+        scene_path.to_str().unwrap_or_default(),
+        "-o",
+        png.to_str().unwrap_or_default(),
+    ]);
+    load_png(&png)
+}
+
+/// Renders `asset` drawn opaque (a one-object scene) at 160×90; returns the image.
+fn render_opaque(dir: &Path, asset: &Path, name: &str) -> pelt_preview::Image {
+    let scene = json!({
+        "output": { "width": 160, "height": 90 },
+        "camera": { "position": [0.0, 1.2, 4.5], "target": [0.0, 0.5, 0.0], "fovYDeg": 40 },
+        "objects": [{ "asset": asset, "material": { "kind": "opaque" } }],
+        "lights": [{ "position": [1.5, 2.0, 2.0], "color": [1, 1, 1], "intensity": 6, "radius": 8 }]
+    });
+    render_scene(dir, name, &scene)
+}
+
+#[test]
+fn a_baked_asset_without_a_material_draws_opaque_as_it_did_unbaked() {
+    let dir = scratch("extremes-opaque");
+    let bare = sphere_with(&dir, "bare.glb", |j| {
+        j.remove("materials");
+        j["meshes"][0]["primitives"][0]
+            .as_object_mut()
+            .map(|p| p.remove("material"));
+    });
+    let baked = dir.join("baked.glb");
+    pelt_ok(&[
+        "bake",
+        "-q",
+        bare.to_str().unwrap_or_default(),
+        "-o",
+        baked.to_str().unwrap_or_default(),
+        "--config",
+        "fixtures/fur.json",
+    ]);
+    let doc = Document::load(&baked).expect("baked");
+    let added = &doc.json["materials"][0];
+    assert_eq!(added["name"], "pelt fur");
+    assert_eq!(added["pbrMetallicRoughness"]["metallicFactor"], 0.0);
+    let before = render_opaque(&dir, &bare, "bare");
+    let after = render_opaque(&dir, &baked, "baked");
+    let flip = |a: &pelt_preview::Image, b: &pelt_preview::Image| {
+        pelt_measure::flip::Flip::new(a, b)
+            .expect("same size")
+            .mean()
+    };
+    let f = flip(&before, &after);
+    println!("opaque, unbaked against baked: FLIP {f:.4}");
+    assert!(f <= 0.05, "FLIP {f}");
+
+    // Negative control: the material as earlier bakes wrote it (glTF's defaults: metal)
+    // draws black, far from the unbaked picture; baking that file again mends it, saying so.
+    let old = dir.join("old.glb");
+    let mut doc = doc;
+    doc.json["materials"][0]
+        .as_object_mut()
+        .map(|m| m.remove("pbrMetallicRoughness"));
+    write_input(&doc, &old);
+    let f_old = flip(&before, &render_opaque(&dir, &old, "old"));
+    println!("opaque, unbaked against the old bake's metal: FLIP {f_old:.4}");
+    assert!(f_old > 0.05, "the control passes: FLIP {f_old}");
+    let rebaked = dir.join("rebaked.glb");
+    let o = pelt_ok(&[
+        "bake",
+        old.to_str().unwrap_or_default(),
+        "-o",
+        rebaked.to_str().unwrap_or_default(),
+        "--config",
+        "fixtures/fur.json",
+    ]);
+    assert!(
+        stderr(&o).contains("\"pelt fur\": an earlier bake added it with glTF's default factors"),
+        "{}",
+        stderr(&o)
+    );
+    let f_re = flip(&before, &render_opaque(&dir, &rebaked, "rebaked"));
+    assert!(f_re <= 0.05, "re-baked: FLIP {f_re}");
+    let doc = Document::load(&rebaked).expect("rebaked");
+    assert_eq!(
+        doc.array("materials").len(),
+        1,
+        "a second fur material was added"
+    );
+}
+
+/// `pelt_fixtures`' unit sphere (under a root node at y = 0.5) with its positions scaled by
+/// `by_positions` and its mesh node scaled by `by_node`, baked with `fixtures/fur.json`.
+fn scaled_sphere(dir: &Path, name: &str, by_positions: f32, by_node: f32) -> std::path::PathBuf {
+    let mut shape = pelt_fixtures::shapes::sphere(24, 48);
+    for p in &mut shape.positions {
+        *p *= by_positions;
+    }
+    let mut doc =
+        pelt_fixtures::build::document(&shape, pelt_fixtures::build::BuildOptions::default());
+    doc.json["nodes"][0]["scale"] = json!([by_node, by_node, by_node]);
+    let input = dir.join(format!("{name}-in.glb"));
+    write_input(&doc, &input);
+    let baked = dir.join(format!("{name}.glb"));
+    pelt_ok(&[
+        "bake",
+        "-q",
+        input.to_str().unwrap_or_default(),
+        "-o",
+        baked.to_str().unwrap_or_default(),
+        "--config",
+        "fixtures/fur.json",
+    ]);
+    baked
+}
+
+/// Renders `asset` as fur of `length` (mesh units) at 160×90, the camera framing a sphere of
+/// radius `s` at y = 0.5; returns the image.
+fn render_fur(dir: &Path, asset: &Path, name: &str, s: f32, length: f32) -> pelt_preview::Image {
+    // pelt's lights fall off as 1 / (1 + d²), which no scale leaves alone: each light's
+    // intensity is set for the same light at the sphere's centre at every scale.
+    let at_centre = |d: f32, e: f32| e * (1.0 + d * d * s * s);
+    let scene = json!({
+        "output": { "width": 160, "height": 90 },
+        "camera": {
+            "position": [0.0, 0.5 + 0.9 * s, 3.2 * s], "target": [0.0, 0.5, 0.0], "fovYDeg": 40,
+            "near": 0.2 * s, "far": 20.0 * s
+        },
+        "ambient": [0.05, 0.05, 0.05],
+        "objects": [{ "asset": asset, "material": { "kind": "fur", "length": length } }],
+        "lights": [
+            { "position": [2.0 * s, 0.5 + 2.5 * s, 3.0 * s], "color": [1, 1, 1],
+              "intensity": at_centre(4.39, 0.7), "radius": 10.0 * s },
+            { "position": [-3.0 * s, 0.5 + s, 1.0 * s], "color": [0.5, 0.6, 1],
+              "intensity": at_centre(3.32, 0.3), "radius": 10.0 * s }
+        ]
+    });
+    render_scene(dir, name, &scene)
+}
+
+#[test]
+fn fur_length_follows_node_scale_as_it_follows_positions() {
+    let dir = scratch("extremes-node-scale");
+    let length = 0.15; // mesh units: 15 % of the unit sphere's radius
+    for s in [0.01f32, 10.0] {
+        let by_positions = scaled_sphere(&dir, &format!("positions-{s}"), s, 1.0);
+        let by_node = scaled_sphere(&dir, &format!("node-{s}"), 1.0, s);
+        // The position-scaled copy's mesh unit is the world's; the node-scaled copy's fur,
+        // given in its own mesh units, follows its node.
+        let a = render_fur(
+            &dir,
+            &by_positions,
+            &format!("positions-{s}"),
+            s,
+            length * s,
+        );
+        let b = render_fur(&dir, &by_node, &format!("node-{s}"), s, length);
+        let f = pelt_measure::flip::Flip::new(&a, &b)
+            .expect("same size")
+            .mean();
+        println!("node scale {s}: position-scaled against node-scaled FLIP {f:.4}");
+        assert!(f <= 0.02, "node scale {s}: FLIP {f}");
+        // Negative control: fur whose length ignores the node (applied in the asset's units,
+        // as the preview once did) is far from the position-scaled picture.
+        let wrong = render_fur(&dir, &by_node, &format!("node-ignored-{s}"), s, length / s);
+        let g = pelt_measure::flip::Flip::new(&a, &wrong)
+            .expect("same size")
+            .mean();
+        println!("node scale {s}: against fur ignoring the node FLIP {g:.4}");
+        assert!(g > 0.02, "node scale {s}: the control passes: FLIP {g}");
+    }
+}
