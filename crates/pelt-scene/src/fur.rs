@@ -6,7 +6,7 @@
 //! heightfield and fin texture with all their mip levels. Assets with a comb but no manifest
 //! (baked without `--config`) get the default strand model's textures, generated here.
 
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{DMat3, Mat3, Mat4, Vec2, Vec3, Vec4};
 pub use pelt_fur::density::Density;
 use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
 use pelt_io::{Document, IoError, PrimitiveRef};
@@ -318,7 +318,8 @@ pub fn fur_vertices(
     comb: Option<&[Vec4]>,
 ) -> Vec<FurVertex> {
     let m3 = Mat3::from_mat4(world);
-    let normal_world = m3.inverse().transpose();
+    // In f64, so that a transform without scale gives exactly 1 (images as before).
+    let normal_world = m3.as_dmat3().inverse().transpose();
     let flip = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
     (0..normals.len())
         .map(|k| {
@@ -338,12 +339,14 @@ pub fn fur_vertices(
 }
 
 /// What a linear map whose inverse transpose is `normal_world` makes of a mesh unit along the
-/// unit normal `n`: the distance between the surface and the surface offset by one unit along
-/// its normal, once mapped (1 / |M⁻ᵀ n|; s for a uniform scale s, the scale across the
-/// surface for a non-uniform one). 0 where the map collapses space (a zero scale axis).
-pub fn length_scale(normal_world: Mat3, n: Vec3) -> f32 {
-    let s = 1.0 / (normal_world * n.normalize_or_zero()).length();
-    if s.is_finite() { s } else { 0.0 }
+/// normal `n`: the distance between the surface and the surface offset by one unit along its
+/// normal, once mapped (|n| / |M⁻ᵀ n|; s for a uniform scale s, the scale across the surface
+/// for a non-uniform one; exactly 1 without scale). 0 where the map collapses space (a zero
+/// scale axis) or `n` is zero.
+pub fn length_scale(normal_world: DMat3, n: Vec3) -> f32 {
+    let n = n.as_dvec3();
+    let s = n.length() / (normal_world * n).length();
+    if s.is_finite() { s as f32 } else { 0.0 }
 }
 
 /// A small hash of an edge, for the fin texture's horizontal offset (so neighbouring fins do
