@@ -19,17 +19,19 @@ pub struct Progress {
 }
 
 impl Progress {
-    /// Progress of `what` over `total` steps (`quiet`: silent).
-    pub fn new(what: &str, total: u64, quiet: bool) -> Progress {
+    /// Progress of `what` over `total` steps (`quiet`: silent); `short` names it on the bar.
+    pub fn new((what, short): (&str, &str), total: u64, quiet: bool) -> Progress {
         let terminal = std::io::stderr().is_terminal();
         let bar = (!quiet && terminal).then(|| {
             let b = ProgressBar::new(total);
+            // The message first and the bar in what is left: indicatif drops a wide message
+            // that does not fit the terminal's width, never the bar.
             if let Ok(style) = ProgressStyle::with_template(
-                "{spinner} {prefix} [{elapsed_precise}] {bar:30} {pos}/{len} (at most {eta} more) {wide_msg}",
+                "{spinner} {prefix}: {msg} [{wide_bar}] {pos}/{len}, at most {eta} left",
             ) {
                 b.set_style(style);
             }
-            b.set_prefix(what.to_owned());
+            b.set_prefix(short.to_owned());
             b.enable_steady_tick(Duration::from_millis(200));
             b
         });
@@ -85,8 +87,9 @@ impl Progress {
     }
 }
 
-/// The strand reference's steps shown on a [`Progress`]: samples per pixel, strands, the two
-/// halves' FLIP against the target, time; a line at its first frame and at every check.
+/// The strand reference's steps shown on a [`Progress`]: samples per pixel (spp), the two
+/// halves' FLIP against the target, time (short enough for an 80-column terminal's bar); a
+/// line at its first frame and at every check.
 #[derive(Default)]
 pub struct StrandSteps {
     last_check: Option<f32>,
@@ -96,13 +99,14 @@ impl StrandSteps {
     /// Shows step `s`.
     pub fn show(&mut self, bar: &mut Progress, s: &pelt_measure::strands::Step) {
         bar.set_length(u64::from(s.max_frames));
-        let flip = s.half_vs_half.map_or(String::new(), |f| {
-            format!(", halves FLIP {f:.4} (target {})", s.target)
-        });
-        let msg = format!(
-            "{} samples per pixel, {} strands{flip}, {:.1} s",
-            s.samples, s.strands, s.elapsed
-        );
+        let flip = s
+            .half_vs_half
+            .map_or(String::new(), |f| format!(", FLIP {f:.4} of {}", s.target));
+        let msg = if s.frames == 0 {
+            format!("{} strands ready, {:.0} s", s.strands, s.elapsed)
+        } else {
+            format!("{} spp{flip}, {:.0} s", s.samples, s.elapsed)
+        };
         let checked = s.half_vs_half != self.last_check;
         self.last_check = s.half_vs_half;
         bar.set(u64::from(s.frames), &msg, s.frames <= 1 || checked);

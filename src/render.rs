@@ -135,7 +135,7 @@ fn strands(
     out: &Path,
 ) -> ExitCode {
     let opts = args.reference.options();
-    let mut bar = Progress::new("strand reference", 1, args.quiet);
+    let mut bar = Progress::new(("strand reference", "strands"), 1, args.quiet);
     bar.say(&format!(
         "strand reference: {}×{}, up to {} samples per pixel, until two halves of them agree \
          within FLIP {}",
@@ -186,10 +186,14 @@ fn raytrace(
     };
     let start = std::time::Instant::now();
     let rows = scene.output.height;
-    let bar = std::sync::Mutex::new(Progress::new("ray tracer", u64::from(rows), args.quiet));
+    let bar = std::sync::Mutex::new(Progress::new(
+        ("ray tracer", "rays"),
+        u64::from(rows),
+        args.quiet,
+    ));
     let row_done = |n: u32| {
         if let Ok(mut b) = bar.lock() {
-            let msg = format!("{n} of {rows} rows, {:.1} s", start.elapsed().as_secs_f64());
+            let msg = format!("{n} rows, {:.0} s", start.elapsed().as_secs_f64());
             b.set(u64::from(n), &msg, false);
         }
     };

@@ -49,7 +49,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let quiet = args.quiet;
-    let mut bar = Progress::new("sweep", 1, quiet);
+    let mut bar = Progress::new(("sweep", "sweep"), 1, quiet);
     let mut strands = crate::progress::StrandSteps::default();
     let mut progress = |e: Event<'_>| match e {
         Event::Reference(t) => bar.say(&format!("sweep: computing the {} reference", t.name())),
@@ -57,7 +57,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         Event::Row(r, i, n) => {
             bar.set_length(n as u64);
             bar.say(&row_line(r));
-            bar.set(i as u64, &format!("{i} of {n} settings"), false);
+            bar.set(i as u64, &format!("{i} of {n} settings measured"), false);
         }
     };
     let input = (args.input.as_path(), &base, crate::render::DEFAULT_SIZE);
