@@ -334,3 +334,29 @@ fn fur_length_follows_node_scale_as_it_follows_positions() {
         assert!(g > 0.02, "node scale {s}: the control passes: FLIP {g}");
     }
 }
+
+#[test]
+fn a_missing_asset_is_named_with_its_scene_file_and_resolved_path() {
+    let dir = scratch("extremes-missing-asset");
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, r#"{"objects": [{"asset": "sub/missing.glb"}]}"#).expect("scene");
+    let o = pelt(
+        &[
+            "render",
+            scene.to_str().unwrap_or_default(),
+            "-o",
+            dir.join("m.png").to_str().unwrap_or_default(),
+        ],
+        &[],
+    );
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    let resolved = dir.join("sub/missing.glb");
+    let want = format!(
+        "pelt: {}: objects[0]: {}: read: ",
+        scene.display(),
+        resolved.display()
+    );
+    assert!(e.starts_with(&want), "{e}");
+    assert!(!dir.join("m.png").exists());
+}

@@ -110,9 +110,9 @@ impl MeshData {
     }
 }
 
-/// An object's asset that failed to load.
+/// An object's asset that failed to load (the error names the asset's resolved path).
 #[derive(Debug, thiserror::Error)]
-#[error("objects[{object}] ({}): {source}", path.display())]
+#[error("objects[{object}]: {source}")]
 pub struct ObjectAssetError {
     /// Object index in the scene.
     pub object: usize,

@@ -193,9 +193,16 @@ pub enum InputError {
     /// The asset could not be loaded.
     #[error(transparent)]
     Asset(#[from] AssetError),
-    /// A scene object's asset could not be loaded.
-    #[error(transparent)]
-    Object(#[from] asset::ObjectAssetError),
+    /// A scene object's asset could not be loaded: the scene file, the object, the asset's
+    /// resolved path and why.
+    #[error("{}: {source}", scene.display())]
+    Object {
+        /// The scene file.
+        scene: std::path::PathBuf,
+        /// What failed (boxed: the error stays small on the success path).
+        #[source]
+        source: Box<asset::ObjectAssetError>,
+    },
 }
 
 /// A loaded input: the scene, its meshes and each object's mesh index.
@@ -231,7 +238,11 @@ pub fn load_at(
     let opts = knobs.load_options();
     let (mut scene, meshes, mesh_of) = if is_scene(path) {
         let scene = Scene::load(path)?;
-        let (meshes, of) = asset::load_scene_with(&scene, pose, opts)?;
+        let (meshes, of) =
+            asset::load_scene_with(&scene, pose, opts).map_err(|source| InputError::Object {
+                scene: path.to_owned(),
+                source: Box::new(source),
+            })?;
         (scene, meshes, of)
     } else {
         let mesh = asset::load_at_with(path, pose, opts)?;
