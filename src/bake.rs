@@ -46,12 +46,14 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
     let outcomes = pelt_batch::run::run(&jobs, &settings, threads, |j, o| progress.done(j, o))?;
     progress.finish();
     let summary = Summary::of(&outcomes, threads, ms(started));
-    if let Some(path) = &args.depfile {
+    let failures = messages::failures(&outcomes);
+    // A failed bake writes no depfile: a build tool reads one only after success, and an
+    // input that failed leaves nothing behind.
+    if let (Some(path), true) = (&args.depfile, failures.is_empty()) {
         let also: Vec<PathBuf> = args.config.iter().cloned().collect();
         let rules = pelt_batch::depfile::rules(&jobs, &outcomes, &also);
         pelt_io::glb::write_atomic(path, pelt_batch::depfile::render(&rules).as_bytes())?;
     }
-    let failures = messages::failures(&outcomes);
     match (jobs.len() > 1, args.quiet) {
         (true, quiet) => {
             if !quiet {

@@ -360,3 +360,34 @@ fn a_missing_asset_is_named_with_its_scene_file_and_resolved_path() {
     assert!(e.starts_with(&want), "{e}");
     assert!(!dir.join("m.png").exists());
 }
+
+#[test]
+fn a_failed_bake_writes_no_depfile() {
+    let dir = scratch("extremes-depfile-failed");
+    let depfile = dir.join("baked.d");
+    let o = pelt(
+        &[
+            "bake",
+            dir.join("missing-folder/").to_str().unwrap_or_default(),
+            "-o",
+            dir.join("out/").to_str().unwrap_or_default(),
+            "--depfile",
+            depfile.to_str().unwrap_or_default(),
+        ],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing-folder"), "{}", stderr(&o));
+    assert!(!depfile.exists(), "a depfile was written for a failed bake");
+    // Control: the same command on an input that bakes writes it.
+    pelt_ok(&[
+        "bake",
+        "-q",
+        fixture("sphere.glb").to_str().unwrap_or_default(),
+        "-o",
+        dir.join("out/").to_str().unwrap_or_default(),
+        "--depfile",
+        depfile.to_str().unwrap_or_default(),
+    ]);
+    assert!(depfile.is_file());
+}
