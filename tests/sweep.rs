@@ -228,36 +228,42 @@ fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
     }
 }
 
-#[test]
-fn a_strand_reference_that_cannot_converge_writes_nothing() {
-    let dir = scratch("strands-unconverged");
+/// `pelt render` of the showcase in strands mode at 64×36, allowed 2 samples per pixel toward
+/// an unreachable target, with `extra` flags; returns the exit code, standard error and
+/// whether the PNG was written.
+fn unconverged_strands(name: &str, extra: &[&str]) -> (Option<i32>, String, bool) {
+    let dir = scratch(name);
     let png = dir.join("strands.png");
     let b = backend();
-    let out = pelt(
-        &[
-            "render",
-            common::fixture("scenes/showcase.json")
-                .to_str()
-                .expect("utf8"),
-            "--mode",
-            "strands",
-            "--size",
-            "64x36",
-            "--max-samples",
-            "2",
-            "--target-flip",
-            "0.0001",
-            "--backend",
-            &b,
-            "-o",
-            png.to_str().expect("utf8"),
-        ],
-        &[],
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let scene = common::fixture("scenes/showcase.json");
+    let mut args = vec![
+        "render",
+        scene.to_str().expect("utf8"),
+        "--mode",
+        "strands",
+        "--size",
+        "64x36",
+        "--max-samples",
+        "2",
+        "--target-flip",
+        "0.0001",
+        "--backend",
+        &b,
+        "-o",
+        png.to_str().expect("utf8"),
+    ];
+    args.extend_from_slice(extra);
+    let out = pelt(&args, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out.status.code(), stderr, png.exists())
+}
+
+#[test]
+fn a_strand_reference_that_cannot_converge_writes_nothing() {
+    let (code, stderr, written) = unconverged_strands("strands-unconverged", &[]);
+    assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("did not converge"), "{stderr}");
-    assert!(!png.exists());
+    assert!(!written);
     // It said where it stood from the start: what it will do, then its first frame (a line
     // each, standard error not being a terminal here).
     assert!(
@@ -274,34 +280,11 @@ fn a_strand_reference_that_cannot_converge_writes_nothing() {
 
 #[test]
 fn quiet_strands_say_nothing_but_the_error() {
-    let dir = scratch("strands-quiet");
-    let b = backend();
-    let scene = common::fixture("scenes/showcase.json");
-    let png = dir.join("strands.png");
-    let out = pelt(
-        &[
-            "render",
-            scene.to_str().expect("utf8"),
-            "--mode",
-            "strands",
-            "--size",
-            "64x36",
-            "--max-samples",
-            "2",
-            "--target-flip",
-            "0.0001",
-            "--backend",
-            &b,
-            "-q",
-            "-o",
-            png.to_str().expect("utf8"),
-        ],
-        &[],
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let (code, stderr, written) = unconverged_strands("strands-quiet", &["-q"]);
+    assert_eq!(code, Some(1), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(stderr.contains("did not converge"), "{stderr}");
+    assert!(!written);
 }
 
 /// A scene of the fixture sphere baked with fur, in `dir`.
