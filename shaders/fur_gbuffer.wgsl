@@ -7,8 +7,7 @@
 // (Listing 2.3). Its texels carry the fur's outer-shell ID, so the material phase can tell
 // them from the base mesh. With Kajiya-Kay fur lighting (Object.fur_model.w = 0) both passes
 // store, in place of a normal, the strand's tangent (the Listing 2.1 path's derivative) at
-// ROOT_HEIGHT and TIP_HEIGHT, flipped toward the viewer (Kajiya-Kay does not see its sign);
-// light.wgsl lights them with Kajiya-Kay and the shells mix the two by height
+// ROOT_HEIGHT and TIP_HEIGHT as it runs from the root; light.wgsl lights them with Kajiya-Kay and the shells mix the two by height
 // (fur_light_inferred.wgsl).
 
 #import pelt::common::{VertexIn, depth_code, encode_normal, facing_normal}
@@ -59,10 +58,11 @@ fn vs_outer(v: VertexIn, f: FurIn) -> FurSurface {
     return fur_surface(v, f, 1.0, TIP_HEIGHT);
 }
 
-// The strand tangent, flipped to face the viewer (the G-buffer encoding holds a hemisphere).
+// The strand tangent as it runs from the root (Kircher & Lawrance's encoding holds every
+// direction but straight away from the viewer): Kajiya-Kay does not see its sign, the shadow
+// lookup lifts the strand along it (shadows.wgsl, strand_shadow_seen).
 fn stored_strand(s: FurSurface) -> vec3<f32> {
-    let t = normalize(s.view_strand);
-    return select(t, -t, t.z < 0.0);
+    return normalize(s.view_strand);
 }
 
 fn kajiya_kay() -> bool {

@@ -6,7 +6,7 @@
 //   specular = (sqrt(1 − (L·T)²) · sqrt(1 − (V·T)²) − (L·T)(V·T))^p
 // with the same windowed inverse-square falloff as every other light in the preview. With the
 // SHADOWS def (a view with a shadow-casting light), each light is weighted by how much of it
-// the strand sees (shadows.wgsl, stepping off the strand toward the light); with the
+// the strand sees (shadows.wgsl, strand_shadow_seen); with the
 // TRACED_SHADOWS def (the strand reference), by the strand's own shadow rays instead.
 
 #define_import_path pelt::fur_light_forward
@@ -15,7 +15,7 @@
 #import pelt::object_bindings::{frame}
 #ifndef TRACED_SHADOWS
 #ifdef SHADOWS
-#import pelt::shadows::{shadow_seen}
+#import pelt::shadows::{strand_shadow_seen}
 #endif
 #endif
 
@@ -64,9 +64,9 @@ fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
 #else
 #ifdef SHADOWS
 #ifdef FUR_SHADOWS
-        seen *= shadow_seen(q.view_pos, l, light, true);
+        seen *= strand_shadow_seen(q.view_pos, t, 0.0, light, true);
 #else
-        seen *= shadow_seen(q.view_pos, l, light, false);
+        seen *= strand_shadow_seen(q.view_pos, t, 0.0, light, false);
 #endif
 #endif
 #endif

@@ -5,8 +5,10 @@
 // an occluder in front of either point is never sampled into the strand. With Kajiya-Kay fur
 // lighting the two hold the strand lit at a quarter and three quarters of its height and are
 // mixed by the fragment's height; with Revie's normals the maximum of the valid samples is
-// taken (the halo of back-lit fur without darkening edges). With none valid, the ambient term. The L-buffer holds light without albedo (inferred lighting), so Revie's
-// division by the albedo is the identity here.
+// taken (the halo of back-lit fur without darkening edges). With none valid, the taps of the
+// same fur at any depth (the fur seen past itself: a camera inside it, a grazing view); with
+// none of those either, the ambient term. The L-buffer holds light without albedo (inferred
+// lighting), so Revie's division by the albedo is the identity here.
 
 #define_import_path pelt::fur_light_inferred
 #import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, depth_from_code, specular_color}
@@ -19,6 +21,11 @@
 struct Taps {
     light: vec4<f32>,
     weight: f32,
+    // The taps whose ID is the surface's at any depth: the same fur elsewhere along the
+    // texel's ray (a camera inside the fur, a grazing view), the fallback where no tap is
+    // valid at the point's depth.
+    near_light: vec4<f32>,
+    near_weight: f32,
 }
 
 // The taps bilinear filtering would read around output pixel `pixel`, on every L-buffer texel
@@ -42,10 +49,15 @@ fn fur_taps(pixel: vec2<f32>, id: u32, depth: f32, threshold: f32, stipple: bool
         tap = clamp(tap, vec2<i32>(0), size - vec2<i32>(1));
         let w = select(1.0 - f.x, f.x, corner.x == 1) * select(1.0 - f.y, f.y, corner.y == 1);
         let d = textureLoad(dsf, tap, 0);
-        let ok = d.y == id && d.x != DEPTH_EMPTY && abs(depth_from_code(d.x, frame) - depth) <= threshold;
+        let same = d.y == id && d.x != DEPTH_EMPTY;
+        let ok = same && abs(depth_from_code(d.x, frame) - depth) <= threshold;
         let wk = select(0.0, max(w, 1e-4), ok);
-        t.light += wk * textureLoad(lbuffer, tap, 0);
+        let wn = select(0.0, max(w, 1e-4), same);
+        let l = textureLoad(lbuffer, tap, 0);
+        t.light += wk * l;
         t.weight += wk;
+        t.near_light += wn * l;
+        t.near_weight += wn;
     }
     return t;
 }
@@ -81,6 +93,8 @@ fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
         l = b.light / b.weight;
     } else if t.weight > 0.0 {
         l = t.light / t.weight;
+    } else if b.near_weight + t.near_weight > 0.0 {
+        l = (b.near_light + t.near_light) / (b.near_weight + t.near_weight);
     }
     out.diffuse = l.rgb;
     out.specular = specular_color(l);

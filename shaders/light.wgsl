@@ -13,7 +13,7 @@
 #import pelt::common::{DEPTH_EMPTY, DEPTH_STEPS, Light, STRAND_LIT, decode_normal, depth_from_code, one_light, point_reach, strand_light, sun_reach}
 #import pelt::fullscreen::{fullscreen_position}
 #import pelt::object_bindings::{frame}
-#import pelt::shadows::{shadow_seen}
+#import pelt::shadows::{shadow_seen, strand_shadow_seen}
 
 @group(1) @binding(0) var normals: texture_2d<f32>;
 @group(1) @binding(1) var dsf: texture_2d<u32>;
@@ -77,7 +77,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let n = decode_normal(textureLoad(normals, px, 0).xy);
     let id = (d.y >> 8u) & 255u;
     if STRAND_LIGHTS && (shell_table[id >> 2u][id & 3u] & STRAND_LIT) != 0u {
-        // A strand has no normal: its shadow lookup steps off it toward the light.
+        // A strand: lit by Kajiya-Kay along its tangent (stored as it runs from the root, not
+        // flipped), its shadow lookup lifted along it.
         let r = reach(p);
         let lit = strand_light(p, n, r, light, frame.ambient.w);
         if !SHADOWS {
@@ -86,7 +87,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if all(lit == vec4<f32>(0.0)) {
             return lit;
         }
-        return lit * shadow_seen(p, r.xyz, light, FUR_SHADOWS);
+        // The stored depth is the strand's to within one step of its code.
+        let step = (frame.proj_params.w - frame.proj_params.z) / DEPTH_STEPS;
+        return lit * strand_shadow_seen(p, n, step, light, FUR_SHADOWS);
     }
     let lit = one_light(p, n, reach(p), light, frame.ambient.w);
     // Each override alone in its condition: a pipeline's constant decides the branch (and

@@ -116,6 +116,52 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     return with_fur(f.yz * size - 0.5, layer, length(d) - texel, fur);
 }
 
+// shadow_seen for a point on a strand, view-space `p` on a strand running along unit `t` from
+// its root. Against the opaque casters the point is lifted along the strand, away from the
+// surface it grows from, as a surface is along its normal (a lift toward the light would
+// carry the root of a strand lit from behind its own surface, a light inside or under it,
+// through that surface and out of its shadow); the fur's optical depth is read where the
+// point lies, one and a half texels toward the light and one nearer. `slack`: how far `p` may
+// be from the strand (world units; the light pass's depth step, 0 in the forward pass),
+// compared that much nearer.
+fn strand_shadow_seen(p: vec3<f32>, t: vec3<f32>, slack: f32, light: Light, fur: bool) -> f32 {
+    if light.shadow.x == 0u {
+        return 1.0;
+    }
+    let slot = light.shadow.x - 1u;
+    let size = f32(textureDimensions(shadow_cubes).x);
+    let to_world = transpose(mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz));
+    var seen: f32;
+    var c: vec2<f32>;
+    var layer: i32;
+    var fur_reach: f32;
+    if light.position_radius.w == 0.0 {
+        let sun = shadow_read.suns[slot];
+        let texel = sun.texel.x;
+        let lifted = p + t * (1.5 * texel);
+        let ql = sun.to_map * vec4<f32>(to_world * (lifted - frame.view[3].xyz), 1.0);
+        let q = sun.to_map * vec4<f32>(to_world * (p - frame.view[3].xyz), 1.0);
+        layer = i32(slot * 6u);
+        seen = filtered(ql.xy * size - 0.5, layer, ql.z - texel - slack);
+        c = q.xy * size - 0.5;
+        fur_reach = q.z - 2.5 * texel - slack;
+    } else {
+        let dist = distance(p, light.position_radius.xyz);
+        let texel = 2.0 * dist / size;
+        let dl = to_world * (p + t * (1.5 * texel) - light.position_radius.xyz);
+        let fl = face_uv(dl);
+        seen = filtered(fl.yz * size - 0.5, i32(slot * 6u) + i32(fl.x), length(dl) - texel - slack);
+        let f = face_uv(to_world * (p - light.position_radius.xyz));
+        c = f.yz * size - 0.5;
+        layer = i32(slot * 6u) + i32(f.x);
+        fur_reach = dist - 2.5 * texel - slack;
+    }
+    if !fur {
+        return seen;
+    }
+    return seen * fur_seen(c, layer, fur_reach);
+}
+
 // The opaque casters' filtered visibility at texel coordinate `c` of `layer` and distance
 // `reach`, times the fur's transmittance there when the fur casts (deep opacity layers).
 fn with_fur(c: vec2<f32>, layer: i32, reach: f32, fur: bool) -> f32 {

@@ -391,3 +391,177 @@ fn a_failed_bake_writes_no_depfile() {
     ]);
     assert!(depfile.is_file());
 }
+
+/// A one-sphere scene at 160×90 looking at the top of `asset` (the unit sphere at y = 0.5,
+/// furred), lit by `lights`, drawn in `mode`.
+fn render_lit_sphere(
+    dir: &Path,
+    asset: &Path,
+    name: &str,
+    lights: Value,
+    mode: &str,
+) -> pelt_preview::Image {
+    let scene = json!({
+        "output": { "width": 160, "height": 90 },
+        "camera": { "position": [0.0, 3.0, 2.5], "target": [0.0, 1.2, 0.0], "fovYDeg": 45, "near": 0.1, "far": 40 },
+        "ambient": [0.03, 0.03, 0.03],
+        "objects": [
+            { "asset": "builtin:cube", "transform": { "translation": [0, -0.6, 0], "scale": [8, 0.2, 8] }, "color": [0.7, 0.7, 0.7] },
+            { "asset": asset, "material": { "kind": "fur" } }
+        ],
+        "lights": lights
+    });
+    let scene_path = dir.join(format!("{name}.json"));
+    std::fs::write(&scene_path, scene.to_string()).expect("scene");
+    let png = dir.join(format!("{name}-{mode}.png"));
+    let mut args = vec![
+        "render",
+        "-q",
+        scene_path.to_str().unwrap_or_default(),
+        "-o",
+        png.to_str().unwrap_or_default(),
+        "--mode",
+        mode,
+    ];
+    if mode == "strands" {
+        args.extend(["--target-flip", "0.02"]);
+    }
+    pelt_ok(&args);
+    load_png(&png)
+}
+
+fn flip_of(a: &pelt_preview::Image, b: &pelt_preview::Image) -> f32 {
+    pelt_measure::flip::Flip::new(a, b)
+        .expect("same size")
+        .mean()
+}
+
+/// A shadow-casting light at the centre of a furry sphere, just under its surface, on it and
+/// among its strands: inferred lighting matches forward (the fur's L-buffer samples are lit
+/// where the strand is and lifted along it, away from its surface, for the shadow lookup);
+/// from inside, the fur is as dark as with no light at all, in the strand reference too.
+#[test]
+fn a_shadow_casting_light_inside_or_on_a_furry_surface_lights_inferred_as_forward() {
+    let dir = scratch("extremes-light-inside");
+    let sphere = scaled_sphere(&dir, "sphere", 1.0, 1.0);
+    let light = |y: f32, shadows: bool| {
+        json!([{ "position": [0.0, y, 0.0], "color": [1.0, 0.95, 0.85], "intensity": 3,
+                 "radius": 10, "shadows": shadows }])
+    };
+    let dark = render_lit_sphere(&dir, &sphere, "unlit", json!([]), "forward");
+    for (name, y, inside) in [
+        ("centre", 0.5, true),
+        ("under", 1.45, true),
+        ("surface", 1.5, false),
+        ("in-fur", 1.51, false),
+    ] {
+        let forward = render_lit_sphere(&dir, &sphere, name, light(y, true), "forward");
+        let inferred = render_lit_sphere(&dir, &sphere, name, light(y, true), "inferred");
+        let f = flip_of(&forward, &inferred);
+        println!("light {name}: inferred against forward FLIP {f:.4}");
+        assert!(f <= 0.06, "light {name}: inferred against forward FLIP {f}");
+        if inside {
+            for (mode, image) in [("forward", &forward), ("inferred", &inferred)] {
+                let g = flip_of(&dark, image);
+                println!("light {name}: {mode} against no light FLIP {g:.4}");
+                assert!(g <= 0.01, "light {name}: {mode} lit from inside: FLIP {g}");
+            }
+        }
+    }
+    let strands = render_lit_sphere(&dir, &sphere, "centre", light(0.5, true), "strands");
+    let g = flip_of(&dark, &strands);
+    println!("light centre: strand reference against no light FLIP {g:.4}");
+    assert!(g <= 0.01, "the strand reference lit from inside: FLIP {g}");
+    // Negative control: the same light casting no shadows lights the fur from inside.
+    for mode in ["forward", "inferred", "strands"] {
+        let leak = render_lit_sphere(&dir, &sphere, "unshadowed", light(0.5, false), mode);
+        let g = flip_of(&dark, &leak);
+        println!("light centre, no shadows: {mode} against no light FLIP {g:.4}");
+        assert!(g > 0.01, "the control passes in {mode}: FLIP {g}");
+    }
+}
+
+/// Pixels where `forward` draws lit fur (mean 8-bit channel over 40) and `test` draws them
+/// near black (under 35 % of forward's).
+fn near_black_where_lit(forward: &pelt_preview::Image, test: &pelt_preview::Image) -> usize {
+    let mean = |p: &[u8]| (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) as f32 / 3.0;
+    forward
+        .rgba
+        .chunks_exact(4)
+        .zip(test.rgba.chunks_exact(4))
+        .filter(|(f, t)| mean(f) > 40.0 && mean(t) < 0.35 * mean(f))
+        .count()
+}
+
+/// The camera inside long fur (0.6 mesh units on the unit sphere, its tips up to 0.6 above
+/// the skin; the camera 0.05 and 0.2 above it): inferred fur has no near-black pixel where
+/// forward draws it lit (fur with no L-buffer sample at its own depth takes the same fur's
+/// samples along the texel's ray), and the view along the skin stays within FLIP 0.12.
+#[test]
+fn inferred_fur_seen_from_inside_is_lit_where_forward_is() {
+    let dir = scratch("extremes-inside-fur");
+    let sphere = scaled_sphere(&dir, "sphere", 1.0, 1.0);
+    let scene = |position: [f32; 3], target: [f32; 3], lights: Value| {
+        json!({
+            "output": { "width": 160, "height": 90 },
+            "camera": { "position": position, "target": target, "fovYDeg": 60, "near": 0.01, "far": 40 },
+            "ambient": [0.03, 0.03, 0.03],
+            "objects": [
+                { "asset": "builtin:cube", "transform": { "translation": [0, -0.6, 0], "scale": [8, 0.2, 8] }, "color": [0.7, 0.7, 0.7] },
+                { "asset": sphere, "material": { "kind": "fur", "length": 0.6 } }
+            ],
+            "lights": lights
+        })
+    };
+    let light = json!([{ "position": [1.5, 3.0, 1.0], "color": [1.0, 0.95, 0.85], "intensity": 6, "radius": 10 }]);
+    for (name, position, target, floor) in [
+        ("along", [0.0, 1.55, 0.0], [1.0, 1.0, 0.0], Some(0.12)),
+        ("down", [0.0, 1.7, 0.0], [0.0, 0.5, 1.0], None),
+    ] {
+        let s = scene(position, target, light.clone());
+        let render = |mode: &str| {
+            let path = dir.join(format!("{name}.json"));
+            std::fs::write(&path, s.to_string()).expect("scene");
+            let png = dir.join(format!("{name}-{mode}.png"));
+            pelt_ok(&[
+                "render",
+                "-q",
+                path.to_str().unwrap_or_default(),
+                "-o",
+                png.to_str().unwrap_or_default(),
+                "--mode",
+                mode,
+            ]);
+            load_png(&png)
+        };
+        let forward = render("forward");
+        let inferred = render("inferred");
+        let black = near_black_where_lit(&forward, &inferred);
+        let f = flip_of(&forward, &inferred);
+        println!(
+            "camera inside the fur, {name}: inferred against forward FLIP {f:.4}, {black} near-black pixels where forward is lit"
+        );
+        assert_eq!(black, 0, "{name}: inferred near black where forward is lit");
+        if let Some(floor) = floor {
+            assert!(f <= floor, "{name}: FLIP {f}");
+        }
+        // Negative control: the counter finds the fur lit by the ambient term alone.
+        let dark = dir.join(format!("{name}-dark.json"));
+        std::fs::write(&dark, scene(position, target, json!([])).to_string()).expect("scene");
+        let png = dir.join(format!("{name}-dark.png"));
+        pelt_ok(&[
+            "render",
+            "-q",
+            dark.to_str().unwrap_or_default(),
+            "-o",
+            png.to_str().unwrap_or_default(),
+            "--mode",
+            "forward",
+        ]);
+        let unlit = near_black_where_lit(&forward, &load_png(&png));
+        assert!(
+            unlit > 1000,
+            "{name}: the control passes: {unlit} near-black pixels"
+        );
+    }
+}

@@ -78,10 +78,17 @@ fn flip_against_64_shells_falls_monotonically_through_4_8_16_32() {
 
 /// Pixels outside the bare sphere's silhouette and inside the fur's reach that show fur.
 fn silhouette_coverage(f: &mut Fixture, fins: bool, coverage: FurCoverage) -> f64 {
-    let mut bare = scene(16, false, FurBlend::Stipple);
+    // Lit by a bright ambient term alone, so a pixel differs from the background wherever fur
+    // covers any of it, however the lights would reach it.
+    let lit = |mut s: Scene| {
+        s.ambient = [1.0; 3];
+        s.lights.clear();
+        s
+    };
+    let mut bare = lit(scene(16, false, FurBlend::Stipple));
     bare.objects[0].material = Material::Opaque;
     let base = f.render(&bare, Mode::Inferred);
-    let mut furred = scene(16, fins, FurBlend::Stipple);
+    let mut furred = lit(scene(16, fins, FurBlend::Stipple));
     furred.fur_coverage = coverage;
     let fur = f.render(&furred, Mode::Inferred);
     let bg = fur.pixel(0, 0);

@@ -196,7 +196,7 @@ impl Occluders {
 
 /// Whether world point `p` on strand `own` (surface normal `n` at its root) sees `light`.
 fn sees(world: &World, occ: &Occluders, p: Vec3, n: Vec3, light: &Emitter, own: u32) -> bool {
-    if !world.sees(p, n, light) {
+    if !world.sees_above(p, n, light) {
         return false;
     }
     let (d, dist) = match *light {

@@ -228,11 +228,27 @@ impl World {
     /// before meeting any traced surface (mirrors and glass included, as their meshes cast in
     /// a shadow map).
     pub fn sees(&self, p: Vec3, g: Vec3, light: &Emitter) -> bool {
+        let toward = match *light {
+            Emitter::Point { position, .. } => position - p,
+            Emitter::Directional { direction } => -direction,
+        };
+        let side = if g.dot(toward) >= 0.0 { g } else { -g };
+        self.sees_from(p, side, light)
+    }
+
+    /// [`World::sees`] for a point on the side of its surface that `n` points to (a strand's
+    /// sample, on or above the surface it grows from): the ray leaves `p` offset along `n`
+    /// whichever side the light is on, so the surface hides a light behind it (inside a
+    /// closed mesh, or under a plane) from the strand's root as from its tip.
+    pub fn sees_above(&self, p: Vec3, n: Vec3, light: &Emitter) -> bool {
+        self.sees_from(p, n, light)
+    }
+
+    /// Whether the shadow ray from `p`, offset by epsilon along `side`, reaches `light`.
+    fn sees_from(&self, p: Vec3, side: Vec3, light: &Emitter) -> bool {
+        let o = p + side * self.epsilon;
         match *light {
             Emitter::Point { position, .. } => {
-                let to = position - p;
-                let side = if g.dot(to) >= 0.0 { g } else { -g };
-                let o = p + side * self.epsilon;
                 let to = position - o;
                 let dist = to.length();
                 if dist <= self.epsilon {
@@ -241,8 +257,6 @@ impl World {
                 self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
             }
             Emitter::Directional { direction } => {
-                let side = if g.dot(direction) <= 0.0 { g } else { -g };
-                let o = p + side * self.epsilon;
                 self.hit(o, -direction, 0.0, f32::INFINITY).is_none()
             }
         }
