@@ -160,16 +160,24 @@ fn a_node_scale_with_a_zero_axis_is_named_at_bake_and_render_time() {
 
 /// Writes `scene` to `dir/name.json`, renders it to `dir/name.png` and returns the image.
 fn render_scene(dir: &Path, name: &str, scene: &Value) -> pelt_preview::Image {
+    render_in(dir, name, scene, &[])
+}
+
+/// [`render_scene`] with more arguments (`--mode M`…), to `dir/name<-each argument>.png`.
+fn render_in(dir: &Path, name: &str, scene: &Value, args: &[&str]) -> pelt_preview::Image {
     let scene_path = dir.join(format!("{name}.json"));
     std::fs::write(&scene_path, scene.to_string()).expect("scene");
-    let png = dir.join(format!("{name}.png"));
-    pelt_ok(&[
+    let tag: String = args.iter().map(|a| format!("-{a}")).collect();
+    let png = dir.join(format!("{name}{tag}.png"));
+    let mut all = vec![
         "render",
         "-q",
         scene_path.to_str().unwrap_or_default(),
         "-o",
         png.to_str().unwrap_or_default(),
-    ]);
+    ];
+    all.extend_from_slice(args);
+    pelt_ok(&all);
     load_png(&png)
 }
 
@@ -411,23 +419,13 @@ fn render_lit_sphere(
         ],
         "lights": lights
     });
-    let scene_path = dir.join(format!("{name}.json"));
-    std::fs::write(&scene_path, scene.to_string()).expect("scene");
-    let png = dir.join(format!("{name}-{mode}.png"));
-    let mut args = vec![
-        "render",
-        "-q",
-        scene_path.to_str().unwrap_or_default(),
-        "-o",
-        png.to_str().unwrap_or_default(),
-        "--mode",
-        mode,
-    ];
-    if mode == "strands" {
-        args.extend(["--target-flip", "0.02"]);
-    }
-    pelt_ok(&args);
-    load_png(&png)
+    let strands = ["--mode", "strands", "--target-flip", "0.02"];
+    let args: &[&str] = if mode == "strands" {
+        &strands
+    } else {
+        &["--mode", mode]
+    };
+    render_in(dir, name, &scene, args)
 }
 
 fn flip_of(a: &pelt_preview::Image, b: &pelt_preview::Image) -> f32 {
@@ -519,23 +517,8 @@ fn inferred_fur_seen_from_inside_is_lit_where_forward_is() {
         ("down", [0.0, 1.7, 0.0], [0.0, 0.5, 1.0], None),
     ] {
         let s = scene(position, target, light.clone());
-        let render = |mode: &str| {
-            let path = dir.join(format!("{name}.json"));
-            std::fs::write(&path, s.to_string()).expect("scene");
-            let png = dir.join(format!("{name}-{mode}.png"));
-            pelt_ok(&[
-                "render",
-                "-q",
-                path.to_str().unwrap_or_default(),
-                "-o",
-                png.to_str().unwrap_or_default(),
-                "--mode",
-                mode,
-            ]);
-            load_png(&png)
-        };
-        let forward = render("forward");
-        let inferred = render("inferred");
+        let forward = render_in(&dir, name, &s, &["--mode", "forward"]);
+        let inferred = render_in(&dir, name, &s, &["--mode", "inferred"]);
         let black = near_black_where_lit(&forward, &inferred);
         let f = flip_of(&forward, &inferred);
         println!(
@@ -546,19 +529,9 @@ fn inferred_fur_seen_from_inside_is_lit_where_forward_is() {
             assert!(f <= floor, "{name}: FLIP {f}");
         }
         // Negative control: the counter finds the fur lit by the ambient term alone.
-        let dark = dir.join(format!("{name}-dark.json"));
-        std::fs::write(&dark, scene(position, target, json!([])).to_string()).expect("scene");
-        let png = dir.join(format!("{name}-dark.png"));
-        pelt_ok(&[
-            "render",
-            "-q",
-            dark.to_str().unwrap_or_default(),
-            "-o",
-            png.to_str().unwrap_or_default(),
-            "--mode",
-            "forward",
-        ]);
-        let unlit = near_black_where_lit(&forward, &load_png(&png));
+        let dark = scene(position, target, json!([]));
+        let dark = render_in(&dir, &format!("{name}-dark"), &dark, &["--mode", "forward"]);
+        let unlit = near_black_where_lit(&forward, &dark);
         assert!(
             unlit > 1000,
             "{name}: the control passes: {unlit} near-black pixels"

@@ -51,6 +51,32 @@ struct Refining {
     view: SceneView,
     mean: Progressive,
     scene: Scene,
+    /// When this mean started (its estimate of the time left).
+    since: Instant,
+}
+
+/// The strands mode's status: the samples so far of [`MAX_REFINE`], a bar, and the time
+/// left at the rate so far (`elapsed`: seconds since the mean started).
+pub fn refine_status(samples: u32, elapsed: f64) -> String {
+    if samples >= MAX_REFINE {
+        return format!(", explicit strands, {samples} samples (done)");
+    }
+    if samples == 0 {
+        return ", explicit strands, starting".to_owned();
+    }
+    const BAR: usize = 16;
+    let filled = (samples as usize * BAR) / MAX_REFINE as usize;
+    let left = elapsed / f64::from(samples) * f64::from(MAX_REFINE - samples);
+    let left = if left < 90.0 {
+        format!("{left:.0} s")
+    } else {
+        format!("{:.0} min", left / 60.0)
+    };
+    format!(
+        ", explicit strands, {samples} of {MAX_REFINE} samples [{}{}], about {left} left (refining while still)",
+        "#".repeat(filled),
+        "-".repeat(BAR - filled)
+    )
 }
 
 /// Everything `pelt view` draws.
@@ -528,6 +554,7 @@ impl Viewer {
                 preview.look(&mut r.view, &scene.camera)?;
                 r.mean.restart();
                 r.scene = scene;
+                r.since = Instant::now();
             }
             _ => {
                 let view = prepare(
@@ -539,7 +566,12 @@ impl Viewer {
                 )?;
                 let mean = Progressive::new(&preview.renderer, size, self.surface.size);
                 self.catch_up(preview, &view)?;
-                self.refining = Some(Refining { view, mean, scene });
+                self.refining = Some(Refining {
+                    view,
+                    mean,
+                    scene,
+                    since: Instant::now(),
+                });
             }
         }
         if let Some(r) = &mut self.refining {
@@ -646,9 +678,8 @@ impl Viewer {
             );
         }
         if self.settings.mode == pelt_preview::Mode::Strands {
-            first += &match self.refining.as_ref().map(|r| r.mean.samples()) {
-                Some(n) if n >= MAX_REFINE => format!(", explicit strands, {n} samples (done)"),
-                Some(n) => format!(", explicit strands, {n} samples (refining while still)"),
+            first += &match self.refining.as_ref() {
+                Some(r) => refine_status(r.mean.samples(), r.since.elapsed().as_secs_f64()),
                 None => ", explicit strands (one sample a frame while moving)".to_owned(),
             };
         } else if let Some(n) = shells {
@@ -769,4 +800,24 @@ pub enum ViewError {
 /// Time since `t`, in milliseconds.
 pub fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The strands status counts the samples against the most, fills its bar and estimates
+    /// the time left at the rate so far; a finished mean says so, with no estimate.
+    #[test]
+    fn the_strands_status_shows_a_bar_and_the_time_left() {
+        let s = refine_status(1024, 10.0);
+        assert!(s.contains("1024 of 4096 samples"), "{s}");
+        assert!(s.contains("[####------------]"), "{s}");
+        assert!(s.contains("about 30 s left"), "{s}");
+        let slow = refine_status(64, 2.0);
+        assert!(slow.contains("about 2 min left"), "{slow}");
+        let done = refine_status(MAX_REFINE, 100.0);
+        assert!(done.contains("(done)") && !done.contains("left"), "{done}");
+        assert!(refine_status(0, 0.0).contains("starting"));
+    }
 }
