@@ -314,7 +314,8 @@ fn render_fur(dir: &Path, asset: &Path, name: &str, s: f32, length: f32) -> pelt
 fn fur_length_follows_node_scale_as_it_follows_positions() {
     let dir = scratch("extremes-node-scale");
     let length = 0.15; // mesh units: 15 % of the unit sphere's radius
-    for s in [0.01f32, 10.0] {
+    let mut pictures = Vec::new();
+    for s in [1e-4f32, 0.01, 10.0, 1e6] {
         let by_positions = scaled_sphere(&dir, &format!("positions-{s}"), s, 1.0);
         let by_node = scaled_sphere(&dir, &format!("node-{s}"), 1.0, s);
         // The position-scaled copy's mesh unit is the world's; the node-scaled copy's fur,
@@ -340,7 +341,24 @@ fn fur_length_follows_node_scale_as_it_follows_positions() {
             .mean();
         println!("node scale {s}: against fur ignoring the node FLIP {g:.4}");
         assert!(g > 0.02, "node scale {s}: the control passes: FLIP {g}");
+        pictures.push(a);
     }
+    // Across ten orders of magnitude the picture holds: the lights' falloff, 1 / (1 + d²) with
+    // d in world units, is flat at the small scales and 1 / d² at the large ones, so the
+    // pictures agree within each pair (nothing lost to precision at 1e-4 or 1e6).
+    for (i, j, what) in [(0, 1, "1e-4 against 0.01"), (2, 3, "10 against 1e6")] {
+        let f = pelt_measure::flip::Flip::new(&pictures[i], &pictures[j])
+            .expect("same size")
+            .mean();
+        println!("scale {what}: FLIP {f:.4}");
+        assert!(f <= 0.02, "scale {what}: FLIP {f}");
+    }
+    // Control: across the falloff's two regimes the measure sees the difference.
+    let f = pelt_measure::flip::Flip::new(&pictures[1], &pictures[2])
+        .expect("same size")
+        .mean();
+    println!("scale 0.01 against 10: FLIP {f:.4}");
+    assert!(f > 0.02, "the control passes: FLIP {f}");
 }
 
 #[test]
