@@ -76,6 +76,11 @@ bench-fur backend="vulkan":
     cargo run --release -- render-bench --experiment fur --backend {{backend}}
     PELT_BACKEND={{backend}} cargo bench -p pelt-preview --bench lbuffer_scale
 
+# The strand reference's time on small and extreme inputs (160x90): docs/reference.md's table.
+bench-strands:
+    cargo build --release
+    bash bench/strands.sh
+
 # The demo creature in a window (bakes it first): orbit, knobs on keys, reload on change.
 view: demo
     cargo run --release -- view out/demo/creature.glb

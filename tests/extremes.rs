@@ -1,7 +1,8 @@
 //! Edge cases that once gave a wrong picture or a late error without a word, end to end:
 //! output paths checked before the work (missing folders made, impossible paths refused at
 //! once, nothing left behind), the material the bake adds drawn as the unbaked file is, and
-//! node scales that collapse a mesh named at bake and at render time. Each with a control
+//! node scales that collapse a mesh named at bake and at render time, mirroring nodes drawn
+//! mirrored, precision notes where the picture blotches and only there. Each with a control
 //! that shows the check can fail.
 
 mod common;
@@ -264,13 +265,18 @@ fn a_baked_asset_without_a_material_draws_opaque_as_it_did_unbaked() {
 /// `pelt_fixtures`' unit sphere (under a root node at y = 0.5) with its positions scaled by
 /// `by_positions` and its mesh node scaled by `by_node`, baked with `fixtures/fur.json`.
 fn scaled_sphere(dir: &Path, name: &str, by_positions: f32, by_node: f32) -> std::path::PathBuf {
+    baked_sphere(dir, name, by_positions, [by_node; 3])
+}
+
+/// [`scaled_sphere`] with the mesh node scaled by `node` per axis.
+fn baked_sphere(dir: &Path, name: &str, by_positions: f32, node: [f32; 3]) -> std::path::PathBuf {
     let mut shape = pelt_fixtures::shapes::sphere(24, 48);
     for p in &mut shape.positions {
         *p *= by_positions;
     }
     let mut doc =
         pelt_fixtures::build::document(&shape, pelt_fixtures::build::BuildOptions::default());
-    doc.json["nodes"][0]["scale"] = json!([by_node, by_node, by_node]);
+    doc.json["nodes"][0]["scale"] = json!(node);
     let input = dir.join(format!("{name}-in.glb"));
     write_input(&doc, &input);
     let baked = dir.join(format!("{name}.glb"));
@@ -555,4 +561,111 @@ fn inferred_fur_seen_from_inside_is_lit_where_forward_is() {
             "{name}: the control passes: {unlit} near-black pixels"
         );
     }
+}
+
+/// `image` mirrored left to right.
+fn mirrored(image: &pelt_preview::Image) -> pelt_preview::Image {
+    let mut out = image.clone();
+    let w = image.width as usize;
+    for (row_in, row_out) in image
+        .rgba
+        .chunks_exact(4 * w)
+        .zip(out.rgba.chunks_exact_mut(4 * w))
+    {
+        for x in 0..w {
+            row_out[4 * x..4 * x + 4].copy_from_slice(&row_in[4 * (w - 1 - x)..4 * (w - x)]);
+        }
+    }
+    out
+}
+
+/// A mirroring node (scale x −1) turns its triangles clockwise (glTF: the determinant's sign
+/// gives the winding): its fur, base and shells, draws as the mirror image of the unmirrored
+/// sphere's, seen and lit from the mirror plane.
+#[test]
+fn a_mirroring_node_draws_its_fur_as_the_mirror_image() {
+    let dir = scratch("extremes-mirroring-node");
+    let plain = baked_sphere(&dir, "plain", 1.0, [1.0, 1.0, 1.0]);
+    let flipped = baked_sphere(&dir, "flipped", 1.0, [-1.0, 1.0, 1.0]);
+    let scene = |asset: &Path, light_x: f32| {
+        json!({
+            "output": { "width": 160, "height": 90 },
+            "camera": { "position": [0.0, 1.4, 3.2], "target": [0.0, 0.5, 0.0], "fovYDeg": 40, "near": 0.2, "far": 20 },
+            "ambient": [0.05, 0.05, 0.05],
+            "objects": [{ "asset": asset, "material": { "kind": "fur" } }],
+            "lights": [{ "position": [light_x, 3.0, 3.0], "color": [1, 1, 1], "intensity": 0.7, "radius": 10 }]
+        })
+    };
+    for mode in ["forward", "inferred"] {
+        let a = render_in(&dir, "plain", &scene(&plain, 0.0), &["--mode", mode]);
+        let b = render_in(&dir, "flipped", &scene(&flipped, 0.0), &["--mode", mode]);
+        let f = flip_of(&a, &mirrored(&b));
+        println!("{mode}: the sphere against its mirror image mirrored back: FLIP {f:.4}");
+        assert!(f <= 0.01, "{mode}: FLIP {f}");
+        // Control: the mirror image under a light off the mirror plane is not the same picture.
+        let c = render_in(
+            &dir,
+            "flipped-lit-aside",
+            &scene(&flipped, 2.0),
+            &["--mode", mode],
+        );
+        let g = flip_of(&a, &mirrored(&c));
+        println!("{mode}: against the mirror image lit from one side: FLIP {g:.4}");
+        assert!(g > 0.01, "{mode}: the control passes: FLIP {g}");
+    }
+}
+
+/// Precision notes name the scenes that blotch and stay quiet for ordinary ones: an
+/// ordinary camera over 4 cm fur says nothing; a far plane so deep that the L-buffer's depth
+/// codes are coarser than the object, and fur finer than float positions resolve (4 cm fur on
+/// a sphere 1000 km across, seen from up close), are each named.
+#[test]
+fn precision_notes_name_what_blotches_and_nothing_else() {
+    let dir = scratch("extremes-precision-notes");
+    let asset = scaled_sphere(&dir, "sphere", 1.0, 1.0);
+    let notes = |name: &str, camera: Value, scale: f32| {
+        let scene = json!({
+            "output": { "width": 64, "height": 36 },
+            "camera": camera,
+            "objects": [{ "asset": asset, "transform": { "scale": [scale, scale, scale] },
+                          "material": { "kind": "fur", "length": 0.04 / scale } }],
+            "lights": [{ "position": [2.0 * scale, 3.0 * scale, 3.0 * scale], "color": [1, 1, 1], "intensity": 1, "radius": 10.0 * scale }]
+        });
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, scene.to_string()).expect("scene");
+        let png = dir.join(format!("{name}.png"));
+        let out = pelt_ok(&[
+            "render",
+            path.to_str().unwrap_or_default(),
+            "-o",
+            png.to_str().unwrap_or_default(),
+        ]);
+        let err = stderr(&out);
+        println!("{name}: {err}");
+        err.lines()
+            .filter(|l| l.starts_with("pelt: note:"))
+            .map(str::to_owned)
+            .collect::<Vec<_>>()
+    };
+    let near = |far: f32| json!({ "position": [0.0, 1.4, 3.2], "target": [0.0, 0.5, 0.0], "near": 0.05, "far": far });
+    assert_eq!(notes("ordinary", near(200.0), 1.0), Vec::<String>::new());
+    assert_eq!(
+        notes("far-20km", near(2e4), 1.0).len(),
+        1,
+        "the range note only"
+    );
+    let deep = notes("far-2000km", near(2e6), 1.0);
+    assert!(
+        deep.iter()
+            .any(|n| n
+                .contains("objects[0]: the L-buffer's depth codes over near 0.05 to far 2000000")),
+        "{deep:?}"
+    );
+    let top = 0.5e6 + 1e6;
+    let close = json!({ "position": [0.0, top + 0.6, 0.5], "target": [0.0, top, 0.0], "near": 0.05, "far": 100 });
+    let planet = notes("planet", close, 1e6);
+    assert!(
+        planet.iter().any(|n| n.contains("objects[0]: its fur (4.000e-2 long, 16 shells 2.500e-3 apart) is finer than 32-bit float positions resolve")),
+        "{planet:?}"
+    );
 }

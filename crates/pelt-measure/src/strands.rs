@@ -27,8 +27,8 @@ pub struct Options {
     pub min_samples: u32,
     /// Give up (not converged) after this many samples per pixel.
     pub max_samples: u32,
-    /// Samples per pixel side in one frame (None: the most, up to 4, that keeps the frame
-    /// within 2048 pixels a side).
+    /// Samples per pixel side in one frame (None: chosen from the output size and the
+    /// strands drawn, [`Options::grid_for`]).
     pub supersample: Option<u32>,
 }
 
@@ -43,12 +43,45 @@ impl Default for Options {
     }
 }
 
+/// Fine pixels a frame may hold per strand drawn: a frame's geometry (about 1.3 µs a strand
+/// on llvmpipe) and its fill (about 0.6 µs a fine pixel where fur covers it) then cost about
+/// alike, so a sample costs at most about twice its fill, and the larger grid stratifies
+/// better (docs/reference.md has the measurements).
+pub const FINE_PIXELS_PER_STRAND: u64 = 4;
+
+/// The largest grid side: 256 samples per pixel a frame.
+pub const MAX_GRID: u32 = 16;
+
+/// The largest frame side a grid may make.
+pub const MAX_FRAME_SIDE: u32 = 4096;
+
 impl Options {
-    /// The grid side `k` for an output of `size`.
+    /// The grid side `k` for an output of `size` before the strands are known: the most, up
+    /// to 4, that keeps the frame within 2048 pixels a side.
     pub fn grid(&self, (w, h): (u32, u32)) -> u32 {
         self.supersample
             .unwrap_or_else(|| (2048 / w.max(h).max(1)).clamp(1, 4))
             .max(1)
+    }
+
+    /// The grid side `k` for an output of `size` drawing `strands` strands a frame: at least
+    /// [`Options::grid`], and as large as [`FINE_PIXELS_PER_STRAND`] fine pixels per strand
+    /// asks (at most [`MAX_GRID`], the frame at most [`MAX_FRAME_SIDE`] a side), so a frame's
+    /// fill keeps pace with its geometry. Deterministic: the same scene always gets the
+    /// same grid.
+    pub fn grid_for(&self, size: (u32, u32), strands: u64) -> u32 {
+        let base = self.grid(size);
+        if self.supersample.is_some() {
+            return base;
+        }
+        let (w, h) = (u64::from(size.0.max(1)), u64::from(size.1.max(1)));
+        let wanted = (strands.saturating_mul(FINE_PIXELS_PER_STRAND) / (w * h)).isqrt();
+        let fits = MAX_FRAME_SIDE / size.0.max(size.1).max(1);
+        let k = u32::try_from(wanted)
+            .unwrap_or(u32::MAX)
+            .min(MAX_GRID)
+            .min(fits);
+        base.max(k)
     }
 }
 
@@ -194,17 +227,33 @@ pub fn reference_with(
 ) -> Result<Reference, RenderError> {
     let started = Instant::now();
     let size = (scene.output.width, scene.output.height);
-    let k = opts.grid(size);
-    let mut fine = scene.clone();
-    fine.output.width = size.0 * k;
-    fine.output.height = size.1 * k;
-    let mut sv = preview.prepare_loaded(&fine, meshes, mesh_of, Mode::Strands)?;
+    let at = |k: u32| {
+        let mut fine = scene.clone();
+        fine.output.width = size.0 * k;
+        fine.output.height = size.1 * k;
+        fine
+    };
+    let first = opts.grid(size);
+    let mut sv = preview.prepare_loaded(&at(first), meshes, mesh_of, Mode::Strands)?;
+    let k = opts.grid_for(size, strands_of(&sv));
+    if k != first {
+        preview.update(&mut sv, &at(k), Mode::Strands)?;
+    }
     accumulate(preview, &mut sv, k, opts, &mut |s: &Step| {
         progress(&Step {
             elapsed: started.elapsed().as_secs_f64(),
             ..*s
         });
     })
+}
+
+/// The strands `sv` draws a frame (every fur object's).
+fn strands_of(sv: &SceneView) -> u64 {
+    sv.strands
+        .iter()
+        .flatten()
+        .map(|s| u64::from(s.count))
+        .sum()
 }
 
 /// Adds frame `img` (k× the output size) into `sum`: each output pixel takes its k × k
@@ -245,16 +294,16 @@ pub fn accumulate(
     let mut next_check = (opts.min_samples.div_ceil(per_frame))
         .max(2)
         .next_power_of_two();
-    let max_frames = opts.max_samples.div_ceil(per_frame).max(next_check);
+    // An even count, so the halves end alike; the last frame is a check too.
+    let max_frames = opts
+        .max_samples
+        .div_ceil(per_frame)
+        .max(next_check)
+        .next_multiple_of(2);
     let started = Instant::now();
     let mut n = 0;
     let mut last = f32::INFINITY;
-    let strands = sv
-        .strands
-        .iter()
-        .flatten()
-        .map(|s| u64::from(s.count))
-        .sum();
+    let strands = strands_of(sv);
     let mut step = Step {
         frames: 0,
         max_frames,
@@ -270,7 +319,8 @@ pub fn accumulate(
         let img = preview.render(sv)?;
         add_blocks(&mut halves[(n % 2) as usize], &img, k, &table);
         n += 1;
-        if n == next_check {
+        let check = n == next_check || n == max_frames;
+        if check {
             let (a, _) = mean_image(w, h, &halves[0], n / 2 * per_frame);
             let (b, _) = mean_image(w, h, &halves[1], n / 2 * per_frame);
             last = Flip::new(&a, &b).map_or(f32::INFINITY, |f| f.mean());
@@ -281,7 +331,7 @@ pub fn accumulate(
         step.samples = n * per_frame;
         step.elapsed = started.elapsed().as_secs_f64();
         progress(&step);
-        if n == next_check {
+        if check {
             if last <= opts.target {
                 break;
             }
@@ -327,6 +377,27 @@ mod tests {
             }
             assert!(quadrants.iter().all(|&q| q >= 5), "{quadrants:?}");
         }
+    }
+
+    #[test]
+    fn the_grid_grows_with_the_strands_within_its_bounds() {
+        let o = Options::default();
+        // Few strands: the frame-size rule alone (4 up to 512 pixels a side).
+        assert_eq!(o.grid_for((160, 90), 6_000), 4);
+        assert_eq!(o.grid_for((1280, 720), 6_000), 1);
+        // The fixture sphere's 432,000 strands: 4 fine pixels each over 160×90 is 10 a side.
+        assert_eq!(o.grid_for((160, 90), 432_000), 10);
+        assert_eq!(o.grid_for((1280, 720), 432_000), 1);
+        assert_eq!(o.grid_for((1280, 720), 2_000_000), 2);
+        // At most 16 a side, and a frame at most 4096 pixels a side.
+        assert_eq!(o.grid_for((160, 90), 100_000_000), MAX_GRID);
+        assert_eq!(o.grid_for((1000, 10), 100_000_000), 4);
+        // A grid asked for is kept.
+        let fixed = Options {
+            supersample: Some(2),
+            ..o
+        };
+        assert_eq!(fixed.grid_for((160, 90), 432_000), 2);
     }
 
     #[test]

@@ -326,8 +326,18 @@ impl<'a> Frame<'a> {
         );
     }
 
-    /// Binds fur object `k`'s object constants, mesh, fur vertices and indices; its mesh and
-    /// fur for [`Frame::draw_fur_parts`].
+    /// How object `k`'s front faces wind on screen: a mirroring transform (a negative
+    /// determinant, glTF's rule) turns counter-clockwise triangles clockwise.
+    pub fn front_face(&self, k: usize) -> wgpu::FrontFace {
+        if self.plan.objects[k].model.determinant() < 0.0 {
+            wgpu::FrontFace::Cw
+        } else {
+            wgpu::FrontFace::Ccw
+        }
+    }
+
+    /// Binds fur object `k`'s object constants, mesh, fur vertices and indices (front faces
+    /// wound as its transform makes them); its mesh and fur for [`Frame::draw_fur_parts`].
     pub fn bind_fur(
         &self,
         r: &mut Recipe<'a>,
@@ -343,6 +353,7 @@ impl<'a> Frame<'a> {
             ),
         })?;
         self.bind_object(r, k);
+        r.front(self.front_face(k));
         r.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
         r.push(Step::Vertices(vertex_slot::FUR, &fur.vertices));
         r.push(Step::Indices(&mesh.indices));
@@ -387,12 +398,7 @@ impl<'a> Frame<'a> {
             self.bind_object(recipe, k);
             recipe.push(Step::Vertices(vertex_slot::MESH, &mesh.vertices));
             recipe.push(Step::Indices(&mesh.indices));
-            // A mirroring transform turns counter-clockwise triangles clockwise.
-            let front = if self.plan.objects[k].model.determinant() < 0.0 {
-                wgpu::FrontFace::Cw
-            } else {
-                wgpu::FrontFace::Ccw
-            };
+            let front = self.front_face(k);
             let Some(at) = material else {
                 recipe.sides(None, front);
                 recipe.push(Step::DrawIndexed(0..mesh.count, 0..1));

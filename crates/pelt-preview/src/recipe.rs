@@ -291,6 +291,18 @@ impl<'a> Recipe<'a> {
         );
     }
 
+    /// Switches to the current pipeline with front faces wound `front`, where it culls (a
+    /// pipeline that culls nothing draws alike either way, so it is kept).
+    pub fn front(&mut self, front: wgpu::FrontFace) {
+        self.vary(
+            |d| d.spec.cull.is_some() && d.spec.front_face != front,
+            |mut d| {
+                d.spec.front_face = front;
+                d
+            },
+        );
+    }
+
     /// Switches to `change` of the current pipeline's descriptor where `differs` says it is
     /// not that already. Drawing code asks once per object part: it compares before cloning.
     fn vary(

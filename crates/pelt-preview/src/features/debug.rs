@@ -121,6 +121,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
             }
             None => r.pipeline(pipeline(PLAIN)),
         }
+        r.front(f.front_face(k));
         r.push(Step::Indices(&mesh.indices));
         r.push(Step::DrawIndexed(0..mesh.count, 0..1));
     }
