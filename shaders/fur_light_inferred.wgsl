@@ -7,7 +7,8 @@
 // mixed by the fragment's height; with Revie's normals the maximum of the valid samples is
 // taken (the halo of back-lit fur without darkening edges). With none valid, the taps of the
 // same fur at any depth (the fur seen past itself: a camera inside it, a grazing view); with
-// none of those either, the ambient term. The L-buffer holds light without albedo (inferred
+// none of those either, the same fur's taps within a few texels (a thin edge of fur); then
+// the ambient term. The L-buffer holds light without albedo (inferred
 // lighting), so Revie's division by the albedo is the identity here.
 
 #define_import_path pelt::fur_light_inferred
@@ -62,6 +63,40 @@ fn fur_taps(pixel: vec2<f32>, id: u32, depth: f32, threshold: f32, stipple: bool
     return t;
 }
 
+// How far (in L-buffer texels) the last fallback looks for the same fur.
+const WIDE: i32 = 3;
+
+// The taps of the same fur (its skin's or its outer shell's ID, `ids`, at any depth) within
+// WIDE L-buffer texels of output pixel `pixel`, nearer ones weighted more: the last fallback
+// where a thin edge of the fur (a slab's ends seen at a grazing angle) has none of its own
+// four taps; with none here either, the ambient term.
+fn wide_taps(pixel: vec2<f32>, ids: vec2<u32>) -> vec4<f32> {
+    let ratio = frame.lbuffer_size.xy * frame.target_size.zw;
+    let size = vec2<i32>(frame.lbuffer_size.xy);
+    let c = vec2<i32>(floor(pixel * ratio));
+    var sum = vec4<f32>(0.0);
+    var weight = 0.0;
+    for (var y = -WIDE; y <= WIDE; y++) {
+        for (var x = -WIDE; x <= WIDE; x++) {
+            let tap = c + vec2<i32>(x, y);
+            if any(tap < vec2<i32>(0)) || any(tap >= size) {
+                continue;
+            }
+            let d = textureLoad(dsf, tap, 0);
+            if d.x == DEPTH_EMPTY || (d.y != ids.x && d.y != ids.y) {
+                continue;
+            }
+            let w = 1.0 / f32(1 + x * x + y * y);
+            sum += w * textureLoad(lbuffer, tap, 0);
+            weight += w;
+        }
+    }
+    if weight == 0.0 {
+        return vec4<f32>(frame.ambient.rgb, 0.0);
+    }
+    return sum / weight;
+}
+
 // `suns`: unused here (the L-buffer holds every light); fur_light_forward.wgsl's signature.
 fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
     var out: FurLight;
@@ -95,6 +130,8 @@ fn fur_lighting(q: FurQuery, suns: bool) -> FurLight {
         l = t.light / t.weight;
     } else if b.near_weight + t.near_weight > 0.0 {
         l = (b.near_light + t.near_light) / (b.near_weight + t.near_weight);
+    } else {
+        l = wide_taps(q.base_pixel, vec2<u32>(base_id, top_id));
     }
     out.diffuse = l.rgb;
     out.specular = specular_color(l);

@@ -476,8 +476,21 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("pelt: {e:#}");
+            eprintln!("pelt: {}", message(&e));
             ExitCode::from(2)
         }
     }
+}
+
+/// `e` and each cause its message does not already hold (errors here name their source in
+/// their own message, so the chain would say it twice).
+fn message(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let cause = cause.to_string();
+        if !text.contains(&cause) {
+            text = format!("{text}: {cause}");
+        }
+    }
+    text
 }

@@ -58,11 +58,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         crate::RenderMode::Gpu(m) => m,
         crate::RenderMode::Raytrace => return raytrace(args, &scene, &meshes, &of),
     };
+    // A plan that cannot run is named with its scene before the GPU starts.
+    let plan = match Plan::new(&scene, &meshes, &of, mode) {
+        Ok(p) => p,
+        Err(e) => return Ok(fail(format_args!("{}: {e}", args.input.display()))),
+    };
     if args.explain {
-        match Plan::new(&scene, &meshes, &of, mode) {
-            Ok(p) => print!("{}", p.explain()),
-            Err(e) => return Ok(fail(e)),
-        }
+        print!("{}", plan.explain());
         if args.output.is_none() && args.bench.is_none() {
             return Ok(ExitCode::SUCCESS);
         }
@@ -92,6 +94,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         );
     }
     if let (Mode::Strands, Some(out), None) = (mode, &args.output, args.bench) {
+        for n in &plan.notes {
+            eprintln!("pelt: note: {n}");
+        }
         return Ok(strands(args, &mut preview, (&scene, &meshes, &of), out));
     }
     let result = (|| -> Result<(), RenderError> {

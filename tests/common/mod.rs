@@ -283,3 +283,46 @@ pub fn bake_report(args: &[&str]) -> serde_json::Value {
     let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("report");
     report["inputs"][0].clone()
 }
+
+/// Mean FLIP between two images of one size.
+pub fn flip_of(a: &pelt_preview::Image, b: &pelt_preview::Image) -> f32 {
+    pelt_measure::flip::Flip::new(a, b)
+        .expect("same size")
+        .mean()
+}
+
+/// Pixels where `forward` draws lit fur (mean 8-bit channel over 40) and `test` draws them
+/// near black (under 35 % of forward's).
+pub fn near_black_where_lit(forward: &pelt_preview::Image, test: &pelt_preview::Image) -> usize {
+    let mean = |p: &[u8]| (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) as f32 / 3.0;
+    forward
+        .rgba
+        .chunks_exact(4)
+        .zip(test.rgba.chunks_exact(4))
+        .filter(|(f, t)| mean(f) > 40.0 && mean(t) < 0.35 * mean(f))
+        .count()
+}
+
+/// Writes `scene` to `dir/name.json`, renders it with `args` (`--mode M`…) to
+/// `dir/name<-each argument>.png` and returns the image.
+pub fn render_in(
+    dir: &Path,
+    name: &str,
+    scene: &serde_json::Value,
+    args: &[&str],
+) -> pelt_preview::Image {
+    let scene_path = dir.join(format!("{name}.json"));
+    std::fs::write(&scene_path, scene.to_string()).expect("scene");
+    let tag: String = args.iter().map(|a| format!("-{a}")).collect();
+    let png = dir.join(format!("{name}{tag}.png"));
+    let mut all = vec![
+        "render",
+        "-q",
+        scene_path.to_str().unwrap_or_default(),
+        "-o",
+        png.to_str().unwrap_or_default(),
+    ];
+    all.extend_from_slice(args);
+    pelt_ok(&all);
+    load_png(&png)
+}

@@ -46,7 +46,7 @@ pub fn linear_to_srgb(c: f64) -> f64 {
 }
 
 /// Decodes COLOR_0 into (object-space direction, not normalized; length). RGBA is clamped to
-/// [0, 1] first, as glTF requires of COLOR_0.
+/// [0, 1] first, as glTF requires of COLOR_0; a subnormal alpha is length 0.
 pub fn decode_color(c: Vec4, space: ColorSpace, axes: &AxisMap) -> (DVec3, f64) {
     let ch = |v: f32| {
         let v = f64::from(v).clamp(0.0, 1.0);
@@ -61,7 +61,14 @@ pub fn decode_color(c: Vec4, space: ColorSpace, axes: &AxisMap) -> (DVec3, f64) 
         ch(c.z) * 2.0 - 1.0,
     ];
     let d = if axes.is_identity() { d } else { axes.apply(d) };
-    (DVec3::from_array(d), f64::from(c.w).clamp(0.0, 1.0))
+    // A subnormal length is 0: GPUs flush subnormals, so it would draw as none anyway, and
+    // the bake says so ("no fur") rather than counting it as fur.
+    let length = if c.w.abs() < f32::MIN_POSITIVE {
+        0.0
+    } else {
+        f64::from(c.w).clamp(0.0, 1.0)
+    };
+    (DVec3::from_array(d), length)
 }
 
 /// Listing 2.7 for one vertex: direction `d` (object space, any length) and `length`.

@@ -108,9 +108,17 @@ impl TopologyStats {
     }
 
     fn warnings(&self, out: &mut Vec<String>) {
+        if self.nonmanifold_edges > 0 {
+            out.push(format!(
+                "{} of {} edges are shared by three or more triangles (non-manifold): a fin \
+                 along such an edge stands between its two lowest triangles only, and a \
+                 repeated triangle draws its shells twice (denser fur there)",
+                self.nonmanifold_edges, self.edges
+            ));
+        }
         if self.shared_id_pairs > 0 {
             out.push(format!(
-                "{} normal groups: {} neighbouring pairs share an ID ({} groups left without a                  free ID; up to {} groups meet at one vertex, 255 IDs exist)",
+                "{} normal groups: {} neighbouring pairs share an ID ({} groups left without a free ID; up to {} groups meet at one vertex, 255 IDs exist)",
                 self.normal_groups,
                 self.shared_id_pairs,
                 self.uncolorable_groups,

@@ -87,8 +87,12 @@ impl fmt::Display for Mode {
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
     /// The forward reference takes a bounded light array.
-    #[error("forward mode takes at most {max} lights in one pass; the scene has {count} on screen")]
+    #[error(
+        "lights: {mode} mode takes at most {max} lights in one pass; the scene has {count} on screen (inferred and deferred mode light any number)"
+    )]
     TooManyLights {
+        /// The mode that lights them in one pass (forward or strands).
+        mode: Mode,
         /// Lights on screen.
         count: usize,
         /// The limit.
@@ -207,6 +211,18 @@ pub struct PlannedFur {
     /// Whether a pixel of it may be fine enough to resolve single strands at this camera
     /// ([`crate::footprint`]): its shells then use the pipeline with the heightfield taps.
     pub resolved: bool,
+    /// Whether the eye (or its near plane) may lie within the box the fur reaches: the
+    /// shells above the camera then have no L-buffer sample, so the deferred paths light
+    /// this object's shells forward ([`crate::view::View::holds_eye`]).
+    pub eye_inside: bool,
+}
+
+impl PlannedFur {
+    /// Whether the fur reaches nowhere (length 0, or under a node that collapses it): it has
+    /// no shells and no fins to draw, only its skin, as the strand reference draws it.
+    pub fn bald(&self) -> bool {
+        self.reach.is_nan() || self.reach <= 0.0
+    }
 }
 
 /// A light that reaches the screen.
@@ -548,7 +564,8 @@ impl ScenePlan {
                                     .clamp(1, crate::scene::MAX_SHELLS),
                                 fins: f.fins_with(scene.fur_coverage)
                                     && *has_fins
-                                    && mode != Mode::Strands,
+                                    && mode != Mode::Strands
+                                    && f.length.unwrap_or(look.length) * info.fur_scale > 0.0,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
                                 length: f.length.unwrap_or(look.length),
                                 reach: f.length.unwrap_or(look.length) * info.fur_scale,
@@ -562,6 +579,7 @@ impl ScenePlan {
                                 texel_density: info.texel_density,
                                 spring: f.spring.filter(|s| !s.rigid()),
                                 resolved: false,
+                                eye_inside: false,
                             });
                             fur_count += 1;
                             if f.spring.is_some_and(|s| !s.rigid()) && !info.skinned {
@@ -717,6 +735,7 @@ impl Plan {
                         depth: -(vlo.z + vhi.z) / 2.0,
                         fur: Some(PlannedFur {
                             resolved: false,
+                            eye_inside: false,
                             ..f
                         }),
                         ..o.clone()
@@ -737,6 +756,7 @@ impl Plan {
                 );
                 f.resolved = f.coverage == FurCoverage::Analytic
                     && crate::footprint::resolves_strands(finest, f.medium[1]);
+                f.eye_inside = view.holds_eye(o.model, *lo, *hi);
             }
             objects.push(PlannedObject {
                 depth: -(vlo.z + vhi.z) / 2.0,
@@ -817,6 +837,7 @@ impl Plan {
         let culled_lights = scene.scene_lights - lights.len();
         if mode.is_forward() && lights.len() > MAX_FORWARD_LIGHTS {
             return Err(PlanError::TooManyLights {
+                mode,
                 count: lights.len(),
                 max: MAX_FORWARD_LIGHTS,
             });

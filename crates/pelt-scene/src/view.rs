@@ -94,6 +94,23 @@ impl View {
             .map(|p| m.transform_point3(p))
             .fold((Vec3::MAX, Vec3::MIN), |(a, b), q| (a.min(q), b.max(q)))
     }
+
+    /// Whether the eye, or any point of its near plane's rectangle, may lie within the
+    /// asset-space box [lo, hi] placed by `model` (conservative: the box is widened by the
+    /// near rectangle's reach, measured in the model's smallest axis scale).
+    pub fn holds_eye(&self, model: Mat4, lo: Vec3, hi: Vec3) -> bool {
+        let m = self.view * model;
+        if m.determinant().abs() < f32::MIN_POSITIVE {
+            return false;
+        }
+        let eye = m.inverse().transform_point3(Vec3::ZERO);
+        let smallest = [m.x_axis, m.y_axis, m.z_axis]
+            .iter()
+            .map(|a| a.truncate().length())
+            .fold(f32::INFINITY, f32::min);
+        let reach = self.near * (1.0 + self.tan_half[0] + self.tan_half[1]) / smallest;
+        eye.cmpge(lo - reach).all() && eye.cmple(hi + reach).all()
+    }
 }
 
 /// The eight corners of the box [lo, hi].
@@ -148,6 +165,24 @@ mod tests {
     fn view() -> View {
         let scene = Scene::default();
         View::new(&scene)
+    }
+
+    #[test]
+    fn the_eye_is_held_by_a_box_it_or_its_near_plane_lies_in() {
+        let v = view();
+        let eye = v.view.inverse().transform_point3(Vec3::ZERO);
+        let unit = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        let at =
+            |p: Vec3, scale: f32| Mat4::from_translation(p) * Mat4::from_scale(Vec3::splat(scale));
+        assert!(v.holds_eye(at(eye, 1.0), unit.0, unit.1));
+        assert!(v.holds_eye(at(eye + Vec3::X * 1.5, 2.0), unit.0, unit.1));
+        // Just past the box, within the near plane's reach: held; well past it: not.
+        let near = v.near * (1.0 + v.tan_half[0] + v.tan_half[1]);
+        assert!(v.holds_eye(at(eye + Vec3::X * (1.0 + 0.5 * near), 1.0), unit.0, unit.1));
+        assert!(!v.holds_eye(at(eye + Vec3::X * (1.0 + 2.0 * near), 1.0), unit.0, unit.1));
+        assert!(!v.holds_eye(at(eye + Vec3::Y * 3.0, 1.0), unit.0, unit.1));
+        // A collapsed box holds nothing.
+        assert!(!v.holds_eye(at(eye, 0.0), unit.0, unit.1));
     }
 
     #[test]

@@ -112,6 +112,21 @@ fn for_view(f: &Frame<'_>, lighting: Lighting, desc: PipelineDesc) -> PipelineDe
     }
 }
 
+/// Binds what forward-lit layers read in a deferred pass: the light array and, where a
+/// light casts shadows, the shadow cubes.
+fn bind_forward<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    pass: &'static str,
+) -> Result<(), MissingInput> {
+    let (group, offset) = shading::lighting(f, Lighting::Forward).1;
+    r.bind(slot::LIGHTING, group, offset);
+    if shadows::any(f) {
+        r.bind(shadows::slot::CUBES, &shadows::cubes(f, pass)?.read, None);
+    }
+    Ok(())
+}
+
 /// The shells (instance 0: the base mesh), lit by `lighting`.
 pub const fn shells(lighting: Lighting) -> ShaderDesc {
     match lighting {
@@ -412,16 +427,31 @@ pub fn layers<'a>(
 ) -> Result<(), MissingInput> {
     for &k in &f.plan.fur {
         let planned = f.plan.objects[k].fur;
-        let n = planned.map_or(0, |p| p.shells);
+        // Bald fur draws its skin alone (in the base pass).
+        let n = planned.filter(|p| !p.bald()).map_or(0, |p| p.shells);
+        if n == 0 {
+            continue;
+        }
         let coverage = match planned {
             Some(p) if p.coverage == FurCoverage::Binary => Coverage::Binary,
             Some(p) if p.resolved => Coverage::Resolved,
             _ => Coverage::Medium,
         };
-        let desc = layer_pipeline(Layer::Shells(coverage), lighting, blend);
-        r.pipeline(for_view(f, lighting, desc));
+        // With the eye within the fur, the shells above it have no L-buffer sample: its
+        // shells are lit forward, as the forward reference lights them.
+        let inside = lighting == Lighting::Inferred && planned.is_some_and(|p| p.eye_inside);
+        let lit = if inside { Lighting::Forward } else { lighting };
+        let desc = layer_pipeline(Layer::Shells(coverage), lit, blend);
+        r.pipeline(for_view(f, lit, desc));
+        if inside {
+            bind_forward(f, r, pass)?;
+        }
         let (mesh, fur) = f.bind_fur(r, pass, k)?;
         Frame::draw_fur_parts(r, mesh, fur, 1..n + 1);
+        if inside {
+            let (group, offset) = shading::lighting(f, lighting).1;
+            r.bind(slot::LIGHTING, group, offset);
+        }
     }
     let with_fins: Vec<usize> = f
         .plan

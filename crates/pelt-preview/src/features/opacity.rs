@@ -260,7 +260,7 @@ impl OpacityMaps {
 /// `fur_casters`): its outer shell (`nearest`), or its shells without the base mesh.
 fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), MissingInput> {
     for &k in &f.plan.fur_casters {
-        let Some(planned) = f.plan.objects[k].fur else {
+        let Some(planned) = f.plan.objects[k].fur.filter(|p| !p.bald()) else {
             continue;
         };
         let coverage = match planned.coverage {
