@@ -1016,3 +1016,52 @@ fn unambiguous_faults_are_repaired_with_a_warning() {
     );
     validate_clean(&[&out, &dir.join("creature.glb")]);
 }
+
+/// A morph target whose NORMAL displacements are zero (as in Khronos' AnimatedMorphCube,
+/// which the Khronos validator passes): the displacements are not unit vectors and need not
+/// be; the bake keeps the targets, re-gathered with the vertices it splits, and the output is
+/// valid (the validator's control, a zero-length base NORMAL refused, is pelt-io's
+/// `validate::tests`).
+#[test]
+fn morph_targets_with_zero_normal_displacements_bake_and_stay_valid() {
+    let dir = scratch("morph-zero-normals");
+    let shape = pelt_fixtures::shapes::sphere(8, 16);
+    let build = || {
+        let mut doc =
+            pelt_fixtures::build::document(&shape, pelt_fixtures::build::BuildOptions::default());
+        let lift: Vec<[f32; 3]> = shape
+            .normals
+            .iter()
+            .map(|n| (*n * 0.1).to_array())
+            .collect();
+        let zeros = vec![[0.0f32; 3]; shape.positions.len()];
+        let mut p = pelt_io::edit::NewAccessor::f32(&lift);
+        p.min_max = true;
+        let p = doc.push_accessor(p);
+        let n = doc.push_accessor(pelt_io::edit::NewAccessor::f32(&zeros));
+        let prim = &mut doc.json["meshes"][0]["primitives"][0];
+        prim["targets"] = serde_json::json!([{ "POSITION": p, "NORMAL": n }]);
+        doc.json["meshes"][0]["weights"] = serde_json::json!([0.5]);
+        doc
+    };
+    let input = dir.join("in").join("morph.glb");
+    std::fs::create_dir_all(dir.join("in")).expect("in/");
+    write_input(&build(), &input);
+    let out = bake(&input, &dir, &["--config", "fixtures/fur.json"]);
+    validate_clean(&[&out]);
+    let doc = pelt_io::Document::load(&out).expect("load");
+    let prim = &doc.json["meshes"][0]["primitives"][0];
+    let count = |a: &Value| {
+        let i = a.as_u64().expect("accessor") as usize;
+        doc.array("accessors")[i]["count"].as_u64()
+    };
+    let vertices = count(&prim["attributes"]["POSITION"]);
+    let target = &prim["targets"][0];
+    assert_eq!(count(&target["POSITION"]), vertices, "{prim}");
+    assert_eq!(count(&target["NORMAL"]), vertices, "{prim}");
+    let i = target["NORMAL"].as_u64().expect("accessor") as usize;
+    let normals = pelt_io::accessor::read(&doc, i, "NORMAL target")
+        .expect("read")
+        .to_f32::<3>();
+    assert!(normals.iter().all(|n| *n == [0.0; 3]), "displacements kept");
+}

@@ -32,6 +32,7 @@ pub fn load(path: &Path) -> Result<Document> {
 pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
     let mut warnings = Vec::new();
     let text = crate::text::decode("", bytes, &mut warnings);
+    let text = crate::obj_material::name_unnamed(&text, "usemtl", "", &mut warnings);
     let bytes = text.as_bytes();
     check_indices(path, bytes)?;
     let opts = tobj::LoadOptions {
@@ -271,6 +272,36 @@ mod tests {
     use super::*;
 
     const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+    #[test]
+    fn a_material_without_a_name_is_read_with_a_warning() {
+        let dir = std::env::temp_dir().join(format!("pelt-obj-unnamed-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("mkdir");
+        let path = dir.join("a.obj");
+        std::fs::write(dir.join("m.mtl"), "newmtl\r\nKd 1 0 0\r\n").expect("write");
+        std::fs::write(&path, format!("mtllib m.mtl\nusemtl \n{TRI}")).expect("write");
+        let doc = load(&path).expect("an empty material name reads, as assimp reads it");
+        assert_eq!(doc.warnings.len(), 2, "{:?}", doc.warnings);
+        assert!(
+            doc.warnings[0]
+                .contains("line 2: usemtl without a name: read as the material \"unnamed\"")
+                && doc.warnings[1].contains("mtllib \"m.mtl\" line 1: newmtl without a name"),
+            "{:?}",
+            doc.warnings
+        );
+        let materials = doc.array("materials");
+        assert_eq!(materials.len(), 1);
+        assert_eq!(
+            materials[0]["pbrMetallicRoughness"]["baseColorFactor"],
+            json!([1.0, 0.0, 0.0, 1.0]),
+            "the unnamed material is the one the faces use"
+        );
+        // Control: a named material says nothing.
+        std::fs::write(dir.join("m.mtl"), "newmtl red\nKd 1 0 0\n").expect("write");
+        std::fs::write(&path, format!("mtllib m.mtl\nusemtl red\n{TRI}")).expect("write");
+        assert!(load(&path).expect("loads").warnings.is_empty());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn missing_or_escaping_mtllibs_are_warnings() {

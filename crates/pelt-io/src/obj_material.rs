@@ -7,7 +7,8 @@
 //!
 //! What cannot be read is a warning, never a refusal: a missing, empty or unreadable `.mtl`
 //! leaves the mesh without materials, a missing or unsupported image leaves the material
-//! without that texture.
+//! without that texture. A `newmtl` or `usemtl` line without a name (which assimp and
+//! Blender read, and tobj refuses) is read as the material [`UNNAMED`], with a warning.
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -83,6 +84,7 @@ impl<'a> MtlReader<'a> {
         };
         let mut warnings = Vec::new();
         let text = crate::text::decode(&name, &bytes, &mut warnings);
+        let text = name_unnamed(&text, "newmtl", &format!("mtllib {name:?} "), &mut warnings);
         self.warnings.borrow_mut().extend(warnings);
         match tobj::load_mtl_buf(&mut std::io::Cursor::new(text.as_bytes())) {
             Ok((mats, _)) if mats.is_empty() => {
@@ -101,6 +103,39 @@ impl<'a> MtlReader<'a> {
             }
         }
     }
+}
+
+/// The name a `newmtl` or `usemtl` line without one is read under.
+pub(crate) const UNNAMED: &str = "unnamed";
+
+/// `text` with every `keyword` line that names nothing naming [`UNNAMED`] instead, and a
+/// warning per such line (`label` names the file, or is empty for the OBJ itself).
+pub(crate) fn name_unnamed<'a>(
+    text: &'a str,
+    keyword: &str,
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> std::borrow::Cow<'a, str> {
+    let unnamed = |line: &str| {
+        let mut words = line.split_whitespace();
+        words.next() == Some(keyword) && words.next().is_none()
+    };
+    if !text.lines().any(unnamed) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 16);
+    for (n, line) in text.split_inclusive('\n').enumerate() {
+        if unnamed(line) {
+            warnings.push(format!(
+                "{label}line {}: {keyword} without a name: read as the material {UNNAMED:?}",
+                n + 1
+            ));
+            out.push_str(&format!("{keyword} {UNNAMED}\n"));
+        } else {
+            out.push_str(line);
+        }
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// The file name of a texture statement, past its options (`-s 1 1 1`, `-bm 0.5`, …), and the

@@ -746,12 +746,19 @@ fn primitive_accessors(doc: &Document) -> Vec<(String, usize, bool)> {
             let targets = prim.get("targets").and_then(Value::as_array);
             let sets = prim
                 .get("attributes")
+                .map(|a| (format!("{place}/attributes"), a))
                 .into_iter()
-                .chain(targets.into_iter().flatten());
-            for set in sets.filter_map(Value::as_object) {
-                for (name, v) in set {
+                .chain(
+                    targets
+                        .into_iter()
+                        .flatten()
+                        .enumerate()
+                        .map(|(t, a)| (format!("{place}/targets/{t}"), a)),
+                );
+            for (set_place, set) in sets {
+                for (name, v) in set.as_object().into_iter().flatten() {
                     if let Some(a) = v.as_u64() {
-                        out.push((format!("{place}/attributes/{name}"), a as usize, false));
+                        out.push((format!("{set_place}/{name}"), a as usize, false));
                     }
                 }
             }
@@ -829,16 +836,20 @@ fn buffer_view_use(doc: &Document) -> Result<()> {
 }
 
 /// Float COLOR_n values lie in [0, 1]; float NORMAL and TANGENT vectors are unit length
-/// (and TANGENT's w is ±1).
+/// (and TANGENT's w is ±1); morph targets' displacements are left alone.
 fn attribute_values(doc: &Document) -> Result<()> {
     use rayon::prelude::*;
     let accessors = doc.array("accessors");
     let mut jobs: Vec<(String, usize, u8)> = Vec::new();
     for (place, a, index) in primitive_accessors(doc) {
+        // Morph targets hold displacements: neither unit nor within [0, 1].
+        if place.contains("/targets/") {
+            continue;
+        }
         let name = place.rsplit('/').next().unwrap_or("");
         let kind = if name.starts_with("COLOR_") {
             0
-        } else if name == "NORMAL" && !place.contains("targets") {
+        } else if name == "NORMAL" {
             1
         } else if name == "TANGENT" {
             2
@@ -968,4 +979,46 @@ fn repair_bounds(doc: &mut Document) -> Result<Vec<String>> {
         ));
     }
     Ok(repairs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::edit::NewAccessor;
+    use serde_json::json;
+
+    /// One triangle whose NORMAL is `base` and whose one morph target's NORMAL is `target`.
+    fn morphed(base: [f32; 3], target: [f32; 3]) -> Document {
+        let mut doc = Document::empty(std::path::Path::new("m.glb"));
+        let mut p = NewAccessor::f32(&[[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        p.min_max = true;
+        let p = doc.push_accessor(p);
+        let n = doc.push_accessor(NewAccessor::f32(&[base, [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]));
+        let mut d = NewAccessor::f32(&[[0.0f32, 0.0, 0.1]; 3]);
+        d.min_max = true;
+        let d = doc.push_accessor(d);
+        let t = doc.push_accessor(NewAccessor::f32(&[target; 3]));
+        let i = doc.push_accessor(NewAccessor::indices(&[0, 1, 2], 3));
+        let mut attrs = Map::new();
+        attrs.insert("POSITION".into(), json!(p));
+        attrs.insert("NORMAL".into(), json!(n));
+        let mesh = doc.add_mesh_node("m", attrs, i);
+        doc.json["meshes"][mesh]["primitives"][0]["targets"] =
+            json!([{ "POSITION": d, "NORMAL": t }]);
+        doc
+    }
+
+    #[test]
+    fn morph_target_normals_are_displacements_and_base_normals_unit() {
+        let mut ok = morphed([0.0, 0.0, 1.0], [0.0; 3]);
+        check(&mut ok, false).expect("a zero displacement is a displacement");
+        let mut bad = morphed([0.0; 3], [0.0; 3]);
+        let e = check(&mut bad, false)
+            .expect_err("a zero base normal")
+            .to_string();
+        assert!(
+            e.contains("attributes.NORMAL: element 0 has length 0; glTF requires unit vectors"),
+            "{e}"
+        );
+    }
 }
