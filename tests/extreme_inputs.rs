@@ -352,6 +352,8 @@ fn shell_counts_and_fur_lengths_at_their_ends_draw_inferred_as_forward() {
     let sphere = furry_sphere(&dir);
     let near = ([0.0, 1.2, 4.5], 20.0);
     let far = ([0.0, 80.0, 420.0], 1000.0);
+    let near_scene =
+        |material: Value| fur_scene(&sphere, material, near.0, [0.0, 0.5, 0.0], near.1);
     for (shells, length, (eye, depth), floor) in [
         (1, 0.15, near, 0.05),
         (256, 0.15, near, 0.03),
@@ -369,13 +371,7 @@ fn shell_counts_and_fur_lengths_at_their_ends_draw_inferred_as_forward() {
         );
     }
     // Bald fur: the skin, in every mode, as the strand reference draws it.
-    let bald = fur_scene(
-        &sphere,
-        json!({ "kind": "fur", "length": 0 }),
-        near.0,
-        [0.0, 0.5, 0.0],
-        near.1,
-    );
+    let bald = near_scene(json!({ "kind": "fur", "length": 0 }));
     let strands = render_in(&dir, "bald", &bald, &["--mode", "strands"]);
     for (mode, floor) in [("forward", 0.01), ("inferred", 0.05), ("deferred", 0.05)] {
         let f = flip_of(&render_in(&dir, "bald", &bald, &["--mode", mode]), &strands);
@@ -383,13 +379,7 @@ fn shell_counts_and_fur_lengths_at_their_ends_draw_inferred_as_forward() {
         assert!(f <= floor, "bald fur, {mode}: FLIP {f}");
     }
     // Control: furred, the picture is another one.
-    let furred = fur_scene(
-        &sphere,
-        json!({ "kind": "fur", "length": 0.15 }),
-        near.0,
-        [0.0, 0.5, 0.0],
-        near.1,
-    );
+    let furred = near_scene(json!({ "kind": "fur", "length": 0.15 }));
     let f = flip_of(
         &render_in(&dir, "furred", &furred, &["--mode", "forward"]),
         &strands,
@@ -397,13 +387,7 @@ fn shell_counts_and_fur_lengths_at_their_ends_draw_inferred_as_forward() {
     assert!(f > 0.05, "the control passes: FLIP {f}");
     // Shell counts outside 1 to 256 are refused with their place; nothing is written.
     for shells in [0, 257] {
-        let scene = fur_scene(
-            &sphere,
-            json!({ "kind": "fur", "shells": shells }),
-            near.0,
-            [0.0, 0.5, 0.0],
-            near.1,
-        );
+        let scene = near_scene(json!({ "kind": "fur", "shells": shells }));
         let (o, e, png) = render_cli(&dir, &format!("shells-{shells}"), &scene, "inferred");
         assert_eq!(o.status.code(), Some(2), "{e}");
         assert!(

@@ -557,6 +557,8 @@ impl ScenePlan {
                     match &info.fur {
                         Some((look, has_fins)) => {
                             let color = Vec3::from(o.color);
+                            let length = f.length.unwrap_or(look.length);
+                            let reach = length * info.fur_scale;
                             fur = Some(PlannedFur {
                                 shells: f
                                     .shells
@@ -565,10 +567,10 @@ impl ScenePlan {
                                 fins: f.fins_with(scene.fur_coverage)
                                     && *has_fins
                                     && mode != Mode::Strands
-                                    && f.length.unwrap_or(look.length) * info.fur_scale > 0.0,
+                                    && reach > 0.0,
                                 shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
-                                length: f.length.unwrap_or(look.length),
-                                reach: f.length.unwrap_or(look.length) * info.fur_scale,
+                                length,
+                                reach,
                                 base_color: look.base_color * color,
                                 tip_color: look.tip_color * color,
                                 uv_scale: look.uv_scale,
