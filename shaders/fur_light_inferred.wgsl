@@ -76,20 +76,23 @@ fn wide_taps(pixel: vec2<f32>, ids: vec2<u32>) -> vec4<f32> {
     let c = vec2<i32>(floor(pixel * ratio));
     var sum = vec4<f32>(0.0);
     var weight = 0.0;
-    for (var y = -WIDE; y <= WIDE; y++) {
-        for (var x = -WIDE; x <= WIDE; x++) {
-            let tap = c + vec2<i32>(x, y);
-            if any(tap < vec2<i32>(0)) || any(tap >= size) {
-                continue;
-            }
-            let d = textureLoad(dsf, tap, 0);
-            if d.x == DEPTH_EMPTY || (d.y != ids.x && d.y != ids.y) {
-                continue;
-            }
-            let w = 1.0 / f32(1 + x * x + y * y);
-            sum += w * textureLoad(lbuffer, tap, 0);
-            weight += w;
+    // One loop whose bound the compiler cannot know (it depends on the L-buffer's size): an
+    // unrolled loop would be run, masked, by every fragment of a lockstep rasterizer
+    // (llvmpipe, lavapipe); a loop runs only while a lane needs it.
+    let side = 2 * min(WIDE, max(size.x, size.y)) + 1;
+    for (var i = 0; i < side * side; i++) {
+        let o = vec2<i32>(i % side, i / side) - vec2<i32>(side / 2);
+        let tap = c + o;
+        if any(tap < vec2<i32>(0)) || any(tap >= size) {
+            continue;
         }
+        let d = textureLoad(dsf, tap, 0);
+        if d.x == DEPTH_EMPTY || (d.y != ids.x && d.y != ids.y) {
+            continue;
+        }
+        let w = 1.0 / f32(1 + o.x * o.x + o.y * o.y);
+        sum += w * textureLoad(lbuffer, tap, 0);
+        weight += w;
     }
     if weight == 0.0 {
         return vec4<f32>(frame.ambient.rgb, 0.0);
