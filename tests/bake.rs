@@ -161,7 +161,9 @@ fn a_split_leaves_no_unused_accessors_or_views() {
     for m in doc.array("meshes") {
         for p in m["primitives"].as_array().into_iter().flatten() {
             let attrs = p["attributes"].as_object().into_iter().flatten();
-            for a in attrs.map(|(_, v)| v).chain(p.get("indices")) {
+            // Fin records are accessors the primitive's PELT_fur names.
+            let fins = p["extensions"]["PELT_fur"]["fins"].get("accessor");
+            for a in attrs.map(|(_, v)| v).chain(p.get("indices")).chain(fins) {
                 used[a.as_u64().expect("index") as usize] = true;
             }
         }
@@ -170,14 +172,6 @@ fn a_split_leaves_no_unused_accessors_or_views() {
     let mut views = vec![false; doc.array("bufferViews").len()];
     for a in doc.array("accessors") {
         views[a["bufferView"].as_u64().expect("view") as usize] = true;
-    }
-    // Fin records live in a bufferView of their own, referred to from extras.pelt.
-    for m in doc.array("meshes") {
-        for p in m["primitives"].as_array().into_iter().flatten() {
-            if let Some(v) = p["extras"]["pelt"]["fins"]["bufferView"].as_u64() {
-                views[v as usize] = true;
-            }
-        }
     }
     assert!(views.iter().all(|&u| u), "unused views: {views:?}");
 }
@@ -863,7 +857,7 @@ fn auto_tangents_are_mikktspace_exactly_where_a_normal_map_needs_them() {
         args.extend_from_slice(extra);
         let out = bake(input, &dir.join(name), &args);
         let doc = pelt_io::Document::load(&out).expect("load output");
-        let extras = doc.json["meshes"][0]["primitives"][0]["extras"]["pelt"]["tangents"].clone();
+        let extras = doc.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["tangents"].clone();
         (read_baked(&out, 0, 0), primitive_report(&rep), extras)
     };
     let (mapped_auto, rep, extras) = run(&mapped, "mapped-auto", &[]);

@@ -207,7 +207,12 @@ fn bake_embeds_the_textures_and_the_manifest() {
     let c = config.to_str().unwrap_or_default();
     let glb = bake(&fixture("creature.glb"), &dir, &["--config", c]);
     let (doc, material) = load_with_material(&glb);
-    let fur = &doc.json["materials"][material]["extras"]["pelt"]["fur"];
+    // The manifest is the material's PELT_fur (in the manifest layout, as readers see it).
+    let m = &doc.json["materials"][material];
+    assert!(m["extensions"]["PELT_fur"].is_object() && m.get("extras").is_none(), "{m}");
+    let (fur, place) = doc.fur_manifest_json(material).expect("read").expect("manifest");
+    assert_eq!(place, format!("materials[{material}].extensions.PELT_fur"));
+    let fur = &fur;
     assert_eq!(fur["version"], 1);
     assert_eq!(fur["length"], 0.03);
     assert_eq!(fur["shells"], 12);
@@ -313,8 +318,8 @@ fn re_baking_a_baked_file_keeps_one_set_of_fur_images() {
             "{stem}: the second re-bake differs"
         );
         let (doc, m) = load_with_material(&second);
-        let fur = &doc.json["materials"][m]["extras"]["pelt"]["fur"];
-        let t = fur["textures"]["heightfield"]["texture"]
+        let fur = &doc.json["materials"][m]["extensions"]["PELT_fur"];
+        let t = fur["heightfieldTexture"]["index"]
             .as_u64()
             .expect("texture");
         assert!((t as usize) < doc.array("textures").len());
@@ -336,7 +341,7 @@ fn comb_primitives_without_a_material_get_one() {
     let (doc, m) = load_with_material(&glb);
     assert_eq!(doc.json["materials"][m]["name"], "pelt fur");
     assert_eq!(
-        doc.json["materials"][m]["extras"]["pelt"]["fur"]["shells"],
+        doc.json["materials"][m]["extensions"]["PELT_fur"]["shells"],
         12
     );
 }

@@ -446,7 +446,7 @@ fn topology_can_be_limited_to_groups_or_turned_off() {
         );
         assert_eq!(doc.read_fins(PRIM).expect("fins").is_some(), fins, "{mode}");
         assert_eq!(
-            doc.pelt_extras(PRIM).expect("extras").is_some(),
+            doc.fur_primitive(PRIM).expect("PELT_fur").is_some(),
             groups,
             "{mode}"
         );
@@ -525,9 +525,9 @@ fn weld_epsilon_and_normal_tolerance_reach_the_bake() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("0 to 180"));
 }
 
-/// Rewrites the baked file's `extras.pelt` with `edit` and writes it to `to`.
-fn with_pelt_extras(from: &Path, to: &Path, edit: impl FnOnce(&mut Value)) {
-    let mut doc = Document::load(from).expect("load");
+/// Rewrites the legacy fixture's `extras.pelt` with `edit` and writes it to `to`.
+fn with_legacy_extras(to: &Path, edit: impl FnOnce(&mut Value)) {
+    let mut doc = Document::load(&fixture("legacy/sphere-extras.glb")).expect("load");
     let pelt = doc.json["meshes"][0]["primitives"][0]["extras"]
         .get_mut("pelt")
         .expect("extras.pelt");
@@ -541,18 +541,15 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let out = bake(&fixture("torus.glb"), &dir, &[]);
     let info = inspect(&out);
     assert!(info["fin_edges"].as_u64().is_some_and(|n| n > 0), "{info}");
-    assert_eq!(
-        info["primitive"][0]["topology"]["format_version"], 2,
-        "{info}"
-    );
+    assert_eq!(info["primitive"][0]["topology"]["form"], "PELT_fur", "{info}");
     // The torus brings its own TANGENT, kept.
     assert_eq!(
         info["primitive"][0]["topology"]["tangents"], "kept",
         "{info}"
     );
-    // A version-1 file: refused, naming the version and what to do.
+    // A legacy version-1 file: refused, naming the version and what to do.
     let v1 = dir.join("v1.glb");
-    with_pelt_extras(&out, &v1, |p| p["version"] = 1.into());
+    with_legacy_extras(&v1, |p| p["version"] = 1.into());
     let r = pelt(&["inspect", v1.to_str().unwrap_or_default()], &[]);
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success());
@@ -562,16 +559,19 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
             && err.contains("bake the source again"),
         "{err}"
     );
-    // A record whose corner lies past the index list: an error naming the record, no panic.
+    // A record whose corner lies past the index list (the index list unchanged, so the
+    // records are not stale but corrupt): an error naming the record, no panic.
     let doc = Document::load(&out).expect("load");
-    let view = doc.json["meshes"][0]["primitives"][0]["extras"]["pelt"]["fins"]["bufferView"]
+    let acc = doc.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["fins"]["accessor"]
         .as_u64()
-        .expect("fins view") as usize;
+        .expect("fins accessor") as usize;
+    let view = doc.json["accessors"][acc]["bufferView"].as_u64().expect("view") as usize;
     let mut bad = doc.clone();
     let (offset, buffer) = (
         bad.json["bufferViews"][view]["byteOffset"]
             .as_u64()
-            .unwrap_or(0) as usize,
+            .unwrap_or(0) as usize
+            + bad.json["accessors"][acc]["byteOffset"].as_u64().unwrap_or(0) as usize,
         bad.json["bufferViews"][view]["buffer"]
             .as_u64()
             .expect("buffer") as usize,
@@ -583,7 +583,7 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success());
     assert!(
-        err.contains("extras.pelt.fins record 1") && err.contains("corners"),
+        err.contains("extensions.PELT_fur.fins record 1") && err.contains("corners"),
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");

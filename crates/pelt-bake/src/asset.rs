@@ -10,9 +10,9 @@ use std::time::Instant;
 use pelt_io::edit::NewAccessor;
 use pelt_io::mesh::read_primitive;
 use pelt_io::picture::{self, Rgba8};
-use pelt_io::topology::{FORMAT_VERSION, NORMAL_GROUP_ATTRIBUTE, fins_view};
+use pelt_io::topology::NORMAL_GROUP_ATTRIBUTE;
 use pelt_io::triangles;
-use pelt_io::{Document, IoError, PrimitiveRef, ViewData};
+use pelt_io::{Document, IoError, PrimitiveRef};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 
@@ -161,6 +161,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                     doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
                     let extras = Extras {
                         topology: &g.stats,
+                        comb: false,
                         tangents: None,
                         fins: None,
                     };
@@ -244,9 +245,10 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         if opts.topology_mode != TopologyMode::Off {
             let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
             doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
-            let fins = baked.fins.take().map(fins_view);
+            let fins = baked.fins.take();
             let extras = Extras {
                 topology: &baked.stats.topology,
+                comb: true,
                 tangents: baked.stats.tangents,
                 fins,
             };
@@ -381,15 +383,18 @@ fn resolve_generator(
     })
 }
 
-/// What one primitive's `extras.pelt` records.
+/// What one primitive's `extensions.PELT_fur` records.
 struct Extras<'a> {
     topology: &'a TopologyStats,
+    /// Whether the primitive has a comb (`_FUR_COMB`).
+    comb: bool,
     /// Where TANGENT came from (None: the primitive has no comb and kept its own).
     tangents: Option<TangentSource>,
-    fins: Option<ViewData>,
+    fins: Option<Vec<pelt_geom::fins::FinEdge>>,
 }
 
-/// Writes `extras.pelt` (format version, tangent source, normal groups, and fins when given).
+/// Writes `extensions.PELT_fur` (attribute names, tangent source, normal groups, fins when
+/// given, and the index list they were computed from).
 fn write_extras(
     doc: &mut Document,
     r: PrimitiveRef,
@@ -399,7 +404,9 @@ fn write_extras(
 ) -> Result<(), IoError> {
     let (t, fins) = (e.topology, e.fins);
     let mut pelt = Map::new();
-    pelt.insert("version".into(), json!(FORMAT_VERSION));
+    if e.comb {
+        pelt.insert("combAttribute".into(), json!(COMB_ATTRIBUTE));
+    }
     if let Some(source) = e.tangents {
         pelt.insert("tangents".into(), json!(tangent_label(doc, r, source)?));
     }
@@ -429,9 +436,10 @@ fn write_extras(
             json!({ "count": t.fin_edges, "bareEdgesLeftOut": t.bare_edges }),
         );
     }
-    if !doc.set_pelt_extras(r, pelt, fins)? {
+    let indices = doc.corner_list(r)?;
+    if !doc.set_topology(r, pelt, fins, &indices)? {
         warnings.push(format!(
-            "{}: extras is not a JSON object: normal-group counts and fin edges were not stored",
+            "{}: extensions is not a JSON object: normal-group counts and fin edges were not stored",
             doc.place(r)
         ));
     }
@@ -449,9 +457,8 @@ fn tangent_label(
         return Ok(source.name());
     }
     let before = doc
-        .primitive(r)?
-        .get("extras")
-        .and_then(|e| e.get("pelt")?.get("tangents")?.as_str());
+        .fur_primitive(r)?
+        .and_then(|(f, _)| f.get("tangents")?.as_str());
     Ok(
         match [TangentSource::Mikktspace, TangentSource::Gradient]
             .into_iter()

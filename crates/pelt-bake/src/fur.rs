@@ -1,6 +1,6 @@
 //! Embedding fur textures in a baked asset: the PNGs of a [`TextureSet`] (every mip level) as
-//! images, level 0 of each as a texture (REPEAT, trilinear; the fin texture clamps
-//! vertically), and the fur manifest in each fur material's `extras.pelt.fur`. The textures are
+//! images, each level a texture (REPEAT, trilinear; the fin texture clamps vertically), and
+//! the fur manifest in each fur material's `extensions.PELT_fur` (`pelt_io::extension`). The textures are
 //! generated once and shared by every asset of a run.
 
 use std::time::Instant;
@@ -8,9 +8,12 @@ use std::time::Instant;
 use pelt_fur::set::level_name;
 use pelt_fur::{FurConfig, FurError, TextureSet};
 use pelt_io::texture::gl;
+use pelt_io::extension::{
+    EXTENSION, extension_from_manifest, for_each_material_texture, remove_legacy_fur,
+    sheen_fallback,
+};
 use pelt_io::{Document, IoError, PrimitiveRef};
 use serde::Serialize;
-use serde_json::json;
 
 /// Name of the material pelt adds for comb primitives that have none.
 pub const FUR_MATERIAL_NAME: &str = "pelt fur";
@@ -134,26 +137,43 @@ pub fn embed(
         gl::REPEAT,
         gl::CLAMP_TO_EDGE,
     );
-    let mut textures = std::collections::BTreeMap::new();
+    // Every level is a texture (level 0 the one a textureInfo names, the others its
+    // `mipLevels`), so that tools which prune or dedup textures keep and remap them all.
+    let mut by_image = std::collections::BTreeMap::new();
     for (stem, sampler) in [("heightfield", tile), ("dots", tile), ("fin", fin)] {
-        let image = images[&level_name(stem, 0)];
-        textures.insert(
-            stem,
-            doc.push_texture(image, sampler, &format!("pelt fur {stem}")),
-        );
+        let mut level = 0;
+        while let Some(&image) = images.get(&level_name(stem, level)) {
+            let name = match level {
+                0 => format!("pelt fur {stem}"),
+                l => format!("pelt fur {stem} mip {l}"),
+            };
+            by_image.insert(image, doc.push_texture(image, sampler, &name));
+            level += 1;
+        }
     }
+    let textures: std::collections::BTreeMap<&str, usize> = ["heightfield", "dots", "fin"]
+        .into_iter()
+        .filter_map(|stem| Some((stem, by_image[images.get(&level_name(stem, 0))?])))
+        .collect();
     let manifest = assets.set.manifest(
         &assets.config,
         &mut |stem, level| (None, images.get(&level_name(stem, level)).copied()),
         &mut |stem| textures.get(stem).copied(),
     );
-    let value = json!({ "fur": manifest });
+    let manifest = serde_json::to_value(&manifest).map_err(|e| {
+        IoError::invalid(&doc.path, "fur manifest", format!("cannot encode: {e}"))
+    })?;
+    let value = extension_from_manifest(&manifest, &mut |image| by_image[&image]);
     for &m in &materials {
-        if doc.set_material_extra(m, "pelt", value.clone()) {
+        let base = doc.array("materials")[m]["pbrMetallicRoughness"].get("baseColorTexture");
+        let sheen = sheen_fallback(&value, base);
+        if doc.set_fur_material(m, value.clone())
+            && doc.set_material_extension(m, "KHR_materials_sheen", sheen)
+        {
             report.materials.push(m);
         } else {
             report.warnings.push(format!(
-                "material {m}: extras is not a JSON object: the fur manifest was not stored"
+                "material {m}: extensions is not a JSON object: the fur manifest was not stored"
             ));
         }
     }
@@ -166,21 +186,31 @@ fn find_added_material(doc: &Document) -> Option<usize> {
     (0..doc.array("materials").len()).find(|&m| doc.material_name(m) == Some(FUR_MATERIAL_NAME))
 }
 
-/// Removes the fur an earlier bake embedded (each material's `extras.pelt.fur` and the
-/// textures and images it names, where nothing else uses them), so that baking a pelt output
-/// again carries one set of fur images, not two.
+/// Removes the fur an earlier bake embedded (each material's `PELT_fur`, or legacy
+/// `extras.pelt.fur`, and the textures and images it names, where nothing else uses them), so
+/// that baking a pelt output again carries one set of fur images, not two.
 fn strip_old_fur(doc: &mut Document, report: &mut FurReport) {
     let mut textures = Vec::new();
     let mut images = Vec::new();
     let Some(materials) = doc.json.get_mut("materials").and_then(|m| m.as_array_mut()) else {
         return;
     };
-    for m in materials {
-        let pelt = m.get_mut("extras").and_then(|e| e.get_mut("pelt"));
-        let Some(pelt) = pelt.and_then(|p| p.as_object_mut()) else {
-            continue;
-        };
-        let Some(fur) = pelt.remove("fur") else {
+    for m in materials.iter_mut().filter_map(|m| m.as_object_mut()) {
+        let ext = m
+            .get_mut("extensions")
+            .and_then(|e| e.as_object_mut())
+            .and_then(|e| e.shift_remove(EXTENSION));
+        if let Some(mut ext) = ext {
+            for_each_material_texture(&mut ext, &mut |t| textures.extend(t.as_u64()));
+        }
+        if m
+            .get("extensions")
+            .and_then(|e| e.as_object())
+            .is_some_and(|e| e.is_empty())
+        {
+            m.shift_remove("extensions");
+        }
+        let Some(fur) = remove_legacy_fur(m) else {
             continue;
         };
         let entries = fur.get("textures").and_then(|t| t.as_object());
@@ -194,6 +224,14 @@ fn strip_old_fur(doc: &mut Document, report: &mut FurReport) {
                     .filter_map(|l| l.get("image")?.as_u64()),
             );
         }
+    }
+    // The images of the extension's textures.
+    for &t in &textures {
+        images.extend(
+            doc.array("textures")
+                .get(t as usize)
+                .and_then(|t| t.get("source")?.as_u64()),
+        );
     }
     let index = |v: Vec<u64>| v.into_iter().map(|i| i as usize).collect::<Vec<_>>();
     let removed = doc.remove_textures(&index(textures), &index(images));

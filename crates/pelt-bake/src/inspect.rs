@@ -8,6 +8,8 @@ use std::collections::BTreeSet;
 
 use pelt_io::accessor;
 use pelt_io::contract::{self, NORMAL_GROUP_ATTRIBUTE};
+use pelt_io::extension::{EXTENSION, Form};
+use pelt_io::topology::StoredFins;
 use pelt_io::mesh::encoding;
 use serde_json::{Value, json};
 
@@ -103,6 +105,7 @@ pub fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
             }
             entry["topology"] = t.fields;
         }
+        entry["contract"] = contract_parts(doc, r, &entry)?;
         prims.push(entry);
     }
     let rig = if doc.array("skins").is_empty() && doc.array("animations").is_empty() {
@@ -141,14 +144,15 @@ struct Topology {
     ids: BTreeSet<u16>,
 }
 
-/// Reads `extras.pelt`, the fin records (checked against their bufferView) and the IDs
-/// actually stored in `_NORMAL_GROUP`. None when the primitive has no `extras.pelt`.
+/// Reads the primitive's `PELT_fur` (or legacy `extras.pelt`), the fin records (checked; stale
+/// records are reported as such, with why) and the IDs actually stored in `_NORMAL_GROUP`.
+/// None when the primitive has neither.
 fn topology(
     doc: &pelt_io::Document,
     r: pelt_io::PrimitiveRef,
     place: &str,
 ) -> Result<Option<Topology>, pelt_io::IoError> {
-    let Some(pelt) = doc.pelt_extras(r)? else {
+    let Some((pelt, form)) = doc.fur_primitive(r)? else {
         return Ok(None);
     };
     let num = |v: &Value| v.as_u64().unwrap_or(0);
@@ -164,10 +168,17 @@ fn topology(
         ids.extend((0..e.count).map(|k| accessor::raw(e.component, &e.bytes, k) as u16));
         ids.remove(&0);
     }
-    let fins = doc.read_fins(r)?.map(|f| f.len());
+    let (fins, stale) = match doc.read_stored_fins(r)? {
+        Some(StoredFins::Valid(f)) => (Some(f.len()), None),
+        Some(StoredFins::Stale(why)) => (None, Some(why)),
+        None => (None, None),
+    };
     Ok(Some(Topology {
         fields: json!({
-            "format_version": num(&pelt["version"]),
+            "form": match form {
+                Form::Extension => EXTENSION.to_owned(),
+                Form::Legacy => format!("extras.pelt version {}", num(&pelt["version"])),
+            },
             "tangents": pelt.get("tangents").and_then(Value::as_str),
             "normal_groups": num(&groups["groups"]),
             "ids_used": ids.len(),
@@ -176,8 +187,40 @@ fn topology(
             "boundary_edges": num(&edges["boundary"]),
             "nonmanifold_edges": num(&edges["nonmanifold"]),
             "fin_edges": fins,
+            "fins_stale": stale,
         }),
         ids,
+    }))
+}
+
+/// Which parts of pelt's contract the primitive carries (`pelt inspect`'s `contract`): the
+/// comb and group attributes, the stored topology and the material's fur manifest, each
+/// present or not, and what a file that lost some of them will do.
+fn contract_parts(
+    doc: &pelt_io::Document,
+    r: pelt_io::PrimitiveRef,
+    entry: &Value,
+) -> Result<Value, pelt_io::IoError> {
+    let comb = doc.attribute(r, contract::COMB_ATTRIBUTE)?.is_some();
+    let groups = doc.attribute(r, NORMAL_GROUP_ATTRIBUTE)?.is_some();
+    let manifest = match doc.primitive_material(r)? {
+        Some(m) => doc.fur_manifest_json(m)?.map(|(_, place)| place),
+        None => None,
+    };
+    let t = &entry["topology"];
+    let fins = if !t["fins_stale"].is_null() {
+        "stale (rebuilt at load)"
+    } else if !t["fin_edges"].is_null() {
+        "present"
+    } else {
+        "absent"
+    };
+    Ok(json!({
+        "comb": comb,
+        "normal_groups": groups,
+        "topology": t["form"],
+        "fins": fins,
+        "fur_manifest": manifest,
     }))
 }
 
@@ -309,6 +352,33 @@ pub fn text(v: &Value) -> String {
                 c["mean"].as_f64().unwrap_or(0.0)
             );
         }
+        say!("  contract      {}", contract_line(&p["contract"], &p["topology"]));
     }
     out
+}
+
+/// One line on which parts of pelt's contract a primitive carries.
+fn contract_line(c: &Value, t: &Value) -> String {
+    let has = |b: &Value, what: &str| {
+        if b.as_bool() == Some(true) {
+            what.to_owned()
+        } else {
+            format!("no {what}")
+        }
+    };
+    let mut parts = vec![has(&c["comb"], "_FUR_COMB"), has(&c["normal_groups"], "_NORMAL_GROUP")];
+    parts.push(match c["topology"].as_str() {
+        Some(form) => format!("topology in {form}"),
+        None => "no stored topology".into(),
+    });
+    parts.push(format!("fins {}", c["fins"].as_str().unwrap_or("?")));
+    parts.push(match c["fur_manifest"].as_str() {
+        Some(place) => format!("fur manifest at {place}"),
+        None => "no fur manifest".into(),
+    });
+    let mut line = parts.join(", ");
+    if let Some(why) = t["fins_stale"].as_str() {
+        line.push_str(&format!("\n  stale fins    {why}"));
+    }
+    line
 }

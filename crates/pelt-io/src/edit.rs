@@ -16,6 +16,9 @@ pub const ARRAY_BUFFER: u32 = 34962;
 /// bufferView target for indices.
 pub const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
+/// [`NewAccessor::target`] for a bufferView that is neither vertex nor index data.
+pub const NO_TARGET: u32 = 0;
+
 /// Data for a new accessor: packed little-endian elements and how to describe them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NewAccessor {
@@ -95,6 +98,19 @@ impl NewAccessor {
     /// Normalized unsigned byte vectors.
     pub fn u8_norm<const N: usize>(v: &[[u8; N]]) -> Self {
         Self::vectors(ComponentType::U8, N, true, v.as_flattened().to_vec())
+    }
+
+    /// Records an extension reads (fin records: VEC2 UNSIGNED_INT), as little-endian words,
+    /// in a bufferView without a target (neither vertex nor index data).
+    pub fn records(words: ViewData, components: usize) -> Self {
+        Self {
+            component: ComponentType::U32,
+            components,
+            normalized: false,
+            bytes: words,
+            min_max: false,
+            target: NO_TARGET,
+        }
     }
 
     /// Triangle indices: unsigned short when every vertex fits below 65535, else unsigned int.
@@ -226,7 +242,9 @@ impl Document {
         if stride != size {
             view.insert("byteStride".into(), json!(stride));
         }
-        view.insert("target".into(), json!(a.target));
+        if a.target != NO_TARGET {
+            view.insert("target".into(), json!(a.target));
+        }
         let view_index = self.source_views + self.new_views.len();
         push_to(&mut self.json, "bufferViews", Value::Object(view));
         self.new_views.push(data);

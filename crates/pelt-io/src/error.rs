@@ -44,5 +44,15 @@ impl IoError {
     }
 }
 
+impl IoError {
+    /// The place and what is wrong, without the file (for a message that names it once).
+    pub fn message(&self) -> String {
+        match self {
+            IoError::Fs { action, source, .. } => format!("{action}: {source}"),
+            IoError::Invalid { place, message, .. } => format!("{place}: {message}"),
+        }
+    }
+}
+
 /// Result with [`IoError`].
 pub type Result<T> = std::result::Result<T, IoError>;

@@ -16,12 +16,14 @@
 //! - [`mesh`]: one primitive as a [`pelt_geom::Mesh`], every float attribute checked finite.
 //! - [`prune`]: removing the accessors and bufferViews a bake left unused.
 //! - [`prune_textures`]: removing textures and images a re-bake replaces.
-//! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`,
-//!   `extras.pelt`, the fin-record bufferView).
+//! - [`extension`]: the `PELT_fur` glTF extension, the one home of its names and layouts (and
+//!   the legacy `extras.pelt` form it replaced).
+//! - [`topology`]: how normal-group IDs and fin edges are stored (`_NORMAL_GROUP`, the fin
+//!   records' accessor, stale-record detection).
 //! - [`fin_predict`]: fin records derived from the index list (compressed output stores only
 //!   the exceptions).
 //! - [`triangles`]: strips and fans as triangle lists.
-//! - [`texture`]: images, samplers, textures and material extras a bake adds (fur textures).
+//! - [`texture`]: images, samplers, textures and material extensions a bake adds (fur textures).
 //! - [`typed`]: the `gltf` crate's typed view (skins, animations, materials) over the same
 //!   buffers, with pelt-io's bounds check before its readers run.
 //! - [`picture`]: texture images decoded with the `image` crate (bounded), a material's
@@ -37,6 +39,7 @@ pub mod contract;
 pub mod document;
 pub mod edit;
 pub mod error;
+pub mod extension;
 pub mod fin_predict;
 pub mod glb;
 pub mod mesh;

@@ -184,9 +184,8 @@ impl Document {
     fn plan_views(&mut self) -> Result<Vec<Option<Packed>>> {
         use rayon::prelude::*;
         let uses = self.accessor_uses();
-        let fin_views = self.fin_views();
         let jobs: Vec<Option<Job>> = (0..self.array("bufferViews").len())
-            .map(|v| self.job(v, &uses, fin_views[v]))
+            .map(|v| self.job(v, &uses))
             .collect::<Result<_>>()?;
         let doc = &*self;
         Ok(jobs
@@ -197,7 +196,7 @@ impl Document {
     }
 
     /// What view `v` holds, as far as the codecs care.
-    fn job(&self, v: usize, uses: &Uses, fin: bool) -> Result<Option<Job>> {
+    fn job(&self, v: usize, uses: &Uses) -> Result<Option<Job>> {
         let place = format!("bufferViews[{v}]");
         let (bytes, stride) = view_bytes(self, v, &place)?;
         if bytes.is_empty() || self.view_holds_image(v) {
@@ -237,10 +236,9 @@ impl Document {
             .filter_map(|(a, _)| accessor::read_any(self, *a, &place).ok())
             .map(|e| e.element_size())
             .collect();
-        let stride = match (stride, fin, &sizes[..]) {
-            (Some(s), _, _) => s,
-            (None, true, _) => crate::topology::FIN_RECORD_SIZE,
-            (None, false, [s, rest @ ..]) if rest.iter().all(|x| x == s) => *s,
+        let stride = match (stride, &sizes[..]) {
+            (Some(s), _) => s,
+            (None, [s, rest @ ..]) if rest.iter().all(|x| x == s) => *s,
             _ => return Ok(None),
         };
         let fits = stride > 0
@@ -257,26 +255,6 @@ impl Document {
         self.array("images")
             .iter()
             .any(|i| i.get("bufferView").and_then(Value::as_u64) == Some(v as u64))
-    }
-
-    /// The bufferViews that hold fin records (or their exceptions), found once per plan.
-    fn fin_views(&self) -> Vec<bool> {
-        let mut fin = vec![false; self.array("bufferViews").len()];
-        for r in self.primitives() {
-            let fins = self
-                .pelt_extras(r)
-                .ok()
-                .flatten()
-                .and_then(|p| p.get("fins"));
-            if let Some(mut fins) = fins.cloned() {
-                crate::topology::for_each_fin_view(&mut fins, &mut |x| {
-                    if let Some(f) = x.as_u64().and_then(|v| fin.get_mut(v as usize)) {
-                        *f = true;
-                    }
-                });
-            }
-        }
-        fin
     }
 }
 

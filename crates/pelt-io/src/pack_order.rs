@@ -17,7 +17,6 @@ use crate::edit::NewAccessor;
 use crate::error::Result;
 use crate::fin_predict::{NO_RECORD, by_first_corner, diff, lower_first, predict};
 use crate::pack_codec::{encode_triangles, fetch_remap};
-use crate::topology::fins_view;
 
 /// A triangle's corners rotated to the least of its three rotations (winding kept; a
 /// triangle that repeats a vertex has one answer too), and the rotation (the corner that now
@@ -174,13 +173,13 @@ impl Document {
             let edges = edges.ok_or_else(|| {
                 self.invalid(&place, "the index codec changed the triangles (internal)")
             })?;
-            let pelt = self.pelt_extras(r)?.cloned().unwrap_or_default();
+            let fur = self.fur_primitive(r)?.map(|(f, _)| f.clone()).unwrap_or_default();
             // Stored as their difference from the index list's edges where that is smaller.
             let (added, removed) = diff(&edges, &predicted);
             if added.len() + removed.len() < edges.len() {
-                self.set_derived_fins(r, pelt, edges.len(), added, removed)?;
+                self.set_derived_fins(r, fur, (edges.len(), added, removed), &decoded)?;
             } else {
-                self.set_pelt_extras(r, pelt, Some(fins_view(edges)))?;
+                self.set_topology(r, fur, Some(edges), &decoded)?;
             }
         }
         match &map {

@@ -5,7 +5,7 @@
 //!
 //! Only accessors the bake detached are candidates, and one is removed only when nothing in the
 //! document refers to it any more: primitives (attributes, indices, morph targets), skins,
-//! animation samplers and `EXT_mesh_gpu_instancing`. A bufferView goes with them when no
+//! animation samplers, `EXT_mesh_gpu_instancing` and `PELT_fur`. A bufferView goes with them when no
 //! remaining accessor (sparse parts included) or image uses it. Where the asset uses an
 //! extension that might refer to accessors or bufferViews in ways pelt does not know, nothing
 //! is removed. Removed entries are renumbered out of every reference listed above.
@@ -41,6 +41,7 @@ const SAFE_EXTENSIONS: &[&str] = &[
     "EXT_texture_webp",
     "MSFT_lod",
     "MSFT_texture_dds",
+    crate::extension::EXTENSION,
 ];
 
 /// What [`Document::prune_detached`] did.
@@ -75,6 +76,14 @@ pub(crate) fn for_each_accessor_ref(
                 let targets = p.get_mut("targets").and_then(Value::as_array_mut);
                 for t in targets.into_iter().flatten() {
                     in_object(Some(t), f);
+                }
+                // pelt's own fin records (crate::extension).
+                let fins = p
+                    .get_mut("extensions")
+                    .and_then(|e| e.get_mut(crate::extension::EXTENSION))
+                    .and_then(|e| e.get_mut("fins"));
+                if let Some(fins) = fins {
+                    crate::extension::for_each_fin_accessor(fins, f);
                 }
             }
         }
@@ -132,7 +141,7 @@ fn for_each_view_ref(json: &mut serde_json::Map<String, Value>, f: &mut impl FnM
             }
         }
     }
-    // pelt's own fin records (see crate::topology).
+    // pelt's legacy fin records (see crate::topology).
     if let Some(meshes) = json.get_mut("meshes").and_then(Value::as_array_mut) {
         for m in meshes {
             let prims = m.get_mut("primitives").and_then(Value::as_array_mut);

@@ -29,6 +29,7 @@ fn known(ext: &str) -> bool {
                 | "EXT_texture_avif"
                 | "EXT_texture_webp"
                 | "MSFT_texture_dds"
+                | crate::extension::EXTENSION
         )
 }
 
@@ -65,8 +66,35 @@ fn for_each_texture_ref(v: &mut Value, f: &mut dyn FnMut(&mut Value)) {
 }
 
 fn materials_texture_refs(json: &mut Map<String, Value>, f: &mut dyn FnMut(&mut Value)) {
-    if let Some(m) = json.get_mut("materials") {
-        for_each_texture_ref(m, f);
+    let Some(materials) = json.get_mut("materials").and_then(Value::as_array_mut) else {
+        return;
+    };
+    for m in materials {
+        let Some(o) = m.as_object_mut() else {
+            continue;
+        };
+        for (k, child) in o.iter_mut() {
+            let exts = (k == "extensions").then(|| child.as_object_mut()).flatten();
+            let Some(exts) = exts else {
+                // As for_each_texture_ref does for the entries of an object.
+                if k.ends_with("Texture")
+                    && let Some(i) = child.get_mut("index")
+                {
+                    f(i);
+                    continue;
+                }
+                for_each_texture_ref(child, f);
+                continue;
+            };
+            for (name, e) in exts.iter_mut() {
+                // PELT_fur's textures (mip levels included) are listed by its own module.
+                if name == crate::extension::EXTENSION {
+                    crate::extension::for_each_material_texture(e, f);
+                } else {
+                    for_each_texture_ref(e, f);
+                }
+            }
+        }
     }
 }
 

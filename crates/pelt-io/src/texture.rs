@@ -127,6 +127,26 @@ impl Document {
         }
     }
 
+    /// Sets `materials[material].extensions[name]` and lists `name` in `extensionsUsed`.
+    /// Returns false, and changes nothing, when the material does not exist or its
+    /// `extensions` is not an object.
+    pub fn set_material_extension(&mut self, material: usize, name: &str, value: Value) -> bool {
+        let Some(m) = self.material_mut(material) else {
+            return false;
+        };
+        let exts = m
+            .entry("extensions")
+            .or_insert_with(|| Value::Object(Map::new()));
+        match exts.as_object_mut() {
+            Some(e) => {
+                e.insert(name.to_owned(), value);
+                self.use_extension(name);
+                true
+            }
+            None => false,
+        }
+    }
+
     /// The bytes of `images[image]`: from its bufferView, or as loaded from its URI. The
     /// error names the image.
     pub fn image_bytes(&self, image: usize) -> Result<&[u8]> {

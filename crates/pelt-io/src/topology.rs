@@ -1,27 +1,29 @@
 //! How pelt stores topology in a `.glb`: normal-group IDs as a vertex attribute, and the fin
-//! edges (Lengyel et al. 2001, as Frantzen's fins use them) in a bufferView described by the
-//! primitive's `extras.pelt`. The format is written down in `docs/format.md`; keep the two in
-//! sync.
+//! edges (Lengyel et al. 2001, as Frantzen's fins use them) as an accessor the primitive's
+//! `PELT_fur` extension names ([`crate::extension`]). The format is written down in
+//! `docs/format.md` and `docs/extension/PELT_fur/`; keep them in sync.
 //!
 //! - `_NORMAL_GROUP`: SCALAR unsigned short, not normalized, one 8-bit ID per vertex (0 = none).
-//! - `extras.pelt.version`: [`FORMAT_VERSION`] (2). Version 1 stored 28-byte fin records
-//!   (vertices, faces, octahedral face normals, face count); this reader refuses it by name.
-//! - `extras.pelt.fins`: `{ "bufferView", "count", "byteStride": 8, ... }`, records of
-//!   [`FIN_RECORD_SIZE`] little-endian bytes: `c0 u32, c1 u32` ([`FinEdge`]), the corners
-//!   (elements of the primitive's index list) where the edge starts in the windings of its two
-//!   lowest faces; `c1 = 0xFFFFFFFF` on a boundary. A renderer gets the edge's vertices and both
-//!   faces' normals through the index list ([`fin_geometry`]; `shaders/fin_record.wgsl` is the
-//!   same decode in WGSL). A bufferView holds bytes only, so it needs no accessor (glTF forbids
-//!   32-bit unsigned accessors outside indices) and validators accept it.
+//! - `PELT_fur.fins.accessor`: VEC2 UNSIGNED_INT records ([`FIN_RECORD_SIZE`] little-endian
+//!   bytes: `c0 u32, c1 u32`, [`FinEdge`]), the corners (elements of the primitive's index
+//!   list) where the edge starts in the windings of its two lowest faces; `c1 = 0xFFFFFFFF` on
+//!   a boundary. A renderer gets the edge's vertices and both faces' normals through the index
+//!   list ([`fin_geometry`]; `shaders/fin_records.wgsl` is the same decode in WGSL).
+//! - `PELT_fur.computedFrom`: the triangle count and hash of the index list the records were
+//!   computed from; records a tool left stale read as [`StoredFins::Stale`].
+//! - The legacy form (`extras.pelt`, [`FORMAT_VERSION`] 2, records in a bufferView) still reads;
+//!   version 1 (28-byte records) is refused by name.
 
 use glam::Vec3;
 use pelt_geom::fins::FinEdge;
 use pelt_geom::topology::{NO_CORNER, next_corner, prev_corner};
 use serde_json::{Map, Value, json};
 
-use crate::accessor::view_bytes;
+use crate::accessor::{ComponentType, view_bytes};
 use crate::document::{Document, PrimitiveRef, ViewData};
+use crate::edit::NewAccessor;
 use crate::error::Result;
+use crate::extension::{EXTENSION, Form, computed_from, index_hash};
 
 /// The attribute holding normal-group IDs.
 pub const NORMAL_GROUP_ATTRIBUTE: &str = "_NORMAL_GROUP";
@@ -106,96 +108,211 @@ pub fn fin_geometry(e: &FinEdge, indices: &[u32], positions: &[Vec3]) -> FinGeom
     }
 }
 
-impl Document {
-    /// The primitive's `extras.pelt`, if any.
-    pub fn pelt_extras(&self, r: PrimitiveRef) -> Result<Option<&Map<String, Value>>> {
-        Ok(self
-            .primitive(r)?
-            .get("extras")
-            .and_then(|e| e.get("pelt"))
-            .and_then(Value::as_object))
-    }
+/// What a primitive's stored fin records are worth.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StoredFins {
+    /// Records that hold for the primitive's index list.
+    Valid(Vec<FinEdge>),
+    /// Records computed from another index list (a tool reordered, welded or simplified the
+    /// triangles), or legacy records a tool left unreadable: why. A reader rebuilds the fins
+    /// from the topology.
+    Stale(String),
+}
 
-    /// Sets the primitive's `extras.pelt` (keeping any other extras), with the fin records as
-    /// a new bufferView referenced from `pelt.fins.bufferView` when there are any. A previous
-    /// fin bufferView is detached (and pruned if nothing else uses it). Returns false, and
-    /// changes nothing, when the primitive's `extras` exists but is not an object.
-    pub fn set_pelt_extras(
+impl Document {
+    /// Sets the primitive's `extensions.PELT_fur` to `fur`, with the fin records (when there
+    /// are any) as a new accessor named by `fur.fins.accessor`, and `computedFrom` for the
+    /// index list `indices` the primitive now has. Old records are detached (and pruned if
+    /// nothing else uses them). Returns false, and changes nothing, when the primitive's
+    /// `extensions` is not an object.
+    pub fn set_topology(
         &mut self,
         r: PrimitiveRef,
-        mut pelt: Map<String, Value>,
-        fins: Option<ViewData>,
+        mut fur: Map<String, Value>,
+        fins: Option<Vec<FinEdge>>,
+        indices: &[u32],
     ) -> Result<bool> {
-        let extras_ok = self
-            .primitive(r)?
-            .get("extras")
-            .is_none_or(Value::is_object);
-        if !extras_ok {
-            return Ok(false);
-        }
-        if let Some(mut old) = self.pelt_extras(r)?.and_then(|p| p.get("fins")).cloned() {
-            for_each_fin_view(&mut old, &mut |v| {
-                if let Some(v) = v.as_u64() {
-                    self.detached_views.push(v as usize);
-                }
-            });
-        }
-        if let Some(data) = fins.filter(|d| !d.bytes().is_empty()) {
-            let view = self.push_view(data, None);
-            if let Some(f) = pelt.get_mut("fins").and_then(Value::as_object_mut) {
-                f.insert("bufferView".into(), json!(view));
-                f.insert("byteStride".into(), json!(FIN_RECORD_SIZE));
+        if let Some(edges) = fins.filter(|e| !e.is_empty()) {
+            let a = self.push_accessor(NewAccessor::records(fins_view(edges), 2));
+            if let Some(f) = fur.get_mut("fins").and_then(Value::as_object_mut) {
+                f.shift_remove("fromIndices");
+                f.shift_remove("count");
+                f.insert("accessor".into(), json!(a));
             }
         }
-        let prim = self.primitive_checked(r)?;
-        let extras = prim.entry("extras").or_insert_with(|| json!({}));
-        if let Some(e) = extras.as_object_mut() {
-            e.insert("pelt".into(), Value::Object(pelt));
-        }
-        Ok(true)
+        fur.shift_remove("version");
+        fur.insert("computedFrom".into(), computed_from(indices));
+        self.set_fur_primitive(r, fur)
     }
 
     /// The fin edges stored for the primitive (None when it has none), checked against the
-    /// bytes (the bufferView must exist and hold exactly `count` records) and against the
-    /// primitive (every corner names an element of its index list, or the end of a boundary).
-    /// A file of another format version is refused with its version named.
+    /// primitive; stale records (see [`StoredFins`]) are an error naming why.
     pub fn read_fins(&self, r: PrimitiveRef) -> Result<Option<Vec<FinEdge>>> {
-        let place = format!("{} extras.pelt.fins", self.place(r));
-        let Some(pelt) = self.pelt_extras(r)? else {
+        match self.read_stored_fins(r)? {
+            None => Ok(None),
+            Some(StoredFins::Valid(e)) => Ok(Some(e)),
+            Some(StoredFins::Stale(why)) => Err(self.invalid(
+                format!("{} extensions.{EXTENSION}.fins", self.place(r)),
+                why,
+            )),
+        }
+    }
+
+    /// The fin edges stored for the primitive (None when it has none).
+    ///
+    /// Extension form: records whose `computedFrom` (triangle count, index hash) no longer
+    /// matches the index list are [`StoredFins::Stale`]; matching records are checked (the
+    /// accessor must be VEC2 UNSIGNED_INT, every corner must name an element of the index
+    /// list) and a failed check is an error. Legacy form (`extras.pelt`, no hash): records
+    /// that fail the checks (a tool renumbered the bufferView they were in) are stale; format
+    /// version 1 is refused with its version named.
+    pub fn read_stored_fins(&self, r: PrimitiveRef) -> Result<Option<StoredFins>> {
+        let Some((fur, form)) = self.fur_primitive(r)? else {
             return Ok(None);
         };
-        let Some(fins) = pelt.get("fins") else {
+        let Some(fins) = fur.get("fins") else {
             return Ok(None);
         };
-        self.check_format_version(r, pelt)?;
+        let place = format!("{}.fins", self.fur_place(r, form));
+        if form == Form::Legacy {
+            self.check_format_version(r, fur)?;
+            return Ok(Some(match self.legacy_fins(r, fins, &place) {
+                Ok(e) => StoredFins::Valid(e),
+                Err(e) => StoredFins::Stale(format!(
+                    "the records do not fit the file any more ({}): a tool rewrote it",
+                    e.message()
+                )),
+            }));
+        }
+        if let Some(why) = self.stale_reason(r, fur)? {
+            return Ok(Some(StoredFins::Stale(why)));
+        }
+        let edges = match fins.get("fromIndices") {
+            Some(derived) => {
+                let count = fins
+                    .get("count")
+                    .and_then(Value::as_u64)
+                    .ok_or_else(|| self.invalid(&place, "count is missing or not an integer"))?;
+                let list = |part: &str| match derived.get(part) {
+                    None => Ok(Vec::new()),
+                    Some(a) => self.fin_accessor(a, &format!("{place}.fromIndices.{part}")),
+                };
+                self.derived_fins(r, (list("added")?, list("removed")?), count, &place)?
+            }
+            None => match fins.get("accessor") {
+                Some(a) => self.fin_accessor(a, &format!("{place}.accessor"))?,
+                None => Vec::new(),
+            },
+        };
+        self.check_corners(r, edges, &place)
+            .map(|e| Some(StoredFins::Valid(e)))
+    }
+
+    /// Why the extension's records no longer hold for the primitive's index list (None when
+    /// `computedFrom` matches, or is absent).
+    fn stale_reason(&self, r: PrimitiveRef, fur: &Map<String, Value>) -> Result<Option<String>> {
+        let Some(from) = fur.get("computedFrom") else {
+            return Ok(None);
+        };
+        let corners = self.corner_list(r)?;
+        let (tris, hash) = ((corners.len() / 3) as u64, u64::from(index_hash(&corners)));
+        let (want_tris, want_hash) = (
+            from.get("triangles").and_then(Value::as_u64),
+            from.get("indexHash").and_then(Value::as_u64),
+        );
+        Ok((want_tris != Some(tris) || want_hash != Some(hash)).then(|| {
+            format!(
+                "the fin records were computed from {} triangles (index hash {}), the primitive \
+                 now has {tris} (hash {hash}): a tool reordered, welded or simplified the triangles",
+                want_tris.map_or("?".into(), |t| t.to_string()),
+                want_hash.map_or("?".into(), |h| h.to_string()),
+            )
+        }))
+    }
+
+    /// The primitive's index list (its vertices in order when it has no `indices`).
+    pub fn corner_list(&self, r: PrimitiveRef) -> Result<Vec<u32>> {
+        match self.primitive(r)?.get("indices").and_then(Value::as_u64) {
+            Some(i) => crate::accessor::read_indices(
+                self,
+                i as usize,
+                &format!("{} indices", self.place(r)),
+            ),
+            None => {
+                let n = self.corner_count(r)?;
+                let n = u32::try_from(n).map_err(|_| {
+                    self.invalid(self.place(r), format!("{n} vertices do not fit 32-bit indices"))
+                })?;
+                Ok((0..n).collect())
+            }
+        }
+    }
+
+    /// Fin records from the accessor named by `a` (VEC2 UNSIGNED_INT, not normalized).
+    fn fin_accessor(&self, a: &Value, place: &str) -> Result<Vec<FinEdge>> {
+        let a = a
+            .as_u64()
+            .ok_or_else(|| self.invalid(place, "is not an accessor index"))?;
+        let e = crate::accessor::read(self, a as usize, place)?;
+        if e.components != 2 || e.component != ComponentType::U32 || e.normalized {
+            return Err(self.invalid(
+                place,
+                format!(
+                    "accessor {a} must be VEC2 UNSIGNED_INT (corner pairs), found {} {:?}{}",
+                    e.ty,
+                    e.component,
+                    if e.normalized { " normalized" } else { "" }
+                ),
+            ));
+        }
+        Ok(decode_fins(&e.bytes))
+    }
+
+    /// Legacy records (`extras.pelt.fins`: a bufferView, or exceptions to the index list's
+    /// edges), checked.
+    fn legacy_fins(&self, r: PrimitiveRef, fins: &Value, place: &str) -> Result<Vec<FinEdge>> {
         let count = fins
             .get("count")
             .and_then(Value::as_u64)
-            .ok_or_else(|| self.invalid(&place, "count is missing or not an integer"))?;
+            .ok_or_else(|| self.invalid(place, "count is missing or not an integer"))?;
         if let Some(stride) = fins.get("byteStride")
             && stride.as_u64() != Some(FIN_RECORD_SIZE as u64)
         {
             return Err(self.invalid(
-                &place,
+                place,
                 format!("byteStride is {stride}; version {FORMAT_VERSION} records are {FIN_RECORD_SIZE} bytes"),
             ));
         }
         if let Some(derived) = fins.get("fromIndices") {
-            let edges = self.derived_fins(r, derived, count, &place)?;
-            return self.check_corners(r, edges, &place).map(Some);
+            let list = |part: &str| -> Result<Vec<FinEdge>> {
+                let lplace = format!("{place}.fromIndices.{part}");
+                let Some(l) = derived.get(part) else {
+                    return Ok(Vec::new());
+                };
+                let n = l
+                    .get("count")
+                    .and_then(Value::as_u64)
+                    .ok_or_else(|| self.invalid(&lplace, "count is missing or not an integer"))?;
+                let view = l
+                    .get("bufferView")
+                    .ok_or_else(|| self.invalid(&lplace, "bufferView is missing"))?;
+                self.fin_records(view, n, &lplace)
+            };
+            let edges = self.derived_fins(r, (list("added")?, list("removed")?), count, place)?;
+            return self.check_corners(r, edges, place);
         }
         let Some(view) = fins.get("bufferView") else {
             return if count == 0 {
-                Ok(Some(Vec::new()))
+                Ok(Vec::new())
             } else {
                 Err(self.invalid(
-                    &place,
+                    place,
                     format!("count is {count} but there is no bufferView"),
                 ))
             };
         };
-        let edges = self.fin_records(view, count, &place)?;
-        self.check_corners(r, edges, &place).map(Some)
+        let edges = self.fin_records(view, count, place)?;
+        self.check_corners(r, edges, place)
     }
 
     /// `count` records from bufferView `view`.
@@ -217,29 +334,15 @@ impl Document {
         Ok(decode_fins(bytes))
     }
 
-    /// Fins stored as their difference from the index list's edges ([`crate::fin_predict`]).
+    /// Fins stored as their difference from the index list's edges ([`crate::fin_predict`]):
+    /// `(added, removed)` records, `count` fins in all.
     fn derived_fins(
         &self,
         r: PrimitiveRef,
-        derived: &Value,
+        (added, removed): (Vec<FinEdge>, Vec<FinEdge>),
         count: u64,
         place: &str,
     ) -> Result<Vec<FinEdge>> {
-        let list = |part: &str| -> Result<Vec<FinEdge>> {
-            let lplace = format!("{place}.fromIndices.{part}");
-            let Some(l) = derived.get(part) else {
-                return Ok(Vec::new());
-            };
-            let n = l
-                .get("count")
-                .and_then(Value::as_u64)
-                .ok_or_else(|| self.invalid(&lplace, "count is missing or not an integer"))?;
-            let view = l
-                .get("bufferView")
-                .ok_or_else(|| self.invalid(&lplace, "bufferView is missing"))?;
-            self.fin_records(view, n, &lplace)
-        };
-        let (added, removed) = (list("added")?, list("removed")?);
         let idx = self
             .primitive(r)?
             .get("indices")
@@ -266,32 +369,29 @@ impl Document {
         Ok(edges)
     }
 
-    /// Sets the primitive's `extras.pelt` with its fins stored as their difference from the
-    /// index list's edges: `added` and `removed` records ([`crate::fin_predict`]), `count`
-    /// fins in all.
+    /// Sets the primitive's `extensions.PELT_fur` with its fins stored as their difference
+    /// from the index list's edges: `added` and `removed` records ([`crate::fin_predict`]),
+    /// `count` fins in all, for the index list `indices`.
     pub(crate) fn set_derived_fins(
         &mut self,
         r: PrimitiveRef,
-        mut pelt: Map<String, Value>,
-        count: usize,
-        added: Vec<FinEdge>,
-        removed: Vec<FinEdge>,
+        mut fur: Map<String, Value>,
+        (count, added, removed): (usize, Vec<FinEdge>, Vec<FinEdge>),
+        indices: &[u32],
     ) -> Result<bool> {
         let mut derived = Map::new();
         for (part, list) in [("added", added), ("removed", removed)] {
             if !list.is_empty() {
-                let n = list.len();
-                let view = self.push_view(fins_view(list), None);
-                derived.insert(part.into(), json!({ "bufferView": view, "count": n }));
+                let a = self.push_accessor(NewAccessor::records(fins_view(list), 2));
+                derived.insert(part.into(), json!(a));
             }
         }
-        if let Some(f) = pelt.get_mut("fins").and_then(Value::as_object_mut) {
-            f.remove("bufferView");
+        if let Some(f) = fur.get_mut("fins").and_then(Value::as_object_mut) {
+            f.shift_remove("accessor");
             f.insert("count".into(), json!(count));
-            f.insert("byteStride".into(), json!(FIN_RECORD_SIZE));
             f.insert("fromIndices".into(), Value::Object(derived));
         }
-        self.set_pelt_extras(r, pelt, None)
+        self.set_topology(r, fur, None, indices)
     }
 
     /// Every corner of `edges` must name an element of the primitive's index list.
@@ -321,7 +421,7 @@ impl Document {
         Ok(edges)
     }
 
-    /// Checks `extras.pelt.version`: only [`FORMAT_VERSION`] is read.
+    /// Checks the legacy `extras.pelt.version`: only [`FORMAT_VERSION`] is read.
     fn check_format_version(&self, r: PrimitiveRef, pelt: &Map<String, Value>) -> Result<()> {
         let place = format!("{} extras.pelt.version", self.place(r));
         match pelt.get("version").and_then(Value::as_u64) {

@@ -474,7 +474,7 @@ fn normal_groups(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec
     }
     Ok(Some(
         (0..n)
-            .map(|k| (e.component_f32(k) as u32).min(255))
+            .map(|k| (e.component_f32(k).round() as u32).min(255))
             .collect(),
     ))
 }
@@ -497,6 +497,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
     let mut manifest = None;
     let mut any_comb = false;
     let mut fur_without_uvs = false;
+    let mut load_warnings = Vec::new();
     for (mesh, world) in mesh_instances(doc) {
         let normal_world = Mat3::from_mat4(world).inverse().transpose();
         let flips = world.determinant() < 0.0;
@@ -534,6 +535,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                         out.indices.extend(t.map(|i| base + i));
                     }
                     let comb = fur::read_comb(doc, r, m.vertex_count())?;
+                    load_warnings.extend(fur::lost_contract(doc, r, comb.is_some())?);
                     if comb.is_some() {
                         any_comb = true;
                         fur_without_uvs |= m.uvs.is_none();
@@ -557,6 +559,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                             &fur_vertices,
                             (base as usize, world),
                             &reader.read[material as usize].1,
+                            &mut load_warnings,
                         )?;
                         fins.extend(f);
                         fin_sources.extend(sources);
@@ -590,6 +593,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
         }
     }
     out.warnings = std::mem::take(&mut reader.warnings);
+    out.warnings.append(&mut load_warnings);
     let file = doc.path.display();
     let collapsed = pelt_io::nodes::collapsed(doc);
     out.warnings

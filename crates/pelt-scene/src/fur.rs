@@ -2,13 +2,14 @@
 //! comb, w = length), TANGENT and TEXCOORD_0, which the vertex shaders turn back into view
 //! space with the current TBN; the baked fin edges (docs/format.md) expanded into one instance
 //! record per edge for the fin quads; and the fur look and textures from the material's
-//! manifest (`extras.pelt.fur`): length, shell count, UV scale, root and tip colours, the
+//! manifest (`PELT_fur` on the material, or the legacy `extras.pelt.fur`): length, shell count, UV scale, root and tip colours, the
 //! heightfield and fin texture with all their mip levels. Assets with a comb but no manifest
 //! (baked without `--config`) get the default strand model's textures, generated here.
 
 use glam::{DMat3, Mat3, Mat4, Vec2, Vec3, Vec4};
 pub use pelt_fur::density::Density;
 use pelt_fur::{FurConfig, FurManifest, Pixels, StrandParams};
+use pelt_io::topology::StoredFins;
 use pelt_io::{Document, IoError, PrimitiveRef};
 
 use crate::vertex::{FinInstance, FurVertex};
@@ -261,18 +262,11 @@ pub fn manifest(doc: &Document, r: PrimitiveRef) -> Result<Option<(FurManifest, 
     let Some(m) = doc.primitive_material(r)? else {
         return Ok(None);
     };
-    let place = format!("materials[{m}].extras.pelt.fur");
-    let Some(v) = doc
-        .array("materials")
-        .get(m)
-        .and_then(|x| x.get("extras"))
-        .and_then(|x| x.get("pelt"))
-        .and_then(|x| x.get("fur"))
-    else {
+    let Some((v, place)) = doc.fur_manifest_json(m)? else {
         return Ok(None);
     };
     let parsed: FurManifest =
-        serde_json::from_value(v.clone()).map_err(|e| doc.invalid(&place, e.to_string()))?;
+        serde_json::from_value(v).map_err(|e| doc.invalid(&place, e.to_string()))?;
     let ok = parsed.length.is_finite()
         && parsed.length >= 0.0
         && parsed.uv_scale.is_finite()
@@ -371,9 +365,21 @@ pub fn fin_instances(
     fur: &[FurVertex],
     (base, world): (usize, Mat4),
     material: &crate::material::Material,
+    warnings: &mut Vec<String>,
 ) -> Result<(Vec<FinInstance>, Vec<crate::skin::FinSource>), IoError> {
-    let Some(edges) = doc.read_fins(r)? else {
-        return Ok((Vec::new(), Vec::new()));
+    let edges = match doc.read_stored_fins(r)? {
+        None => return Ok((Vec::new(), Vec::new())),
+        Some(StoredFins::Valid(e)) => e,
+        Some(StoredFins::Stale(why)) => {
+            warnings.push(format!(
+                "{}: {}: {why}; the fins were rebuilt from the triangles at load (bake the \
+                 source again, or run glTF tools with integrations/gltf-transform's config, \
+                 to store them)",
+                doc.path.display(),
+                doc.place(r)
+            ));
+            rebuild_fins(mesh, &fur[base..])
+        }
     };
     let mut sources = Vec::with_capacity(edges.len());
     let face = |c: u32| {
@@ -436,6 +442,75 @@ pub fn fin_instances(
         ]);
     }
     Ok((out, sources))
+}
+
+/// The fin edges of `mesh` computed from its triangles, as a bake does (welded positions, every
+/// edge with fur at an end): what a reader does with records a tool left stale. `fur` holds the
+/// primitive's fur vertices (the comb's w is the length).
+fn rebuild_fins(mesh: &pelt_geom::Mesh, fur: &[FurVertex]) -> Vec<pelt_geom::fins::FinEdge> {
+    use pelt_geom::topology::{CornerNormals, TopologyOptions};
+    let flat;
+    let normals = match &mesh.normals {
+        Some(n) => n.as_slice(),
+        None => {
+            flat = vec![Vec3::Z; mesh.positions.len()];
+            &flat
+        }
+    };
+    let mut t = pelt_geom::topology::build(
+        &mesh.positions,
+        &mesh.indices,
+        CornerNormals::Vertex(normals),
+        &TopologyOptions::default(),
+    );
+    let lengths: Vec<f32> = fur.iter().take(mesh.positions.len()).map(|f| f.comb[3]).collect();
+    pelt_geom::fins::build(
+        t.take_edges(),
+        &mesh.indices,
+        pelt_geom::fins::Fur::Lengths(&lengths),
+    )
+}
+
+/// What the primitive lost of pelt's contract (a tool that does not know `PELT_fur` dropped
+/// it, or dropped the attributes it names), as a warning naming the file, the primitive, the
+/// missing data and what to do; None when nothing is missing. `has_comb`: whether the
+/// primitive has `_FUR_COMB`.
+pub fn lost_contract(
+    doc: &Document,
+    r: PrimitiveRef,
+    has_comb: bool,
+) -> Result<Option<String>, IoError> {
+    let stored = doc.fur_primitive(r)?.map(|(f, _)| f);
+    let manifest = match doc.primitive_material(r)? {
+        Some(m) => doc.fur_manifest_json(m)?.is_some(),
+        None => false,
+    };
+    let fix = "bake the source again, or run glTF tools with integrations/gltf-transform's \
+               config (docs/pipelines.md)";
+    let lost = if has_comb && stored.is_none() && !manifest {
+        "has _FUR_COMB but no PELT_fur (its fin records, normal-group summary and fur \
+         manifest are gone): drawn with the default strand textures and no fins"
+            .to_owned()
+    } else if !has_comb && (stored.is_some_and(|f| f.contains_key("combAttribute")) || manifest) {
+        "carries PELT_fur but no _FUR_COMB (a tool dropped the attribute): drawn as a bare mesh"
+            .to_owned()
+    } else if has_comb
+        && stored.is_some_and(|f| f.contains_key("normalGroups"))
+        && doc
+            .attribute(r, pelt_io::contract::NORMAL_GROUP_ATTRIBUTE)?
+            .is_none()
+    {
+        "has no _NORMAL_GROUP though PELT_fur records normal groups (a tool dropped the \
+         attribute): inferred lighting blends light across its creases"
+            .to_owned()
+    } else {
+        return Ok(None);
+    };
+    Ok(Some(format!(
+        "{}: {}: {lost}; {fix}",
+        doc.path.display(),
+        doc.place(r)
+    )))
 }
 
 /// The corner after `c` in its triangle.

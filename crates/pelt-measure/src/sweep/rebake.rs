@@ -37,9 +37,9 @@ pub enum RebakeError {
 /// The fur config the asset was baked with: its first material's manifest, or the defaults
 /// the preview generates for an asset without one.
 pub fn config_of(doc: &Document) -> FurConfig {
-    let found = doc.array("materials").iter().find_map(|m| {
-        let v = m.get("extras")?.get("pelt")?.get("fur")?;
-        serde_json::from_value::<FurManifest>(v.clone()).ok()
+    let found = (0..doc.array("materials").len()).find_map(|m| {
+        let (v, _) = doc.fur_manifest_json(m).ok()??;
+        serde_json::from_value::<FurManifest>(v).ok()
     });
     match found {
         Some(m) => FurConfig {
