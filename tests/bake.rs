@@ -857,7 +857,8 @@ fn auto_tangents_are_mikktspace_exactly_where_a_normal_map_needs_them() {
         args.extend_from_slice(extra);
         let out = bake(input, &dir.join(name), &args);
         let doc = pelt_io::Document::load(&out).expect("load output");
-        let extras = doc.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["tangents"].clone();
+        let extras =
+            doc.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["tangents"].clone();
         (read_baked(&out, 0, 0), primitive_report(&rep), extras)
     };
     let (mapped_auto, rep, extras) = run(&mapped, "mapped-auto", &[]);

@@ -356,7 +356,7 @@ fn fins_derived_from_the_index_list_that_lie_are_refused() {
     let edit = |f: &dyn Fn(&mut serde_json::Value)| -> Document {
         let (json, _) = pelt_fixtures::mutate::glb_chunks(&bytes).expect("glb");
         let mut j: serde_json::Value = serde_json::from_slice(&bytes[json.clone()]).expect("json");
-        f(&mut j["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["fins"]);
+        f(&mut j["meshes"][0]["primitives"][0]);
         let glb = pelt_fixtures::mutate::assemble_glb(
             &serde_json::to_vec(&j).expect("json"),
             &bytes[json.end..],
@@ -371,20 +371,26 @@ fn fins_derived_from_the_index_list_that_lie_are_refused() {
     for (what, f, needle) in [
         (
             "count",
-            &(|j: &mut serde_json::Value| j["count"] = 3457.into())
-                as &dyn Fn(&mut serde_json::Value),
+            &(|p: &mut serde_json::Value| {
+                p["extensions"]["PELT_fur"]["fins"]["count"] = 3457.into()
+            }) as &dyn Fn(&mut serde_json::Value),
             "count is 3457",
         ),
         (
             "removed",
-            // Accessor 0 is POSITION: not corner pairs.
-            &|j: &mut serde_json::Value| j["fromIndices"]["removed"] = 0.into(),
+            // POSITION's accessor: not corner pairs.
+            &|p: &mut serde_json::Value| {
+                p["extensions"]["PELT_fur"]["fins"]["fromIndices"]["removed"] =
+                    p["attributes"]["POSITION"].clone();
+            },
             "must be VEC2 UNSIGNED_INT",
         ),
     ] {
         let err = edit(f).read_fins(R).expect_err(what).to_string();
         assert!(
-            err.contains("lying.glb") && err.contains("extensions.PELT_fur.fins") && err.contains(needle),
+            err.contains("lying.glb")
+                && err.contains("extensions.PELT_fur.fins")
+                && err.contains(needle),
             "{what}: {err}"
         );
     }

@@ -51,12 +51,19 @@ fn fur_objects(doc: &Document) -> (Vec<(String, Value)>, Vec<(String, Value)>) {
     let used = doc.array("extensionsUsed");
     assert!(used.iter().any(|e| e == "PELT_fur"), "{used:?}");
     assert!(
-        !doc.array("extensionsRequired").iter().any(|e| e == "PELT_fur"),
+        !doc.array("extensionsRequired")
+            .iter()
+            .any(|e| e == "PELT_fur"),
         "PELT_fur must never be required"
     );
     let mut prims = Vec::new();
     for (m, mesh) in doc.array("meshes").iter().enumerate() {
-        for (p, prim) in mesh["primitives"].as_array().into_iter().flatten().enumerate() {
+        for (p, prim) in mesh["primitives"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .enumerate()
+        {
             assert!(prim["extras"].get("pelt").is_none(), "{prim}");
             if let Some(e) = prim["extensions"].get("PELT_fur") {
                 prims.push((format!("meshes[{m}].primitives[{p}]"), e.clone()));
@@ -121,9 +128,15 @@ fn every_bake_writes_pelt_fur_that_validates_against_its_schemas() {
         .as_u64()
         .expect("fins accessor") as usize;
     let acc = &doc.json["accessors"][a];
-    assert_eq!((acc["type"].as_str(), acc["componentType"].as_u64()), (Some("VEC2"), Some(5125)));
+    assert_eq!(
+        (acc["type"].as_str(), acc["componentType"].as_u64()),
+        (Some("VEC2"), Some(5125))
+    );
     let view = &doc.json["bufferViews"][acc["bufferView"].as_u64().expect("view") as usize];
-    assert!(view.get("target").is_none() && view.get("byteStride").is_none(), "{view}");
+    assert!(
+        view.get("target").is_none() && view.get("byteStride").is_none(),
+        "{view}"
+    );
     // Negative controls: the schemas refuse what a reader could not use.
     let (schemas, p, m) = schemas();
     let ok = prim["extensions"]["PELT_fur"].clone();
@@ -186,7 +199,9 @@ fn misread_records(path: &Path) -> usize {
     let idx = doc.corner_list(r).expect("indices");
     let pos = pelt_io::accessor::read_vec::<3>(
         &doc,
-        doc.attribute(r, "POSITION").expect("attr").expect("POSITION"),
+        doc.attribute(r, "POSITION")
+            .expect("attr")
+            .expect("POSITION"),
         "POSITION",
     )
     .expect("positions");
@@ -249,10 +264,15 @@ fn stale_fin_records_are_detected_and_rebuilt() {
     .expect("inspect JSON");
     let t = &info["primitive"][0]["topology"];
     assert!(
-        t["fins_stale"].as_str().is_some_and(|w| w.contains("reordered")),
+        t["fins_stale"]
+            .as_str()
+            .is_some_and(|w| w.contains("reordered")),
         "{t}"
     );
-    assert_eq!(info["primitive"][0]["contract"]["fins"], "stale (rebuilt at load)");
+    assert_eq!(
+        info["primitive"][0]["contract"]["fins"],
+        "stale (rebuilt at load)"
+    );
     // The renderer rebuilds the fins, says so, and draws what the fresh bake draws.
     let (fresh, _) = render_warned(&dir, "fresh", &sphere_scene(&baked));
     let (rebuilt, warned) = render_warned(&dir, "rebuilt", &sphere_scene(&stale));

@@ -209,8 +209,14 @@ fn bake_embeds_the_textures_and_the_manifest() {
     let (doc, material) = load_with_material(&glb);
     // The manifest is the material's PELT_fur (in the manifest layout, as readers see it).
     let m = &doc.json["materials"][material];
-    assert!(m["extensions"]["PELT_fur"].is_object() && m.get("extras").is_none(), "{m}");
-    let (fur, place) = doc.fur_manifest_json(material).expect("read").expect("manifest");
+    assert!(
+        m["extensions"]["PELT_fur"].is_object() && m.get("extras").is_none(),
+        "{m}"
+    );
+    let (fur, place) = doc
+        .fur_manifest_json(material)
+        .expect("read")
+        .expect("manifest");
     assert_eq!(place, format!("materials[{material}].extensions.PELT_fur"));
     let fur = &fur;
     assert_eq!(fur["version"], 1);

@@ -541,7 +541,10 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let out = bake(&fixture("torus.glb"), &dir, &[]);
     let info = inspect(&out);
     assert!(info["fin_edges"].as_u64().is_some_and(|n| n > 0), "{info}");
-    assert_eq!(info["primitive"][0]["topology"]["form"], "PELT_fur", "{info}");
+    assert_eq!(
+        info["primitive"][0]["topology"]["form"], "PELT_fur",
+        "{info}"
+    );
     // The torus brings its own TANGENT, kept.
     assert_eq!(
         info["primitive"][0]["topology"]["tangents"], "kept",
@@ -565,13 +568,17 @@ fn readers_refuse_other_format_versions_and_corners_out_of_range() {
     let acc = doc.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["fins"]["accessor"]
         .as_u64()
         .expect("fins accessor") as usize;
-    let view = doc.json["accessors"][acc]["bufferView"].as_u64().expect("view") as usize;
+    let view = doc.json["accessors"][acc]["bufferView"]
+        .as_u64()
+        .expect("view") as usize;
     let mut bad = doc.clone();
     let (offset, buffer) = (
         bad.json["bufferViews"][view]["byteOffset"]
             .as_u64()
             .unwrap_or(0) as usize
-            + bad.json["accessors"][acc]["byteOffset"].as_u64().unwrap_or(0) as usize,
+            + bad.json["accessors"][acc]["byteOffset"]
+                .as_u64()
+                .unwrap_or(0) as usize,
         bad.json["bufferViews"][view]["buffer"]
             .as_u64()
             .expect("buffer") as usize,

@@ -7,11 +7,11 @@ use std::time::Instant;
 
 use pelt_fur::set::level_name;
 use pelt_fur::{FurConfig, FurError, TextureSet};
-use pelt_io::texture::gl;
 use pelt_io::extension::{
     EXTENSION, extension_from_manifest, for_each_material_texture, remove_legacy_fur,
     sheen_fallback,
 };
+use pelt_io::texture::gl;
 use pelt_io::{Document, IoError, PrimitiveRef};
 use serde::Serialize;
 
@@ -160,9 +160,8 @@ pub fn embed(
         &mut |stem, level| (None, images.get(&level_name(stem, level)).copied()),
         &mut |stem| textures.get(stem).copied(),
     );
-    let manifest = serde_json::to_value(&manifest).map_err(|e| {
-        IoError::invalid(&doc.path, "fur manifest", format!("cannot encode: {e}"))
-    })?;
+    let manifest = serde_json::to_value(&manifest)
+        .map_err(|e| IoError::invalid(&doc.path, "fur manifest", format!("cannot encode: {e}")))?;
     let value = extension_from_manifest(&manifest, &mut |image| by_image[&image]);
     for &m in &materials {
         let base = doc.array("materials")[m]["pbrMetallicRoughness"].get("baseColorTexture");
@@ -203,8 +202,7 @@ fn strip_old_fur(doc: &mut Document, report: &mut FurReport) {
         if let Some(mut ext) = ext {
             for_each_material_texture(&mut ext, &mut |t| textures.extend(t.as_u64()));
         }
-        if m
-            .get("extensions")
+        if m.get("extensions")
             .and_then(|e| e.as_object())
             .is_some_and(|e| e.is_empty())
         {

@@ -9,8 +9,8 @@ use std::collections::BTreeSet;
 use pelt_io::accessor;
 use pelt_io::contract::{self, NORMAL_GROUP_ATTRIBUTE};
 use pelt_io::extension::{EXTENSION, Form};
-use pelt_io::topology::StoredFins;
 use pelt_io::mesh::encoding;
+use pelt_io::topology::StoredFins;
 use serde_json::{Value, json};
 
 /// The report of `doc`: file totals, topology totals, skins, animations, and per primitive
@@ -352,7 +352,10 @@ pub fn text(v: &Value) -> String {
                 c["mean"].as_f64().unwrap_or(0.0)
             );
         }
-        say!("  contract      {}", contract_line(&p["contract"], &p["topology"]));
+        say!(
+            "  contract      {}",
+            contract_line(&p["contract"], &p["topology"])
+        );
     }
     out
 }
@@ -366,7 +369,10 @@ fn contract_line(c: &Value, t: &Value) -> String {
             format!("no {what}")
         }
     };
-    let mut parts = vec![has(&c["comb"], "_FUR_COMB"), has(&c["normal_groups"], "_NORMAL_GROUP")];
+    let mut parts = vec![
+        has(&c["comb"], "_FUR_COMB"),
+        has(&c["normal_groups"], "_NORMAL_GROUP"),
+    ];
     parts.push(match c["topology"].as_str() {
         Some(form) => format!("topology in {form}"),
         None => "no stored topology".into(),

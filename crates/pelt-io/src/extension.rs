@@ -429,7 +429,10 @@ mod tests {
         }
         assert_eq!(index_hash(&[1]), h);
         // Reordering triangles changes it (a stale record's tell).
-        assert_ne!(index_hash(&[0, 1, 2, 2, 3, 0]), index_hash(&[2, 3, 0, 0, 1, 2]));
+        assert_ne!(
+            index_hash(&[0, 1, 2, 2, 3, 0]),
+            index_hash(&[2, 3, 0, 0, 1, 2])
+        );
     }
 
     #[test]

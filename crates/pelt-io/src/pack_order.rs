@@ -173,7 +173,10 @@ impl Document {
             let edges = edges.ok_or_else(|| {
                 self.invalid(&place, "the index codec changed the triangles (internal)")
             })?;
-            let fur = self.fur_primitive(r)?.map(|(f, _)| f.clone()).unwrap_or_default();
+            let fur = self
+                .fur_primitive(r)?
+                .map(|(f, _)| f.clone())
+                .unwrap_or_default();
             // Stored as their difference from the index list's edges where that is smaller.
             let (added, removed) = diff(&edges, &predicted);
             if added.len() + removed.len() < edges.len() {

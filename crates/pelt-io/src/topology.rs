@@ -241,7 +241,10 @@ impl Document {
             None => {
                 let n = self.corner_count(r)?;
                 let n = u32::try_from(n).map_err(|_| {
-                    self.invalid(self.place(r), format!("{n} vertices do not fit 32-bit indices"))
+                    self.invalid(
+                        self.place(r),
+                        format!("{n} vertices do not fit 32-bit indices"),
+                    )
                 })?;
                 Ok((0..n).collect())
             }

@@ -463,7 +463,11 @@ fn rebuild_fins(mesh: &pelt_geom::Mesh, fur: &[FurVertex]) -> Vec<pelt_geom::fin
         CornerNormals::Vertex(normals),
         &TopologyOptions::default(),
     );
-    let lengths: Vec<f32> = fur.iter().take(mesh.positions.len()).map(|f| f.comb[3]).collect();
+    let lengths: Vec<f32> = fur
+        .iter()
+        .take(mesh.positions.len())
+        .map(|f| f.comb[3])
+        .collect();
     pelt_geom::fins::build(
         t.take_edges(),
         &mesh.indices,
