@@ -167,6 +167,31 @@ pub fn generated() -> Result<(FurLook, Textures), IoError> {
     Ok((look, (heights, fin)))
 }
 
+/// The first channel of decoded PNG rows as 16-bit values (8-bit values × 257); None for bit
+/// depths below 8 or palette images.
+fn first_channel(color: png::ColorType, depth: png::BitDepth, buf: &[u8]) -> Option<Vec<u16>> {
+    let channels = match color {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => return None,
+    };
+    match depth {
+        png::BitDepth::Sixteen => Some(
+            buf.chunks_exact(2 * channels)
+                .map(|b| u16::from_be_bytes([b[0], b[1]]))
+                .collect(),
+        ),
+        png::BitDepth::Eight => Some(
+            buf.chunks_exact(channels)
+                .map(|b| u16::from(b[0]) * 257)
+                .collect(),
+        ),
+        _ => None,
+    }
+}
+
 /// Decodes one PNG of the manifest, checking its size against what the manifest claims
 /// before anything is allocated from it.
 fn decode_png(
@@ -209,21 +234,14 @@ fn baked_textures(doc: &Document, m: &FurManifest, place: &str) -> Result<Textur
     for l in &m.textures.heightfield.levels {
         let (color, depth, buf) =
             decode_png(doc, image_of(l, "heightfield")?, (l.width, l.height), place)?;
-        let texels = match (color, depth) {
-            (png::ColorType::Grayscale, png::BitDepth::Sixteen) => buf
-                .chunks_exact(2)
-                .map(|b| u16::from_be_bytes([b[0], b[1]]))
-                .collect(),
-            (png::ColorType::Grayscale, png::BitDepth::Eight) => {
-                buf.iter().map(|&x| u16::from(x) * 257).collect()
-            }
-            other => {
-                return Err(doc.invalid(
-                    format!("{place}.textures.heightfield"),
-                    format!("must be 8- or 16-bit gray, found {other:?}"),
-                ));
-            }
-        };
+        // Gray as baked; a tool that re-encoded the image (glTF-Transform's texture
+        // compression writes RGB) keeps the heights in every colour channel: the first is read.
+        let texels = first_channel(color, depth, &buf).ok_or_else(|| {
+            doc.invalid(
+                format!("{place}.textures.heightfield"),
+                format!("must be an 8- or 16-bit PNG, found {color:?} {depth:?}"),
+            )
+        })?;
         heights.push(Level {
             width: l.width,
             height: l.height,
