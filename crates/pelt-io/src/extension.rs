@@ -459,12 +459,12 @@ mod tests {
         });
         let doc = Document::from_parts(
             std::path::Path::new("t.glb"),
-            root.as_object().unwrap().clone(),
+            root.as_object().expect("object").clone(),
             Vec::new(),
         );
         let back = doc
-            .manifest_from_extension(ext.as_object().unwrap(), "m")
-            .unwrap();
+            .manifest_from_extension(ext.as_object().expect("object"), "m")
+            .expect("converts");
         let mut want = manifest.clone();
         // The texture entry's level-0 texture is the level-0 reference.
         want["textures"]["dots"]["texture"] = json!(3);
@@ -474,7 +474,7 @@ mod tests {
         let mut bad = ext.clone();
         bad["finTexture"]["mipLevels"] = json!([5, 5, 5, 5]);
         assert!(
-            doc.manifest_from_extension(bad.as_object().unwrap(), "m")
+            doc.manifest_from_extension(bad.as_object().expect("object"), "m")
                 .unwrap_err()
                 .to_string()
                 .contains("at most 3")
