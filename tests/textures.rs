@@ -210,7 +210,7 @@ fn bake_embeds_the_textures_and_the_manifest() {
     // The manifest is the material's PELT_fur (in the manifest layout, as readers see it).
     let m = &doc.json["materials"][material];
     assert!(
-        m["extensions"]["PELT_fur"].is_object() && m.get("extras").is_none(),
+        m["extensions"]["PELT_fur"].is_object() && m["extras"].get("pelt").is_none(),
         "{m}"
     );
     let (fur, place) = doc

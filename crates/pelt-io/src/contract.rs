@@ -3,15 +3,16 @@
 //! defined. The bake writes through it, and `pelt inspect` and the preview read through it;
 //! `docs/format.md` describes the same rules for other readers.
 //!
-//! - `_FUR_COMB`: VEC4, float or normalized unsigned byte/short: xyz the comb in the tangent
-//!   frame ([`pelt_geom::frame::Frame`]), w the fur length. Normalized storage maps each
-//!   direction component x to (x + 1) / 2 (Revie §2.4.1); [`decode_comb`] undoes it.
+//! - `_FUR_COMB`: VEC4, float or normalized byte/short: xyz the comb in the tangent frame
+//!   ([`pelt_geom::frame::Frame`]), w the fur length. Normalized unsigned storage maps each
+//!   direction component x to (x + 1) / 2 (Revie §2.4.1); [`decode_comb`] undoes it. Signed
+//!   normalized storage (what quantizing tools such as glTF-Transform write) holds x as is.
 //! - `_NORMAL_GROUP`: SCALAR unsigned short, one 8-bit normal-group ID per vertex.
 //! - fin records: [`crate::topology`] ([`crate::topology::FIN_RECORD_SIZE`] bytes each).
 
 use glam::{Vec3, Vec4};
 
-use crate::accessor;
+use crate::accessor::{self, ComponentType};
 use crate::document::{Document, PrimitiveRef};
 use crate::error::Result;
 
@@ -49,7 +50,8 @@ pub fn read_comb(doc: &Document, r: PrimitiveRef, n: usize) -> Result<Option<Vec
             ),
         ));
     }
-    let normalized = e.normalized;
+    // Signed normalized values are already in [−1, 1]; only unsigned ones are biased.
+    let normalized = e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16);
     Ok(Some(
         e.to_f32::<4>()
             .into_iter()

@@ -154,6 +154,11 @@ impl Document {
             return Ok(false);
         };
         let fins = self.read_fins(r)?;
+        let fur = self.fur_primitive(r)?.map(|(f, _)| f.clone());
+        if let (Some(fur), None) = (&fur, fins.as_ref().filter(|e| !e.is_empty())) {
+            // No records to move, but `computedFrom` must describe the new index list.
+            self.set_topology(r, fur.clone(), None, &decoded)?;
+        }
         if let Some(edges) = fins.filter(|e| !e.is_empty()) {
             // The old triangles in the new vertex numbering, to match against the decoded.
             let renumbered: Vec<u32> = match &map {
@@ -173,10 +178,7 @@ impl Document {
             let edges = edges.ok_or_else(|| {
                 self.invalid(&place, "the index codec changed the triangles (internal)")
             })?;
-            let fur = self
-                .fur_primitive(r)?
-                .map(|(f, _)| f.clone())
-                .unwrap_or_default();
+            let fur = fur.unwrap_or_default();
             // Stored as their difference from the index list's edges where that is smaller.
             let (added, removed) = diff(&edges, &predicted);
             if added.len() + removed.len() < edges.len() {

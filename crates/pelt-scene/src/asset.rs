@@ -543,10 +543,21 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                             manifest = fur::manifest(doc, r)?;
                         }
                     }
+                    let regenerated = match comb {
+                        Some(_) => crate::tangents::regenerate(doc, r, m)?,
+                        None => None,
+                    };
+                    let tangents = match regenerated {
+                        Some((t, note)) => {
+                            load_warnings.push(note);
+                            Some(t)
+                        }
+                        None => None,
+                    };
                     fur_vertices.extend(fur::fur_vertices(
                         world,
                         normals,
-                        m.tangents.as_deref(),
+                        tangents.as_deref().or(m.tangents.as_deref()),
                         m.uvs.as_deref(),
                         comb.as_deref(),
                     ));

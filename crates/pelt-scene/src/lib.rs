@@ -35,6 +35,7 @@ pub mod skin;
 pub mod sky;
 pub mod springs;
 pub mod strands;
+pub mod tangents;
 pub mod vertex;
 pub mod view;
 pub mod wind;

@@ -1,14 +1,21 @@
 // PELT_fur for glTF-Transform (docs/extension/PELT_fur/README.md): the primitive's fin
 // records as an Accessor reference and the material's fur textures (every mip level) as
 // Texture references, so that prune, dedup, weld, reorder, quantize and meshopt keep and
-// remap them. Work in progress: stale records are not yet recomputed at write.
+// remap them. At write, it follows the spec's writer rules: fin records whose triangles a
+// transform changed (weld, reorder, simplify, join) are recomputed with a new `computedFrom`,
+// and fur `length` follows the scale a transform moved out of the positions (quantize, join).
 import {
   Extension,
   ExtensionProperty,
+  Primitive,
   PropertyType,
   RefList,
   TextureInfo,
 } from '@gltf-transform/core';
+import { MeshoptDecoder, MeshoptEncoder } from 'meshoptimizer';
+import { buildFins, canonicalizeForMeshopt, cornerList, indexHash } from './fins.js';
+
+await Promise.all([MeshoptEncoder.ready, MeshoptDecoder.ready]);
 
 export const PELT_FUR = 'PELT_fur';
 const STEMS = ['heightfield', 'dots', 'fin'];
@@ -23,7 +30,9 @@ export class FurPrimitive extends ExtensionProperty {
     this.parentTypes = [PropertyType.PRIMITIVE];
   }
   getDefaults() {
-    return Object.assign(super.getDefaults(), { info: {}, fins: null, added: null, removed: null });
+    return Object.assign(super.getDefaults(), {
+      info: {}, fins: null, added: null, removed: null, extent: null,
+    });
   }
   getInfo() { return this.get('info'); }
   setInfo(info) { return this.set('info', info); }
@@ -33,6 +42,18 @@ export class FurPrimitive extends ExtensionProperty {
   setAdded(a) { return this.setRef('added', a, { usage: FIN_USAGE }); }
   getRemoved() { return this.getRef('removed'); }
   setRemoved(a) { return this.setRef('removed', a, { usage: FIN_USAGE }); }
+  /** The largest side of the positions' bounds when read (not written: it tells the writer
+   * what scale a transform moved out of the positions). */
+  getExtent() { return this.get('extent'); }
+  setExtent(e) { return this.set('extent', e); }
+}
+
+/** The largest side of a POSITION accessor's bounds, as decoded. */
+function extent(position) {
+  if (!position || position.getCount() === 0) return null;
+  const lo = position.getMinNormalized([]);
+  const hi = position.getMaxNormalized([]);
+  return Math.max(...hi.map((h, k) => h - lo[k]));
 }
 
 /** A material's PELT_fur: plain fields and, per texture, level 0 with its TextureInfo and
@@ -92,7 +113,9 @@ export class PeltFur extends Extension {
         delete finInfo.accessor;
         delete finInfo.fromIndices;
         fur.setInfo({ ...info, fins: fins ? finInfo : undefined });
-        context.meshes[m].listPrimitives()[p].setExtension(PELT_FUR, fur);
+        const prim = context.meshes[m].listPrimitives()[p];
+        fur.setExtent(extent(prim.getAttribute('POSITION')));
+        prim.setExtension(PELT_FUR, fur);
       });
     });
     (json.materials || []).forEach((matDef, m) => {
@@ -118,6 +141,10 @@ export class PeltFur extends Extension {
 
   prewrite(context, type) {
     if (type !== PropertyType.ACCESSOR) return this;
+    this.followScale();
+    for (const p of this.properties) {
+      if (p instanceof FurPrimitive) this.refreshFins(p);
+    }
     for (const p of this.properties) {
       if (!(p instanceof FurPrimitive)) continue;
       for (const a of [p.getFins(), p.getAdded(), p.getRemoved()]) {
@@ -125,6 +152,93 @@ export class PeltFur extends Extension {
       }
     }
     return this;
+  }
+
+  /** The primitives that carry `fur`. */
+  primitivesOf(fur) {
+    return fur.listParents().filter((p) => p instanceof Primitive);
+  }
+
+  /** Recomputes the fin records of the primitives whose index list changed since they were
+   * computed (spec, "What a writer must do", 3), or drops them where no rule applies. */
+  refreshFins(fur) {
+    const info = fur.getInfo();
+    const from = info.computedFrom;
+    const prim = this.primitivesOf(fur)[0];
+    if (!from || !prim || !info.fins) return;
+    const meshopt = this.document
+      .getRoot()
+      .listExtensionsUsed()
+      .some((e) => e.extensionName === 'EXT_meshopt_compression');
+    if (meshopt && prim.getIndices() && prim.getMode() === Primitive.Mode.TRIANGLES) {
+      canonicalizeForMeshopt(prim.getIndices(), { MeshoptEncoder, MeshoptDecoder });
+    }
+    const corners = cornerList(prim);
+    const hash = indexHash(corners);
+    if (from.triangles === corners.length / 3 && from.indexHash === hash) return;
+    const logger = this.document.getLogger();
+    const comb = prim.getAttribute(info.combAttribute || '_FUR_COMB');
+    const old = [fur.getFins(), fur.getAdded(), fur.getRemoved()].filter(Boolean);
+    fur.setFins(null).setAdded(null).setRemoved(null);
+    for (const a of old) if (a.listParents().every((q) => q.propertyType === 'Root')) a.dispose();
+    const { fins, computedFrom, edges, ...rest } = info;
+    if (prim.getMode() !== Primitive.Mode.TRIANGLES || !comb || corners.length % 3 !== 0) {
+      logger.warn(`${PELT_FUR}: fins dropped: the primitive is no longer a furry triangle list`);
+      fur.setInfo(rest);
+      return;
+    }
+    const built = buildFins(prim, comb);
+    const buffer = this.document.getRoot().listBuffers()[0];
+    const accessor = this.document
+      .createAccessor()
+      .setType('VEC2')
+      .setArray(built.records)
+      .setBuffer(buffer);
+    fur.setFins(accessor);
+    fur.setInfo({
+      ...rest,
+      edges: { unique: built.unique, boundary: built.boundary, nonmanifold: built.nonmanifold },
+      fins: { bareEdgesLeftOut: built.bare },
+      computedFrom: { triangles: corners.length / 3, indexHash: hash },
+    });
+    logger.info(`${PELT_FUR}: ${built.records.length / 2} fin records recomputed (triangles changed)`);
+  }
+
+  /** Scales each fur material's `length` by the scale a transform moved out of the positions
+   * of its primitives (spec, "What a writer must do", 4); a material whose primitives moved
+   * by different scales is split. */
+  followScale() {
+    const byMaterial = new Map();
+    for (const fur of this.properties) {
+      if (!(fur instanceof FurPrimitive)) continue;
+      for (const prim of this.primitivesOf(fur)) {
+        const now = extent(prim.getAttribute('POSITION'));
+        const was = fur.getExtent();
+        const material = prim.getMaterial();
+        if (!now || !was || !material || !material.getExtension(PELT_FUR)) continue;
+        const ratio = Math.abs(now / was - 1) < 1e-4 ? 1 : now / was;
+        const list = byMaterial.get(material) || [];
+        list.push({ prim, ratio });
+        byMaterial.set(material, list);
+        fur.setExtent(now);
+      }
+    }
+    for (const [material, uses] of byMaterial) {
+      const ratios = [...new Set(uses.map((u) => u.ratio))];
+      ratios.forEach((ratio, i) => {
+        if (ratio === 1 && i === 0) return;
+        let target = material;
+        if (i > 0) {
+          target = material.clone();
+          target.setExtension(PELT_FUR, material.getExtension(PELT_FUR).clone());
+          for (const u of uses) if (u.ratio === ratio) u.prim.setMaterial(target);
+        }
+        if (ratio === 1) return;
+        const fur = target.getExtension(PELT_FUR);
+        const info = fur.getInfo();
+        fur.setInfo({ ...info, length: info.length * ratio });
+      });
+    }
   }
 
   write(context) {
