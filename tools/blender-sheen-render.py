@@ -52,6 +52,7 @@ scene.world = world
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = 64
+scene.cycles.use_denoising = False
 scene.render.resolution_x, scene.render.resolution_y = w, h
 scene.render.film_transparent = False
 scene.render.filepath = out

@@ -20,19 +20,10 @@ config=integrations/gltf-transform/pelt.config.mjs
 pelt=target/release/pelt
 flip=target/release/examples/flip_pngs
 
-# The contract as inspect reports it: comb, groups, fins (with their count) and manifest.
+# The contract as inspect reports it (tools/pipeline-contract.py): comb, groups, fins (with
+# their count), manifest, TANGENT.
 contract() {
-  "$pelt" inspect "$1" --json | python3 -c '
-import json, sys
-p = json.load(sys.stdin)["primitive"]
-def one(q):
-    c, t = q["contract"], q["topology"]
-    fins = c["fins"] + (f' {t["fin_edges"]}' if c["fins"] == "present" else "")
-    if t.get("fins_stale"): fins = "stale"
-    return ", ".join([("comb" if c["comb"] else "no comb"), ("groups" if c["normal_groups"] else "no groups"),
-                      "fins " + fins, ("manifest" if c["fur_manifest"] else "no manifest"),
-                      ("TANGENT" if "TANGENT" in q["attributes"] else "no TANGENT")])
-print("; ".join(sorted(set(one(q) for q in p if q["mode"] == 4))))'
+  "$pelt" inspect "$1" --json | python3 tools/pipeline-contract.py
 }
 
 render() {

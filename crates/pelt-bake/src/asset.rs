@@ -164,6 +164,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                         comb: false,
                         tangents: None,
                         fins: None,
+                        indices: g.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
                     };
                     write_extras(doc, r, extras, opts, &mut report.warnings)?;
                     report.timings.encode_ms += ms(t2);
@@ -251,6 +252,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
                 comb: true,
                 tangents: baked.stats.tangents,
                 fins,
+                indices: baked.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
             };
             write_extras(doc, r, extras, opts, &mut report.warnings)?;
         }
@@ -391,6 +393,8 @@ struct Extras<'a> {
     /// Where TANGENT came from (None: the primitive has no comb and kept its own).
     tangents: Option<TangentSource>,
     fins: Option<Vec<pelt_geom::fins::FinEdge>>,
+    /// The index list the primitive now has (as written: `computedFrom` describes it).
+    indices: &'a [u32],
 }
 
 /// Writes `extensions.PELT_fur` (attribute names, tangent source, normal groups, fins when
@@ -436,8 +440,9 @@ fn write_extras(
             json!({ "count": t.fin_edges, "bareEdgesLeftOut": t.bare_edges }),
         );
     }
-    let indices = doc.corner_list(r)?;
-    if !doc.set_topology(r, pelt, fins, &indices)? {
+    // The bake's own copy, not a second read of what it just wrote (the same list).
+    debug_assert_eq!(doc.corner_list(r)?, e.indices);
+    if !doc.set_topology(r, pelt, fins, e.indices)? {
         warnings.push(format!(
             "{}: extensions is not a JSON object: normal-group counts and fin edges were not stored",
             doc.place(r)

@@ -160,6 +160,95 @@ pub fn material_texture(doc: &Document, material: usize, slot: Slot) -> Result<O
     }))
 }
 
+/// `KHR_texture_transform` on a texture reference: `uv' = matrix · (u, v, 1)` (the
+/// extension's translation · rotation · scale), and the TEXCOORD set it overrides to, if any.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UvTransform {
+    /// Rows of the 2×3 affine matrix.
+    pub matrix: [[f32; 3]; 2],
+    /// `texCoord` of the extension (replaces the textureInfo's).
+    pub tex_coord: Option<u32>,
+}
+
+impl UvTransform {
+    /// `uv` transformed.
+    pub fn apply(&self, uv: [f32; 2]) -> [f32; 2] {
+        let [a, b] = self.matrix;
+        [
+            a[0] * uv[0] + a[1] * uv[1] + a[2],
+            b[0] * uv[0] + b[1] * uv[1] + b[2],
+        ]
+    }
+}
+
+/// The `KHR_texture_transform` of the texture in `slot` of material `material`, if it has
+/// one (gltfpack writes one with its quantized UVs); an error names a malformed field.
+pub fn texture_transform(
+    doc: &Document,
+    material: usize,
+    slot: Slot,
+) -> Result<Option<UvTransform>> {
+    let path: &[&str] = match slot {
+        Slot::BaseColor => &["pbrMetallicRoughness", "baseColorTexture"],
+        Slot::MetallicRoughness => &["pbrMetallicRoughness", "metallicRoughnessTexture"],
+        Slot::Normal => &["normalTexture"],
+        Slot::Occlusion => &["occlusionTexture"],
+        Slot::Emissive => &["emissiveTexture"],
+    };
+    let mut v = material_json(doc, material)?;
+    for key in path {
+        match v.get(key) {
+            Some(x) => v = x,
+            None => return Ok(None),
+        }
+    }
+    let Some(t) = v
+        .get("extensions")
+        .and_then(|e| e.get("KHR_texture_transform"))
+    else {
+        return Ok(None);
+    };
+    let place = format!(
+        "materials[{material}].{}.extensions.KHR_texture_transform",
+        path.join(".")
+    );
+    let pair = |key: &str, default: [f32; 2]| -> Result<[f32; 2]> {
+        let Some(x) = t.get(key) else {
+            return Ok(default);
+        };
+        let n = x.as_array().filter(|a| a.len() == 2).and_then(|a| {
+            let f = |i: usize| a[i].as_f64().filter(|v| v.is_finite()).map(|v| v as f32);
+            Some([f(0)?, f(1)?])
+        });
+        n.ok_or_else(|| doc.invalid(format!("{place}.{key}"), "must be two finite numbers"))
+    };
+    let offset = pair("offset", [0.0, 0.0])?;
+    let scale = pair("scale", [1.0, 1.0])?;
+    let rotation =
+        match t.get("rotation") {
+            None => 0.0,
+            Some(r) => r.as_f64().filter(|v| v.is_finite()).ok_or_else(|| {
+                doc.invalid(format!("{place}.rotation"), "must be a finite number")
+            })? as f32,
+        };
+    let tex_coord = match t.get("texCoord") {
+        None => None,
+        Some(c) => Some(
+            c.as_u64()
+                .and_then(|c| u32::try_from(c).ok())
+                .ok_or_else(|| doc.invalid(format!("{place}.texCoord"), "must be an index"))?,
+        ),
+    };
+    let (sin, cos) = rotation.sin_cos();
+    Ok(Some(UvTransform {
+        matrix: [
+            [cos * scale[0], sin * scale[1], offset[0]],
+            [-sin * scale[0], cos * scale[1], offset[1]],
+        ],
+        tex_coord,
+    }))
+}
+
 /// Material `material`'s JSON object, or an error naming it when the document has none.
 fn material_json(doc: &Document, material: usize) -> Result<&serde_json::Value> {
     doc.array("materials")
@@ -312,5 +401,38 @@ mod tests {
             "{e}"
         );
         assert!(double_sided(&doc, 4).is_err());
+    }
+
+    #[test]
+    fn texture_transforms_are_translation_rotation_scale() {
+        let json = br#"{"asset":{"version":"2.0"},"materials":[
+            {"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"extensions":{"KHR_texture_transform":
+                {"offset":[0.5,0],"rotation":1.5707963267948966,"scale":[2,2],"texCoord":1}}}}},
+            {"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},
+            {"normalTexture":{"index":0,"extensions":{"KHR_texture_transform":{"scale":[1]}}}}]}"#;
+        let doc = Document::from_bytes(std::path::Path::new("t.gltf"), json.to_vec())
+            .expect("a document");
+        let t = texture_transform(&doc, 0, Slot::BaseColor)
+            .expect("valid")
+            .expect("a transform");
+        // The extension's example order: scale (2, 0), rotate by 90° (to (0, -2)), translate.
+        let [u, v] = t.apply([1.0, 0.0]);
+        assert!((u - 0.5).abs() < 1e-6 && (v + 2.0).abs() < 1e-6, "{u} {v}");
+        assert_eq!(t.tex_coord, Some(1));
+        assert_eq!(
+            texture_transform(&doc, 1, Slot::BaseColor).expect("valid"),
+            None
+        );
+        assert_eq!(
+            texture_transform(&doc, 0, Slot::Normal).expect("valid"),
+            None
+        );
+        let e = texture_transform(&doc, 2, Slot::Normal)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("materials[2].normalTexture.extensions.KHR_texture_transform.scale"),
+            "{e}"
+        );
     }
 }

@@ -510,7 +510,11 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
             let albedo = base_color(doc, r)?;
             let groups = normal_groups(doc, r, m.vertex_count())?;
             let material = reader.index(doc, doc.primitive_material(r)?)?;
-            let uvs = texcoords(doc, r, reader.read[material as usize].1.tex_coord, m)?;
+            let read = &reader.read[material as usize].1;
+            let mut uvs = texcoords(doc, r, read.tex_coord, m)?;
+            if let (Some(t), Some(uvs)) = (read.uv_transform, uvs.as_mut()) {
+                uvs.iter_mut().for_each(|uv| *uv = t.apply(*uv));
+            }
             let uv = |k: usize| uvs.as_ref().map_or([0.0; 2], |u| u[k]);
             let base = out.vertices.len() as u32;
             let first = out.indices.len() as u32;

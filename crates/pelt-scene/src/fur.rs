@@ -509,14 +509,13 @@ pub fn lost_contract(
         None => false,
     };
     // What is left of a bake whose fur data a tool dropped whole (gltfpack, Blender's
-    // exporter): the paint pelt baked from (COLOR_0) and the sheen it gave the fur material.
+    // exporter): the sheen pelt gave the fur material, which those tools keep.
     let sheen = material.is_some_and(|m| {
         doc.array("materials")
             .get(m)
             .and_then(|v| v.get("extensions"))
             .is_some_and(|e| e.get("KHR_materials_sheen").is_some())
     });
-    let painted = doc.attribute(r, "COLOR_0")?.is_some();
     let fix = "bake the source again, or run glTF tools with integrations/gltf-transform's \
                config (docs/pipelines.md)";
     let lost = if has_comb && stored.is_none() && !manifest {
@@ -535,10 +534,10 @@ pub fn lost_contract(
         "has no _NORMAL_GROUP though PELT_fur records normal groups (a tool dropped the \
          attribute): inferred lighting blends light across its creases"
             .to_owned()
-    } else if !has_comb && stored.is_none() && !manifest && sheen && painted {
-        "has painted COLOR_0 and a sheen material but no _FUR_COMB and no PELT_fur: if it \
-         was baked by pelt, a tool dropped all its fur data (gltfpack and Blender's exporter \
-         do): drawn as a bare mesh"
+    } else if !has_comb && stored.is_none() && !manifest && sheen {
+        "has a sheen material (KHR_materials_sheen) but no _FUR_COMB and no PELT_fur: if pelt \
+         baked it, a tool dropped all its fur data (gltfpack and Blender's exporter do): \
+         drawn as a bare mesh"
             .to_owned()
     } else {
         return Ok(None);

@@ -38,6 +38,9 @@ pub struct Material {
     /// The TEXCOORD set every texture of the material is sampled with (the base colour
     /// texture's, else the normal texture's, else the metallic-roughness texture's).
     pub tex_coord: u32,
+    /// `KHR_texture_transform` of the texture that chose `tex_coord`, applied to the UVs as
+    /// they are read (one transform for the material, as one set of UVs is drawn).
+    pub uv_transform: Option<picture::UvTransform>,
     /// glTF's `doubleSided`: false (glTF's default) culls back faces of opaque surfaces,
     /// whose back is never seen; true draws both sides, the back with its normal flipped.
     pub double_sided: bool,
@@ -60,6 +63,7 @@ impl Default for Material {
             metallic: pelt_io::texture::NEUTRAL_METALLIC,
             roughness: pelt_io::texture::NEUTRAL_ROUGHNESS,
             tex_coord: 0,
+            uv_transform: None,
             double_sided: false,
         }
     }
@@ -180,12 +184,18 @@ impl MaterialReader {
         let base = self.texture(doc, m, Slot::BaseColor)?;
         let normal = self.texture(doc, m, Slot::Normal)?;
         let mr = self.texture(doc, m, Slot::MetallicRoughness)?;
-        let tex_coord = [&base, &normal, &mr]
-            .into_iter()
-            .flatten()
-            .map(|(_, set)| *set)
-            .next()
-            .unwrap_or(0);
+        let chosen = [
+            (&base, Slot::BaseColor),
+            (&normal, Slot::Normal),
+            (&mr, Slot::MetallicRoughness),
+        ]
+        .into_iter()
+        .find_map(|(t, slot)| t.as_ref().map(|(_, set)| (*set, slot)));
+        let (mut tex_coord, mut uv_transform) = (0, None);
+        if let Some((set, slot)) = chosen {
+            uv_transform = picture::texture_transform(doc, m, slot)?;
+            tex_coord = uv_transform.and_then(|t| t.tex_coord).unwrap_or(set);
+        }
         Ok(Material {
             base_color: base.map(|(t, _)| t),
             normal: normal.map(|(t, _)| t),
@@ -194,6 +204,7 @@ impl MaterialReader {
             metallic,
             roughness,
             tex_coord,
+            uv_transform,
             double_sided,
         })
     }

@@ -6,23 +6,20 @@
 // comb length 0 at both ends in both triangles are left out. The same rule and order as
 // pelt's bake (crates/pelt-geom/src/topology.rs and fins.rs).
 
+import xxhash from 'xxhash-wasm';
+
+const { h32Raw } = await xxhash();
+
 export const NO_CORNER = 0xffffffff;
 
 /** The corner after `c` in its triangle. */
 export const nextCorner = (c) => c - (c % 3) + ((c + 1) % 3);
 
-/** FNV-1a, 32 bits, over the index list as little-endian u32 values (computedFrom.indexHash). */
+/** xxHash32 (seed 0) of the index list as little-endian u32 values (computedFrom.indexHash).
+ * `corners` is a Uint32Array (JavaScript engines are little-endian). */
 export function indexHash(corners) {
-  let h = 2166136261;
-  for (let i = 0; i < corners.length; i++) {
-    let v = corners[i];
-    for (let b = 0; b < 4; b++) {
-      h ^= v & 0xff;
-      h = Math.imul(h, 16777619) >>> 0;
-      v >>>= 8;
-    }
-  }
-  return h >>> 0;
+  const u32 = corners instanceof Uint32Array ? corners : Uint32Array.from(corners);
+  return h32Raw(new Uint8Array(u32.buffer, u32.byteOffset, u32.byteLength), 0) >>> 0;
 }
 
 /** The primitive's index list (0, 1, 2, … without indices), as a Uint32Array. */

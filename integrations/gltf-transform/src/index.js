@@ -141,6 +141,7 @@ export class PeltFur extends Extension {
 
   prewrite(context, type) {
     if (type !== PropertyType.ACCESSOR) return this;
+    this.unshare();
     this.followScale();
     for (const p of this.properties) {
       if (p instanceof FurPrimitive) this.refreshFins(p);
@@ -157,6 +158,17 @@ export class PeltFur extends Extension {
   /** The primitives that carry `fur`. */
   primitivesOf(fur) {
     return fur.listParents().filter((p) => p instanceof Primitive);
+  }
+
+  /** Gives each primitive its own FurPrimitive: a cloned primitive shares its original's, and
+   * its records and `computedFrom` describe one index list. */
+  unshare() {
+    for (const fur of [...this.properties]) {
+      if (!(fur instanceof FurPrimitive)) continue;
+      for (const prim of this.primitivesOf(fur).slice(1)) {
+        prim.setExtension(PELT_FUR, fur.clone());
+      }
+    }
   }
 
   /** Recomputes the fin records of the primitives whose index list changed since they were
