@@ -72,6 +72,7 @@ pub fn decode_color(c: Vec4, space: ColorSpace, axes: &AxisMap) -> (DVec3, f64) 
 }
 
 /// Listing 2.7 for one vertex: direction `d` (object space, any length) and `length`.
+#[inline]
 pub fn bake(d: DVec3, length: f64, frame: &Frame) -> ([f32; 4], CombCase) {
     let mag = d.length();
     if mag.is_nan() || mag <= GRAY_EPSILON {

@@ -26,6 +26,7 @@ pub struct Frame {
 
 /// A deterministic unit vector perpendicular to unit `n`: the coordinate axis least aligned
 /// with `n` (first of x, y, z on ties), projected and normalized.
+#[inline]
 pub fn perpendicular(n: DVec3) -> DVec3 {
     let a = n.abs();
     let e = if a.x <= a.y && a.x <= a.z {
@@ -39,6 +40,7 @@ pub fn perpendicular(n: DVec3) -> DVec3 {
 }
 
 /// The sign glTF's w stands for: -1 for negative w, +1 otherwise (0 included).
+#[inline]
 pub fn handedness(w: f32) -> f64 {
     if w < 0.0 { -1.0 } else { 1.0 }
 }
@@ -46,6 +48,7 @@ pub fn handedness(w: f32) -> f64 {
 impl Frame {
     /// Builds the frame from a normal (any length but zero) and a tangent. Returns the frame and
     /// whether the tangent was degenerate (zero, or along N) and replaced by [`perpendicular`].
+    #[inline]
     pub fn new(normal: Vec3, tangent: Vec4) -> (Frame, bool) {
         let n = normalize_f64(normal).unwrap_or(DVec3::Z);
         let t = tangent.truncate().as_dvec3();
@@ -73,6 +76,7 @@ impl Frame {
 
     /// The object-space unit direction of a tangent-space comb (the decoding every renderer
     /// does); the tangent where the comb has no direction (below 1e-6).
+    #[inline]
     pub fn comb_direction(&self, c: DVec3) -> DVec3 {
         let d = self.to_object(c);
         let len = d.length();
@@ -80,16 +84,19 @@ impl Frame {
     }
 
     /// Tangent-space coordinates of an object-space vector.
+    #[inline]
     pub fn to_tangent(&self, v: DVec3) -> DVec3 {
         DVec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
     }
 
     /// Object-space vector from tangent-space coordinates (the decoding the renderer does).
+    #[inline]
     pub fn to_object(&self, c: DVec3) -> DVec3 {
         self.t * c.x + self.b * c.y + self.n * c.z
     }
 
     /// The tangent as glTF stores it (xyz unit, w = ±1).
+    #[inline]
     pub fn tangent4(&self) -> [f32; 4] {
         [
             self.t.x as f32,

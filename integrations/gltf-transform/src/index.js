@@ -195,7 +195,11 @@ export class PeltFur extends Extension {
     for (const a of old) if (a.listParents().every((q) => q.propertyType === 'Root')) a.dispose();
     const { fins, computedFrom, edges, ...rest } = info;
     if (prim.getMode() !== Primitive.Mode.TRIANGLES || !comb || corners.length % 3 !== 0) {
-      logger.warn(`${PELT_FUR}: fins dropped: the primitive is no longer a furry triangle list`);
+      const mesh = prim.listParents().find((p) => p.propertyType === PropertyType.MESH);
+      logger.warn(
+        `${PELT_FUR}: mesh "${mesh ? mesh.getName() : '?'}": fins dropped: the primitive is ` +
+          'no longer a triangle list with a comb',
+      );
       fur.setInfo(rest);
       return;
     }
