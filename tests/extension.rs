@@ -140,27 +140,6 @@ fn sphere_scene(asset: &Path) -> Value {
     })
 }
 
-/// Renders `scene` forward to `dir/name.png` (not quiet): (image, stderr).
-fn render_warned(dir: &Path, name: &str, scene: &Value) -> (pelt_preview::Image, String) {
-    let s = dir.join(format!("{name}.json"));
-    std::fs::write(&s, scene.to_string()).expect("scene");
-    let png = dir.join(format!("{name}.png"));
-    let o = pelt(
-        &[
-            "render",
-            s.to_str().unwrap_or_default(),
-            "-o",
-            png.to_str().unwrap_or_default(),
-            "--mode",
-            "forward",
-        ],
-        &[],
-    );
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "{name}: {err}");
-    (load_png(&png), err)
-}
-
 #[test]
 fn stale_fin_records_are_detected_and_rebuilt() {
     let dir = scratch("extension-stale");

@@ -104,33 +104,12 @@ fn framed_scene(asset: &Path) -> Value {
     })
 }
 
-/// Renders `scene` forward to `dir/name.png`; returns the image and pelt's stderr.
-fn render_scene(dir: &Path, scene: &Value, name: &str) -> (pelt_preview::Image, String) {
-    let s = dir.join(format!("{name}.json"));
-    std::fs::write(&s, scene.to_string()).expect("scene");
-    let png = dir.join(format!("{name}.png"));
-    let o = pelt(
-        &[
-            "render",
-            path_str(&s),
-            "-o",
-            path_str(&png),
-            "--mode",
-            "forward",
-        ],
-        &[],
-    );
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "render {name}: {err}");
-    (load_png(&png), err)
-}
-
 /// Renders `asset` in the frame `frame_of` fills (the original's, so every output is seen
 /// from the same place).
 fn render(dir: &Path, asset: &Path, frame_of: &Path, name: &str) -> (pelt_preview::Image, String) {
     let mut scene = framed_scene(frame_of);
     scene["objects"][0]["asset"] = Value::from(path_str(asset));
-    render_scene(dir, &scene, name)
+    render_warned(dir, name, &scene)
 }
 
 /// Each command, its FLIP limit against the original, and whether it keeps the triangles (so

@@ -8,6 +8,9 @@ use serde_json::Value;
 
 use super::root;
 
+/// A `PELT_fur` object and where it is (`meshes[0].primitives[0]`, `materials[1]`).
+pub type Placed = (String, Value);
+
 const SCHEMAS: &[&str] = &[
     "primitive.PELT_fur.schema.json",
     "primitive.PELT_fur.normalGroups.schema.json",
@@ -43,7 +46,7 @@ pub fn schemas() -> (boon::Schemas, boon::SchemaIndex, boon::SchemaIndex) {
 
 /// Every `PELT_fur` object of `doc` (primitives, then materials) with its place, and the
 /// checks every output passes: listed in `extensionsUsed` only, no `extras.pelt` anywhere.
-pub fn fur_objects(doc: &Document) -> (Vec<(String, Value)>, Vec<(String, Value)>) {
+pub fn fur_objects(doc: &Document) -> (Vec<Placed>, Vec<Placed>) {
     let used = doc.array("extensionsUsed");
     assert!(used.iter().any(|e| e == "PELT_fur"), "{used:?}");
     assert!(

@@ -328,3 +328,28 @@ pub fn render_in(
     pelt_ok(&all);
     load_png(&png)
 }
+
+/// Renders `scene` forward to `dir/name.png` (not quiet): (image, stderr).
+pub fn render_warned(
+    dir: &Path,
+    name: &str,
+    scene: &serde_json::Value,
+) -> (pelt_preview::Image, String) {
+    let s = dir.join(format!("{name}.json"));
+    std::fs::write(&s, scene.to_string()).expect("scene");
+    let png = dir.join(format!("{name}.png"));
+    let o = pelt(
+        &[
+            "render",
+            s.to_str().unwrap_or_default(),
+            "-o",
+            png.to_str().unwrap_or_default(),
+            "--mode",
+            "forward",
+        ],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{name}: {err}");
+    (load_png(&png), err)
+}

@@ -567,8 +567,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                     ));
                     if comb.is_some() {
                         let (f, sources) = fur::fin_instances(
-                            doc,
-                            r,
+                            (doc, r),
                             m,
                             &out.vertices,
                             &fur_vertices,

@@ -376,8 +376,7 @@ pub const FIN_MIN_LENGTH: f32 = 0.05;
 /// primitive's first vertex in `verts` (already in the asset's space); `mesh` is the primitive
 /// as read, whose index list the fin records' corners refer to.
 pub fn fin_instances(
-    doc: &Document,
-    r: PrimitiveRef,
+    (doc, r): (&Document, PrimitiveRef),
     mesh: &pelt_geom::Mesh,
     verts: &[crate::vertex::Vertex],
     fur: &[FurVertex],
