@@ -51,6 +51,28 @@ fn every_bake_writes_pelt_fur_that_validates_against_its_schemas() {
         view.get("target").is_none() && view.get("byteStride").is_none(),
         "{view}"
     );
+    // Defaults are left out; values that differ are written.
+    let groups_of = |path: &Path| {
+        let d = Document::load(path).expect("load");
+        d.json["meshes"][0]["primitives"][0]["extensions"]["PELT_fur"]["normalGroups"].clone()
+    };
+    let keys = |v: &Value| v.as_object().map(|o| o.keys().cloned().collect::<Vec<_>>());
+    assert_eq!(
+        keys(&groups_of(&sphere)),
+        Some(vec!["groups".into(), "idsUsed".into()])
+    );
+    let tuned = bake(
+        &fixture("sphere.glb"),
+        &dir.join("tuned"),
+        &["--normal-tolerance", "30", "--weld-epsilon", "0.001"],
+    );
+    let g = groups_of(&tuned);
+    assert_eq!(
+        (g["normalToleranceDeg"].as_f64(), g["weldEpsilon"].as_f64()),
+        (Some(30.0), Some(0.001)),
+        "{g}"
+    );
+    validate_against_schemas(&tuned);
     // Negative controls: the schemas refuse what a reader could not use.
     let (schemas, p, m) = schemas();
     let ok = prim["extensions"]["PELT_fur"].clone();

@@ -414,31 +414,16 @@ fn write_extras(
     if let Some(source) = e.tangents {
         pelt.insert("tangents".into(), json!(tangent_label(doc, r, source)?));
     }
-    pelt.insert(
-        "normalGroups".into(),
-        json!({
-            "attribute": NORMAL_GROUP_ATTRIBUTE,
-            "groups": t.normal_groups,
-            "idsUsed": t.ids_used,
-            "splitVertices": t.group_split_vertices,
-            "sharedIdPairs": t.shared_id_pairs,
-            "normalToleranceDeg": round6(f64::from(opts.topology.normal_tolerance).to_degrees()),
-            "weldEpsilon": opts.topology.weld_epsilon,
-        }),
-    );
-    pelt.insert(
-        "edges".into(),
-        json!({
-            "unique": t.edges,
-            "boundary": t.boundary_edges,
-            "nonmanifold": t.nonmanifold_edges,
-        }),
-    );
+    let (groups, edges) = topology_fields(t, opts);
+    pelt.insert("normalGroups".into(), groups);
+    pelt.insert("edges".into(), edges);
     if fins.is_some() {
-        pelt.insert(
-            "fins".into(),
-            json!({ "count": t.fin_edges, "bareEdgesLeftOut": t.bare_edges }),
-        );
+        let mut f = Map::new();
+        f.insert("count".into(), json!(t.fin_edges));
+        if t.bare_edges > 0 {
+            f.insert("bareEdgesLeftOut".into(), json!(t.bare_edges));
+        }
+        pelt.insert("fins".into(), Value::Object(f));
     }
     // The bake's own copy, not a second read of what it just wrote (the same list).
     debug_assert_eq!(doc.corner_list(r)?, e.indices);
@@ -449,6 +434,60 @@ fn write_extras(
         ));
     }
     Ok(())
+}
+
+/// `PELT_fur.normalGroups` and `edges` for topology `t`, without the values the
+/// specification gives as defaults (the attribute `_NORMAL_GROUP`, zero counts, the default
+/// normal tolerance, exact welding), as glTF leaves its own defaults out.
+fn topology_fields(t: &TopologyStats, opts: &BakeOptions) -> (Value, Value) {
+    let mut groups = Map::new();
+    groups.insert("groups".into(), json!(t.normal_groups));
+    groups.insert("idsUsed".into(), json!(t.ids_used));
+    // As given in degrees: the radians they were stored as, back to degrees, to 5 decimals.
+    let degrees = |x: f64| (x * 1e5).round() / 1e5;
+    let tolerance = degrees(f64::from(opts.topology.normal_tolerance).to_degrees());
+    let default_tolerance = degrees(f64::from(pelt_geom::topology::DEFAULT_NORMAL_TOLERANCE_DEG));
+    // The shortest decimal that reads back as the f32 given (0.001, not 0.0010000000474974513).
+    let weld: f64 = opts
+        .topology
+        .weld_epsilon
+        .to_string()
+        .parse()
+        .unwrap_or(0.0);
+    let optional = [
+        (
+            "splitVertices",
+            json!(t.group_split_vertices),
+            t.group_split_vertices == 0,
+        ),
+        (
+            "sharedIdPairs",
+            json!(t.shared_id_pairs),
+            t.shared_id_pairs == 0,
+        ),
+        (
+            "normalToleranceDeg",
+            json!(tolerance),
+            tolerance == default_tolerance,
+        ),
+        ("weldEpsilon", json!(weld), weld == 0.0),
+    ];
+    for (key, value, default) in optional {
+        if !default {
+            groups.insert(key.into(), value);
+        }
+    }
+    let mut edges = Map::new();
+    edges.insert("unique".into(), json!(t.edges));
+    for (key, n) in [
+        ("boundary", t.boundary_edges),
+        ("nonmanifold", t.nonmanifold_edges),
+    ] {
+        if n > 0 {
+            edges.insert(key.into(), json!(n));
+        }
+    }
+    (Value::Object(groups), Value::Object(edges))
 }
 
 /// The tangents' label in `extras.pelt`: where a re-bake keeps tangents an earlier bake
@@ -473,10 +512,6 @@ fn tangent_label(
             None => source.name(),
         },
     )
-}
-
-fn round6(v: f64) -> Value {
-    json!((v * 1e6).round() / 1e6)
 }
 
 fn ms(t: Instant) -> f64 {
