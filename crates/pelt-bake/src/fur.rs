@@ -167,7 +167,7 @@ pub fn embed(
         let base = doc.array("materials")[m]["pbrMetallicRoughness"].get("baseColorTexture");
         let sheen = sheen_fallback(&value, base);
         if doc.set_fur_material(m, value.clone())
-            && doc.set_material_extension(m, "KHR_materials_sheen", sheen)
+            && doc.set_material_extension(m, pelt_io::extension::SHEEN, sheen)
         {
             report.materials.push(m);
         } else {

@@ -24,6 +24,10 @@ use crate::error::Result;
 /// The extension's name.
 pub const EXTENSION: &str = "PELT_fur";
 
+/// The extension fur materials also carry for viewers without a `PELT_fur` runtime
+/// ([`sheen_fallback`]).
+pub const SHEEN: &str = "KHR_materials_sheen";
+
 /// The key of the legacy form (`extras.pelt`).
 pub const LEGACY_KEY: &str = "pelt";
 

@@ -112,35 +112,39 @@ impl Document {
     /// Sets `materials[material].extras[key]`, keeping other extras. Returns false, and
     /// changes nothing, when the material does not exist or its `extras` is not an object.
     pub fn set_material_extra(&mut self, material: usize, key: &str, value: Value) -> bool {
-        let Some(m) = self.material_mut(material) else {
-            return false;
-        };
-        let extras = m
-            .entry("extras")
-            .or_insert_with(|| Value::Object(Map::new()));
-        match extras.as_object_mut() {
-            Some(e) => {
-                e.insert(key.to_owned(), value);
-                true
-            }
-            None => false,
-        }
+        self.set_in_material(material, "extras", key, value)
     }
 
     /// Sets `materials[material].extensions[name]` and lists `name` in `extensionsUsed`.
     /// Returns false, and changes nothing, when the material does not exist or its
     /// `extensions` is not an object.
     pub fn set_material_extension(&mut self, material: usize, name: &str, value: Value) -> bool {
+        let set = self.set_in_material(material, "extensions", name, value);
+        if set {
+            self.use_extension(name);
+        }
+        set
+    }
+
+    /// Whether `materials[material].extensions` has `name` (false for a material that does
+    /// not exist).
+    pub fn material_has_extension(&self, material: usize, name: &str) -> bool {
+        self.array("materials")
+            .get(material)
+            .and_then(|m| m.get("extensions"))
+            .is_some_and(|e| e.get(name).is_some())
+    }
+
+    /// Sets `materials[material][object][key]` (creating `object`), keeping its other keys;
+    /// false when the material does not exist or `object` is not a JSON object.
+    fn set_in_material(&mut self, material: usize, object: &str, key: &str, value: Value) -> bool {
         let Some(m) = self.material_mut(material) else {
             return false;
         };
-        let exts = m
-            .entry("extensions")
-            .or_insert_with(|| Value::Object(Map::new()));
-        match exts.as_object_mut() {
-            Some(e) => {
-                e.insert(name.to_owned(), value);
-                self.use_extension(name);
+        let entry = m.entry(object).or_insert_with(|| Value::Object(Map::new()));
+        match entry.as_object_mut() {
+            Some(o) => {
+                o.insert(key.to_owned(), value);
                 true
             }
             None => false,

@@ -547,17 +547,13 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
                             manifest = fur::manifest(doc, r)?;
                         }
                     }
-                    let regenerated = match comb {
-                        Some(_) => crate::tangents::regenerate(doc, r, m)?,
-                        None => None,
-                    };
-                    let tangents = match regenerated {
-                        Some((t, note)) => {
-                            load_warnings.push(note);
-                            Some(t)
-                        }
-                        None => None,
-                    };
+                    let mut tangents = None;
+                    if comb.is_some()
+                        && let Some((t, note)) = crate::tangents::regenerate(doc, r, m)?
+                    {
+                        load_warnings.push(note);
+                        tangents = Some(t);
+                    }
                     fur_vertices.extend(fur::fur_vertices(
                         world,
                         normals,

@@ -509,12 +509,7 @@ pub fn lost_contract(
     };
     // What is left of a bake whose fur data a tool dropped whole (gltfpack, Blender's
     // exporter): the sheen pelt gave the fur material, which those tools keep.
-    let sheen = material.is_some_and(|m| {
-        doc.array("materials")
-            .get(m)
-            .and_then(|v| v.get("extensions"))
-            .is_some_and(|e| e.get("KHR_materials_sheen").is_some())
-    });
+    let sheen = material.is_some_and(|m| doc.material_has_extension(m, pelt_io::extension::SHEEN));
     let fix = "bake the source again, or run glTF tools with integrations/gltf-transform's \
                config (docs/pipelines.md)";
     let lost = if has_comb && stored.is_none() && !manifest {

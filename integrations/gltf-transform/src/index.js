@@ -21,13 +21,18 @@ export const PELT_FUR = 'PELT_fur';
 const STEMS = ['heightfield', 'dots', 'fin'];
 const FIN_USAGE = 'PELT_FIN';
 
+/** What every PELT_fur property sets in `init()`: its extension, type and parent type. */
+function initProperty(property, propertyType, parentType) {
+  property.extensionName = PELT_FUR;
+  property.propertyType = propertyType;
+  property.parentTypes = [parentType];
+}
+
 /** A primitive's PELT_fur: plain fields (`info`) and the fin records accessor. */
 export class FurPrimitive extends ExtensionProperty {
   static EXTENSION_NAME = PELT_FUR;
   init() {
-    this.extensionName = PELT_FUR;
-    this.propertyType = 'PeltFurPrimitive';
-    this.parentTypes = [PropertyType.PRIMITIVE];
+    initProperty(this, 'PeltFurPrimitive', PropertyType.PRIMITIVE);
   }
   getDefaults() {
     return Object.assign(super.getDefaults(), {
@@ -61,9 +66,7 @@ function extent(position) {
 export class FurMaterial extends ExtensionProperty {
   static EXTENSION_NAME = PELT_FUR;
   init() {
-    this.extensionName = PELT_FUR;
-    this.propertyType = 'PeltFurMaterial';
-    this.parentTypes = [PropertyType.MATERIAL];
+    initProperty(this, 'PeltFurMaterial', PropertyType.MATERIAL);
   }
   getDefaults() {
     const d = Object.assign(super.getDefaults(), { info: {} });
@@ -143,8 +146,12 @@ export class PeltFur extends Extension {
     if (type !== PropertyType.ACCESSOR) return this;
     this.unshare();
     this.followScale();
+    const meshopt = this.document
+      .getRoot()
+      .listExtensionsUsed()
+      .some((e) => e.extensionName === 'EXT_meshopt_compression');
     for (const p of this.properties) {
-      if (p instanceof FurPrimitive) this.refreshFins(p);
+      if (p instanceof FurPrimitive) this.refreshFins(p, meshopt);
     }
     for (const p of this.properties) {
       if (!(p instanceof FurPrimitive)) continue;
@@ -172,16 +179,13 @@ export class PeltFur extends Extension {
   }
 
   /** Recomputes the fin records of the primitives whose index list changed since they were
-   * computed (spec, "What a writer must do", 3), or drops them where no rule applies. */
-  refreshFins(fur) {
+   * computed (spec, "What a writer must do", 3), or drops them where no rule applies.
+   * `meshopt`: whether the file is written with EXT_meshopt_compression. */
+  refreshFins(fur, meshopt) {
     const info = fur.getInfo();
     const from = info.computedFrom;
     const prim = this.primitivesOf(fur)[0];
     if (!from || !prim || !info.fins) return;
-    const meshopt = this.document
-      .getRoot()
-      .listExtensionsUsed()
-      .some((e) => e.extensionName === 'EXT_meshopt_compression');
     if (meshopt && prim.getIndices() && prim.getMode() === Primitive.Mode.TRIANGLES) {
       canonicalizeForMeshopt(prim.getIndices(), { MeshoptEncoder, MeshoptDecoder });
     }
