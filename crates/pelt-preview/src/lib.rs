@@ -25,6 +25,7 @@ pub mod feature;
 pub mod features;
 pub mod frame;
 pub mod frame_data;
+pub mod glsl;
 pub mod gpu;
 pub mod gpu_material;
 pub mod layout;
