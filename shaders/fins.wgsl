@@ -9,7 +9,7 @@
 // like the shells by `fur_lighting`. Keep `FinIn` in sync with `FinInstance` in
 // crates/pelt-preview/src/uniforms.rs.
 
-#import pelt::fur_common::{FurOut, MIN_COS, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of, wind_comb}
+#import pelt::fur_common::{FurOut, fin_visibility, fur_out, fur_query, shell_offset, strand_tangent, view_dir_of, view_normal_of, wind_comb}
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
 #else
@@ -25,8 +25,6 @@ override WBOIT: bool = false;
 // SUNS: whether any light of the view is directional; false compiles light_reach's branch on
 // the kind out (lights.rs's `suns_for_view`).
 override SUNS: bool = true;
-
-const FIN_SILHOUETTE: f32 = 0.35;
 
 struct FinIn {
     @location(0) p0: vec3<f32>,
@@ -64,11 +62,6 @@ fn fin_fade(fin: FinIn, to_view: mat4x4<f32>) -> f32 {
     let to_eye = normalize(-mid.xyz);
     let s0 = dot(view_normal_of(fin.f0, frame, object), to_eye);
     let s1 = dot(view_normal_of(fin.f1, frame, object), to_eye);
-    let near = min(abs(s0), abs(s1));
-    // With analytic coverage the shells' optical depth holds the fur down to MIN_COS from
-    // the silhouette; the fins only what lies below it.
-    let reach = select(FIN_SILHOUETTE, MIN_COS, object.fur_model.z == 0.0);
-    let silhouette = select(1.0 - smoothstep(0.0, reach, near), 1.0, s0 * s1 <= 0.0);
     let edge = view_dir_of(fin.p1 - fin.p0, frame, object);
     let up = view_dir_of(normalize(fin.n0 + fin.n1) + 0.5 * (fin.c0.xyz + fin.c1.xyz), frame, object);
     let fin_normal = cross(edge, up);
@@ -77,7 +70,7 @@ fn fin_fade(fin: FinIn, to_view: mat4x4<f32>) -> f32 {
     // The comb lengths are 0 at both ends where the fur is too short for a fin (under
     // 5 % of the fur length at both ends: crates/pelt-scene/src/fur.rs, FIN_MIN_LENGTH).
     let has_fur = select(0.0, 1.0, max(fin.c0.w, fin.c1.w) > 0.0);
-    return silhouette * smoothstep(0.05, 0.3, face_on) * has_fur;
+    return fin_visibility(s0, s1, face_on, object.fur_model.z == 0.0) * has_fur;
 }
 
 @vertex

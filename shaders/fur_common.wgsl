@@ -147,6 +147,51 @@ fn strand_velocity(n: vec3<f32>, comb: vec3<f32>, z: f32) -> vec3<f32> {
     return d + dd * z;
 }
 
+// Bin `i` (0..7) of the two density samples. Selects, not a local array: a dynamically
+// indexed array spills to memory on some drivers (llvmpipe), at a cost per shell fragment.
+fn density_bin(lo: vec4<f32>, hi: vec4<f32>, i: u32) -> f32 {
+    let v = select(hi, lo, i < 4u);
+    let j = i & 3u;
+    return select(select(v.w, v.z, j == 2u), select(v.y, v.x, j == 0u), j < 2u);
+}
+
+// T(z) (pelt_fur::density::t_at) from the two density samples: linear between the bins,
+// 0 at z = 1.
+fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
+    let x = clamp(z, 0.0, 1.0) * 8.0;
+    let k = min(u32(floor(x)), 7u);
+    let next = select(density_bin(lo, hi, k + 1u), 0.0, k == 7u);
+    return mix(density_bin(lo, hi, k), next, x - f32(k));
+}
+
+// The opacity of the layer between heights `z0` and `z1` where a pixel holds many strands
+// (pelt_fur::density): 1 − e^(−Δτ), Δτ = (κ T(z_mid) sin ψ ℓ + T(z0) − T(z1)) / μ, with `lo`
+// and `hi` the pixel's two density samples, `kappa` κ, `sin_psi` the sine of the angle
+// between view ray and strand, `len` the strand's length across the layer in tile widths
+// (its view length times √J, the tile area per unit of surface area) and `mu` the view's
+// |cos θ| from the normal (held at MIN_COS and above by the caller).
+fn layer_opacity(lo: vec4<f32>, hi: vec4<f32>, z0: f32, z1: f32, kappa: f32, sin_psi: f32, len: f32, mu: f32) -> f32 {
+    let zm = 0.5 * (z0 + z1);
+    let tau = (kappa * t_at(lo, hi, zm) * sin_psi * len + max(t_at(lo, hi, z0) - t_at(lo, hi, z1), 0.0)) / mu;
+    return 1.0 - exp(-tau);
+}
+
+// The view-to-face cosine below which a fin starts to show with binary coverage (the shells
+// alone hold the fur above it).
+const FIN_SILHOUETTE: f32 = 0.35;
+
+// A fin's visibility (fins.wgsl): `s0`, `s1` the cosines between the direction to the eye
+// and its edge's two face normals, `face_on` |cos| between the eye and the fin's own normal.
+// 1 where the faces face opposite ways, fading to 0 once both face the viewer by more than
+// the reach (MIN_COS with `analytic` coverage, whose shells' optical depth holds the fur down
+// to it; FIN_SILHOUETTE otherwise), times how face-on the fin is (edge-on fins are slivers).
+fn fin_visibility(s0: f32, s1: f32, face_on: f32, analytic: bool) -> f32 {
+    let near = min(abs(s0), abs(s1));
+    let reach = select(FIN_SILHOUETTE, MIN_COS, analytic);
+    let silhouette = select(1.0 - smoothstep(0.0, reach, near), 1.0, s0 * s1 <= 0.0);
+    return silhouette * smoothstep(0.05, 0.3, face_on);
+}
+
 // An object-space direction (a tangent vector) in view space.
 fn view_dir_of(d: vec3<f32>, frame: Frame, object: Object) -> vec3<f32> {
     let w = (object.model * vec4<f32>(d, 0.0)).xyz;

@@ -19,7 +19,7 @@
 // seen from the light, −ln(1 − α), into the opacity layers at and past its depth in the fur.
 
 #import pelt::common::{VertexIn}
-#import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_length, fur_out, fur_query, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
+#import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_length, fur_out, fur_query, layer_opacity, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
 #ifndef OPACITY_MAP
 #ifdef FORWARD_LIGHT
 #import pelt::fur_light_forward::{fur_lighting}
@@ -114,23 +114,6 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
 // (the projection's w row is (0, 0, 0, 1)) looks along −z everywhere.
 fn eye_of(p: vec3<f32>) -> vec3<f32> {
     return select(normalize(-p), vec3<f32>(0.0, 0.0, 1.0), frame.proj[3][3] == 1.0);
-}
-
-// Bin `i` (0..7) of the two density samples. Selects, not a local array: a dynamically
-// indexed array spills to memory on some drivers (llvmpipe), at a cost per shell fragment.
-fn density_bin(lo: vec4<f32>, hi: vec4<f32>, i: u32) -> f32 {
-    let v = select(hi, lo, i < 4u);
-    let j = i & 3u;
-    return select(select(v.w, v.z, j == 2u), select(v.y, v.x, j == 0u), j < 2u);
-}
-
-// T(z) (pelt_fur::density::t_at) from the two density samples: linear between the bins,
-// 0 at z = 1.
-fn t_at(lo: vec4<f32>, hi: vec4<f32>, z: f32) -> f32 {
-    let x = clamp(z, 0.0, 1.0) * 8.0;
-    let k = min(u32(floor(x)), 7u);
-    let next = select(density_bin(lo, hi, k + 1u), 0.0, k == 7u);
-    return mix(density_bin(lo, hi, k), next, x - f32(k));
 }
 
 // Where the pixel resolves single strands, the heightfield is read at level 0 without
@@ -246,10 +229,7 @@ fn layer_alpha(s: ShellOut, tuv: vec2<f32>, uv_dx: vec2<f32>, uv_dy: vec2<f32>, 
     let vt = dot(eye, normalize(s.strand));
     let sin_psi = sqrt(max(1.0 - vt * vt, 0.0));
     let sqrt_j = sqrt(tile_area / max(surface_area, 1e-20));
-    let zm = 0.5 * (z0 + z1);
-    let tau = (object.fur_model.x * t_at(lo, hi, zm) * sin_psi * s.layer.z * sqrt_j
-        + max(t_at(lo, hi, z0) - t_at(lo, hi, z1), 0.0)) / mu;
-    let statistical = 1.0 - exp(-tau);
+    let statistical = layer_opacity(lo, hi, z0, z1, object.fur_model.x, sin_psi, s.layer.z * sqrt_j, mu);
     // A pixel footprint (tile widths) under half a strand's diameter resolves it; over
     // RESOLVED_BELOW (three quarters) the medium alone is truer than four point taps of single strands (demo scene
     // at 1280×720 box-filtered to 320×180 against the strands: with the taps blended in up to

@@ -1,0 +1,194 @@
+//! The three.js runtime (`integrations/three`) against pelt's forward mode, both rendering the
+//! demo's scene files at 320×180 in this test run: `render.mjs` in headless Chromium (WebGL2
+//! on SwiftShader) and `pelt render --mode forward` with the same shell count. Whole-image
+//! FLIP and the fur's mean luminance; a negative control (every shell opaque) fails the same
+//! threshold. Skipped where Chromium or the package's `npm ci` is missing, unless
+//! PELT_REQUIRE_BROWSER is set (CI sets it).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::*;
+
+fn package() -> PathBuf {
+    root().join("integrations/three")
+}
+
+fn browser_ready() -> bool {
+    let installed = package().join("node_modules/puppeteer-core").exists()
+        && package().join("node_modules/three").exists();
+    let chromium =
+        Path::new(&std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into()))
+            .exists();
+    tool_available(
+        installed && chromium,
+        "PELT_REQUIRE_BROWSER",
+        "chromium and integrations/three's packages",
+        "apt-get install chromium; npm ci --prefix integrations/three",
+    )
+}
+
+/// `node render.mjs SCENE -o OUT --size 320x180 EXTRA…`, which must succeed without a
+/// browser console error.
+fn three(scene: &Path, out: &Path, extra: &[&str]) {
+    let o = Command::new("node")
+        .arg(package().join("render.mjs"))
+        .arg(scene)
+        .args(["-o", out.to_str().expect("UTF-8"), "--size", "320x180"])
+        .args(extra)
+        .output()
+        .expect("run node");
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "render.mjs {}: {log}", scene.display());
+    assert!(!log.contains("browser:"), "console errors: {log}");
+}
+
+fn forward(scene: &Path, out: &Path, extra: &[&str]) {
+    let mut args = vec![
+        "render",
+        scene.to_str().expect("UTF-8"),
+        "--mode",
+        "forward",
+        "--size",
+        "320x180",
+        "-o",
+        out.to_str().expect("UTF-8"),
+        "-q",
+    ];
+    args.extend_from_slice(extra);
+    pelt_ok(&args);
+}
+
+/// Mean luminance (8-bit sRGB values, Rec. 709 weights) of `img` where `mask` is set.
+fn luminance(img: &pelt_preview::Image, mask: &[bool]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (p, _) in img.rgba.chunks_exact(4).zip(mask).filter(|(_, m)| **m) {
+        sum += 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
+        n += 1;
+    }
+    sum / n.max(1) as f64
+}
+
+/// The demo's scene files (the creature's, and the Fox's without its springs), made once for
+/// the tests of this binary.
+fn demo_scenes() -> (PathBuf, PathBuf) {
+    static DEMO: std::sync::OnceLock<(PathBuf, PathBuf)> = std::sync::OnceLock::new();
+    DEMO.get_or_init(|| make_demo(&scratch("three-demo")))
+        .clone()
+}
+
+fn make_demo(dir: &Path) -> (PathBuf, PathBuf) {
+    let o = Command::new(env!("CARGO_BIN_EXE_pelt"))
+        .arg("demo")
+        .current_dir(dir)
+        .output()
+        .expect("pelt demo");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let demo = dir.join("out/demo");
+    let fox: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(demo.join("fox.json")).expect("fox.json"))
+            .expect("JSON");
+    let mut fox = fox;
+    for o in fox["objects"].as_array_mut().expect("objects") {
+        if let Some(m) = o["material"].as_object_mut() {
+            m.remove("spring");
+        }
+    }
+    let fox_path = demo.join("fox-still.json");
+    std::fs::write(&fox_path, serde_json::to_vec_pretty(&fox).expect("JSON")).expect("write");
+    (demo.join("scene.json"), fox_path)
+}
+
+/// One comparison: FLIP and the fur's luminance ratio, where the fur is what the scene
+/// without its first object lacks.
+fn compare(
+    scene: &Path,
+    name: &str,
+    extra_pelt: &[&str],
+    extra_three: &[&str],
+    control: bool,
+) -> (f32, f64) {
+    let dir = scene.parent().expect("folder");
+    let (p, t) = (
+        dir.join(format!("{name}-pelt.png")),
+        dir.join(format!("{name}-three.png")),
+    );
+    forward(scene, &p, extra_pelt);
+    let mut e = extra_three.to_vec();
+    if control {
+        e.extend(["--control", "opaque-shells"]);
+    }
+    three(scene, &t, &e);
+    let (a, b) = (load_png(&p), load_png(&t));
+    let flip = flip_of(&a, &b);
+    // The fur's pixels: where pelt's image changes without the fur object.
+    let mut bare: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(scene).expect("scene")).expect("JSON");
+    bare["objects"].as_array_mut().expect("objects").remove(0);
+    let bare_path = dir.join(format!("{name}-bare.json"));
+    std::fs::write(&bare_path, serde_json::to_vec(&bare).expect("JSON")).expect("write");
+    let bp = dir.join(format!("{name}-bare.png"));
+    forward(&bare_path, &bp, extra_pelt);
+    let c = load_png(&bp);
+    let mask: Vec<bool> = a
+        .rgba
+        .chunks_exact(4)
+        .zip(c.rgba.chunks_exact(4))
+        .map(|(x, y)| (0..3).any(|k| x[k].abs_diff(y[k]) > 8))
+        .collect();
+    let ratio = luminance(&b, &mask) / luminance(&a, &mask);
+    eprintln!(
+        "{name}: FLIP {flip:.4}, fur luminance three/pelt {ratio:.3} over {} px",
+        mask.iter().filter(|m| **m).count()
+    );
+    (flip, ratio)
+}
+
+#[test]
+fn three_draws_the_demo_scenes_as_pelt_forward_does() {
+    if !browser_ready() {
+        return;
+    }
+    let (creature, fox) = demo_scenes();
+    let shells = ["--shells", "16"];
+    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
+    for (scene, name, args) in [
+        (&creature, "creature", &shells[..]),
+        (&fox, "fox", &walk[..]),
+    ] {
+        let (flip, ratio) = compare(scene, name, args, args, false);
+        assert!(flip <= 0.05, "{name}: FLIP {flip} over 0.05");
+        assert!(
+            (ratio - 1.0).abs() <= 0.10,
+            "{name}: fur luminance ratio {ratio}"
+        );
+        let (flip, _) = compare(scene, &format!("{name}-control"), args, args, true);
+        assert!(
+            flip > 0.05,
+            "{name}: the negative control (opaque shells) passes with FLIP {flip}"
+        );
+    }
+}
+
+#[test]
+fn a_skinned_asset_follows_its_clip() {
+    if !browser_ready() {
+        return;
+    }
+    let (_, fox) = demo_scenes();
+    let dir = fox.parent().expect("folder").to_path_buf();
+    let mut frames = Vec::new();
+    for t in ["0.1", "0.6"] {
+        let args = ["--shells", "16", "--animation", "Walk", "--time", t];
+        let (flip, _) = compare(&fox, &format!("walk-{t}"), &args, &args, false);
+        assert!(flip <= 0.06, "Walk at {t}: FLIP {flip} over 0.06");
+        frames.push(load_png(&dir.join(format!("walk-{t}-three.png"))));
+    }
+    let moved = flip_of(&frames[0], &frames[1]);
+    assert!(
+        moved > 0.01,
+        "the two times drew the same frame (FLIP {moved})"
+    );
+}
