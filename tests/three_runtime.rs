@@ -108,7 +108,7 @@ fn compare(
     name: &str,
     extra_pelt: &[&str],
     extra_three: &[&str],
-    control: bool,
+    control: Option<&str>,
 ) -> (f32, f64) {
     let dir = scene.parent().expect("folder");
     let (p, t) = (
@@ -117,8 +117,8 @@ fn compare(
     );
     forward(scene, &p, extra_pelt);
     let mut e = extra_three.to_vec();
-    if control {
-        e.extend(["--control", "opaque-shells"]);
+    if let Some(c) = control {
+        e.extend(["--control", c]);
     }
     three(scene, &t, &e);
     let (a, b) = (load_png(&p), load_png(&t));
@@ -146,6 +146,16 @@ fn compare(
     (flip, ratio)
 }
 
+/// `scene` (JSON) with `edit` applied, written beside it as `name.json`.
+fn variant(scene: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
+    let mut v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(scene).expect("scene")).expect("JSON");
+    edit(&mut v);
+    let path = scene.with_file_name(format!("{name}.json"));
+    std::fs::write(&path, serde_json::to_vec_pretty(&v).expect("JSON")).expect("write");
+    path
+}
+
 #[test]
 fn three_draws_the_demo_scenes_as_pelt_forward_does() {
     if !browser_ready() {
@@ -158,16 +168,66 @@ fn three_draws_the_demo_scenes_as_pelt_forward_does() {
         (&creature, "creature", &shells[..]),
         (&fox, "fox", &walk[..]),
     ] {
-        let (flip, ratio) = compare(scene, name, args, args, false);
+        let (flip, ratio) = compare(scene, name, args, args, None);
         assert!(flip <= 0.05, "{name}: FLIP {flip} over 0.05");
         assert!(
             (ratio - 1.0).abs() <= 0.10,
             "{name}: fur luminance ratio {ratio}"
         );
-        let (flip, _) = compare(scene, &format!("{name}-control"), args, args, true);
+        let (flip, _) = compare(
+            scene,
+            &format!("{name}-control"),
+            args,
+            args,
+            Some("opaque-shells"),
+        );
         assert!(
             flip > 0.05,
             "{name}: the negative control (opaque shells) passes with FLIP {flip}"
+        );
+    }
+}
+
+/// One feature per scene, each with the negative control that leaves it out of the web
+/// image (which must then fail the same threshold): wind (a strong one at 0.7 s), shadows
+/// (the creature lifted over the ground under a point and a directional light that cast
+/// them) and a textured fur asset (the Fox's fur coloured by its base colour texture).
+#[test]
+fn each_feature_matches_and_its_negative_control_does_not() {
+    if !browser_ready() {
+        return;
+    }
+    let (creature, fox) = demo_scenes();
+    let wind = variant(&creature, "feature-wind", |v| {
+        v["wind"] = serde_json::json!({
+            "direction": [1.0, 0.0, 0.3], "strength": 2.0, "gustHz": 0.8, "turbulence": 0.5
+        });
+    });
+    let shadows = variant(&creature, "feature-shadows", |v| {
+        v["lights"][0]["shadows"] = true.into();
+        v["objects"][0]["transform"]["translation"] = serde_json::json!([0.0, 0.35, 0.0]);
+        v["lights"]
+            .as_array_mut()
+            .expect("lights")
+            .push(serde_json::json!({
+                "kind": "directional", "direction": [-0.4, -1.0, -0.3],
+                "color": [1.0, 0.95, 0.9], "intensity": 1.2, "shadows": true
+            }));
+    });
+    let windy = ["--shells", "16", "--time", "0.7"];
+    let still = ["--shells", "16"];
+    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
+    for (scene, name, args, control, threshold) in [
+        (&wind, "wind", &windy[..], "no-wind", 0.05),
+        (&shadows, "shadows", &still[..], "no-shadows", 0.05),
+        (&fox, "textured", &walk[..], "no-texture", 0.05),
+    ] {
+        let (flip, _) = compare(scene, name, args, args, None);
+        assert!(flip <= threshold, "{name}: FLIP {flip} over {threshold}");
+        let (flip, _) = compare(scene, &format!("{name}-control"), args, args, Some(control));
+        assert!(
+            flip > threshold,
+            "{name}: the negative control ({control}) passes with FLIP {flip}"
         );
     }
 }
@@ -182,7 +242,7 @@ fn a_skinned_asset_follows_its_clip() {
     let mut frames = Vec::new();
     for t in ["0.1", "0.6"] {
         let args = ["--shells", "16", "--animation", "Walk", "--time", t];
-        let (flip, _) = compare(&fox, &format!("walk-{t}"), &args, &args, false);
+        let (flip, _) = compare(&fox, &format!("walk-{t}"), &args, &args, None);
         assert!(flip <= 0.06, "Walk at {t}: FLIP {flip} over 0.06");
         frames.push(load_png(&dir.join(format!("walk-{t}-three.png"))));
     }
@@ -191,4 +251,72 @@ fn a_skinned_asset_follows_its_clip() {
         moved > 0.01,
         "the two times drew the same frame (FLIP {moved})"
     );
+}
+
+/// `node test/NAME.mjs ARGS…` (a page driver of the package), its JSON result.
+fn page(script: &str, args: &[&Path], extra: &[&str]) -> serde_json::Value {
+    let o = Command::new("node")
+        .arg(package().join("test").join(script))
+        .args(args)
+        .args(extra)
+        .output()
+        .expect("run node");
+    assert!(
+        o.status.success(),
+        "{script}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON result")
+}
+
+#[test]
+fn the_stock_loader_without_the_plugin_shows_the_sheen_fallback() {
+    if !browser_ready() {
+        return;
+    }
+    let (_, fox) = demo_scenes();
+    let demo = fox.parent().expect("folder");
+    let r = page(
+        "page.mjs",
+        &[Path::new("stock"), &demo.join("fox.glb")],
+        &[],
+    );
+    assert!(r.get("error").is_none(), "{}", r["error"]);
+    assert_eq!(r["consoleErrors"], serde_json::json!([]), "console errors");
+    assert_eq!(
+        r["outside"],
+        serde_json::json!([]),
+        "requests off the machine"
+    );
+    assert!(
+        r["sheenMaterials"].as_u64() >= Some(1),
+        "no sheen drawn: {r}"
+    );
+    // Negative control: a file that is not a glTF is an error the page reports.
+    let bad = demo.join("not-a-model.glb");
+    std::fs::write(&bad, b"glTF\x02\0\0\0 truncated").expect("write");
+    let r = page("page.mjs", &[Path::new("stock"), &bad], &[]);
+    assert!(r.get("error").is_some(), "a truncated file loaded: {r}");
+}
+
+#[test]
+fn the_viewer_shows_a_scene_file_and_a_dropped_asset_without_console_errors() {
+    if !browser_ready() {
+        return;
+    }
+    let (creature, _) = demo_scenes();
+    let asset = creature.parent().expect("folder").join("fox.glb");
+    let r = page("viewer.mjs", &[&creature, &asset], &[]);
+    assert_eq!(
+        r["consoleErrors"],
+        serde_json::json!([]),
+        "console errors: {r}"
+    );
+    assert_eq!(
+        r["outside"],
+        serde_json::json!([]),
+        "requests off the machine"
+    );
+    assert_eq!(r["showing"], "fox.glb", "{r}");
+    assert!(r["frames"].as_u64() > Some(4), "{r}");
 }

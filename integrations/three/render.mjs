@@ -50,7 +50,7 @@ const r = await withPage(o.scene, (scene) => {
   const q = new URLSearchParams({ scene });
   for (const k of ['size', 'shells', 'fins', 'animation', 'time', 'control']) if (o[k] !== undefined) q.set(k, o[k]);
   if (o.bench) q.set('frames', o.bench);
-  return `/pelt/page/render.html?${q}`;
+  return `/src/page/render.html?${q}`;
 });
 for (const w of r.warnings || []) console.error(`warning: ${w}`);
 for (const e of r.consoleErrors || []) console.error(`browser: ${e}`);

@@ -41,18 +41,22 @@ const wrapUnit = (v) => {
   return w >= 1 ? 0 : w;
 };
 
+/** pelt_fur::StrandParams::default(): what a manifest leaves out. */
+export const STRAND_DEFAULTS = {
+  seed: 1, strands: 12000, radius: 0.0025, radiusJitter: 0.3, heightMin: 0.4, heightMax: 1.0,
+  heightBias: 1.0, tilt: 0, clumps: 0, clumping: 0, clumpRadius: 0.01,
+};
+
 /** The strand model's parameters from a manifest's `strands` object, checked. */
 export function strandParams(s) {
-  const p = {
-    seed: s.seed, strands: s.strands, radius: s.radius, radiusJitter: s.radiusJitter,
-    heightMin: s.heightMin, heightMax: s.heightMax, heightBias: s.heightBias, tilt: s.tilt,
-    clumps: s.clumps ?? 0, clumping: s.clumping ?? 0, clumpRadius: s.clumpRadius ?? 0,
-  };
+  const p = {};
+  for (const [k, d] of Object.entries(STRAND_DEFAULTS)) p[k] = s[k] ?? d;
   for (const [k, v] of Object.entries(p)) {
-    if (typeof v !== 'number' || !Number.isFinite(v)) throw new Error(`strands.${k} is missing or not a number`);
+    if (typeof v !== 'number' || !Number.isFinite(v)) throw new Error(`strands.${k} is not a number`);
   }
   if (!Number.isInteger(p.strands) || p.strands < 1 || p.strands > 2 ** 32 - 1) throw new Error(`strands.strands is ${p.strands}`);
   if (!Number.isInteger(p.clumps) || p.clumps < 0 || p.clumps > 1 << 20) throw new Error(`strands.clumps is ${p.clumps}`);
+  if (!Number.isInteger(p.seed) || p.seed < 0) throw new Error(`strands.seed is ${p.seed}`);
   return p;
 }
 

@@ -54,7 +54,7 @@ export class PeltFurPlugin {
    * @param options `shells`: a shell count for every fur primitive (default: the manifest's);
    *   `fins`: draw the silhouette fins (default false, as pelt with its analytic coverage);
    *   `warn`: where warnings go (default console.warn); `control`: 'opaque-shells' draws
-   *   every shell opaque (the tests' negative control).
+   *   every shell opaque (a negative control of the tests; the scene loader has more).
    */
   constructor(parser, options = {}) {
     this.name = EXTENSION;

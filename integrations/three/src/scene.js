@@ -58,8 +58,10 @@ function builtin(name) {
 
 /**
  * Loads scene file `scene` (parsed JSON) whose assets resolve against `base` (a URL).
- * Options: `shells` (force a count), `animation` and `time`, `warn`. Returns
- * { scene, camera, mixers, size, render(renderer) }.
+ * Options: `shells` (force a count), `fins`, `animation` and `time`, `resolve(asset) → URL`
+ * (default: relative to `base`), `warn`; `control` (the tests' negative controls):
+ * 'opaque-shells', 'no-wind', 'no-shadows' or 'no-texture'. Returns { scene, camera, mixers, clips (per animated
+ * asset: its root and clips), size, render(renderer) }.
  */
 export async function loadScene(file, base, options = {}) {
   const warn = options.warn || ((m) => console.warn(m));
@@ -74,9 +76,9 @@ export async function loadScene(file, base, options = {}) {
   const ambient = file.ambient ?? [0.03, 0.03, 0.03];
   scene.add(new THREE.AmbientLight(new THREE.Color().setRGB(...ambient, THREE.LinearSRGBColorSpace), 1));
   const shadowSize = file.shadowMaps?.size ?? 512;
-  (file.lights || []).forEach((l, i) => scene.add(light(l, i, shadowSize)));
+  (file.lights || []).forEach((l, i) => scene.add(light(l, i, shadowSize, options.control)));
   const time = options.time ?? 0;
-  if (file.wind) {
+  if (file.wind && options.control !== 'no-wind') {
     const w = file.wind;
     setWind(w.direction, w.strength ?? 1, w.gustHz ?? 0, w.turbulence ?? 0, time);
   } else {
@@ -85,16 +87,40 @@ export async function loadScene(file, base, options = {}) {
   const loader = new GLTFLoader();
   loader.register((parser) => new PeltFurPlugin(parser, { shells: options.shells, control: options.control, warn }));
   const mixers = [];
+  const clips = [];
   for (const [i, o] of (file.objects || []).entries()) {
-    const object = await loadObject(o, i, base, loader, options, warn, mixers, file);
+    const object = await loadObject(o, i, base, loader, options, warn, mixers, file, clips);
     scene.add(object);
   }
   scene.updateMatrixWorld(true);
+  fitSuns(scene);
   await posedFins(scene);
-  return { scene, camera, mixers, size, sky: file.sky?.kind === 'procedural', render: (r) => draw(r, scene, camera, file.sky?.kind === 'procedural') };
+  return { scene, camera, mixers, clips, size, sky: file.sky?.kind === 'procedural', render: (r) => draw(r, scene, camera, file.sky?.kind === 'procedural') };
 }
 
-function light(l, i, shadowSize) {
+/** Directional lights' shadow cameras fitted to the scene's bounding sphere (pelt fits its
+ * orthographic maps to the scene too), with a bias of about a texel. */
+function fitSuns(scene) {
+  const sphere = new THREE.Box3().setFromObject(scene).getBoundingSphere(new THREE.Sphere());
+  if (!Number.isFinite(sphere.radius) || sphere.radius <= 0) return;
+  scene.traverse((l) => {
+    if (!l.isDirectionalLight) return;
+    const dir = l.position.clone().normalize();
+    l.position.copy(sphere.center).addScaledVector(dir, sphere.radius * 2);
+    l.target.position.copy(sphere.center);
+    l.target.updateMatrixWorld();
+    const c = l.shadow.camera;
+    c.left = c.bottom = -sphere.radius;
+    c.right = c.top = sphere.radius;
+    c.near = sphere.radius * 0.5;
+    c.far = sphere.radius * 3.5;
+    c.updateProjectionMatrix();
+    l.shadow.bias = -0.0005;
+    l.shadow.normalBias = (2 * sphere.radius) / l.shadow.mapSize.x;
+  });
+}
+
+function light(l, i, shadowSize, control) {
   const color = new THREE.Color().setRGB(...(l.color ?? [1, 1, 1]), THREE.LinearSRGBColorSpace);
   const intensity = l.intensity ?? 1;
   let out;
@@ -107,7 +133,7 @@ function light(l, i, shadowSize) {
     out.position.set(...l.position);
   }
   out.name = `lights[${i}]`;
-  if (l.shadows) {
+  if (l.shadows && control !== 'no-shadows') {
     out.castShadow = true;
     out.shadow.mapSize.set(shadowSize, shadowSize);
     if (out.isPointLight) {
@@ -119,7 +145,7 @@ function light(l, i, shadowSize) {
   return out;
 }
 
-async function loadObject(o, i, base, loader, options, warn, mixers, file) {
+async function loadObject(o, i, base, loader, options, warn, mixers, file, clips) {
   const place = `objects[${i}]`;
   const kind = o.material?.kind ?? 'opaque';
   const tint = o.color ?? [1, 1, 1];
@@ -128,9 +154,10 @@ async function loadObject(o, i, base, loader, options, warn, mixers, file) {
     const { geometry, doubleSided } = builtin(o.asset);
     root = new THREE.Mesh(geometry, surfaceMaterial(null, tint, doubleSided));
   } else {
-    const url = new URL(o.asset, base).href;
+    const url = options.resolve ? options.resolve(o.asset) : new URL(o.asset, base).href;
     const gltf = await loader.loadAsync(url);
     root = gltf.scene;
+    if (gltf.animations.length) clips.push({ root, clips: gltf.animations });
     if (options.animation) {
       const clip = gltf.animations.find((a) => a.name === options.animation);
       if (!clip) {
@@ -169,6 +196,7 @@ async function loadObject(o, i, base, loader, options, warn, mixers, file) {
 function configureFur(fur, o, kind, tint, options, place, warn, file) {
   const u = fur.look.uniforms;
   u.tint.value.setRGB(...tint, THREE.LinearSRGBColorSpace);
+  if (options.control === 'no-texture') u.useBaseMap.value = 0;
   if (kind !== 'fur') {
     fur.shells.visible = false;
     if (fur.fins) fur.fins.visible = false;
@@ -187,7 +215,7 @@ function configureFur(fur, o, kind, tint, options, place, warn, file) {
 }
 
 /** Poses the fins of skinned fur meshes at the mixers' current time. */
-async function posedFins(scene) {
+export async function posedFins(scene) {
   const fins = [];
   scene.traverse((m) => m.userData.peltFur?.fins && fins.push(m.userData.peltFur.fins));
   await Promise.all(fins.map((f) => f.ready));

@@ -1,16 +1,14 @@
-// Headless Chromium for render.mjs and the tests: a loopback server for the package
-// (/pelt/), three (/three/) and one scene's folder (/scene/), and a page whose `window.result`
+// Headless Chromium for render.mjs and the tests: a loopback server for the package's
+// source, viewer, test pages and three (its own paths) and one scene's folder (/scene/), and a page whose `window.result`
 // is awaited. Console errors and page errors are collected into the result.
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
 import { basename, dirname, join, normalize, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { createRequire } from 'node:module';
 import puppeteer from 'puppeteer-core';
 
 const pkg = resolve(dirname(fileURLToPath(import.meta.url)), '../..');
-// three's package root: its main entry is build/three.cjs.
-const threeRoot = resolve(dirname(createRequire(import.meta.url).resolve('three')), '..');
+const PUBLIC = ['/src/', '/viewer/', '/test/pages/', '/node_modules/three/'];
 const TYPES = {
   '.js': 'text/javascript', '.mjs': 'text/javascript', '.html': 'text/html', '.json': 'application/json',
   '.glb': 'model/gltf-binary', '.gltf': 'model/gltf+json', '.png': 'image/png', '.bin': 'application/octet-stream',
@@ -25,10 +23,10 @@ function under(root, rest) {
 export function serve(sceneDir) {
   const server = createServer(async (req, res) => {
     const path = new URL(req.url, 'http://x').pathname;
-    const file = path.startsWith('/pelt/') ? under(join(pkg, 'src'), path.slice(6))
-      : path.startsWith('/viewer/') ? under(join(pkg, 'viewer'), path.slice(8))
-      : path.startsWith('/three/') ? under(threeRoot, path.slice(7))
-      : path.startsWith('/scene/') && sceneDir ? under(sceneDir, path.slice(7)) : null;
+    // The package's own files (its source, viewer and test pages, and three from its
+    // node_modules, at the paths the pages' import maps name) and the scene's folder.
+    const file = path.startsWith('/scene/') ? (sceneDir ? under(sceneDir, path.slice(7)) : null)
+      : PUBLIC.some((p) => path.startsWith(p)) ? under(pkg, path.slice(1)) : null;
     try {
       if (!file) throw new Error('outside');
       const body = await readFile(file);
