@@ -367,7 +367,7 @@ pub struct DemoArgs {
     /// Size of demo.png, WxH (the turntable's frames are a quarter of it).
     #[arg(long, value_parser = flags::size, default_value = "1280x720")]
     pub size: (u32, u32),
-    /// Shells (default: the bake's 16).
+    /// Shells (default: by the fur's size on screen, at most the bake's 16).
     #[arg(long, value_parser = |s: &str| flags::count(s, pelt_fur::manifest::SHELLS))]
     pub shells: Option<u32>,
     /// How fur is composited: stipple or wboit.

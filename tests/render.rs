@@ -425,8 +425,13 @@ fn demo_bakes_the_creature_and_renders_fur_and_a_turntable() {
         "--explain",
     ]);
     let text = String::from_utf8_lossy(&o.stdout);
-    // Analytic coverage (the default) holds the silhouette in the shells: no fins unless asked.
-    assert!(text.contains("fur: base + 16 shells, "), "{text}");
+    // Analytic coverage (the default) holds the silhouette in the shells: no fins unless
+    // asked. The shells follow the fur's size on screen, at most the manifest's 16: a few
+    // at 160×90.
+    assert!(
+        text.contains("fur: base + 3 shells (by screen size, at most 16), "),
+        "{text}"
+    );
     assert!(text.contains("obliterate"), "{text}");
 }
 

@@ -193,7 +193,7 @@ fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
     let cases: [(&[&str], &str); 7] = [
         (
             &["--knob", "shells=0"],
-            "knob shells: \"0\" is not allowed (1 to 256)",
+            "knob shells: \"0\" is not allowed (auto (by screen size) or 1 to 256)",
         ),
         (
             &["--knob", "lbuffer-scale=2"],

@@ -320,3 +320,75 @@ fn the_viewer_shows_a_scene_file_and_a_dropped_asset_without_console_errors() {
     assert_eq!(r["showing"], "fox.glb", "{r}");
     assert!(r["frames"].as_u64() > Some(4), "{r}");
 }
+
+/// `render.mjs SCENE --size SIZE --report EXTRA…`: each fur mesh's shell count and whether
+/// the rule set it.
+fn report(scene: &Path, size: &str, extra: &[&str]) -> serde_json::Value {
+    let out = scene.with_file_name(format!("report-{size}.png"));
+    let o = Command::new("node")
+        .arg(package().join("render.mjs"))
+        .arg(scene)
+        .args([
+            "-o",
+            out.to_str().expect("UTF-8"),
+            "--size",
+            size,
+            "--report",
+        ])
+        .args(extra)
+        .output()
+        .expect("run node");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("JSON")
+}
+
+/// The shells-by-screen-size rule: the web runtime draws the count pelt plans (`--explain`)
+/// at every size, the count falls as the fur shrinks on screen, a forced count is kept, and
+/// the two images agree without `--shells`.
+#[test]
+fn the_shell_count_follows_the_fur_on_screen_as_in_pelt() {
+    if !browser_ready() {
+        return;
+    }
+    let (creature, _) = demo_scenes();
+    let mut counts = Vec::new();
+    for size in ["160x90", "320x180", "1280x720"] {
+        let r = report(&creature, size, &[]);
+        let web = r["fur"][0]["shells"].as_u64().expect("a fur mesh");
+        assert_eq!(r["fur"][0]["byScreenSize"], true);
+        let explain = pelt_ok(&[
+            "render",
+            creature.to_str().expect("UTF-8"),
+            "--explain",
+            "--size",
+            size,
+        ]);
+        let text = String::from_utf8_lossy(&explain.stdout);
+        let planned: u64 = text
+            .split("base + ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no shell count in {text}"));
+        assert_eq!(
+            web, planned,
+            "{size}: three draws {web} shells, pelt plans {planned}"
+        );
+        counts.push(web);
+    }
+    assert!(
+        counts[0] < counts[1] && counts[1] < counts[2],
+        "the count does not fall with size: {counts:?}"
+    );
+    // Forced, the count stays (the negative control of the rule).
+    let r = report(&creature, "160x90", &["--shells", "12"]);
+    assert_eq!(
+        (
+            r["fur"][0]["shells"].as_u64(),
+            r["fur"][0]["byScreenSize"].as_bool()
+        ),
+        (Some(12), Some(false))
+    );
+    let (flip, _) = compare(&creature, "rule", &[], &[], None);
+    assert!(flip <= 0.05, "by screen size: FLIP {flip}");
+}

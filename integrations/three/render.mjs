@@ -2,7 +2,8 @@
 // Renders a pelt scene file with @pelt/three in headless Chromium (WebGL2; SwiftShader
 // without a GPU) and writes the PNG, with pelt render's flag names and meanings:
 //   node integrations/three/render.mjs SCENE.json -o OUT.png --size WxH [--shells N] [--fins on|off]
-//        [--animation NAME --time T] [--bench FRAMES]
+//        [--animation NAME --time T] [--bench FRAMES] [--report]
+// (--report prints, as JSON, each fur mesh's shell count and projected fur length.)
 // Every file of the page is served from this machine (the package, three from its
 // node_modules, the scene's folder); nothing is fetched from the network. The browser is
 // Debian's `chromium` (or $CHROMIUM).
@@ -10,7 +11,7 @@ import { writeFile } from 'node:fs/promises';
 import { withPage } from './src/node/browser.js';
 
 function usage(message) {
-  console.error(`error: ${message}\nusage: node render.mjs SCENE.json -o OUT.png [--size WxH] [--shells N] [--fins on|off] [--animation NAME --time T] [--bench FRAMES]`);
+  console.error(`error: ${message}\nusage: node render.mjs SCENE.json -o OUT.png [--size WxH] [--shells N] [--fins on|off] [--animation NAME --time T] [--bench FRAMES] [--report]`);
   process.exit(2);
 }
 
@@ -30,6 +31,7 @@ function parse(argv) {
     else if (a === '--time') o.time = value();
     else if (a === '--bench') o.bench = value();
     else if (a === '--control') o.control = value();
+    else if (a === '--report') o.report = true;
     else if (a.startsWith('-')) usage(`unknown flag ${a}`);
     else if (o.scene) usage(`a second input ${a}`);
     else o.scene = a;
@@ -60,6 +62,7 @@ if (r.error || r.consoleErrors?.length || r.outside?.length) {
   process.exit(1);
 }
 if (o.output) await writeFile(o.output, Buffer.from(r.png.split(',')[1], 'base64'));
+if (o.report) console.log(JSON.stringify({ fur: r.fur, gl: r.gl }));
 if (o.bench) {
   const t = [...r.times].sort((a, b) => a - b);
   console.log(JSON.stringify({ frames: t.length, medianMs: t[t.length >> 1], gl: r.gl }));

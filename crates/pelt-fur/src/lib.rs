@@ -28,6 +28,7 @@ pub mod path;
 pub mod raster;
 pub mod rng;
 pub mod set;
+pub mod shells;
 pub mod strands;
 
 pub use error::{FurError, ParamError};

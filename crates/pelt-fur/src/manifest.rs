@@ -172,8 +172,12 @@ pub struct FurManifest {
     pub version: u32,
     /// Fur length in mesh units.
     pub length: f64,
-    /// Default shell count.
+    /// Shell count: the default, and the most [`shell_rule`](Self::shell_rule) draws.
     pub shells: u32,
+    /// How many shells the fur's projected length calls for ([`crate::shells`]); absent in
+    /// manifests written before it (their `shells` is always drawn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shell_rule: Option<crate::shells::ShellRule>,
     /// UV scale for the heightfield and dots.
     pub uv_scale: f64,
     /// Root colour (linear RGB).

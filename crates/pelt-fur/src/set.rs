@@ -236,6 +236,7 @@ impl TextureSet {
             version: MANIFEST_VERSION,
             length: fur.length,
             shells: fur.shells,
+            shell_rule: Some(crate::shells::ShellRule::MEASURED),
             uv_scale: fur.uv_scale,
             base_color: fur.base_color,
             tip_color: fur.tip_color,

@@ -96,7 +96,7 @@ pub struct DemoOptions {
     pub size: (u32, u32),
     /// Frames of the turntable and of the walk (4 per row).
     pub frames: u32,
-    /// Shells (the bake's when `None`).
+    /// Shells (by screen size, at most the bake's, when `None`).
     pub shells: Option<u32>,
     /// How fur is composited.
     pub fur_blend: FurBlend,
@@ -141,7 +141,7 @@ fn scene_of(o: &DemoOptions, asset: &Path, mesh: &MeshData, (w, h): (u32, u32), 
     let mut s = fur_scene(asset, lo, hi, w, h, yaw);
     s.fur_blend = o.fur_blend;
     let k = Knobs {
-        shells: o.shells,
+        shells: o.shells.map(pelt_scene::knobs::ShellCount::Fixed),
         ..Knobs::default()
     };
     k.apply(&mut s);

@@ -142,7 +142,7 @@ pub fn fur(preview: &mut Preview, frames: Frames) -> Result<Timed, BenchError> {
         let mut s = fur_scene(&asset, lo, hi, 1280, 720, 0.0);
         s.fur_blend = blend;
         let k = Knobs {
-            shells: Some(shells),
+            shells: Some(knobs::ShellCount::Fixed(shells)),
             fins: Some(fins),
             ..Knobs::default()
         };

@@ -56,6 +56,7 @@ fn patch(model: StrandParams, length: f32, comb: [f32; 3], base: f32, tip: f32) 
             look: FurLook {
                 length,
                 shells: 16,
+                shell_rule: None,
                 uv_scale: 1.0,
                 base_color: Vec3::splat(base),
                 tip_color: Vec3::splat(tip),

@@ -95,6 +95,23 @@ pub fn finest_footprint(
     z * pixel * cos_corner.sqrt() / stretch * texel_density * uv_scale.abs()
 }
 
+/// The longest the fur can project to on screen, in output pixels: `reach` (its length in
+/// the asset's units) through `model`'s largest stretch, at the nearest view depth
+/// `near_depth` of the object's fur-inflated bounds (the near plane where the eye is inside
+/// them), at `output`'s height. What the shells-by-screen-size rule reads
+/// (`pelt_fur::shells`; integrations/three computes the same from its bounding sphere).
+pub fn fur_pixels(
+    view: &View,
+    output: (u32, u32),
+    model: Mat4,
+    near_depth: f32,
+    reach: f32,
+) -> f32 {
+    let z = near_depth.max(view.near);
+    let focal = output.1.max(1) as f32 / (2.0 * view.tan_half[1]);
+    reach * max_stretch(model) * focal / z
+}
+
 /// Whether an object whose finest footprint is `footprint` (tile widths), with strands of
 /// mean diameter `diameter` (tile widths), may show a pixel that resolves single strands.
 pub fn resolves_strands(footprint: f32, diameter: f32) -> bool {

@@ -30,8 +30,10 @@ pub struct Level<T> {
 pub struct FurLook {
     /// Fur length in mesh units (each vertex's comb length scales it).
     pub length: f32,
-    /// Default shell count.
+    /// Default shell count, and the most the shell rule draws.
     pub shells: u32,
+    /// The manifest's shells-by-screen-size rule (None: `shells` always).
+    pub shell_rule: Option<pelt_fur::shells::ShellRule>,
     /// Heightfield UV scale.
     pub uv_scale: f32,
     /// Linear root colour.
@@ -99,6 +101,7 @@ fn look_of(m: &FurManifest) -> FurLook {
     FurLook {
         length: m.length as f32,
         shells: m.shells,
+        shell_rule: m.shell_rule,
         uv_scale: m.uv_scale as f32,
         base_color: v(m.base_color),
         tip_color: v(m.tip_color),
@@ -159,6 +162,7 @@ pub fn generated() -> Result<(FurLook, Textures), IoError> {
     let look = FurLook {
         length: config.length as f32,
         shells: config.shells,
+        shell_rule: Some(pelt_fur::shells::ShellRule::MEASURED),
         uv_scale: config.uv_scale as f32,
         base_color: v(config.base_color),
         tip_color: v(config.tip_color),
@@ -295,6 +299,9 @@ pub fn manifest(doc: &Document, r: PrimitiveRef) -> Result<Option<(FurManifest, 
             &place,
             "length must be ≥ 0, uvScale above 0 and shells 1 to 1024",
         ));
+    }
+    if let Some(why) = parsed.shell_rule.and_then(|r| r.invalid()) {
+        return Err(doc.invalid(format!("{place}.shellRule"), why));
     }
     Ok(Some((parsed, place)))
 }

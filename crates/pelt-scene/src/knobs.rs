@@ -15,6 +15,26 @@ use crate::scene::{
 #[cfg(feature = "cli")]
 use pelt_fur::manifest::SHELLS;
 
+/// A shell count as `--shells` gives it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShellCount {
+    /// By the fur's size on screen (the manifest's rule, `pelt_fur::shells`), releasing a
+    /// count the scene file forces.
+    BySize,
+    /// This many shells.
+    Fixed(u32),
+}
+
+/// `--shells`: `auto` or a count in [`SHELLS`].
+pub fn shell_count(s: &str) -> Result<ShellCount, String> {
+    if s == "auto" {
+        return Ok(ShellCount::BySize);
+    }
+    flags::count(s, SHELLS)
+        .map(ShellCount::Fixed)
+        .map_err(|e| format!("{e}, or auto"))
+}
+
 /// Overrides; `None` keeps the scene's value. With the `cli` feature these are also the
 /// flags of `pelt render`, `pelt view` and `pelt sweep` (clap's `Args`), so each knob's name,
 /// range and help are written here once.
@@ -30,9 +50,10 @@ pub struct Knobs {
     /// Discontinuity sensitive filtering on or off (overrides the scene's).
     #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
     pub dsf: Option<bool>,
-    /// Shells per fur object, 1 to 256 (overrides the scene's and the asset manifest's).
-    #[cfg_attr(feature = "cli", arg(long, value_parser = |s: &str| flags::count(s, SHELLS)))]
-    pub shells: Option<u32>,
+    /// Shells per fur object: 1 to 256, or auto (by the fur's size on screen, the manifest's
+    /// rule, up to its count: the default); overrides the scene's and the manifest's.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N|auto", value_parser = shell_count))]
+    pub shells: Option<ShellCount>,
     /// Silhouette fins on or off (overrides the scene's).
     #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
     pub fins: Option<bool>,
@@ -170,8 +191,10 @@ impl Knobs {
         }
         for o in &mut scene.objects {
             if let Material::Fur(f) = &mut o.material {
-                if self.shells.is_some() {
-                    f.shells = self.shells;
+                match self.shells {
+                    Some(ShellCount::BySize) => f.shells = None,
+                    Some(ShellCount::Fixed(n)) => f.shells = Some(n),
+                    None => {}
                 }
                 if let Some(on) = self.fins {
                     f.fins = Some(on);
@@ -297,8 +320,10 @@ mod tests {
         ])
         .expect("valid flags");
         assert_eq!(k.dsf, Some(false));
-        assert_eq!(k.shells, Some(8));
+        assert_eq!(k.shells, Some(ShellCount::Fixed(8)));
         assert_eq!(k.size, Some((64, 32)));
+        assert_eq!(shell_count("auto"), Ok(ShellCount::BySize));
+        assert!(shell_count("0").is_err() && shell_count("257").is_err());
         assert_eq!(k.reflections.technique, Some(Technique::Envmap));
         assert_eq!(k.reflections.min_max, Some(true));
         assert_eq!(k.reflections.layers, Some(4));
@@ -347,7 +372,7 @@ mod tests {
             size: Some((64, 32)),
             lbuffer_scale: Some(0.5),
             dsf: Some(false),
-            shells: Some(7),
+            shells: Some(ShellCount::Fixed(7)),
             fins: Some(false),
             fur_blend: Some(FurBlend::Wboit),
             fur_coverage: Some(FurCoverage::Binary),

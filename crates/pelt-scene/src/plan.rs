@@ -178,8 +178,13 @@ pub struct PlannedMap {
 /// How one object's fur is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlannedFur {
-    /// Concentric shells above the base mesh.
+    /// Concentric shells above the base mesh (at this camera, once the view is planned).
     pub shells: u32,
+    /// The most shells: the scene's or `--shells`' count, else the material's.
+    pub max_shells: u32,
+    /// The shells-by-screen-size rule that sets `shells` per view (None: `max_shells`
+    /// always, as when a count is forced or the manifest has no rule).
+    pub rule: Option<pelt_fur::shells::ShellRule>,
     /// Fin quads drawn (fins on and the asset has fin edges).
     pub fins: bool,
     /// DSF object ID of its outer shell's stippled texels.
@@ -559,11 +564,14 @@ impl ScenePlan {
                             let color = Vec3::from(o.color);
                             let length = f.length.unwrap_or(look.length);
                             let reach = length * info.fur_scale;
+                            let shells = f
+                                .shells
+                                .unwrap_or(look.shells)
+                                .clamp(1, crate::scene::MAX_SHELLS);
                             fur = Some(PlannedFur {
-                                shells: f
-                                    .shells
-                                    .unwrap_or(look.shells)
-                                    .clamp(1, crate::scene::MAX_SHELLS),
+                                shells,
+                                max_shells: shells,
+                                rule: look.shell_rule.filter(|_| f.shells.is_none()),
                                 fins: f.fins_with(scene.fur_coverage)
                                     && *has_fins
                                     && mode != Mode::Strands
@@ -758,6 +766,10 @@ impl Plan {
                 );
                 f.resolved = f.coverage == FurCoverage::Analytic
                     && crate::footprint::resolves_strands(finest, f.medium[1]);
+                if let Some(rule) = f.rule {
+                    let px = crate::footprint::fur_pixels(&view, output, o.model, -vhi.z, f.reach);
+                    f.shells = rule.shells(f64::from(px), f.max_shells);
+                }
                 f.eye_inside = view.holds_eye(o.model, *lo, *hi);
             }
             objects.push(PlannedObject {
@@ -1203,9 +1215,14 @@ impl Plan {
             } else if let Some(f) = o.fur {
                 let _ = write!(
                     s,
-                    "; objects[{}] fur: base + {} shells{}{}, {}",
+                    "; objects[{}] fur: base + {} shells{}{}{}, {}",
                     o.scene_index,
                     f.shells,
+                    if f.rule.is_some() {
+                        format!(" (by screen size, at most {})", f.max_shells)
+                    } else {
+                        String::new()
+                    },
                     if f.fins { " + fins" } else { "" },
                     if f.resolved {
                         " (near enough to resolve single strands: heightfield taps)"

@@ -291,6 +291,7 @@ mod tests {
                 look: FurLook {
                     length: 0.1,
                     shells: 16,
+                    shell_rule: None,
                     uv_scale,
                     base_color: Vec3::ONE,
                     tip_color: Vec3::ONE,

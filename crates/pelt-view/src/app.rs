@@ -408,7 +408,12 @@ fn scene_knobs(v: &Viewer) -> Knobs {
         size: None,
         lbuffer_scale: Some(s.lbuffer_scale),
         dsf: Some(s.dsf),
-        shells: fur.and_then(|f| f.shells).or(manifest_shells),
+        // The key halves or doubles the count the view starts from: the scene's forced one,
+        // else the manifest's (the most the rule draws).
+        shells: fur
+            .and_then(|f| f.shells)
+            .or(manifest_shells)
+            .map(pelt_preview::knobs::ShellCount::Fixed),
         fins: fur.map(|f| f.fins_with(s.fur_coverage)),
         fur_blend: Some(s.fur_blend),
         fur_coverage: Some(s.fur_coverage),

@@ -3,7 +3,7 @@
 //! turns into orbit, pan and zoom amounts.
 
 use pelt_preview::Mode;
-use pelt_preview::knobs::Knobs;
+use pelt_preview::knobs::{Knobs, ShellCount};
 use pelt_preview::plan::DebugView;
 use pelt_preview::scene::FurBlend;
 
@@ -129,8 +129,13 @@ impl Settings {
             }
             Action::ToggleDsf => k.dsf = Some(!k.dsf.or(base.dsf).unwrap_or(true)),
             Action::Shells(d) => {
-                let s = k.shells.or(base.shells).unwrap_or(16);
-                k.shells = Some(if d > 0 { s * 2 } else { s / 2 }.clamp(1, 256));
+                let s = match k.shells.or(base.shells) {
+                    Some(ShellCount::Fixed(n)) => n,
+                    _ => 16,
+                };
+                k.shells = Some(ShellCount::Fixed(
+                    if d > 0 { s * 2 } else { s / 2 }.clamp(1, 256),
+                ));
             }
             Action::ToggleFins => k.fins = Some(!k.fins.or(base.fins).unwrap_or(true)),
             Action::ToggleBlend => {
@@ -166,7 +171,7 @@ mod tests {
         let base = Knobs {
             lbuffer_scale: Some(0.625),
             dsf: Some(true),
-            shells: Some(16),
+            shells: Some(ShellCount::Fixed(16)),
             fins: Some(true),
             fur_blend: Some(FurBlend::Stipple),
             size: None,
@@ -195,11 +200,11 @@ mod tests {
         }
         assert_eq!(s.knobs.lbuffer_scale, Some(0.125));
         s.apply(Action::Shells(1), &base);
-        assert_eq!(s.knobs.shells, Some(32));
+        assert_eq!(s.knobs.shells, Some(ShellCount::Fixed(32)));
         for _ in 0..10 {
             s.apply(Action::Shells(1), &base);
         }
-        assert_eq!(s.knobs.shells, Some(256));
+        assert_eq!(s.knobs.shells, Some(ShellCount::Fixed(256)));
         s.apply(Action::ToggleDsf, &base);
         s.apply(Action::ToggleFins, &base);
         s.apply(Action::ToggleBlend, &base);

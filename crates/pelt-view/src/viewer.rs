@@ -13,7 +13,7 @@ use pelt_preview::animate::{self, Followed};
 use pelt_preview::budget::{Budget, Costs, Quality};
 use pelt_preview::features::Output;
 use pelt_preview::features::upscale::Upscale;
-use pelt_preview::knobs::{self, Input, Knobs};
+use pelt_preview::knobs::{self, Input, Knobs, ShellCount};
 use pelt_preview::orbit::Orbit;
 use pelt_preview::plan::Pass;
 use pelt_preview::progressive::Progressive;
@@ -332,7 +332,7 @@ impl Viewer {
         s.lbuffer_scale = q.lbuffer_scale;
         if self.budget.is_some_and(|b| q.shells < b.costs.full.shells) {
             Knobs {
-                shells: Some(q.shells),
+                shells: Some(ShellCount::Fixed(q.shells)),
                 ..Knobs::default()
             }
             .apply(&mut s);
@@ -455,7 +455,7 @@ impl Viewer {
             Some(n) if n > 1 => {
                 let mut one = scene.clone();
                 Knobs {
-                    shells: Some(1),
+                    shells: Some(ShellCount::Fixed(1)),
                     ..Knobs::default()
                 }
                 .apply(&mut one);

@@ -51,7 +51,8 @@ function densityTexture(d, first) {
 export class PeltFurPlugin {
   /**
    * @param parser GLTFLoader's parser.
-   * @param options `shells`: a shell count for every fur primitive (default: the manifest's);
+   * @param options `shells`: a shell count for every fur primitive (default: by screen
+   *   size, the manifest's `shellRule`, at most its `shells`);
    *   `fins`: draw the silhouette fins (default false, as pelt with its analytic coverage);
    *   `warn`: where warnings go (default console.warn); `control`: 'opaque-shells' draws
    *   every shell opaque (a negative control of the tests; the scene loader has more).
@@ -139,12 +140,18 @@ export class PeltFurPlugin {
     shells.index = geometry.index;
     for (const [k, a] of Object.entries(geometry.attributes)) shells.setAttribute(k, a);
     shells.instanceCount = look.uniforms.shells.value;
-    shells.boundingSphere = geometry.boundingSphere?.clone();
+    if (!geometry.boundingSphere) geometry.computeBoundingSphere();
+    shells.boundingSphere = geometry.boundingSphere.clone();
     const layer = mesh.isSkinnedMesh ? new THREE.SkinnedMesh(shells, look.material(shellVertex, shellFragment, { baseOnly: { value: 0 } }, true)) : new THREE.Mesh(shells, look.material(shellVertex, shellFragment, { baseOnly: { value: 0 } }, true));
     if (mesh.isSkinnedMesh) layer.bind(mesh.skeleton, mesh.bindMatrix);
     layer.name = `${mesh.name} shells`;
     layer.frustumCulled = false;
     layer.renderOrder = 1;
+    layer.userData.peltFurPart = true;
+    layer.castShadow = false;
+    const rule = this.options.shells === undefined ? shellRule(fur.ext, fur.place) : null;
+    const state = { look, rule, max: look.uniforms.shells.value, pixels: 0 };
+    layer.onBeforeRender = (renderer, _scene, camera) => applyRule(state, layer, renderer, camera);
     mesh.add(layer);
     const fins = this.fins(mesh, pext, look, place);
     if (fins) {
@@ -152,7 +159,7 @@ export class PeltFurPlugin {
       fins.visible = this.options.fins ?? false;
       mesh.add(fins);
     }
-    mesh.userData.peltFur = { look, shells: layer, fins, place };
+    mesh.userData.peltFur = { look, shells: layer, fins, place, rule: state };
   }
 
   /** The fin mesh of a primitive (null without valid records). */
@@ -175,6 +182,54 @@ export class PeltFurPlugin {
     }
     return new FinMesh(mesh, corners, look, rplace, this.parser.getDependency('accessor', pext.fins.accessor));
   }
+}
+
+/** The material's shells-by-screen-size rule (crates/pelt-fur/src/shells.rs), checked; null
+ * in files written before it (their `shells` is always drawn). */
+export function shellRule(ext, place) {
+  const r = ext.shellRule;
+  if (r === undefined) return null;
+  if (!(Number.isFinite(r.pixelsPerShell) && r.pixelsPerShell > 0)) throw new Error(`${place}.shellRule.pixelsPerShell must be a positive number`);
+  if (!(Number.isInteger(r.min) && r.min >= 1 && r.min <= 1024)) throw new Error(`${place}.shellRule.min must be 1 to 1024`);
+  return r;
+}
+
+/** `clamp(⌈pixels / pixelsPerShell⌉, min, max)` (pelt_fur::shells::ShellRule::shells). */
+export function shellsFor(rule, pixels, max) {
+  const most = Math.max(max, 1);
+  const least = Math.min(Math.max(rule.min, 1), most);
+  if (!Number.isFinite(pixels)) return most;
+  return Math.min(Math.max(Math.ceil(Math.max(pixels, 0) / rule.pixelsPerShell), least), most);
+}
+
+/** The longest the fur of `mesh` can project to on `renderer`'s drawing buffer, in pixels:
+ * its length through the mesh's largest scale, at the nearest view depth of its bounding box
+ * grown by the fur's length (pelt_scene::footprint::fur_pixels, over the asset's box). */
+export function furPixels(mesh, furLength, renderer, camera) {
+  const size = renderer.getDrawingBufferSize(new THREE.Vector2());
+  const reach = furLength * mesh.matrixWorld.getMaxScaleOnAxis();
+  if (camera.isOrthographicCamera) return (reach * size.y * camera.zoom) / (camera.top - camera.bottom);
+  if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
+  const box = mesh.geometry.boundingBox.clone().expandByScalar(furLength);
+  const toView = new THREE.Matrix4().multiplyMatrices(camera.matrixWorldInverse, mesh.matrixWorld);
+  const p = new THREE.Vector3();
+  let nearest = -Infinity;
+  for (let k = 0; k < 8; k++) {
+    p.set(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z).applyMatrix4(toView);
+    nearest = Math.max(nearest, p.z);
+  }
+  const near = Math.max(-nearest, camera.near);
+  const focal = size.y / (2 * Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2));
+  return (reach * focal) / near;
+}
+
+/** Sets the shells drawn this frame by the rule (nothing when a count was forced). */
+function applyRule(state, layer, renderer, camera) {
+  if (!state.rule) return;
+  state.pixels = furPixels(layer, state.look.uniforms.furLength.value, renderer, camera);
+  const n = shellsFor(state.rule, state.pixels, state.max);
+  state.look.uniforms.shells.value = n;
+  layer.geometry.instanceCount = n;
 }
 
 /** The material uniforms of a fur primitive, and a maker of its materials. */
@@ -230,6 +285,8 @@ class FinMesh extends THREE.Mesh {
     this.material.side = THREE.DoubleSide;
     this.name = `${mesh.name} fins`;
     this.frustumCulled = false;
+    this.userData.peltFurPart = true;
+    this.castShadow = false;
     this.renderOrder = 2;
     this.source = mesh;
     this.ready = recordsPromise.then((records) => this.build(corners, look, records.array, place));

@@ -180,10 +180,11 @@ async function loadObject(o, i, base, loader, options, warn, mixers, file, clips
     if (kind !== 'fur' && kind !== 'opaque') warn(`${place}: ${kind} materials are drawn opaque by this runtime`);
   }
   root.traverse((m) => {
-    if (m.isMesh) {
+    if (m.isMesh && !m.userData.peltFurPart) {
       m.castShadow = true;
       m.receiveShadow = true;
     }
+    if (m.userData.peltFurPart) m.receiveShadow = true;
   });
   const t = o.transform || {};
   root.position.set(...(t.translation ?? [0, 0, 0]));
@@ -203,7 +204,12 @@ function configureFur(fur, o, kind, tint, options, place, warn, file) {
     return;
   }
   const m = o.material || {};
-  if (options.shells === undefined && m.shells !== undefined) u.shells.value = m.shells;
+  if (options.shells === undefined && m.shells !== undefined) {
+    // A count the scene file gives is forced, as in pelt.
+    u.shells.value = m.shells;
+    fur.rule.rule = null;
+  }
+  fur.rule.max = u.shells.value;
   fur.shells.geometry.instanceCount = u.shells.value;
   if (m.length !== undefined) u.furLength.value = m.length;
   // pelt's default (pelt_scene::scene): fins with the binary heightfield's coverage only;

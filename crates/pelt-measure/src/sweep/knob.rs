@@ -106,6 +106,8 @@ pub enum Value {
     Size(u32, u32),
     /// Reflection technique.
     Technique(Technique),
+    /// The shells-by-screen-size rule of the fur's manifest (`pelt_fur::shells`).
+    Auto,
 }
 
 impl fmt::Display for Value {
@@ -128,6 +130,7 @@ impl fmt::Display for Value {
             Value::Quantize(Quantize::Float) => f.write_str("float"),
             Value::Size(w, h) => write!(f, "{w}x{h}"),
             Value::Technique(t) => write!(f, "{t}"),
+            Value::Auto => f.write_str("auto"),
         }
     }
 }
@@ -331,8 +334,15 @@ mod tests {
 
     #[test]
     fn the_ranges_in_words_are_the_scene_files_ranges() {
+        let shells = knob("shells");
+        let r = pelt_fur::manifest::SHELLS;
+        assert_eq!(
+            shells.allowed(),
+            format!("auto (by screen size) or {} to {}", r.start(), r.end())
+        );
+        assert!(shells.value("auto").is_ok() && shells.value(&r.end().to_string()).is_ok());
+        assert!(shells.value(&(r.end() + 1).to_string()).is_err());
         for (k, r) in [
-            ("shells", pelt_fur::manifest::SHELLS),
             ("linear-steps", limits::LINEAR_STEPS),
             ("secant-steps", limits::SECANT_STEPS),
             ("layers", limits::LAYERS),
@@ -368,7 +378,7 @@ mod tests {
         let e = Knob::parse_list("shells=4,300").expect_err("300 shells");
         assert_eq!(
             e.to_string(),
-            "knob shells: \"300\" is not allowed (1 to 256)"
+            "knob shells: \"300\" is not allowed (auto (by screen size) or 1 to 256)"
         );
         let e = Knob::parse_list("shell=4").expect_err("unknown");
         assert!(e.to_string().contains("unknown knob \"shell\""), "{e}");
@@ -401,7 +411,10 @@ mod tests {
             .with(knob("shells"), Value::Count(8))
             .with(knob("quantize"), Value::Quantize(Quantize::U8))
             .with(knob("linear-steps"), Value::Count(7));
-        assert_eq!(s.knobs.shells, Some(8));
+        assert_eq!(
+            s.knobs.shells,
+            Some(pelt_scene::knobs::ShellCount::Fixed(8))
+        );
         assert_eq!(s.quantize, Some(Quantize::U8));
         assert_eq!(s.knobs.reflections.linear_steps, Some(7));
         assert!(s.rebakes());

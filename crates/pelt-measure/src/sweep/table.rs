@@ -7,6 +7,7 @@ use pelt_bake::options::Quantize;
 use pelt_fur::HeightBits;
 use pelt_scene::Mode;
 use pelt_scene::flags;
+use pelt_scene::knobs::ShellCount;
 use pelt_scene::scene::{
     FurBlend, FurCoverage, FurLighting, ShadowMaps, Technique, reflection_limits as limits,
 };
@@ -58,13 +59,33 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "shells",
         needs: &[Need::Fur],
-        parse: |s| within(s, pelt_fur::manifest::SHELLS),
-        sweep: |_| counts(&[4, 8, 16, 32, 64]),
-        set: |s, v| s.knobs.shells = count(v),
+        // `auto`: the manifest's shells-by-screen-size rule (no count forced), beside fixed
+        // counts.
+        parse: |s| {
+            if s == "auto" {
+                Some(Value::Auto)
+            } else {
+                within(s, pelt_fur::manifest::SHELLS)
+            }
+        },
+        sweep: |_| {
+            let mut v = vec![Value::Auto];
+            v.extend(counts(&[4, 8, 16, 32, 64]));
+            v
+        },
+        set: |s, v| {
+            s.knobs.shells = match v {
+                Value::Auto => Some(ShellCount::BySize),
+                v => count(v).map(ShellCount::Fixed),
+            }
+        },
         own: |o| {
-            Some(Value::Count(
-                o.settings?.shells.unwrap_or(o.fur?.look.shells),
-            ))
+            let look = &o.fur?.look;
+            Some(match o.settings?.shells {
+                Some(n) => Value::Count(n),
+                None if look.shell_rule.is_some() => Value::Auto,
+                None => Value::Count(look.shells),
+            })
         },
     },
     Knob {

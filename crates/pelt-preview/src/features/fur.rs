@@ -273,8 +273,8 @@ pub const FEATURE: Feature = Feature {
     knobs: &[
         KnobDesc::new(
             "shells",
-            "1 to 256",
-            "the asset's fur manifest (16 from the bake)",
+            "auto (by screen size) or 1 to 256",
+            "auto: the manifest's rule, at most its count (16 from the bake)",
             Reference::Strands,
         ),
         KnobDesc::new(

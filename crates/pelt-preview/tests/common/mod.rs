@@ -169,7 +169,7 @@ pub fn scene(shells: u32, fins: bool, blend: FurBlend) -> Scene {
 /// Sets every fur object's shell count.
 pub fn set_shells(s: &mut Scene, shells: u32) {
     pelt_preview::knobs::Knobs {
-        shells: Some(shells),
+        shells: Some(pelt_preview::knobs::ShellCount::Fixed(shells)),
         ..Default::default()
     }
     .apply(s);
