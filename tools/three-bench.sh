@@ -33,7 +33,7 @@ for k in (0.5, 1.0, 2.0):
     json.dump(c, open(f'.bench-d{k}.json', 'w'))
 PY
 pelt_ms() { "$pelt" render "$@" --mode forward --backend vulkan --size "$size" --bench "$frames" --json -q | python3 -c 'import json,sys; t=sorted(f["ms"] for f in json.load(sys.stdin)["frames"][1:]); print(f"{t[len(t)//2]:.1f}")'; }
-three_ms() { $render "$@" --size "$size" --bench "$frames" | python3 -c 'import json,sys; print(f"{json.load(sys.stdin)["medianMs"]:.1f}")'; }
+three_ms() { $render "$@" --size "$size" --bench "$frames" | python3 -c 'import json,sys; print("%.1f" % json.load(sys.stdin)["medianMs"])'; }
 echo "| scene ($size, 16 shells) | pelt forward, lavapipe (ms) | three.js, Chromium on SwiftShader (ms) |"
 echo "|---|---|---|"
 echo "| creature (scene.json) | $(pelt_ms scene.json --shells 16) | $(three_ms scene.json --shells 16) |"
