@@ -251,6 +251,14 @@ fn a_skinned_asset_follows_its_clip() {
         moved > 0.01,
         "the two times drew the same frame (FLIP {moved})"
     );
+    // Negative control: the web pose of the other time fails the same threshold against
+    // pelt's (a runtime whose fur did not follow the clip would).
+    let pelt = load_png(&dir.join("walk-0.1-pelt.png"));
+    let wrong = flip_of(&pelt, &frames[1]);
+    assert!(
+        wrong > 0.06,
+        "the pose at 0.6 s passes against 0.1 s (FLIP {wrong})"
+    );
 }
 
 /// `node test/NAME.mjs ARGS…` (a page driver of the package), its JSON result.
