@@ -8,7 +8,7 @@
 import * as THREE from 'three';
 import { density, strandParams } from './density.js';
 import { cornerList, faceNormals, finArrays, staleness } from './fins.js';
-import { finFragment, finVertex, shellFragment, shellVertex } from './shaders.js';
+import { finFragment, finVertex, shellDepthFragment, shellFragment, shellVertex } from './shaders.js';
 
 export const EXTENSION = 'PELT_fur';
 
@@ -148,10 +148,15 @@ export class PeltFurPlugin {
     layer.frustumCulled = false;
     layer.renderOrder = 1;
     layer.userData.peltFurPart = true;
-    layer.castShadow = false;
+    // The shells cast by their coverage (shellDepthFragment), for every kind of light.
+    layer.castShadow = true;
+    layer.customDepthMaterial = look.depthMaterial();
+    layer.customDistanceMaterial = layer.customDepthMaterial;
     const rule = this.options.shells === undefined ? shellRule(fur.ext, fur.place) : null;
     const state = { look, rule, max: look.uniforms.shells.value, pixels: 0 };
     layer.onBeforeRender = (renderer, _scene, camera) => applyRule(state, layer, renderer, camera);
+    // Three draws the shadow maps first: the count of this frame's view there too.
+    layer.onBeforeShadow = (renderer, _object, camera) => applyRule(state, layer, renderer, camera);
     mesh.add(layer);
     const fins = this.fins(mesh, pext, look, place);
     if (fins) {
@@ -275,7 +280,13 @@ function furLook(fur, source, geometry, shells, control) {
     }
     return m;
   };
-  return { uniforms, material };
+  const depthMaterial = () => new THREE.ShaderMaterial({
+    vertexShader: shellVertex,
+    fragmentShader: shellDepthFragment,
+    uniforms: { ...uniforms, ...furShared, baseOnly: { value: 0 } },
+    defines: { PELT_DEPTH: '' },
+  });
+  return { uniforms, material, depthMaterial };
 }
 
 /** The fins of one fur mesh: an instanced quad per record, posed on the CPU when skinned. */

@@ -60,7 +60,8 @@ function builtin(name) {
  * Loads scene file `scene` (parsed JSON) whose assets resolve against `base` (a URL).
  * Options: `shells` (force a count), `fins`, `animation` and `time`, `resolve(asset) → URL`
  * (default: relative to `base`), `warn`; `control` (the tests' negative controls):
- * 'opaque-shells', 'no-wind', 'no-shadows' or 'no-texture'. Returns { scene, camera, mixers, clips (per animated
+ * 'opaque-shells', 'no-wind', 'no-shadows', 'no-fur-shadow' (the fur casts as its base
+ * mesh) or 'no-texture'. Returns { scene, camera, mixers, clips (per animated
  * asset: its root and clips), size, render(renderer) }.
  */
 export async function loadScene(file, base, options = {}) {
@@ -212,6 +213,7 @@ function configureFur(fur, o, kind, tint, options, place, warn, file) {
   fur.rule.max = u.shells.value;
   fur.shells.geometry.instanceCount = u.shells.value;
   if (m.length !== undefined) u.furLength.value = m.length;
+  if (options.control === 'no-fur-shadow') fur.shells.castShadow = false;
   // pelt's default (pelt_scene::scene): fins with the binary heightfield's coverage only;
   // the analytic coverage holds the silhouette's fur down to MIN_COS without them.
   const fins = options.fins ?? m.fins ?? (file.furCoverage === 'binary');

@@ -161,6 +161,9 @@ const skinGlsl = /* glsl */ `
 /** The shells (shells.wgsl's vs_main and fs_main with forward lighting and the medium). */
 export const shellVertex = /* glsl */ `
 ${furVertexHead}
+#ifdef PELT_DEPTH
+#undef USE_SHADOWMAP
+#endif
 uniform float shells;
 uniform float baseOnly;
 out vec3 vViewPos;
@@ -198,7 +201,7 @@ void main() {
   vLayer = vec4(z0, z1, length(p1.xyz - p0.xyz), length(pt.xyz - pb.xyz));
   vViewNormal = view_normal_of(objectNormal, frame, object);
   vShell = shell;
-#ifdef USE_SHADOWMAP
+#if defined( USE_SHADOWMAP ) && !defined( PELT_DEPTH )
   vec4 worldPosition = modelMatrix * vec4(transformed + shell_offset(objectNormal, comb, sd, furLength, cl), 1.0);
   vec3 transformedNormal = normalMatrix * objectNormal;
   #include <shadowmap_vertex>
@@ -206,9 +209,9 @@ void main() {
 }
 `;
 
-export const shellFragment = /* glsl */ `
-${fragmentHead}
-${furLightingGlsl}
+// The shells' opacity (shells.wgsl's coverage_of with the medium): its uniforms, the shell
+// varyings and pelt_coverage().
+const coverageGlsl = /* glsl */ `
 uniform sampler2D densityLo;
 uniform sampler2D densityHi;
 uniform sampler2D baseMap;
@@ -248,6 +251,12 @@ float pelt_coverage() {
   float a = clamp(layer_opacity(lo, hi, vLayer.x, vLayer.y, kappa, sinPsi, vLayer.z * sqrtJ, mu), 0.0, 1.0);
   return a * clamp(vDepths.w * 20.0, 0.0, 1.0);
 }
+`;
+
+export const shellFragment = /* glsl */ `
+${fragmentHead}
+${furLightingGlsl}
+${coverageGlsl}
 void main() {
   float a = pelt_coverage();
   if (a <= 0.0) discard;
@@ -258,6 +267,28 @@ void main() {
   vec3 t = colorFromTexture > 0.5 ? under : vec3(1.0);
   vec3 albedo = vAlbedo * tint * t * mix(rootColor, tipColor, vDepths.z);
   gl_FragColor = vec4(albedo * diffuse + ${SPECULAR_STRENGTH.toFixed(2)} * specular, a);
+}
+`;
+
+/**
+ * The shells from a shadow-casting light (three's shadow pass: depth only): each fragment is
+ * kept with the probability of its layer's opacity (a hashed alpha test), so a texel of the
+ * map is lit through the fur with the probability ∏(1 − αᵢ), the layers' transmittance, which
+ * the map's filtering averages: the fur casts by its coverage.
+ */
+export const shellDepthFragment = /* glsl */ `
+#include <common>
+${peltGlsl}
+${coverageGlsl}
+float pelt_hash(vec3 p) {
+  p = fract(p * vec3(0.1031, 0.1030, 0.0973));
+  p += dot(p, p.yxz + 33.33);
+  return fract((p.x + p.y) * p.z);
+}
+void main() {
+  float a = pelt_coverage();
+  if (a <= pelt_hash(vec3(gl_FragCoord.xy, vShell))) discard;
+  gl_FragColor = vec4(1.0);
 }
 `;
 
