@@ -403,3 +403,40 @@ fn the_shell_count_follows_the_fur_on_screen_as_in_pelt() {
     let (flip, _) = compare(&creature, "rule", &[], &[], None);
     assert!(flip <= 0.05, "by screen size: FLIP {flip}");
 }
+
+/// Bad input to `render.mjs`: a missing asset, a malformed scene file and a missing one are
+/// errors naming the file and the place, exit 1, and no PNG.
+#[test]
+fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
+    if !browser_ready() {
+        return;
+    }
+    let (creature, _) = demo_scenes();
+    let missing_asset = variant(&creature, "bad-asset", |v| {
+        v["objects"][0]["asset"] = "missing.glb".into();
+    });
+    let malformed = creature.with_file_name("bad-json.json");
+    std::fs::write(&malformed, b"{\"objects\": [").expect("write");
+    let absent = creature.with_file_name("absent.json");
+    for (scene, want) in [
+        (&missing_asset, "objects[0]: missing.glb"),
+        (&malformed, "bad-json.json"),
+        (&absent, "absent.json: no such file"),
+    ] {
+        let out = scene.with_extension("png");
+        let o = Command::new("node")
+            .arg(package().join("render.mjs"))
+            .arg(scene)
+            .args(["-o", out.to_str().expect("UTF-8"), "--size", "64x36"])
+            .output()
+            .expect("run node");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{}: {err}", scene.display());
+        assert!(err.contains(want), "{want} not in: {err}");
+        assert!(!out.exists(), "{} was written", out.display());
+    }
+    // Negative control: the good scene writes its PNG.
+    let out = creature.with_file_name("good.png");
+    three(&creature, &out, &[]);
+    assert!(out.exists());
+}

@@ -1,13 +1,13 @@
 #!/usr/bin/env node
 // Renders a pelt scene file with @pelt/three in headless Chromium (WebGL2; SwiftShader
 // without a GPU) and writes the PNG, with pelt render's flag names and meanings:
-//   node integrations/three/render.mjs SCENE.json -o OUT.png --size WxH [--shells N] [--fins on|off]
+//   node integrations/three/render.mjs SCENE.json -o OUT.png --size WxH [--shells N|auto] [--fins on|off]
 //        [--animation NAME --time T] [--bench FRAMES] [--report]
 // (--report prints, as JSON, each fur mesh's shell count and projected fur length.)
 // Every file of the page is served from this machine (the package, three from its
 // node_modules, the scene's folder); nothing is fetched from the network. The browser is
 // Debian's `chromium` (or $CHROMIUM).
-import { writeFile } from 'node:fs/promises';
+import { readFile, writeFile } from 'node:fs/promises';
 import { withPage } from './src/node/browser.js';
 
 function usage(message) {
@@ -40,7 +40,7 @@ function parse(argv) {
   if (!o.output && !o.bench) usage('no output (-o OUT.png) given');
   if (o.size && !/^\d+x\d+$/.test(o.size)) usage(`--size ${o.size}: expected WxH, e.g. 320x180`);
   if (o.size && o.size.split('x').some((v) => Number(v) < 1 || Number(v) > 8192)) usage(`--size ${o.size}: each side must be 1 to 8192`);
-  if (o.shells !== undefined && !(/^\d+$/.test(o.shells) && Number(o.shells) >= 1 && Number(o.shells) <= 256)) usage(`--shells ${o.shells}: expected 1 to 256`);
+  if (o.shells !== undefined && o.shells !== 'auto' && !(/^\d+$/.test(o.shells) && Number(o.shells) >= 1 && Number(o.shells) <= 256)) usage(`--shells ${o.shells}: expected 1 to 256, or auto`);
   if (o.fins !== undefined && !['on', 'off'].includes(o.fins)) usage(`--fins ${o.fins}: expected on or off`);
   if (o.time !== undefined && !Number.isFinite(Number(o.time))) usage(`--time ${o.time}: expected seconds`);
   if (o.bench !== undefined && !(/^\d+$/.test(o.bench) && Number(o.bench) >= 1)) usage(`--bench ${o.bench}: expected a frame count`);
@@ -48,6 +48,15 @@ function parse(argv) {
 }
 
 const o = parse(process.argv.slice(2));
+// The scene file is read here first, so that a missing or malformed one is reported with its
+// place before a browser starts.
+try {
+  const parsed = JSON.parse(await readFile(o.scene, 'utf8'));
+  if (parsed === null || typeof parsed !== 'object' || Array.isArray(parsed)) throw new Error('a scene file is a JSON object');
+} catch (e) {
+  console.error(`error: ${o.scene}: ${e.code === 'ENOENT' ? 'no such file' : e.message}`);
+  process.exit(1);
+}
 const r = await withPage(o.scene, (scene) => {
   const q = new URLSearchParams({ scene });
   for (const k of ['size', 'shells', 'fins', 'animation', 'time', 'control']) if (o[k] !== undefined) q.set(k, o[k]);

@@ -58,7 +58,8 @@ function builtin(name) {
 
 /**
  * Loads scene file `scene` (parsed JSON) whose assets resolve against `base` (a URL).
- * Options: `shells` (force a count), `fins`, `animation` and `time`, `resolve(asset) → URL`
+ * Options: `shells` (force a count, or 'auto': by screen size even where the scene file
+ * forces one), `fins`, `animation` and `time`, `resolve(asset) → URL`
  * (default: relative to `base`), `warn`; `control` (the tests' negative controls):
  * 'opaque-shells', 'no-wind', 'no-shadows', 'no-fur-shadow' (the fur casts as its base
  * mesh) or 'no-texture'. Returns { scene, camera, mixers, clips (per animated
@@ -86,7 +87,9 @@ export async function loadScene(file, base, options = {}) {
     furShared.peltWind.value.set(0, 0, 0, time);
   }
   const loader = new GLTFLoader();
-  loader.register((parser) => new PeltFurPlugin(parser, { shells: options.shells, control: options.control, warn }));
+  // `shells`: a count forces it everywhere; 'auto' releases the counts a scene file forces.
+  const forced = options.shells === 'auto' ? undefined : options.shells;
+  loader.register((parser) => new PeltFurPlugin(parser, { shells: forced, control: options.control, warn }));
   const mixers = [];
   const clips = [];
   for (const [i, o] of (file.objects || []).entries()) {
@@ -156,7 +159,12 @@ async function loadObject(o, i, base, loader, options, warn, mixers, file, clips
     root = new THREE.Mesh(geometry, surfaceMaterial(null, tint, doubleSided));
   } else {
     const url = options.resolve ? options.resolve(o.asset) : new URL(o.asset, base).href;
-    const gltf = await loader.loadAsync(url);
+    let gltf;
+    try {
+      gltf = await loader.loadAsync(url);
+    } catch (e) {
+      throw new Error(`${place}: ${o.asset}: ${e.message || e}`);
+    }
     root = gltf.scene;
     if (gltf.animations.length) clips.push({ root, clips: gltf.animations });
     if (options.animation) {
@@ -206,6 +214,7 @@ function configureFur(fur, o, kind, tint, options, place, warn, file) {
   }
   const m = o.material || {};
   if (options.shells === undefined && m.shells !== undefined) {
+    // (`shells: 'auto'` leaves the rule on.)
     // A count the scene file gives is forced, as in pelt.
     u.shells.value = m.shells;
     fur.rule.rule = null;
