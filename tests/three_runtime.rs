@@ -440,3 +440,47 @@ fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
     three(&creature, &out, &[]);
     assert!(out.exists());
 }
+
+/// gltfpack's output of the baked Fox (quantized, its texture coordinates moved by
+/// KHR_texture_transform, the fur dropped) drawn opaque: the web runtime reads the transform
+/// as pelt does. Negative control: the transform ignored.
+#[test]
+fn a_texture_transform_is_read_as_pelt_reads_it() {
+    if !browser_ready() {
+        return;
+    }
+    let gltfpack = root().join("integrations/gltf-transform/node_modules/.bin/gltfpack");
+    if !tool_available(
+        gltfpack.exists(),
+        "PELT_REQUIRE_GLTF_TRANSFORM",
+        "gltfpack",
+        "npm ci --prefix integrations/gltf-transform",
+    ) {
+        return;
+    }
+    let (_, fox) = demo_scenes();
+    let packed = fox.with_file_name("fox-packed.glb");
+    let o = Command::new(&gltfpack)
+        .arg("-i")
+        .arg(fox.with_file_name("fox.glb"))
+        .arg("-o")
+        .arg(&packed)
+        .output()
+        .expect("run gltfpack");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let scene = variant(&fox, "fox-packed", |v| {
+        v["objects"][0]["asset"] = "fox-packed.glb".into();
+        v["objects"][0]["material"] = serde_json::json!({ "kind": "opaque" });
+    });
+    let walk = ["--animation", "Walk", "--time", "0.35"];
+    let (flip, _) = compare(&scene, "uv-transform", &walk, &walk, None);
+    assert!(flip <= 0.05, "KHR_texture_transform: FLIP {flip}");
+    let (flip, _) = compare(
+        &scene,
+        "uv-transform-control",
+        &walk,
+        &walk,
+        Some("no-uv-transform"),
+    );
+    assert!(flip > 0.05, "the transform ignored passes (FLIP {flip})");
+}

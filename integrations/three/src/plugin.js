@@ -243,6 +243,9 @@ function furLook(fur, source, geometry, shells, control) {
   const comb = geometry.attributes._fur_comb;
   const unsigned = comb.normalized && (comb.array instanceof Uint8Array || comb.array instanceof Uint16Array);
   const base = source.map || null;
+  // three's own materials update a texture's transform matrix as they draw; a ShaderMaterial
+  // must do it itself.
+  if (base?.matrixAutoUpdate) base.updateMatrix();
   const uniforms = {
     shells: { value: shells ?? ext.shells },
     furLength: { value: ext.length },
@@ -257,6 +260,8 @@ function furLook(fur, source, geometry, shells, control) {
     tint: { value: new THREE.Color(1, 1, 1) },
     baseMap: { value: base },
     useBaseMap: { value: base ? 1 : 0 },
+    // KHR_texture_transform of the base colour texture (GLTFLoader sets the texture's matrix).
+    baseMapTransform: { value: base ? base.matrix : new THREE.Matrix3() },
     densityLo: { value: fur.densityLo },
     densityHi: { value: fur.densityHi },
     finMap: { value: fur.fin },

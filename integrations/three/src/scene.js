@@ -24,10 +24,11 @@ const fullscreen = () => {
 };
 
 /** pelt's opaque surface material over a three material's factors and base colour map. */
-export function surfaceMaterial(source, tint = [1, 1, 1], doubleSided = false) {
+export function surfaceMaterial(source, tint = [1, 1, 1], doubleSided = false, control = undefined) {
   const c = source?.color ? source.color.clone() : new THREE.Color(1, 1, 1);
   c.multiply(new THREE.Color().setRGB(...tint, THREE.LinearSRGBColorSpace));
   const map = source?.map || null;
+  if (map?.matrixAutoUpdate) map.updateMatrix();
   const m = new THREE.ShaderMaterial({
     vertexShader: surfaceVertex,
     fragmentShader: surfaceFragment,
@@ -37,6 +38,7 @@ export function surfaceMaterial(source, tint = [1, 1, 1], doubleSided = false) {
       albedo: { value: new THREE.Vector4(c.r, c.g, c.b, source?.opacity ?? 1) },
       baseMap: { value: map },
       useBaseMap: { value: map ? 1 : 0 },
+      baseMapTransform: { value: map && control !== 'no-uv-transform' ? map.matrix : new THREE.Matrix3() },
       metallic: { value: source?.metalness ?? NEUTRAL.metallic },
       roughness: { value: source?.roughness ?? NEUTRAL.roughness },
       opacity: { value: 1 },
@@ -62,7 +64,7 @@ function builtin(name) {
  * forces one), `fins`, `animation` and `time`, `resolve(asset) → URL`
  * (default: relative to `base`), `warn`; `control` (the tests' negative controls):
  * 'opaque-shells', 'no-wind', 'no-shadows', 'no-fur-shadow' (the fur casts as its base
- * mesh) or 'no-texture'. Returns { scene, camera, mixers, clips (per animated
+ * mesh), 'no-texture' or 'no-uv-transform' (KHR_texture_transform ignored). Returns { scene, camera, mixers, clips (per animated
  * asset: its root and clips), size, render(renderer) }.
  */
 export async function loadScene(file, base, options = {}) {
@@ -183,7 +185,7 @@ async function loadObject(o, i, base, loader, options, warn, mixers, file, clips
       if (fur) {
         configureFur(fur, o, kind, tint, options, place, warn, file);
       } else if (m.material && !m.material.isShaderMaterial) {
-        m.material = surfaceMaterial(m.material, tint);
+        m.material = surfaceMaterial(m.material, tint, false, options.control);
       }
     });
     if (kind !== 'fur' && kind !== 'opaque') warn(`${place}: ${kind} materials are drawn opaque by this runtime`);

@@ -216,6 +216,7 @@ uniform sampler2D densityLo;
 uniform sampler2D densityHi;
 uniform sampler2D baseMap;
 uniform float useBaseMap;
+uniform mat3 baseMapTransform;
 uniform float colorFromTexture;
 uniform vec3 tint;
 uniform vec3 rootColor;
@@ -260,7 +261,7 @@ ${coverageGlsl}
 void main() {
   float a = pelt_coverage();
   if (a <= 0.0) discard;
-  vec3 under = useBaseMap > 0.5 ? texture(baseMap, vUv).rgb : vec3(1.0);
+  vec3 under = useBaseMap > 0.5 ? texture(baseMap, (baseMapTransform * vec3(vUv, 1.0)).xy).rgb : vec3(1.0);
   vec3 diffuse;
   vec3 specular;
   pelt_fur_lighting(vViewPos, normalize(vStrand), diffuse, specular);
@@ -318,6 +319,7 @@ attribute vec2 fuv;
 uniform vec3 albedo;
 uniform sampler2D baseMap;
 uniform float useBaseMap;
+uniform mat3 baseMapTransform;
 uniform float analytic;
 uniform float uvScale;
 uniform float colorFromTexture;
@@ -366,7 +368,7 @@ void main() {
   vStrand = view_dir_of(strand_tangent(n, c.xyz, t), frame, object);
   vDepths = vec4(-pb.z, -pt.z, t, fade);
   vUv = vec2(fu.x + float(e) * fu.y * uvScale, 1.0 - t);
-  vec3 under = albedo * (useBaseMap > 0.5 ? textureLod(baseMap, fuv, 0.0).rgb : vec3(1.0));
+  vec3 under = albedo * (useBaseMap > 0.5 ? textureLod(baseMap, (baseMapTransform * vec3(fuv, 1.0)).xy, 0.0).rgb : vec3(1.0));
   vUnder = colorFromTexture > 0.5 ? under : vec3(1.0);
 #ifdef USE_SHADOWMAP
   vec4 worldPosition = modelMatrix * vec4(p + shell_offset(n, c.xyz, t, furLength, c.w), 1.0);
@@ -434,6 +436,7 @@ ${fragmentHead}
 uniform vec4 albedo;
 uniform sampler2D baseMap;
 uniform float useBaseMap;
+uniform mat3 baseMapTransform;
 uniform float metallic;
 uniform float roughness;
 uniform float opacity;
@@ -441,7 +444,7 @@ in vec3 vViewPos;
 in vec3 vViewNormal;
 in vec2 vUv;
 void main() {
-  vec4 base = useBaseMap > 0.5 ? texture(baseMap, vUv) : vec4(1.0);
+  vec4 base = useBaseMap > 0.5 ? texture(baseMap, (baseMapTransform * vec3(vUv, 1.0)).xy) : vec4(1.0);
   vec3 n = facing_normal(vViewNormal, gl_FrontFacing);
   vec4 a = albedo * base;
   vec3 diffuse = ambientLightColor;
