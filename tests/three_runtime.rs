@@ -32,14 +32,19 @@ fn browser_ready() -> bool {
 
 /// `node render.mjs SCENE -o OUT --size 320x180 EXTRA…`, which must succeed without a
 /// browser console error.
-fn three(scene: &Path, out: &Path, extra: &[&str]) {
-    let o = Command::new("node")
+/// `node render.mjs SCENE -o OUT --size SIZE EXTRA…`, its output whatever its status.
+fn render_mjs(scene: &Path, out: &Path, size: &str, extra: &[&str]) -> std::process::Output {
+    Command::new("node")
         .arg(package().join("render.mjs"))
         .arg(scene)
-        .args(["-o", out.to_str().expect("UTF-8"), "--size", "320x180"])
+        .args(["-o", out.to_str().expect("UTF-8"), "--size", size])
         .args(extra)
         .output()
-        .expect("run node");
+        .expect("run node")
+}
+
+fn three(scene: &Path, out: &Path, extra: &[&str]) {
+    let o = render_mjs(scene, out, "320x180", extra);
     let log = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "render.mjs {}: {log}", scene.display());
     assert!(!log.contains("browser:"), "console errors: {log}");
@@ -336,19 +341,7 @@ fn the_viewer_shows_a_scene_file_and_a_dropped_asset_without_console_errors() {
 /// the rule set it.
 fn report(scene: &Path, size: &str, extra: &[&str]) -> serde_json::Value {
     let out = scene.with_file_name(format!("report-{size}.png"));
-    let o = Command::new("node")
-        .arg(package().join("render.mjs"))
-        .arg(scene)
-        .args([
-            "-o",
-            out.to_str().expect("UTF-8"),
-            "--size",
-            size,
-            "--report",
-        ])
-        .args(extra)
-        .output()
-        .expect("run node");
+    let o = render_mjs(scene, &out, size, &[&["--report"][..], extra].concat());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     serde_json::from_slice(&o.stdout).expect("JSON")
 }
@@ -424,12 +417,7 @@ fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
         (&absent, "absent.json: no such file"),
     ] {
         let out = scene.with_extension("png");
-        let o = Command::new("node")
-            .arg(package().join("render.mjs"))
-            .arg(scene)
-            .args(["-o", out.to_str().expect("UTF-8"), "--size", "64x36"])
-            .output()
-            .expect("run node");
+        let o = render_mjs(scene, &out, "64x36", &[]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{}: {err}", scene.display());
         assert!(err.contains(want), "{want} not in: {err}");

@@ -10,8 +10,10 @@
 import { readFile, writeFile } from 'node:fs/promises';
 import { withPage } from './src/node/browser.js';
 
+const USAGE = 'usage: node render.mjs SCENE.json -o OUT.png [--size WxH] [--shells N|auto] [--fins on|off] [--animation NAME --time T] [--bench FRAMES] [--report]';
+
 function usage(message) {
-  console.error(`error: ${message}\nusage: node render.mjs SCENE.json -o OUT.png [--size WxH] [--shells N] [--fins on|off] [--animation NAME --time T] [--bench FRAMES] [--report]`);
+  console.error(`error: ${message}\n${USAGE}`);
   process.exit(2);
 }
 
@@ -23,6 +25,10 @@ function parse(argv) {
       if (i + 1 >= argv.length) usage(`${a} needs a value`);
       return argv[++i];
     };
+    if (a === '-h' || a === '--help') {
+      console.log(`Renders a pelt scene file with @pelt/three in headless Chromium (docs/three.md).\n${USAGE}`);
+      process.exit(0);
+    }
     if (a === '-o' || a === '--output') o.output = value();
     else if (a === '--size') o.size = value();
     else if (a === '--shells') o.shells = value();

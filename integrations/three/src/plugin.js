@@ -210,14 +210,17 @@ export function shellsFor(rule, pixels, max) {
 /** The longest the fur of `mesh` can project to on `renderer`'s drawing buffer, in pixels:
  * its length through the mesh's largest scale, at the nearest view depth of its bounding box
  * grown by the fur's length (pelt_scene::footprint::fur_pixels, over the asset's box). */
+const scratch = { size: new THREE.Vector2(), box: new THREE.Box3(), toView: new THREE.Matrix4(), p: new THREE.Vector3() };
+
 export function furPixels(mesh, furLength, renderer, camera) {
-  const size = renderer.getDrawingBufferSize(new THREE.Vector2());
+  const size = renderer.getDrawingBufferSize(scratch.size);
   const reach = furLength * mesh.matrixWorld.getMaxScaleOnAxis();
   if (camera.isOrthographicCamera) return (reach * size.y * camera.zoom) / (camera.top - camera.bottom);
   if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
-  const box = mesh.geometry.boundingBox.clone().expandByScalar(furLength);
-  const toView = new THREE.Matrix4().multiplyMatrices(camera.matrixWorldInverse, mesh.matrixWorld);
-  const p = new THREE.Vector3();
+  // Every shadow face and the view call this each frame: scratch objects, no allocation.
+  const box = scratch.box.copy(mesh.geometry.boundingBox).expandByScalar(furLength);
+  const toView = scratch.toView.multiplyMatrices(camera.matrixWorldInverse, mesh.matrixWorld);
+  const p = scratch.p;
   let nearest = -Infinity;
   for (let k = 0; k < 8; k++) {
     p.set(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z).applyMatrix4(toView);

@@ -66,30 +66,31 @@ float pelt_sun_shadow(int which) {
 }
 `;
 
+// Every light of the view added into `diffuse` and `specular` (the loop of forward.wgsl and
+// fur_light_forward.wgsl): `term` is the GLSL of one light's vec4 (rgb diffuse, a specular
+// intensity) of `l` (a Light) and `r` (its reach at `p`), weighted by what its shadow map lets
+// through; the specular intensity takes the light's colour back (Light.color.w, luminance).
+function lightLoop(term) {
+  return [['pelt_point', 'pelt_point_shadow', 'NUM_POINT_LIGHTS', 'false'], ['pelt_sun', 'pelt_sun_shadow', 'NUM_DIR_LIGHTS', 'true']]
+    .map(([light, shadow, count, sun]) => `#if ${count} > 0
+  for (int i = 0; i < ${count}; i++) {
+    Light l = ${light}(i);
+    vec4 r = light_reach(p, l, ${sun});
+    vec4 s = ${term} * ${shadow}(i);
+    diffuse += s.rgb;
+    if (l.color.w > 0.0) specular += s.a * l.color.rgb / l.color.w;
+  }
+#endif`)
+    .join('\n');
+}
+
 // Kajiya-Kay over every light (fur_light_forward.wgsl's fur_lighting): diffuse (ambient
 // included) and specular colour for a strand along `t` at view-space `p`.
 const furLightingGlsl = /* glsl */ `
 void pelt_fur_lighting(vec3 p, vec3 t, out vec3 diffuse, out vec3 specular) {
   diffuse = ambientLightColor;
   specular = vec3(0.0);
-#if NUM_POINT_LIGHTS > 0
-  for (int i = 0; i < NUM_POINT_LIGHTS; i++) {
-    Light l = pelt_point(i);
-    vec4 r = light_reach(p, l, false);
-    vec4 s = strand_light(p, t, r, l, ${SPECULAR_POWER.toFixed(1)}) * pelt_point_shadow(i);
-    diffuse += s.rgb;
-    if (l.color.w > 0.0) specular += s.a * l.color.rgb / l.color.w;
-  }
-#endif
-#if NUM_DIR_LIGHTS > 0
-  for (int i = 0; i < NUM_DIR_LIGHTS; i++) {
-    Light l = pelt_sun(i);
-    vec4 r = light_reach(p, l, true);
-    vec4 s = strand_light(p, t, r, l, ${SPECULAR_POWER.toFixed(1)}) * pelt_sun_shadow(i);
-    diffuse += s.rgb;
-    if (l.color.w > 0.0) specular += s.a * l.color.rgb / l.color.w;
-  }
-#endif
+${lightLoop('strand_light(p, t, r, l, ' + SPECULAR_POWER.toFixed(1) + ')')}
 }
 `;
 
@@ -449,22 +450,8 @@ void main() {
   vec4 a = albedo * base;
   vec3 diffuse = ambientLightColor;
   vec3 specular = vec3(0.0);
-#if NUM_POINT_LIGHTS > 0
-  for (int i = 0; i < NUM_POINT_LIGHTS; i++) {
-    Light l = pelt_point(i);
-    vec4 r = one_light(vViewPos, n, light_reach(vViewPos, l, false), l, ${SPECULAR_POWER.toFixed(1)}) * pelt_point_shadow(i);
-    diffuse += r.rgb;
-    if (l.color.w > 0.0) specular += r.a * l.color.rgb / l.color.w;
-  }
-#endif
-#if NUM_DIR_LIGHTS > 0
-  for (int i = 0; i < NUM_DIR_LIGHTS; i++) {
-    Light l = pelt_sun(i);
-    vec4 r = one_light(vViewPos, n, light_reach(vViewPos, l, true), l, ${SPECULAR_POWER.toFixed(1)}) * pelt_sun_shadow(i);
-    diffuse += r.rgb;
-    if (l.color.w > 0.0) specular += r.a * l.color.rgb / l.color.w;
-  }
-#endif
+  vec3 p = vViewPos;
+${lightLoop('one_light(p, n, r, l, ' + SPECULAR_POWER.toFixed(1) + ')')}
   vec2 k = metal_rough(metallic, roughness);
   vec3 specTint = mix(vec3(1.0), a.rgb, metallic);
   gl_FragColor = vec4(a.rgb * k.y * diffuse + ${SPECULAR_STRENGTH.toFixed(2)} * k.x * specTint * specular, opacity * a.a);
