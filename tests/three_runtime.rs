@@ -10,6 +10,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use common::runtime::{self, variant};
 use common::*;
 
 fn package() -> PathBuf {
@@ -50,64 +51,8 @@ fn three(scene: &Path, out: &Path, extra: &[&str]) {
     assert!(!log.contains("browser:"), "console errors: {log}");
 }
 
-fn forward(scene: &Path, out: &Path, extra: &[&str]) {
-    let mut args = vec![
-        "render",
-        scene.to_str().expect("UTF-8"),
-        "--mode",
-        "forward",
-        "--size",
-        "320x180",
-        "-o",
-        out.to_str().expect("UTF-8"),
-        "-q",
-    ];
-    args.extend_from_slice(extra);
-    pelt_ok(&args);
-}
-
-/// Mean luminance (8-bit sRGB values, Rec. 709 weights) of `img` where `mask` is set.
-fn luminance(img: &pelt_preview::Image, mask: &[bool]) -> f64 {
-    let (mut sum, mut n) = (0.0, 0usize);
-    for (p, _) in img.rgba.chunks_exact(4).zip(mask).filter(|(_, m)| **m) {
-        sum += 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
-        n += 1;
-    }
-    sum / n.max(1) as f64
-}
-
-/// The demo's scene files (the creature's, and the Fox's without its springs), made once for
-/// the tests of this binary.
-fn demo_scenes() -> (PathBuf, PathBuf) {
-    static DEMO: std::sync::OnceLock<(PathBuf, PathBuf)> = std::sync::OnceLock::new();
-    DEMO.get_or_init(|| make_demo(&scratch("three-demo")))
-        .clone()
-}
-
-fn make_demo(dir: &Path) -> (PathBuf, PathBuf) {
-    let o = Command::new(env!("CARGO_BIN_EXE_pelt"))
-        .arg("demo")
-        .current_dir(dir)
-        .output()
-        .expect("pelt demo");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let demo = dir.join("out/demo");
-    let fox: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(demo.join("fox.json")).expect("fox.json"))
-            .expect("JSON");
-    let mut fox = fox;
-    for o in fox["objects"].as_array_mut().expect("objects") {
-        if let Some(m) = o["material"].as_object_mut() {
-            m.remove("spring");
-        }
-    }
-    let fox_path = demo.join("fox-still.json");
-    std::fs::write(&fox_path, serde_json::to_vec_pretty(&fox).expect("JSON")).expect("write");
-    (demo.join("scene.json"), fox_path)
-}
-
-/// One comparison: FLIP and the fur's luminance ratio, where the fur is what the scene
-/// without its first object lacks.
+/// One comparison of the three.js runtime against pelt (`render.mjs` with `extra_three` and
+/// the negative control `control`, if any).
 fn compare(
     scene: &Path,
     name: &str,
@@ -115,50 +60,17 @@ fn compare(
     extra_three: &[&str],
     control: Option<&str>,
 ) -> (f32, f64) {
-    let dir = scene.parent().expect("folder");
-    let (p, t) = (
-        dir.join(format!("{name}-pelt.png")),
-        dir.join(format!("{name}-three.png")),
-    );
-    forward(scene, &p, extra_pelt);
-    let mut e = extra_three.to_vec();
-    if let Some(c) = control {
-        e.extend(["--control", c]);
-    }
-    three(scene, &t, &e);
-    let (a, b) = (load_png(&p), load_png(&t));
-    let flip = flip_of(&a, &b);
-    // The fur's pixels: where pelt's image changes without the fur object.
-    let mut bare: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(scene).expect("scene")).expect("JSON");
-    bare["objects"].as_array_mut().expect("objects").remove(0);
-    let bare_path = dir.join(format!("{name}-bare.json"));
-    std::fs::write(&bare_path, serde_json::to_vec(&bare).expect("JSON")).expect("write");
-    let bp = dir.join(format!("{name}-bare.png"));
-    forward(&bare_path, &bp, extra_pelt);
-    let c = load_png(&bp);
-    let mask: Vec<bool> = a
-        .rgba
-        .chunks_exact(4)
-        .zip(c.rgba.chunks_exact(4))
-        .map(|(x, y)| (0..3).any(|k| x[k].abs_diff(y[k]) > 8))
-        .collect();
-    let ratio = luminance(&b, &mask) / luminance(&a, &mask);
-    eprintln!(
-        "{name}: FLIP {flip:.4}, fur luminance three/pelt {ratio:.3} over {} px",
-        mask.iter().filter(|m| **m).count()
-    );
-    (flip, ratio)
+    runtime::compare(scene, name, "three", extra_pelt, |out| {
+        let mut e = extra_three.to_vec();
+        if let Some(c) = control {
+            e.extend(["--control", c]);
+        }
+        three(scene, out, &e);
+    })
 }
 
-/// `scene` (JSON) with `edit` applied, written beside it as `name.json`.
-fn variant(scene: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
-    let mut v: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(scene).expect("scene")).expect("JSON");
-    edit(&mut v);
-    let path = scene.with_file_name(format!("{name}.json"));
-    std::fs::write(&path, serde_json::to_vec_pretty(&v).expect("JSON")).expect("write");
-    path
+fn demo_scenes() -> (PathBuf, PathBuf) {
+    runtime::demo_scenes("three-demo")
 }
 
 #[test]

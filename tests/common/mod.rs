@@ -6,6 +6,7 @@
 )]
 
 pub mod extension_schema;
+pub mod runtime;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -5,14 +5,12 @@
 use std::path::Path;
 
 use crate::asset::{self, AssetError, MeshData};
-#[cfg(feature = "cli")]
 use crate::flags;
 #[cfg(feature = "cli")]
 use crate::scene::reflection_limits as limits;
 use crate::scene::{
     FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, SceneError, Technique,
 };
-#[cfg(feature = "cli")]
 use pelt_fur::manifest::SHELLS;
 
 /// A shell count as `--shells` gives it.

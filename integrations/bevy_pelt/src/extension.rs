@@ -1,0 +1,224 @@
+//! The `PELT_fur` glTF extension (docs/extension/PELT_fur) read as Bevy's glTF loader loads a
+//! file: a `GltfExtensionHandler` that decodes each fur primitive with pelt's own reader
+//! (`pelt_io`'s document and comb decode, `pelt_scene::fur`'s manifest, `pelt_fur`'s
+//! density), keeps it as a labelled sub-asset of the glTF ([`PeltFurData`]) and tags the
+//! primitive's entity in the glTF's scenes with [`PeltFur`]. Bevy's loader drops `_FUR_COMB`
+//! (a custom attribute it is not told of, in whichever of the extension's four encodings);
+//! [`crate::attach`] adds the decoded comb to the mesh.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use bevy::asset::LoadContext;
+use bevy::ecs::world::EntityWorldMut;
+use bevy::gltf::extensions::{ErasedGltfExtensionHandler, GltfExtensionHandler};
+use bevy::gltf::gltf;
+use bevy::mesh::MeshVertexAttribute;
+use bevy::platform::collections::HashMap;
+use bevy::prelude::*;
+use bevy::tasks::ConditionalSendFuture;
+use gltf_crate::Semantic as GltfSemantic;
+use pelt_fur::density::Density;
+use pelt_fur::shells::ShellRule;
+use pelt_io::{Document, PrimitiveRef};
+
+/// The extension's name.
+pub use pelt_io::extension::EXTENSION;
+
+/// One fur primitive as pelt decodes it.
+#[derive(Asset, TypePath, Debug, Clone)]
+pub struct PeltFurData {
+    /// `FILE meshes[m].primitives[p]`, for messages.
+    pub place: String,
+    /// The decoded comb, one per vertex (xyz tangent space, w the comb length).
+    pub comb: Vec<[f32; 4]>,
+    /// The fur length in mesh units.
+    pub length: f32,
+    /// The manifest's shell count: the count drawn, or the most the rule draws.
+    pub shells: u32,
+    /// The shells-by-screen-size rule (None in files written before it: `shells` always).
+    pub rule: Option<ShellRule>,
+    /// The density texture's UV scale.
+    pub uv_scale: f32,
+    /// Linear root and tip colours.
+    pub root_color: [f32; 3],
+    /// Linear tip colour.
+    pub tip_color: [f32; 3],
+    /// Root and tip colours multiply the base colour texture.
+    pub color_from_texture: bool,
+    /// The strand model as a medium (shared by the primitives of one material).
+    pub density: Arc<Density>,
+    /// Where TANGENT came from (`kept`, `mikktspace`, `gradient`): how to regenerate it.
+    pub tangents: String,
+}
+
+/// On a glTF mesh entity: its primitive's fur, which [`crate::attach`] draws.
+#[derive(Component, Reflect, Clone, Debug)]
+#[reflect(Component)]
+pub struct PeltFur(pub Handle<PeltFurData>);
+
+/// On a glTF mesh entity whose fur could not be read: why (the file and the place). The
+/// primitive is drawn as Bevy loaded it.
+#[derive(Component, Reflect, Clone, Debug)]
+#[reflect(Component)]
+pub struct PeltFurError(pub String);
+
+/// The handler; one clone per load holds that file's document.
+#[derive(Clone, Default)]
+pub struct FurExtensionHandler {
+    doc: Option<Result<Arc<Document>, String>>,
+    found: HashMap<(usize, usize), Result<Handle<PeltFurData>, String>>,
+    densities: HashMap<usize, Arc<Density>>,
+}
+
+fn uses_fur(g: &gltf::Gltf, p: &gltf::Primitive) -> bool {
+    g.extensions_used().any(|e| e == EXTENSION)
+        || p.attributes()
+            .any(|(s, _)| matches!(s, GltfSemantic::Extras(ref n) if n == "FUR_COMB"))
+}
+
+/// The file as pelt reads it: a GLB from its own bytes; a `.gltf` from its JSON and the
+/// buffers Bevy loaded (its URIs are Bevy's to resolve).
+fn document(path: &Path, bytes: Vec<u8>, buffers: &[Vec<u8>]) -> Result<Document, String> {
+    if bytes.starts_with(b"glTF") {
+        return Document::from_bytes(path, bytes).map_err(|e| e.to_string());
+    }
+    let json: serde_json::Map<String, serde_json::Value> =
+        serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(Document::from_parts(path, json, buffers.to_vec()))
+}
+
+impl FurExtensionHandler {
+    async fn load_document(&mut self, cx: &mut LoadContext<'_>, buffers: &[Vec<u8>]) {
+        if self.doc.is_some() {
+            return;
+        }
+        let path = cx.path().clone();
+        let read = cx.read_asset_bytes(path.clone()).await;
+        let doc = match read {
+            Ok(bytes) => document(path.path(), bytes, buffers).map(Arc::new),
+            Err(e) => Err(format!("{path}: {e}")),
+        };
+        self.doc = Some(doc);
+    }
+
+    fn decode(
+        &mut self,
+        doc: &Document,
+        r: PrimitiveRef,
+        n: usize,
+    ) -> Result<Option<PeltFurData>, String> {
+        let e = |e: pelt_io::IoError| e.to_string();
+        if doc.fur_primitive(r).map_err(e)?.is_none() {
+            return Ok(None);
+        }
+        let Some(comb) = pelt_io::contract::read_comb(doc, r, n).map_err(e)? else {
+            return Ok(None);
+        };
+        let place = doc.place(r);
+        let Some((m, _)) = pelt_scene::fur::manifest(doc, r).map_err(e)? else {
+            return Err(format!(
+                "{place}: a fur primitive whose material has no {EXTENSION} manifest"
+            ));
+        };
+        let material = doc.primitive_material(r).map_err(e)?.unwrap_or(usize::MAX);
+        let density = self
+            .densities
+            .entry(material)
+            .or_insert_with(|| Arc::new(pelt_scene::fur::density_of(&m.strands)))
+            .clone();
+        let tangents = doc
+            .fur_primitive(r)
+            .map_err(e)?
+            .and_then(|(x, _)| {
+                x.get("tangents")
+                    .and_then(|t| t.as_str())
+                    .map(str::to_owned)
+            })
+            .unwrap_or_else(|| "mikktspace".into());
+        let rgb = |c: [f64; 3]| c.map(|v| v as f32);
+        Ok(Some(PeltFurData {
+            place,
+            comb: comb.into_iter().map(|c| c.to_array()).collect(),
+            length: m.length as f32,
+            shells: m.shells,
+            rule: m.shell_rule,
+            uv_scale: m.uv_scale as f32,
+            root_color: rgb(m.base_color),
+            tip_color: rgb(m.tip_color),
+            color_from_texture: m.color_from_texture,
+            density,
+            tangents,
+        }))
+    }
+}
+
+impl GltfExtensionHandler for FurExtensionHandler {
+    fn dyn_clone(&self) -> Box<dyn ErasedGltfExtensionHandler> {
+        Box::new(FurExtensionHandler::default())
+    }
+
+    fn on_gltf_primitive(
+        &mut self,
+        load_context: &mut LoadContext<'_>,
+        gltf_document: &gltf::Gltf,
+        gltf_mesh: &gltf::Mesh,
+        gltf_primitive: &gltf::Primitive,
+        buffer_data: &[Vec<u8>],
+        _custom_vertex_attributes: &HashMap<Box<str>, MeshVertexAttribute>,
+        _gltf_mesh_on_skinned_nodes: bool,
+        _gltf_mesh_on_non_skinned_nodes: bool,
+        _user_mesh: &mut Option<Mesh>,
+    ) -> impl ConditionalSendFuture<Output = ()> {
+        async move {
+            if !uses_fur(gltf_document, gltf_primitive) {
+                return;
+            }
+            self.load_document(load_context, buffer_data).await;
+            let r = PrimitiveRef {
+                mesh: gltf_mesh.index(),
+                primitive: gltf_primitive.index(),
+            };
+            let n = gltf_primitive
+                .get(&GltfSemantic::Positions)
+                .map_or(0, |a| a.count());
+            let decoded = match self.doc.clone() {
+                Some(Ok(doc)) => self.decode(&doc, r, n),
+                Some(Err(e)) => Err(e),
+                None => return,
+            };
+            let result = match decoded {
+                Ok(None) => return,
+                Ok(Some(data)) => {
+                    let label = format!("PeltFur{}/Primitive{}", r.mesh, r.primitive);
+                    Ok(load_context.add_labeled_asset(label, data))
+                }
+                Err(e) => {
+                    error!("bevy_pelt: {e}");
+                    Err(e)
+                }
+            };
+            self.found.insert((r.mesh, r.primitive), result);
+        }
+    }
+
+    fn on_spawn_mesh_and_material(
+        &mut self,
+        _load_context: &mut LoadContext<'_>,
+        primitive: &gltf::Primitive,
+        mesh: &gltf::Mesh,
+        _material: &gltf::Material,
+        entity: &mut EntityWorldMut,
+        _material_label: &str,
+    ) {
+        match self.found.get(&(mesh.index(), primitive.index())) {
+            Some(Ok(h)) => {
+                entity.insert(PeltFur(h.clone()));
+            }
+            Some(Err(e)) => {
+                entity.insert(PeltFurError(e.clone()));
+            }
+            None => {}
+        }
+    }
+}
