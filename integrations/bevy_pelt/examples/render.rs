@@ -8,24 +8,27 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use bevy::app::ScheduleRunnerPlugin;
 use bevy::asset::{AssetPlugin, LoadState, RenderAssetUsages, UnapprovedPathMode};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::RenderPlugin;
+use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
+use bevy::render::render_resource::PollType;
 use bevy::render::render_resource::TextureFormat;
+use bevy::render::renderer::RenderDevice;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::{Render, RenderApp, RenderPlugin, RenderSystems};
 use bevy::window::ExitCondition;
 use bevy::winit::WinitPlugin;
 use bevy_pelt::scene::{self, PeltScene, SceneOptions, Spawner};
 use bevy_pelt::{
-    FurAttached, FurControl, FurSettings, PeltFur, PeltFurError, PeltFurPlugin,
+    FurAttached, FurControl, FurSettings, PeltFur, PeltFurData, PeltFurError, PeltFurPlugin,
     PeltSurfaceMaterial, SkyMaterial,
 };
 
-const USAGE: &str = "usage: render SCENE.json -o OUT.png [--size WxH] [--shells N|auto] [--animation NAME --time T]";
+const USAGE: &str = "usage: render SCENE.json -o OUT.png [--size WxH] [--shells N|auto] [--animation NAME] [--time T] [--report] [--bench N]";
 
 /// The command line.
 #[derive(Clone, Debug, Resource)]
@@ -36,7 +39,17 @@ struct Args {
     shells: Option<Shells>,
     animation: Option<String>,
     time: f32,
-    control: Option<FurControl>,
+    control: Option<Control>,
+    report: bool,
+    bench: Option<u32>,
+}
+
+/// The tests' negative controls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Control {
+    Fur(FurControl),
+    NoWind,
+    NoShadows,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -49,7 +62,7 @@ fn parse() -> Result<Args, String> {
     let mut it = std::env::args().skip(1);
     let (mut scene, mut out, mut size, mut shells, mut animation, mut time) =
         (None, None, None, None, None, None);
-    let mut control = None;
+    let (mut control, mut report, mut bench) = (None, false, None);
     while let Some(a) = it.next() {
         let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value\n{USAGE}"));
         match a.as_str() {
@@ -79,10 +92,29 @@ fn parse() -> Result<Args, String> {
             }
             "--animation" => animation = Some(value("--animation")?),
             // The tests' negative controls.
-            "--control" => match value("--control")?.as_str() {
-                "opaque-shells" => control = Some(FurControl::OpaqueShells),
-                c => return Err(format!("--control: {c}: known: opaque-shells")),
-            },
+            "--control" => {
+                control = Some(match value("--control")?.as_str() {
+                    "opaque-shells" => Control::Fur(FurControl::OpaqueShells),
+                    "no-fur-shadow" => Control::Fur(FurControl::NoFurShadow),
+                    "no-wind" => Control::NoWind,
+                    "no-shadows" => Control::NoShadows,
+                    c => {
+                        return Err(format!(
+                            "--control: {c}: known: opaque-shells, no-fur-shadow, no-wind, no-shadows"
+                        ));
+                    }
+                })
+            }
+            "--report" => report = true,
+            "--bench" => {
+                let v = value("--bench")?;
+                bench = Some(
+                    v.parse::<u32>()
+                        .ok()
+                        .filter(|n| (1..=10_000).contains(n))
+                        .ok_or(format!("--bench: {v}: expected 1 to 10000 frames"))?,
+                );
+            }
             "--time" => {
                 let v = value("--time")?;
                 time = Some(
@@ -106,6 +138,8 @@ fn parse() -> Result<Args, String> {
         animation,
         time: time.unwrap_or(0.0),
         control,
+        report,
+        bench,
     })
 }
 
@@ -121,6 +155,9 @@ struct Capture {
     requested: bool,
     result: Option<Result<(), String>>,
     target: Handle<Image>,
+    /// `--bench`: when the last frame began, and each frame's time.
+    last: Option<Instant>,
+    times: Vec<f64>,
 }
 
 fn main() -> ExitCode {
@@ -136,6 +173,11 @@ fn main() -> ExitCode {
 fn run() -> Result<(), String> {
     let args = parse()?;
     let mut file = pelt_scene::scene::Scene::load(&args.scene).map_err(|e| e.to_string())?;
+    match args.control {
+        Some(Control::NoWind) => file.wind = None,
+        Some(Control::NoShadows) => file.lights.iter_mut().for_each(|l| l.shadows = false),
+        _ => {}
+    }
     if matches!(args.shells, Some(Shells::Auto)) {
         for o in &mut file.objects {
             if let pelt_scene::scene::Material::Fur(f) = &mut o.material {
@@ -153,31 +195,41 @@ fn run() -> Result<(), String> {
     };
     let report = Report::default();
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .set(AssetPlugin {
-                file_path: scene::asset_root(),
-                unapproved_path_mode: UnapprovedPathMode::Allow,
-                ..default()
-            })
-            .set(RenderPlugin {
-                synchronous_pipeline_compilation: true,
-                ..default()
-            })
-            .disable::<WinitPlugin>(),
-    )
-    .add_plugins((
+    let plugins = DefaultPlugins
+        .set(WindowPlugin {
+            primary_window: None,
+            exit_condition: ExitCondition::DontExit,
+            ..default()
+        })
+        .set(AssetPlugin {
+            file_path: scene::asset_root(),
+            unapproved_path_mode: UnapprovedPathMode::Allow,
+            ..default()
+        })
+        .set(RenderPlugin {
+            synchronous_pipeline_compilation: true,
+            ..default()
+        })
+        .disable::<WinitPlugin>();
+    // `--bench`: each frame drawn to the end before the next (no pipelined rendering, and the
+    // render world waits for the device), so that a frame's time is its whole cost.
+    if args.bench.is_some() {
+        app.add_plugins(plugins.disable::<PipelinedRenderingPlugin>());
+        app.sub_app_mut(RenderApp)
+            .add_systems(Render, wait_for_device.in_set(RenderSystems::Cleanup));
+    } else {
+        app.add_plugins(plugins);
+    }
+    app.add_plugins((
         ScheduleRunnerPlugin::run_loop(Duration::ZERO),
         PeltFurPlugin,
     ))
     .insert_resource(FurSettings {
         shells: forced,
-        control: args.control,
+        control: match args.control {
+            Some(Control::Fur(c)) => Some(c),
+            _ => None,
+        },
     })
     .insert_resource(SceneFile(file, size))
     .insert_resource(args.clone())
@@ -238,7 +290,15 @@ fn setup(
     commands.insert_resource(built);
 }
 
-/// Waits for every asset, fur and pose, lets three frames draw, then takes the picture.
+/// Blocks until the device has finished the frame's work (`--bench`).
+fn wait_for_device(device: Res<RenderDevice>) {
+    if let Err(e) = device.poll(PollType::wait_indefinitely()) {
+        error!("waiting for the device: {e}");
+    }
+}
+
+/// Waits for every asset, fur and pose, lets three frames draw (and `--bench` frames more,
+/// timed), then takes the picture.
 fn progress(
     mut commands: Commands,
     mut capture: ResMut<Capture>,
@@ -247,6 +307,8 @@ fn progress(
     children: Query<&Children>,
     waiting: Query<Entity, (With<PeltFur>, Without<FurAttached>)>,
     broken: Query<&PeltFurError>,
+    furs: Query<&FurAttached>,
+    data: Res<Assets<PeltFurData>>,
     args: Res<Args>,
     mut exit: MessageWriter<AppExit>,
     report: Res<Report>,
@@ -295,7 +357,18 @@ fn progress(
     if capture.ready_frames < 4 {
         return;
     }
+    if let Some(n) = args.bench {
+        let now = Instant::now();
+        if let Some(last) = capture.last {
+            capture.times.push((now - last).as_secs_f64() * 1e3);
+        }
+        capture.last = Some(now);
+        if capture.times.len() < n as usize {
+            return;
+        }
+    }
     capture.requested = true;
+    print_json(&args, &capture.times, &furs, &data);
     let out = args.out.clone();
     commands
         .spawn(Screenshot::image(capture.target.clone()))
@@ -304,6 +377,34 @@ fn progress(
                 capture.result = Some(write_png(&shot.image, &out));
             },
         );
+}
+
+/// `--report` (the shells each fur primitive draws) and `--bench` (frame times), as one JSON
+/// object on stdout.
+fn print_json(args: &Args, times: &[f64], furs: &Query<&FurAttached>, data: &Assets<PeltFurData>) {
+    if !args.report && args.bench.is_none() {
+        return;
+    }
+    let mut out = serde_json::Map::new();
+    if args.report {
+        let mut fur: Vec<serde_json::Value> = furs
+            .iter()
+            .map(|f| {
+                let place = data.get(&f.data).map_or("", |d| d.place.as_str());
+                serde_json::json!({ "place": place, "shells": f.drawn, "max": f.max, "rule": f.rule.is_some() })
+            })
+            .collect();
+        fur.sort_by_key(|v| v["place"].to_string());
+        out.insert("fur".into(), fur.into());
+    }
+    if args.bench.is_some() {
+        let mut sorted = times.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
+        out.insert("frames".into(), times.to_vec().into());
+        out.insert("medianMs".into(), median.into());
+    }
+    println!("{}", serde_json::Value::Object(out));
 }
 
 /// The picture as an RGBA PNG, written whole or not at all.

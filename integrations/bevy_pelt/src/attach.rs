@@ -12,6 +12,7 @@ use std::sync::Arc;
 use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::image::{ImageAddressMode, ImageFilterMode, ImageSampler, ImageSamplerDescriptor};
+use bevy::light::NotShadowCaster;
 use bevy::mesh::skinning::SkinnedMesh;
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
@@ -190,6 +191,9 @@ pub(crate) fn attach_fur(
                 shells: None,
                 length: None,
             });
+        if !object.fur {
+            continue;
+        }
         let (Some(d), Some(mesh), Some(source)) = (
             data.get(&fur.0),
             meshes.get(&mesh3d.0),
@@ -255,6 +259,9 @@ pub(crate) fn attach_fur(
             ));
             if let Some(s) = skinned {
                 e.insert(s.clone());
+            }
+            if settings.control == Some(FurControl::NoFurShadow) {
+                e.insert(NotShadowCaster);
             }
             shells.push((e.id(), h));
         }

@@ -13,6 +13,7 @@ use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::gltf::{Gltf, GltfAssetLabel};
 use bevy::light::{
     DirectionalLightShadowMap, NotShadowCaster, NotShadowReceiver, PointLightShadowMap,
+    ShadowFilteringMethod,
 };
 use bevy::prelude::*;
 use bevy::render::view::Msaa;
@@ -144,6 +145,13 @@ pub fn spawn(
             Msaa::Off,
             Exposure {
                 ev100: -(1.2f32).log2(),
+            },
+            // pelt's shadow filter: `pcf` 2 is a bilinear 2×2 comparison, which the hardware
+            // does; wider kernels map to Bevy's Gaussian.
+            if scene.shadow_maps.pcf <= 2 {
+                ShadowFilteringMethod::Hardware2x2
+            } else {
+                ShadowFilteringMethod::Gaussian
             },
             AmbientLight {
                 color: linear(scene.ambient),

@@ -9,6 +9,8 @@ use bevy::prelude::*;
 pub enum FurControl {
     /// Every shell opaque (no coverage from the strand model).
     OpaqueShells,
+    /// The shells cast no shadows (the fur casts as its base mesh).
+    NoFurShadow,
 }
 
 /// How the fur is drawn.
