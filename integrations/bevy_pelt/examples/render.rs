@@ -96,11 +96,12 @@ fn parse() -> Result<Args, String> {
                 control = Some(match value("--control")?.as_str() {
                     "opaque-shells" => Control::Fur(FurControl::OpaqueShells),
                     "no-fur-shadow" => Control::Fur(FurControl::NoFurShadow),
+                    "no-texture" => Control::Fur(FurControl::NoTexture),
                     "no-wind" => Control::NoWind,
                     "no-shadows" => Control::NoShadows,
                     c => {
                         return Err(format!(
-                            "--control: {c}: known: opaque-shells, no-fur-shadow, no-wind, no-shadows"
+                            "--control: {c}: known: opaque-shells, no-fur-shadow, no-texture, no-wind, no-shadows"
                         ));
                     }
                 })
@@ -391,7 +392,7 @@ fn print_json(args: &Args, times: &[f64], furs: &Query<&FurAttached>, data: &Ass
             .iter()
             .map(|f| {
                 let place = data.get(&f.data).map_or("", |d| d.place.as_str());
-                serde_json::json!({ "place": place, "shells": f.drawn, "max": f.max, "rule": f.rule.is_some() })
+                serde_json::json!({ "place": place, "shells": f.drawn, "max": f.max, "byScreenSize": f.rule.is_some() })
             })
             .collect();
         fur.sort_by_key(|v| v["place"].to_string());

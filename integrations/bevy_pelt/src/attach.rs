@@ -101,6 +101,7 @@ pub(crate) fn uniform(
     let [r, g, b] = d.root_color;
     let [tr, tg, tb] = d.tip_color;
     let opaque = matches!(control, Some(FurControl::OpaqueShells));
+    let textured = d.color_from_texture && control != Some(FurControl::NoTexture);
     FurUniform {
         root: Vec4::new(r, g, b, o.length.unwrap_or(d.length)),
         tip: Vec4::new(tr, tg, tb, d.uv_scale),
@@ -108,7 +109,7 @@ pub(crate) fn uniform(
             shell as f32,
             n as f32,
             d.density.kappa as f32,
-            f32::from(u8::from(d.color_from_texture)),
+            f32::from(u8::from(textured)),
         ),
         tint: o.tint.extend(f32::from(u8::from(opaque))),
         wind: Vec4::ZERO,

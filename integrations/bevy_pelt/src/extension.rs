@@ -78,8 +78,8 @@ fn uses_fur(g: &gltf::Gltf, p: &gltf::Primitive) -> bool {
 }
 
 /// The file as pelt reads it: a GLB from its own bytes; a `.gltf` from its JSON and the
-/// buffers Bevy loaded (its URIs are Bevy's to resolve).
-fn document(path: &Path, bytes: Vec<u8>, buffers: &[Vec<u8>]) -> Result<Document, String> {
+/// buffers Bevy loaded (its URIs are Bevy's to resolve). Errors name the file.
+pub fn document(path: &Path, bytes: Vec<u8>, buffers: &[Vec<u8>]) -> Result<Document, String> {
     if bytes.starts_with(b"glTF") {
         return Document::from_bytes(path, bytes).map_err(|e| e.to_string());
     }

@@ -10,7 +10,7 @@
 //! App::new()
 //!     .add_plugins((DefaultPlugins, PeltFurPlugin))
 //!     .add_systems(Startup, |mut commands: Commands, assets: Res<AssetServer>| {
-//!         commands.spawn(SceneRoot(assets.load("fox.glb#Scene0")));
+//!         commands.spawn(WorldAssetRoot(assets.load("fox.glb#Scene0")));
 //!     })
 //!     .run();
 //! ```

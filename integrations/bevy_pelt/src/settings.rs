@@ -11,6 +11,8 @@ pub enum FurControl {
     OpaqueShells,
     /// The shells cast no shadows (the fur casts as its base mesh).
     NoFurShadow,
+    /// The fur ignores the base colour texture (`colorFromTexture` off).
+    NoTexture,
 }
 
 /// How the fur is drawn.
