@@ -115,22 +115,7 @@ fn each_feature_matches_and_its_negative_control_does_not() {
         return;
     }
     let (creature, fox) = demo_scenes();
-    let wind = variant(&creature, "feature-wind", |v| {
-        v["wind"] = serde_json::json!({
-            "direction": [1.0, 0.0, 0.3], "strength": 2.0, "gustHz": 0.8, "turbulence": 0.5
-        });
-    });
-    let shadows = variant(&creature, "feature-shadows", |v| {
-        v["lights"][0]["shadows"] = true.into();
-        v["objects"][0]["transform"]["translation"] = serde_json::json!([0.0, 0.35, 0.0]);
-        v["lights"]
-            .as_array_mut()
-            .expect("lights")
-            .push(serde_json::json!({
-                "kind": "directional", "direction": [-0.4, -1.0, -0.3],
-                "color": [1.0, 0.95, 0.9], "intensity": 1.2, "shadows": true
-            }));
-    });
+    let (wind, shadows) = runtime::feature_scenes(&creature);
     let windy = ["--shells", "16", "--time", "0.7"];
     let still = ["--shells", "16"];
     let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
@@ -272,20 +257,7 @@ fn the_shell_count_follows_the_fur_on_screen_as_in_pelt() {
         let r = report(&creature, size, &[]);
         let web = r["fur"][0]["shells"].as_u64().expect("a fur mesh");
         assert_eq!(r["fur"][0]["byScreenSize"], true);
-        let explain = pelt_ok(&[
-            "render",
-            creature.to_str().expect("UTF-8"),
-            "--explain",
-            "--size",
-            size,
-        ]);
-        let text = String::from_utf8_lossy(&explain.stdout);
-        let planned: u64 = text
-            .split("base + ")
-            .nth(1)
-            .and_then(|t| t.split(' ').next())
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("no shell count in {text}"));
+        let planned = runtime::planned_shells(&creature, size);
         assert_eq!(
             web, planned,
             "{size}: three draws {web} shells, pelt plans {planned}"

@@ -113,3 +113,43 @@ pub fn variant(scene: &Path, name: &str, edit: impl FnOnce(&mut serde_json::Valu
     std::fs::write(&path, serde_json::to_vec_pretty(&v).expect("JSON")).expect("write");
     path
 }
+
+/// The feature scenes of the runtime tests, beside `creature`: wind (a strong one), and
+/// shadows (the creature lifted over the ground under a point and a directional light that
+/// cast them).
+pub fn feature_scenes(creature: &Path) -> (PathBuf, PathBuf) {
+    let wind = variant(creature, "feature-wind", |v| {
+        v["wind"] = serde_json::json!({
+            "direction": [1.0, 0.0, 0.3], "strength": 2.0, "gustHz": 0.8, "turbulence": 0.5
+        });
+    });
+    let shadows = variant(creature, "feature-shadows", |v| {
+        v["lights"][0]["shadows"] = true.into();
+        v["objects"][0]["transform"]["translation"] = serde_json::json!([0.0, 0.35, 0.0]);
+        v["lights"]
+            .as_array_mut()
+            .expect("lights")
+            .push(serde_json::json!({
+                "kind": "directional", "direction": [-0.4, -1.0, -0.3],
+                "color": [1.0, 0.95, 0.9], "intensity": 1.2, "shadows": true
+            }));
+    });
+    (wind, shadows)
+}
+
+/// The shells pelt plans for the first fur object of `scene` at `size` (`--explain`).
+pub fn planned_shells(scene: &Path, size: &str) -> u64 {
+    let explain = pelt_ok(&[
+        "render",
+        scene.to_str().expect("UTF-8"),
+        "--explain",
+        "--size",
+        size,
+    ]);
+    let text = String::from_utf8_lossy(&explain.stdout);
+    text.split("base + ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no shell count in {text}"))
+}

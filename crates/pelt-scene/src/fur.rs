@@ -96,7 +96,9 @@ pub type Textures = (Vec<Level<u16>>, Vec<Level<[u8; 4]>>);
 /// Size of the textures generated for assets without a manifest.
 pub const GENERATED_SIZE: u32 = 512;
 
-fn look_of(m: &FurManifest) -> FurLook {
+/// The look a manifest gives (what every renderer of the fur reads: pelt's preview, the Bevy
+/// plugin).
+pub fn look_of(m: &FurManifest) -> FurLook {
     let v = |c: [f64; 3]| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
     FurLook {
         length: m.length as f32,

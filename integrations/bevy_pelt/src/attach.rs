@@ -45,6 +45,8 @@ pub struct FurAttached {
     pub drawn: u32,
     /// The mesh's bounds (mesh units): what the rule projects.
     pub bounds: (Vec3, Vec3),
+    /// The fur length drawn (mesh units: the manifest's, or the scene object's).
+    pub length: f32,
 }
 
 /// On each shell entity: its index (1 = innermost).
@@ -98,13 +100,14 @@ pub(crate) fn uniform(
     n: u32,
     control: Option<FurControl>,
 ) -> FurUniform {
-    let [r, g, b] = d.root_color;
-    let [tr, tg, tb] = d.tip_color;
+    let l = &d.look;
+    let [r, g, b] = l.base_color.to_array();
+    let [tr, tg, tb] = l.tip_color.to_array();
     let opaque = matches!(control, Some(FurControl::OpaqueShells));
-    let textured = d.color_from_texture && control != Some(FurControl::NoTexture);
+    let textured = l.color_from_texture && control != Some(FurControl::NoTexture);
     FurUniform {
-        root: Vec4::new(r, g, b, o.length.unwrap_or(d.length)),
-        tip: Vec4::new(tr, tg, tb, d.uv_scale),
+        root: Vec4::new(r, g, b, o.length.unwrap_or(l.length)),
+        tip: Vec4::new(tr, tg, tb, l.uv_scale),
         shell: Vec4::new(
             shell as f32,
             n as f32,
@@ -227,8 +230,12 @@ pub(crate) fn attach_fur(
             })
             .clone();
         let forced = settings.shells.or(object.shells);
-        let max = forced.unwrap_or(d.shells).max(1);
-        let rule = if forced.is_some() { None } else { d.rule };
+        let max = forced.unwrap_or(d.look.shells).max(1);
+        let rule = if forced.is_some() {
+            None
+        } else {
+            d.look.shell_rule
+        };
         let make = |shell: u32, base: &StandardMaterial| FurMaterial {
             base: base.clone(),
             extension: FurExtension {
@@ -282,6 +289,7 @@ pub(crate) fn attach_fur(
                 max,
                 drawn: max,
                 bounds: box_,
+                length: object.length.unwrap_or(d.look.length),
             });
     }
 }

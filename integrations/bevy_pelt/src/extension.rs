@@ -19,8 +19,8 @@ use bevy::prelude::*;
 use bevy::tasks::ConditionalSendFuture;
 use gltf_crate::Semantic as GltfSemantic;
 use pelt_fur::density::Density;
-use pelt_fur::shells::ShellRule;
 use pelt_io::{Document, PrimitiveRef};
+use pelt_scene::fur::FurLook;
 
 /// The extension's name.
 pub use pelt_io::extension::EXTENSION;
@@ -32,20 +32,9 @@ pub struct PeltFurData {
     pub place: String,
     /// The decoded comb, one per vertex (xyz tangent space, w the comb length).
     pub comb: Vec<[f32; 4]>,
-    /// The fur length in mesh units.
-    pub length: f32,
-    /// The manifest's shell count: the count drawn, or the most the rule draws.
-    pub shells: u32,
-    /// The shells-by-screen-size rule (None in files written before it: `shells` always).
-    pub rule: Option<ShellRule>,
-    /// The density texture's UV scale.
-    pub uv_scale: f32,
-    /// Linear root and tip colours.
-    pub root_color: [f32; 3],
-    /// Linear tip colour.
-    pub tip_color: [f32; 3],
-    /// Root and tip colours multiply the base colour texture.
-    pub color_from_texture: bool,
+    /// The manifest's look (`pelt_scene::fur::look_of`): length, shells and their rule, UV
+    /// scale, colours.
+    pub look: FurLook,
     /// The strand model as a medium (shared by the primitives of one material).
     pub density: Arc<Density>,
     /// Where TANGENT came from (`kept`, `mikktspace`, `gradient`): how to regenerate it.
@@ -136,17 +125,10 @@ impl FurExtensionHandler {
                     .map(str::to_owned)
             })
             .unwrap_or_else(|| "mikktspace".into());
-        let rgb = |c: [f64; 3]| c.map(|v| v as f32);
         Ok(Some(PeltFurData {
             place,
             comb: comb.into_iter().map(|c| c.to_array()).collect(),
-            length: m.length as f32,
-            shells: m.shells,
-            rule: m.shell_rule,
-            uv_scale: m.uv_scale as f32,
-            root_color: rgb(m.base_color),
-            tip_color: rgb(m.tip_color),
-            color_from_texture: m.color_from_texture,
+            look: pelt_scene::fur::look_of(&m),
             density,
             tangents,
         }))

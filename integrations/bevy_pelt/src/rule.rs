@@ -7,7 +7,6 @@ use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::prelude::*;
 
 use crate::attach::FurAttached;
-use crate::extension::PeltFurData;
 use crate::material::FurMaterial;
 use crate::settings::FurWind;
 
@@ -99,7 +98,6 @@ pub(crate) fn apply_rule(
     mut furs: Query<(&mut FurAttached, &GlobalTransform, Option<&SkinnedMesh>)>,
     joints: Query<&GlobalTransform>,
     inverse: Res<Assets<SkinnedMeshInverseBindposes>>,
-    data: Res<Assets<PeltFurData>>,
     mut materials: ResMut<Assets<FurMaterial>>,
     mut visibility: Query<&mut Visibility>,
 ) {
@@ -108,11 +106,8 @@ pub(crate) fn apply_rule(
     };
     for (mut fur, gt, skinned) in &mut furs {
         let Some(rule) = fur.rule else { continue };
-        let Some(d) = data.get(&fur.data) else {
-            continue;
-        };
         let model = model_of(gt, skinned, &joints, &inverse);
-        let Some(pixels) = fur_pixels(cam, model, fur.bounds, d.length) else {
+        let Some(pixels) = fur_pixels(cam, model, fur.bounds, fur.length) else {
             continue;
         };
         let n = rule.shells(f64::from(pixels), fur.max);
