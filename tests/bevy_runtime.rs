@@ -243,3 +243,51 @@ fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
     bevy(&creature, &out, &[]);
     assert!(out.exists());
 }
+
+/// The fins (pelt's silhouette fins from the baked records, on with `"fins": true`): the
+/// creature within a finer threshold than the whole-image floor (the fins hold a thin rim of
+/// the picture), which Bevy without its fins fails; and the walking Fox's fins, skinned with
+/// it, within the floor.
+#[test]
+fn the_fins_match_pelts() {
+    if !bevy_ready() {
+        return;
+    }
+    let (creature, fox) = demo_scenes();
+    let fins = runtime::variant(&creature, "feature-fins", |v| {
+        v["objects"][0]["material"]["fins"] = true.into();
+    });
+    let args = ["--shells", "16"];
+    let draw = |extra: &'static [&'static str]| {
+        let scene = fins.clone();
+        move |out: &Path| bevy(&scene, out, &[&args[..], extra].concat())
+    };
+    let (flip, _) = runtime::compare(&fins, "fins", "bevy", &args, draw(&[]));
+    assert!(flip <= 0.021, "fins: FLIP {flip} over 0.021");
+    let (flip, _) = runtime::compare(
+        &fins,
+        "fins-control",
+        "bevy",
+        &args,
+        draw(&["--fins", "off"]),
+    );
+    assert!(
+        flip > 0.021,
+        "without its fins Bevy passes with FLIP {flip}"
+    );
+    let walk = [
+        "--shells",
+        "16",
+        "--fins",
+        "on",
+        "--animation",
+        "Walk",
+        "--time",
+        "0.35",
+    ];
+    let (flip, _) = compare(&fox, "fins-walk", &walk, None);
+    assert!(
+        flip <= 0.05,
+        "the walking Fox's fins: FLIP {flip} over 0.05"
+    );
+}

@@ -370,9 +370,9 @@ pub fn length_scale(normal_world: DMat3, n: Vec3) -> f32 {
     if s.is_finite() { s as f32 } else { 0.0 }
 }
 
-/// A small hash of an edge, for the fin texture's horizontal offset (so neighbouring fins do
-/// not repeat the same strands).
-fn edge_offset(a: u32, b: u32) -> f32 {
+/// The fin texture's horizontal offset of the edge between vertices `a` and `b` (either order):
+/// a hash, so that neighbouring fins do not repeat the same strands.
+pub fn edge_offset(a: u32, b: u32) -> f32 {
     let z = pelt_fur::rng::mix64((u64::from(a.min(b)) << 32) | u64::from(a.max(b)));
     (z >> 40) as f32 / (1u64 << 24) as f32
 }

@@ -28,7 +28,7 @@ use bevy_pelt::{
     PeltSurfaceMaterial, SkyMaterial,
 };
 
-const USAGE: &str = "usage: render SCENE.json -o OUT.png [--size WxH] [--shells N|auto] [--animation NAME] [--time T] [--report] [--bench N]";
+const USAGE: &str = "usage: render SCENE.json -o OUT.png [--size WxH] [--shells N|auto] [--fins on|off] [--animation NAME] [--time T] [--report] [--bench N]";
 
 /// The command line.
 #[derive(Clone, Debug, Resource)]
@@ -42,6 +42,7 @@ struct Args {
     control: Option<Control>,
     report: bool,
     bench: Option<u32>,
+    fins: Option<bool>,
 }
 
 /// The tests' negative controls.
@@ -62,7 +63,7 @@ fn parse() -> Result<Args, String> {
     let mut it = std::env::args().skip(1);
     let (mut scene, mut out, mut size, mut shells, mut animation, mut time) =
         (None, None, None, None, None, None);
-    let (mut control, mut report, mut bench) = (None, false, None);
+    let (mut control, mut report, mut bench, mut fins) = (None, false, None, None);
     while let Some(a) = it.next() {
         let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value\n{USAGE}"));
         match a.as_str() {
@@ -107,6 +108,13 @@ fn parse() -> Result<Args, String> {
                 })
             }
             "--report" => report = true,
+            "--fins" => {
+                fins = Some(match value("--fins")?.as_str() {
+                    "on" => true,
+                    "off" => false,
+                    v => return Err(format!("--fins: {v}: expected on or off")),
+                })
+            }
             "--bench" => {
                 let v = value("--bench")?;
                 bench = Some(
@@ -141,6 +149,7 @@ fn parse() -> Result<Args, String> {
         control,
         report,
         bench,
+        fins,
     })
 }
 
@@ -194,6 +203,7 @@ fn run() -> Result<(), String> {
         Some(Shells::Fixed(n)) => Some(n),
         _ => None,
     };
+    let binary = file.fur_coverage == pelt_scene::scene::FurCoverage::Binary;
     let report = Report::default();
     let mut app = App::new();
     let plugins = DefaultPlugins
@@ -227,6 +237,8 @@ fn run() -> Result<(), String> {
     ))
     .insert_resource(FurSettings {
         shells: forced,
+        fins: args.fins,
+        binary_coverage: binary,
         control: match args.control {
             Some(Control::Fur(c)) => Some(c),
             _ => None,

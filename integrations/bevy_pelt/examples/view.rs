@@ -127,6 +127,7 @@ fn run() -> Result<(), String> {
     scene::check_assets(&file).map_err(|e| format!("{}: {e}", args.path.display()))?;
     let title = format!("bevy_pelt: {}", args.path.display());
     let size = UVec2::new(file.output.width, file.output.height);
+    let binary = file.fur_coverage == pelt_scene::scene::FurCoverage::Binary;
     let outcome = Outcome::default();
     let mut app = App::new();
     app.add_plugins(
@@ -148,6 +149,8 @@ fn run() -> Result<(), String> {
     .add_plugins(PeltFurPlugin)
     .insert_resource(FurSettings {
         shells: args.shells,
+        fins: None,
+        binary_coverage: binary,
         control: None,
     })
     .insert_resource(SceneFile(file))

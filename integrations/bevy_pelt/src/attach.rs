@@ -21,6 +21,7 @@ use pelt_fur::density::Density;
 use pelt_fur::shells::ShellRule;
 
 use crate::extension::{PeltFur, PeltFurData, PeltFurError};
+use crate::fins::{FinExtension, FinMaterial, FinUniform, fin_image, fin_mesh};
 use crate::material::{ATTRIBUTE_FUR_COMB, FurExtension, FurMaterial, FurUniform};
 use crate::scene::PeltObject;
 use crate::settings::{FurControl, FurSettings};
@@ -47,6 +48,8 @@ pub struct FurAttached {
     pub bounds: (Vec3, Vec3),
     /// The fur length drawn (mesh units: the manifest's, or the scene object's).
     pub length: f32,
+    /// The fins, where drawn: their entity and material.
+    pub fins: Option<(Entity, Handle<FinMaterial>)>,
 }
 
 /// On each shell entity: its index (1 = innermost).
@@ -160,6 +163,26 @@ fn bounds(mesh: &Mesh) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+/// What attaching one primitive's fur writes to.
+pub(crate) struct Sinks<'a, 'w, 's> {
+    commands: &'a mut Commands<'w, 's>,
+    meshes: &'a mut Assets<Mesh>,
+    materials: &'a mut Assets<FurMaterial>,
+    fin_materials: &'a mut Assets<FinMaterial>,
+    images: &'a mut Assets<Image>,
+}
+
+/// One fur primitive to draw: its entity, fur, mesh with the comb, the glTF material, skin
+/// and scene object.
+struct Primitive<'a> {
+    entity: Entity,
+    handle: Handle<PeltFurData>,
+    d: &'a PeltFurData,
+    source: &'a StandardMaterial,
+    skinned: Option<&'a SkinnedMesh>,
+    object: PeltObject,
+}
+
 /// Draws the fur of every tagged entity whose mesh, material and fur have loaded.
 pub(crate) fn attach_fur(
     mut commands: Commands,
@@ -177,6 +200,7 @@ pub(crate) fn attach_fur(
     mut meshes: ResMut<Assets<Mesh>>,
     standard: Res<Assets<StandardMaterial>>,
     mut materials: ResMut<Assets<FurMaterial>>,
+    mut fin_materials: ResMut<Assets<FinMaterial>>,
     mut images: ResMut<Assets<Image>>,
     mut densities: Local<DensityImages>,
     settings: Res<FurSettings>,
@@ -194,6 +218,7 @@ pub(crate) fn attach_fur(
                 fur: true,
                 shells: None,
                 length: None,
+                fins: None,
             });
         if !object.fur {
             continue;
@@ -216,10 +241,8 @@ pub(crate) fn attach_fur(
                 continue;
             }
         };
-        let box_ = bounds(&m);
-        let handle = meshes.add(m);
         let key = Arc::as_ptr(&d.density) as usize;
-        let (lo, hi) = densities
+        let density = densities
             .0
             .entry(key)
             .or_insert_with(|| {
@@ -229,67 +252,149 @@ pub(crate) fn attach_fur(
                 )
             })
             .clone();
-        let forced = settings.shells.or(object.shells);
-        let max = forced.unwrap_or(d.look.shells).max(1);
-        let rule = if forced.is_some() {
-            None
-        } else {
-            d.look.shell_rule
+        let p = Primitive {
+            entity,
+            handle: fur.0.clone(),
+            d,
+            source,
+            skinned,
+            object,
         };
-        let make = |shell: u32, base: &StandardMaterial| FurMaterial {
-            base: base.clone(),
-            extension: FurExtension {
-                fur: uniform(d, &object, shell, max, settings.control),
-                density_lo: lo.clone(),
-                density_hi: hi.clone(),
-            },
+        let mut sinks = Sinks {
+            commands: &mut commands,
+            meshes: &mut meshes,
+            materials: &mut materials,
+            fin_materials: &mut fin_materials,
+            images: &mut images,
         };
-        let mut base = source.clone();
-        base.alpha_mode = AlphaMode::Opaque;
-        base.cull_mode = None;
-        base.double_sided = true;
-        let base_handle = materials.add(make(0, &base));
-        let mut layer = source.clone();
-        layer.alpha_mode = AlphaMode::Blend;
-        layer.cull_mode = Some(Face::Back);
-        layer.double_sided = false;
-        let mut shells = Vec::new();
-        for i in 1..=max {
-            layer.depth_bias = i as f32 * SHELL_ORDER_BIAS;
-            let h = materials.add(make(i, &layer));
-            let mut e = commands.spawn((
-                Mesh3d(handle.clone()),
-                MeshMaterial3d(h.clone()),
-                Transform::IDENTITY,
-                NoFrustumCulling,
-                FurShell(i),
-                ChildOf(entity),
-            ));
-            if let Some(s) = skinned {
-                e.insert(s.clone());
-            }
-            if settings.control == Some(FurControl::NoFurShadow) {
-                e.insert(NotShadowCaster);
-            }
-            shells.push((e.id(), h));
-        }
-        commands
-            .entity(entity)
-            .remove::<MeshMaterial3d<StandardMaterial>>()
-            .insert((
-                Mesh3d(handle),
-                MeshMaterial3d(base_handle.clone()),
-                NoFrustumCulling,
-            ))
-            .insert(FurAttached {
-                data: fur.0.clone(),
-                base: base_handle,
-                shells,
-                rule,
-                max,
-                drawn: max,
-                bounds: box_,
-                length: object.length.unwrap_or(d.look.length),
-            });
+        attach(&mut sinks, &p, m, density, &settings);
     }
+}
+
+/// The base mesh's and the shells' materials and entities, and the fins where drawn.
+fn attach(
+    s: &mut Sinks,
+    p: &Primitive,
+    m: Mesh,
+    (lo, hi): (Handle<Image>, Handle<Image>),
+    settings: &FurSettings,
+) {
+    let d = p.d;
+    let forced = settings.shells.or(p.object.shells);
+    let max = forced.unwrap_or(d.look.shells).max(1);
+    let rule = if forced.is_some() {
+        None
+    } else {
+        d.look.shell_rule
+    };
+    let length = p.object.length.unwrap_or(d.look.length);
+    let fins_on = settings
+        .fins
+        .or(p.object.fins)
+        .unwrap_or(settings.binary_coverage);
+    let fin = if fins_on { fin_mesh(&m, d) } else { None };
+    let box_ = bounds(&m);
+    let handle = s.meshes.add(m);
+    let make = |shell: u32, base: &StandardMaterial| FurMaterial {
+        base: base.clone(),
+        extension: FurExtension {
+            fur: uniform(d, &p.object, shell, max, settings.control),
+            density_lo: lo.clone(),
+            density_hi: hi.clone(),
+        },
+    };
+    let mut base = p.source.clone();
+    base.alpha_mode = AlphaMode::Opaque;
+    base.cull_mode = None;
+    base.double_sided = true;
+    let base_handle = s.materials.add(make(0, &base));
+    let mut layer = p.source.clone();
+    layer.alpha_mode = AlphaMode::Blend;
+    layer.cull_mode = Some(Face::Back);
+    layer.double_sided = false;
+    let mut shells = Vec::new();
+    for i in 1..=max {
+        layer.depth_bias = i as f32 * SHELL_ORDER_BIAS;
+        let h = s.materials.add(make(i, &layer));
+        let mut e = s.commands.spawn((
+            Mesh3d(handle.clone()),
+            MeshMaterial3d(h.clone()),
+            Transform::IDENTITY,
+            NoFrustumCulling,
+            FurShell(i),
+            ChildOf(p.entity),
+        ));
+        if let Some(sk) = p.skinned {
+            e.insert(sk.clone());
+        }
+        if settings.control == Some(FurControl::NoFurShadow) {
+            e.insert(NotShadowCaster);
+        }
+        shells.push((e.id(), h));
+    }
+    let bias = (max + 1) as f32 * SHELL_ORDER_BIAS;
+    let fins = fin.and_then(|f| spawn_fins(s, p, f, length, settings, bias));
+    s.commands
+        .entity(p.entity)
+        .remove::<MeshMaterial3d<StandardMaterial>>()
+        .insert((
+            Mesh3d(handle),
+            MeshMaterial3d(base_handle.clone()),
+            NoFrustumCulling,
+        ))
+        .insert(FurAttached {
+            data: p.handle.clone(),
+            base: base_handle,
+            shells,
+            rule,
+            max,
+            drawn: max,
+            bounds: box_,
+            length,
+            fins,
+        });
+}
+
+/// The fins of a primitive: a child entity drawn after its shells (`bias`), blended, casting
+/// no shadow.
+fn spawn_fins(
+    s: &mut Sinks,
+    p: &Primitive,
+    mesh: Mesh,
+    length: f32,
+    settings: &FurSettings,
+    bias: f32,
+) -> Option<(Entity, Handle<FinMaterial>)> {
+    let texture = s.images.add(fin_image(&p.d.fin_texture)?);
+    let l = &p.d.look;
+    let textured = l.color_from_texture && settings.control != Some(FurControl::NoTexture);
+    let fin = FinUniform {
+        root: Vec3::from_array(l.base_color.to_array()).extend(length),
+        tip: Vec3::from_array(l.tip_color.to_array())
+            .extend(f32::from(u8::from(!settings.binary_coverage))),
+        tint: p.object.tint.extend(f32::from(u8::from(textured))),
+        wind: Vec4::ZERO,
+        gust: Vec4::ZERO,
+    };
+    let mut base = p.source.clone();
+    base.alpha_mode = AlphaMode::Blend;
+    base.cull_mode = None;
+    base.double_sided = true;
+    base.depth_bias = bias;
+    let h = s.fin_materials.add(FinMaterial {
+        base,
+        extension: FinExtension { fin, texture },
+    });
+    let mut e = s.commands.spawn((
+        Mesh3d(s.meshes.add(mesh)),
+        MeshMaterial3d(h.clone()),
+        Transform::IDENTITY,
+        NoFrustumCulling,
+        NotShadowCaster,
+        ChildOf(p.entity),
+    ));
+    if let Some(sk) = p.skinned {
+        e.insert(sk.clone());
+    }
+    Some((e.id(), h))
 }

@@ -19,8 +19,9 @@ use bevy::prelude::*;
 use bevy::tasks::ConditionalSendFuture;
 use gltf_crate::Semantic as GltfSemantic;
 use pelt_fur::density::Density;
+use pelt_io::topology::StoredFins;
 use pelt_io::{Document, PrimitiveRef};
-use pelt_scene::fur::FurLook;
+use pelt_scene::fur::{FurLook, Level};
 
 /// The extension's name.
 pub use pelt_io::extension::EXTENSION;
@@ -39,6 +40,53 @@ pub struct PeltFurData {
     pub density: Arc<Density>,
     /// Where TANGENT came from (`kept`, `mikktspace`, `gradient`): how to regenerate it.
     pub tangents: String,
+    /// The fin records as edges (empty without records, or with stale ones).
+    pub fins: Vec<FinEdge>,
+    /// The fin texture's levels (RGBA8: R height along the strand, A coverage), shared by
+    /// the primitives of one material.
+    pub fin_texture: Arc<Vec<Level<[u8; 4]>>>,
+}
+
+/// One fin: an edge of the mesh with fur at an end (docs/extension/PELT_fur, fin records).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinEdge {
+    /// Its two vertices (indices into the mesh), in its first face's winding.
+    pub ends: [u32; 2],
+    /// The geometric normals of its two faces (the first twice on a boundary), mesh space.
+    pub faces: [[f32; 3]; 2],
+    /// The fin texture's horizontal offset for the edge (`pelt_scene::fur::edge_offset`) and
+    /// the edge's length in UV units.
+    pub u: [f32; 2],
+}
+
+/// The primitive's fins from its records (pelt_io's reader and fin geometry); stale records
+/// are warned about and give none.
+fn fin_edges(doc: &Document, r: PrimitiveRef) -> Result<Vec<FinEdge>, pelt_io::IoError> {
+    let edges = match doc.read_stored_fins(r)? {
+        None => return Ok(Vec::new()),
+        Some(StoredFins::Valid(e)) => e,
+        Some(StoredFins::Stale(why)) => {
+            warn!(
+                "bevy_pelt: {}: the fin records are stale ({why}); drawn without fins",
+                doc.place(r)
+            );
+            return Ok(Vec::new());
+        }
+    };
+    let m = pelt_io::mesh::read_primitive(doc, r)?.mesh;
+    let uv = |v: u32| m.uvs.as_ref().map_or(glam30::Vec2::ZERO, |u| u[v as usize]);
+    Ok(edges
+        .iter()
+        .map(|e| {
+            let g = pelt_io::topology::fin_geometry(e, &m.indices, &m.positions);
+            let [a, b] = g.vertices;
+            FinEdge {
+                ends: [a, b],
+                faces: g.face_normals.map(|f| f.to_array()),
+                u: [pelt_scene::fur::edge_offset(a, b), (uv(a) - uv(b)).length()],
+            }
+        })
+        .collect())
 }
 
 /// On a glTF mesh entity: its primitive's fur, which [`crate::attach`] draws.
@@ -58,6 +106,7 @@ pub struct FurExtensionHandler {
     doc: Option<Result<Arc<Document>, String>>,
     found: HashMap<(usize, usize), Result<Handle<PeltFurData>, String>>,
     densities: HashMap<usize, Arc<Density>>,
+    fin_textures: HashMap<usize, Arc<Vec<Level<[u8; 4]>>>>,
 }
 
 fn uses_fur(g: &gltf::Gltf, p: &gltf::Primitive) -> bool {
@@ -105,17 +154,29 @@ impl FurExtensionHandler {
             return Ok(None);
         };
         let place = doc.place(r);
-        let Some((m, _)) = pelt_scene::fur::manifest(doc, r).map_err(e)? else {
+        let Some(found) = pelt_scene::fur::manifest(doc, r).map_err(e)? else {
             return Err(format!(
                 "{place}: a fur primitive whose material has no {EXTENSION} manifest"
             ));
         };
+        let m = &found.0;
         let material = doc.primitive_material(r).map_err(e)?.unwrap_or(usize::MAX);
         let density = self
             .densities
             .entry(material)
             .or_insert_with(|| Arc::new(pelt_scene::fur::density_of(&m.strands)))
             .clone();
+        let fin_texture = match self.fin_textures.get(&material) {
+            Some(t) => t.clone(),
+            None => {
+                let (_, (_, fin), _) =
+                    pelt_scene::fur::look_and_textures(doc, Some(&found)).map_err(e)?;
+                let t = Arc::new(fin);
+                self.fin_textures.insert(material, t.clone());
+                t
+            }
+        };
+        let fins = fin_edges(doc, r).map_err(e)?;
         let tangents = doc
             .fur_primitive(r)
             .map_err(e)?
@@ -128,9 +189,11 @@ impl FurExtensionHandler {
         Ok(Some(PeltFurData {
             place,
             comb: comb.into_iter().map(|c| c.to_array()).collect(),
-            look: pelt_scene::fur::look_of(&m),
+            look: pelt_scene::fur::look_of(m),
             density,
             tangents,
+            fins,
+            fin_texture,
         }))
     }
 }

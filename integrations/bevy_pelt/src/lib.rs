@@ -22,6 +22,7 @@
 
 pub mod attach;
 pub mod extension;
+pub mod fins;
 pub mod material;
 pub mod rule;
 pub mod scene;
@@ -53,6 +54,7 @@ impl Plugin for PeltFurPlugin {
             .init_resource::<FurWind>()
             .add_plugins((
                 MaterialPlugin::<FurMaterial>::default(),
+                MaterialPlugin::<fins::FinMaterial>::default(),
                 MaterialPlugin::<PeltSurfaceMaterial>::default(),
                 MaterialPlugin::<SkyMaterial>::default(),
             ))

@@ -7,6 +7,7 @@ use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
 use bevy::prelude::*;
 
 use crate::attach::FurAttached;
+use crate::fins::FinMaterial;
 use crate::material::FurMaterial;
 use crate::settings::FurWind;
 
@@ -136,6 +137,7 @@ pub(crate) fn apply_rule(
 /// Copies the wind into every fur material when it changes, and each frame while it blows on
 /// the app's clock.
 pub(crate) fn apply_wind(
+    mut fin_materials: ResMut<Assets<FinMaterial>>,
     wind: Res<FurWind>,
     time: Res<Time>,
     furs: Query<Ref<FurAttached>>,
@@ -154,6 +156,12 @@ pub(crate) fn apply_wind(
                 m.extension.fur.wind = w;
                 m.extension.fur.gust = g;
             }
+        }
+        if let Some((_, h)) = &fur.fins
+            && let Some(mut m) = fin_materials.get_mut(h)
+        {
+            m.extension.fin.wind = w;
+            m.extension.fin.gust = g;
         }
     }
 }

@@ -285,15 +285,16 @@ fn spawn_object(s: &mut Spawner, out: &mut PeltScene, i: usize, o: &pelt_scene::
     }
     let gltf: Handle<Gltf> = s.assets.load(asset.clone());
     let scene = s.assets.load(GltfAssetLabel::Scene(0).from_asset(asset));
-    let (shells, length) = match &o.material {
-        SceneMaterial::Fur(f) => (f.shells, f.length),
-        _ => (None, None),
+    let (shells, length, fins) = match &o.material {
+        SceneMaterial::Fur(f) => (f.shells, f.length, f.fins),
+        _ => (None, None, None),
     };
     let object = PeltObject {
         tint: Vec3::from(o.color),
         fur,
         shells,
         length,
+        fins,
     };
     let root = s
         .commands
@@ -326,6 +327,8 @@ pub struct PeltObject {
     pub shells: Option<u32>,
     /// A fur length in mesh units.
     pub length: Option<f32>,
+    /// Fins on or off (None: by the coverage).
+    pub fins: Option<bool>,
 }
 
 /// Marks a mesh entity whose material the scene already replaced.

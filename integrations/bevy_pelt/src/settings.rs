@@ -22,6 +22,12 @@ pub struct FurSettings {
     /// A shell count for every fur primitive (None: by screen size, the manifest's
     /// `shellRule`, at most its `shells`; or its `shells` where it has no rule).
     pub shells: Option<u32>,
+    /// Silhouette fins on or off for every fur primitive (None: a scene object's `fins`, else
+    /// on with the binary coverage and off with the analytic one, as pelt).
+    pub fins: Option<bool>,
+    /// The scene's `furCoverage` is `binary` (the fins then reach up to where the faces
+    /// turn from the eye by FIN_SILHOUETTE; the shells here always take the analytic one).
+    pub binary_coverage: bool,
     /// A negative control (tests only).
     pub control: Option<FurControl>,
 }

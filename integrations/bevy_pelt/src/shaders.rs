@@ -21,13 +21,15 @@ pub const FUR_SHELL: Handle<Shader> = uuid_handle!("881bd276-8d47-4987-a413-9453
 pub const FUR_PREPASS: Handle<Shader> = uuid_handle!("af084167-4f3a-4391-afea-47b5f5a0276a");
 /// The fur material's vertex and fragment stages.
 pub const FUR: Handle<Shader> = uuid_handle!("09b8ea96-c381-4dda-91b5-6ddbaa1a394a");
+/// The fins' vertex and fragment stages.
+pub const FINS: Handle<Shader> = uuid_handle!("98adc0ed-2e89-4e83-8e81-b15c16a7a8a7");
 /// pelt's opaque surface.
 pub const SURFACE: Handle<Shader> = uuid_handle!("d788ef45-3540-4e54-bb93-574bfb4a3089");
 /// pelt's procedural sky.
 pub const SKY: Handle<Shader> = uuid_handle!("8dde9e64-a3f1-4eb3-9ea6-4df31f4b0da0");
 
 /// Every shader: handle, source and the path it reports in errors.
-pub const SOURCES: [(Handle<Shader>, &str, &str); 9] = [
+pub const SOURCES: [(Handle<Shader>, &str, &str); 10] = [
     (
         COMMON,
         include_str!("../../../shaders/common.wgsl"),
@@ -62,6 +64,11 @@ pub const SOURCES: [(Handle<Shader>, &str, &str); 9] = [
         FUR_PREPASS,
         include_str!("../shaders/fur_prepass.wgsl"),
         "integrations/bevy_pelt/shaders/fur_prepass.wgsl",
+    ),
+    (
+        FINS,
+        include_str!("../shaders/fins.wgsl"),
+        "integrations/bevy_pelt/shaders/fins.wgsl",
     ),
     (
         SURFACE,
