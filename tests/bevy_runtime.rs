@@ -27,11 +27,12 @@ fn bevy_ready() -> bool {
     )
 }
 
-/// `render SCENE -o OUT --size 320x180 EXTRA…` on Vulkan (lavapipe here), its output.
-fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
+/// `render SCENE -o OUT --size SIZE EXTRA…` on Vulkan (lavapipe here), its output whatever
+/// its status.
+fn render(scene: &Path, out: &Path, size: &str, extra: &[&str]) -> Output {
     Command::new(example())
         .arg(scene)
-        .args(["-o", out.to_str().expect("UTF-8"), "--size", "320x180"])
+        .args(["-o", out.to_str().expect("UTF-8"), "--size", size])
         .args(extra)
         .env("WGPU_BACKEND", "vulkan")
         .env("RUST_LOG", "error")
@@ -39,21 +40,30 @@ fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
         .expect("run the render example")
 }
 
+/// The Bevy plugin as the shared checks run it: the `render` example, whose clean log has
+/// no error.
+struct Bevy;
+
+impl runtime::Runtime for Bevy {
+    fn name(&self) -> &'static str {
+        "bevy"
+    }
+
+    fn run(&self, scene: &Path, out: &Path, size: &str, extra: &[&str]) -> Output {
+        render(scene, out, size, extra)
+    }
+
+    fn check_log(&self, _scene: &Path, log: &str) {
+        assert!(!log.contains("ERROR"), "errors: {log}");
+    }
+}
+
 fn bevy(scene: &Path, out: &Path, extra: &[&str]) {
-    let o = render(scene, out, extra);
-    let log = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "render {}: {log}", scene.display());
-    assert!(!log.contains("ERROR"), "errors: {log}");
+    runtime::draw(&Bevy, scene, out, extra);
 }
 
 fn compare(scene: &Path, name: &str, args: &[&str], control: Option<&str>) -> (f32, f64) {
-    runtime::compare(scene, name, "bevy", args, |out| {
-        let mut e = args.to_vec();
-        if let Some(c) = control {
-            e.extend(["--control", c]);
-        }
-        bevy(scene, out, &e);
-    })
+    runtime::compare_with(&Bevy, scene, name, args, control)
 }
 
 fn demo_scenes() -> (PathBuf, PathBuf) {
@@ -66,145 +76,34 @@ fn bevy_draws_the_demo_scenes_as_pelt_forward_does() {
         return;
     }
     let (creature, fox) = demo_scenes();
-    let shells = ["--shells", "16"];
-    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
-    for (scene, name, args) in [
-        (&creature, "creature", &shells[..]),
-        (&fox, "fox", &walk[..]),
-    ] {
-        let (flip, ratio) = compare(scene, name, args, None);
-        assert!(flip <= 0.05, "{name}: FLIP {flip} over 0.05");
-        assert!(
-            (ratio - 1.0).abs() <= 0.10,
-            "{name}: fur luminance ratio {ratio}"
-        );
-        let control = format!("{name}-control");
-        let (flip, _) = compare(scene, &control, args, Some("opaque-shells"));
-        assert!(
-            flip > 0.05,
-            "{name}: the negative control (opaque shells) passes with FLIP {flip}"
-        );
-    }
+    runtime::check_demo_scenes(&Bevy, &creature, &fox);
 }
 
-/// One feature per scene, each with the negative control that leaves it out of Bevy's
-/// picture (which must then fail the same threshold): wind (a strong one at 0.7 s), shadows
-/// (the creature lifted over the ground under a point and a directional light that cast
-/// them; in the same scene the fur casting by its coverage) and a textured fur asset (the
-/// Fox's fur coloured by its base colour texture).
 #[test]
 fn each_feature_matches_and_its_negative_control_does_not() {
     if !bevy_ready() {
         return;
     }
     let (creature, fox) = demo_scenes();
-    let (wind, shadows) = runtime::feature_scenes(&creature);
-    let windy = ["--shells", "16", "--time", "0.7"];
-    let still = ["--shells", "16"];
-    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
-    for (scene, name, args, control, threshold) in [
-        (&wind, "wind", &windy[..], "no-wind", 0.05),
-        (&shadows, "shadows", &still[..], "no-shadows", 0.05),
-        (&shadows, "fur-shadow", &still[..], "no-fur-shadow", 0.044),
-        (&fox, "textured", &walk[..], "no-texture", 0.05),
-    ] {
-        let (flip, _) = compare(scene, name, args, None);
-        assert!(flip <= threshold, "{name}: FLIP {flip} over {threshold}");
-        let (flip, _) = compare(scene, &format!("{name}-control"), args, Some(control));
-        assert!(
-            flip > threshold,
-            "{name}: the negative control ({control}) passes with FLIP {flip}"
-        );
-    }
+    runtime::check_features(&Bevy, &creature, &fox);
 }
 
-/// The Fox at two times of its Walk: each within FLIP 0.06 of pelt at that time, the two
-/// frames differ, and the pose of the other time fails against pelt's (the fur follows the
-/// skin).
 #[test]
 fn a_skinned_asset_follows_its_clip() {
     if !bevy_ready() {
         return;
     }
     let (_, fox) = demo_scenes();
-    let dir = fox.parent().expect("folder").to_path_buf();
-    let mut frames = Vec::new();
-    for t in ["0.1", "0.6"] {
-        let args = ["--shells", "16", "--animation", "Walk", "--time", t];
-        let (flip, _) = compare(&fox, &format!("walk-{t}"), &args, None);
-        assert!(flip <= 0.06, "Walk at {t}: FLIP {flip} over 0.06");
-        frames.push(load_png(&dir.join(format!("walk-{t}-bevy.png"))));
-    }
-    let moved = flip_of(&frames[0], &frames[1]);
-    assert!(
-        moved > 0.01,
-        "the two times drew the same frame (FLIP {moved})"
-    );
-    let pelt = load_png(&dir.join("walk-0.1-pelt.png"));
-    let wrong = flip_of(&pelt, &frames[1]);
-    assert!(
-        wrong > 0.06,
-        "the pose at 0.6 s passes against 0.1 s (FLIP {wrong})"
-    );
+    runtime::check_clip(&Bevy, &fox);
 }
 
-/// `render SCENE --size SIZE --report EXTRA…`: each fur primitive's shell count and whether
-/// the rule set it.
-fn report(scene: &Path, size: &str, extra: &[&str]) -> serde_json::Value {
-    let out = scene.with_file_name(format!("bevy-report-{size}.png"));
-    let o = Command::new(example())
-        .arg(scene)
-        .args([
-            "-o",
-            out.to_str().expect("UTF-8"),
-            "--size",
-            size,
-            "--report",
-        ])
-        .args(extra)
-        .env("WGPU_BACKEND", "vulkan")
-        .env("RUST_LOG", "error")
-        .output()
-        .expect("run the render example");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
-
-/// The shells-by-screen-size rule: Bevy draws the count pelt plans (`--explain`) at every
-/// size, the count falls as the fur shrinks on screen, a forced count is kept, and the two
-/// pictures agree without `--shells`.
 #[test]
 fn the_shell_count_follows_the_fur_on_screen_as_in_pelt() {
     if !bevy_ready() {
         return;
     }
     let (creature, _) = demo_scenes();
-    let mut counts = Vec::new();
-    for size in ["160x90", "320x180", "1280x720"] {
-        let r = report(&creature, size, &[]);
-        let drawn = r["fur"][0]["shells"].as_u64().expect("a fur primitive");
-        assert_eq!(r["fur"][0]["byScreenSize"], true);
-        let planned = runtime::planned_shells(&creature, size);
-        assert_eq!(
-            drawn, planned,
-            "{size}: Bevy draws {drawn} shells, pelt plans {planned}"
-        );
-        counts.push(drawn);
-    }
-    assert!(
-        counts[0] < counts[1] && counts[1] < counts[2],
-        "the count does not fall with size: {counts:?}"
-    );
-    let r = report(&creature, "160x90", &["--shells", "12"]);
-    assert_eq!(
-        (
-            r["fur"][0]["shells"].as_u64(),
-            r["fur"][0]["byScreenSize"].as_bool()
-        ),
-        (Some(12), Some(false))
-    );
-    let (flip, _) = compare(&creature, "rule", &[], None);
-    assert!(flip <= 0.05, "by screen size: FLIP {flip}");
+    runtime::check_rule(&Bevy, &creature);
 }
 
 /// Bad input to the render example: a missing asset, a malformed scene file, a missing one
@@ -221,27 +120,21 @@ fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
     let malformed = creature.with_file_name("bevy-bad-json.json");
     std::fs::write(&malformed, b"{\"objects\": [").expect("write");
     let absent = creature.with_file_name("bevy-absent.json");
-    let cases: [(&Path, &[&str], &str); 4] = [
-        (&missing_asset, &[], "objects[0].asset"),
-        (&malformed, &[], "bevy-bad-json.json"),
-        (&absent, &[], "bevy-absent.json"),
-        (
-            &fox,
-            &["--animation", "Gallop"],
-            "no animation \"Gallop\" (has Run, Survey, Walk)",
-        ),
-    ];
-    for (scene, extra, want) in cases {
-        let out = scene.with_file_name("bevy-bad.png");
-        let o = render(scene, &out, extra);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{}: {err}", scene.display());
-        assert!(err.contains(want), "{want} not in: {err}");
-        assert!(!out.exists(), "{} was written", out.display());
-    }
-    let out = creature.with_file_name("bevy-good.png");
-    bevy(&creature, &out, &[]);
-    assert!(out.exists());
+    let gallop: &[&str] = &["--animation", "Gallop"];
+    runtime::check_bad_input(
+        &Bevy,
+        &creature,
+        &[
+            (&missing_asset, &[], "objects[0].asset"),
+            (&malformed, &[], "bevy-bad-json.json"),
+            (&absent, &[], "bevy-absent.json"),
+            (
+                &fox,
+                gallop,
+                "no animation \"Gallop\" (has Run, Survey, Walk)",
+            ),
+        ],
+    );
 }
 
 /// The fins (pelt's silhouette fins from the baked records, on with `"fins": true`): the

@@ -44,29 +44,28 @@ fn render_mjs(scene: &Path, out: &Path, size: &str, extra: &[&str]) -> std::proc
         .expect("run node")
 }
 
-fn three(scene: &Path, out: &Path, extra: &[&str]) {
-    let o = render_mjs(scene, out, "320x180", extra);
-    let log = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "render.mjs {}: {log}", scene.display());
-    assert!(!log.contains("browser:"), "console errors: {log}");
+/// The three.js runtime as the shared checks run it: `render.mjs` in headless Chromium,
+/// whose clean log has no browser console error.
+struct Three;
+
+impl runtime::Runtime for Three {
+    fn name(&self) -> &'static str {
+        "three"
+    }
+
+    fn run(&self, scene: &Path, out: &Path, size: &str, extra: &[&str]) -> std::process::Output {
+        render_mjs(scene, out, size, extra)
+    }
+
+    fn check_log(&self, _scene: &Path, log: &str) {
+        assert!(!log.contains("browser:"), "console errors: {log}");
+    }
 }
 
-/// One comparison of the three.js runtime against pelt (`render.mjs` with `extra_three` and
-/// the negative control `control`, if any).
-fn compare(
-    scene: &Path,
-    name: &str,
-    extra_pelt: &[&str],
-    extra_three: &[&str],
-    control: Option<&str>,
-) -> (f32, f64) {
-    runtime::compare(scene, name, "three", extra_pelt, |out| {
-        let mut e = extra_three.to_vec();
-        if let Some(c) = control {
-            e.extend(["--control", c]);
-        }
-        three(scene, out, &e);
-    })
+/// One comparison of the three.js runtime against pelt with the same flags, and the negative
+/// control `control`, if any.
+fn compare(scene: &Path, name: &str, args: &[&str], control: Option<&str>) -> (f32, f64) {
+    runtime::compare_with(&Three, scene, name, args, control)
 }
 
 fn demo_scenes() -> (PathBuf, PathBuf) {
@@ -79,62 +78,16 @@ fn three_draws_the_demo_scenes_as_pelt_forward_does() {
         return;
     }
     let (creature, fox) = demo_scenes();
-    let shells = ["--shells", "16"];
-    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
-    for (scene, name, args) in [
-        (&creature, "creature", &shells[..]),
-        (&fox, "fox", &walk[..]),
-    ] {
-        let (flip, ratio) = compare(scene, name, args, args, None);
-        assert!(flip <= 0.05, "{name}: FLIP {flip} over 0.05");
-        assert!(
-            (ratio - 1.0).abs() <= 0.10,
-            "{name}: fur luminance ratio {ratio}"
-        );
-        let (flip, _) = compare(
-            scene,
-            &format!("{name}-control"),
-            args,
-            args,
-            Some("opaque-shells"),
-        );
-        assert!(
-            flip > 0.05,
-            "{name}: the negative control (opaque shells) passes with FLIP {flip}"
-        );
-    }
+    runtime::check_demo_scenes(&Three, &creature, &fox);
 }
 
-/// One feature per scene, each with the negative control that leaves it out of the web
-/// image (which must then fail the same threshold): wind (a strong one at 0.7 s), shadows
-/// (the creature lifted over the ground under a point and a directional light that cast
-/// them; and in the same scene the fur casting by its coverage) and a textured fur asset (the Fox's fur coloured by its base colour texture).
 #[test]
 fn each_feature_matches_and_its_negative_control_does_not() {
     if !browser_ready() {
         return;
     }
     let (creature, fox) = demo_scenes();
-    let (wind, shadows) = runtime::feature_scenes(&creature);
-    let windy = ["--shells", "16", "--time", "0.7"];
-    let still = ["--shells", "16"];
-    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
-    for (scene, name, args, control, threshold) in [
-        (&wind, "wind", &windy[..], "no-wind", 0.05),
-        (&shadows, "shadows", &still[..], "no-shadows", 0.05),
-        // The fur casting by its coverage (hashed through its layers) rather than as its
-        // base mesh: a finer threshold for a finer feature.
-        (&shadows, "fur-shadow", &still[..], "no-fur-shadow", 0.044),
-        (&fox, "textured", &walk[..], "no-texture", 0.05),
-    ] {
-        let (flip, _) = compare(scene, name, args, args, None);
-        assert!(flip <= threshold, "{name}: FLIP {flip} over {threshold}");
-        let (flip, _) = compare(scene, &format!("{name}-control"), args, args, Some(control));
-        assert!(
-            flip > threshold,
-            "{name}: the negative control ({control}) passes with FLIP {flip}"
-        );
-    }
+    runtime::check_features(&Three, &creature, &fox);
 }
 
 #[test]
@@ -143,27 +96,7 @@ fn a_skinned_asset_follows_its_clip() {
         return;
     }
     let (_, fox) = demo_scenes();
-    let dir = fox.parent().expect("folder").to_path_buf();
-    let mut frames = Vec::new();
-    for t in ["0.1", "0.6"] {
-        let args = ["--shells", "16", "--animation", "Walk", "--time", t];
-        let (flip, _) = compare(&fox, &format!("walk-{t}"), &args, &args, None);
-        assert!(flip <= 0.06, "Walk at {t}: FLIP {flip} over 0.06");
-        frames.push(load_png(&dir.join(format!("walk-{t}-three.png"))));
-    }
-    let moved = flip_of(&frames[0], &frames[1]);
-    assert!(
-        moved > 0.01,
-        "the two times drew the same frame (FLIP {moved})"
-    );
-    // Negative control: the web pose of the other time fails the same threshold against
-    // pelt's (a runtime whose fur did not follow the clip would).
-    let pelt = load_png(&dir.join("walk-0.1-pelt.png"));
-    let wrong = flip_of(&pelt, &frames[1]);
-    assert!(
-        wrong > 0.06,
-        "the pose at 0.6 s passes against 0.1 s (FLIP {wrong})"
-    );
+    runtime::check_clip(&Three, &fox);
 }
 
 /// `node test/NAME.mjs ARGS…` (a page driver of the package), its JSON result.
@@ -234,51 +167,13 @@ fn the_viewer_shows_a_scene_file_and_a_dropped_asset_without_console_errors() {
     assert!(r["frames"].as_u64() > Some(4), "{r}");
 }
 
-/// `render.mjs SCENE --size SIZE --report EXTRA…`: each fur mesh's shell count and whether
-/// the rule set it.
-fn report(scene: &Path, size: &str, extra: &[&str]) -> serde_json::Value {
-    let out = scene.with_file_name(format!("report-{size}.png"));
-    let o = render_mjs(scene, &out, size, &[&["--report"][..], extra].concat());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
-
-/// The shells-by-screen-size rule: the web runtime draws the count pelt plans (`--explain`)
-/// at every size, the count falls as the fur shrinks on screen, a forced count is kept, and
-/// the two images agree without `--shells`.
 #[test]
 fn the_shell_count_follows_the_fur_on_screen_as_in_pelt() {
     if !browser_ready() {
         return;
     }
     let (creature, _) = demo_scenes();
-    let mut counts = Vec::new();
-    for size in ["160x90", "320x180", "1280x720"] {
-        let r = report(&creature, size, &[]);
-        let web = r["fur"][0]["shells"].as_u64().expect("a fur mesh");
-        assert_eq!(r["fur"][0]["byScreenSize"], true);
-        let planned = runtime::planned_shells(&creature, size);
-        assert_eq!(
-            web, planned,
-            "{size}: three draws {web} shells, pelt plans {planned}"
-        );
-        counts.push(web);
-    }
-    assert!(
-        counts[0] < counts[1] && counts[1] < counts[2],
-        "the count does not fall with size: {counts:?}"
-    );
-    // Forced, the count stays (the negative control of the rule).
-    let r = report(&creature, "160x90", &["--shells", "12"]);
-    assert_eq!(
-        (
-            r["fur"][0]["shells"].as_u64(),
-            r["fur"][0]["byScreenSize"].as_bool()
-        ),
-        (Some(12), Some(false))
-    );
-    let (flip, _) = compare(&creature, "rule", &[], &[], None);
-    assert!(flip <= 0.05, "by screen size: FLIP {flip}");
+    runtime::check_rule(&Three, &creature);
 }
 
 /// Bad input to `render.mjs`: a missing asset, a malformed scene file and a missing one are
@@ -295,22 +190,15 @@ fn bad_scene_files_are_errors_naming_the_place_and_write_nothing() {
     let malformed = creature.with_file_name("bad-json.json");
     std::fs::write(&malformed, b"{\"objects\": [").expect("write");
     let absent = creature.with_file_name("absent.json");
-    for (scene, want) in [
-        (&missing_asset, "objects[0]: missing.glb"),
-        (&malformed, "bad-json.json"),
-        (&absent, "absent.json: no such file"),
-    ] {
-        let out = scene.with_extension("png");
-        let o = render_mjs(scene, &out, "64x36", &[]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{}: {err}", scene.display());
-        assert!(err.contains(want), "{want} not in: {err}");
-        assert!(!out.exists(), "{} was written", out.display());
-    }
-    // Negative control: the good scene writes its PNG.
-    let out = creature.with_file_name("good.png");
-    three(&creature, &out, &[]);
-    assert!(out.exists());
+    runtime::check_bad_input(
+        &Three,
+        &creature,
+        &[
+            (&missing_asset, &[], "objects[0]: missing.glb"),
+            (&malformed, &[], "bad-json.json"),
+            (&absent, &[], "absent.json: no such file"),
+        ],
+    );
 }
 
 /// gltfpack's output of the baked Fox (quantized, its texture coordinates moved by
@@ -345,12 +233,11 @@ fn a_texture_transform_is_read_as_pelt_reads_it() {
         v["objects"][0]["material"] = serde_json::json!({ "kind": "opaque" });
     });
     let walk = ["--animation", "Walk", "--time", "0.35"];
-    let (flip, _) = compare(&scene, "uv-transform", &walk, &walk, None);
+    let (flip, _) = compare(&scene, "uv-transform", &walk, None);
     assert!(flip <= 0.05, "KHR_texture_transform: FLIP {flip}");
     let (flip, _) = compare(
         &scene,
         "uv-transform-control",
-        &walk,
         &walk,
         Some("no-uv-transform"),
     );

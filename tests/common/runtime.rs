@@ -153,3 +153,181 @@ pub fn planned_shells(scene: &Path, size: &str) -> u64 {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("no shell count in {text}"))
 }
+
+/// A runtime drawing pelt's scene files: how to run it, and what a clean run's log is.
+pub trait Runtime {
+    /// Its name in the pictures' file names (`NAME-RUNTIME.png`).
+    fn name(&self) -> &'static str;
+    /// Draws `scene` to `out` at `size` with `extra` flags: its output whatever its status.
+    fn run(&self, scene: &Path, out: &Path, size: &str, extra: &[&str]) -> std::process::Output;
+    /// Panics unless `log` (a successful run's stderr) is clean.
+    fn check_log(&self, scene: &Path, log: &str);
+}
+
+/// `rt` draws `scene` at 320×180, which must succeed with a clean log.
+pub fn draw(rt: &dyn Runtime, scene: &Path, out: &Path, extra: &[&str]) {
+    let o = rt.run(scene, out, "320x180", extra);
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success(),
+        "{} {}: {log}",
+        rt.name(),
+        scene.display()
+    );
+    rt.check_log(scene, &log);
+}
+
+/// One comparison of `rt` against pelt with the same flags, and the negative control
+/// `control` (`--control NAME`) on the runtime's side, if any.
+pub fn compare_with(
+    rt: &dyn Runtime,
+    scene: &Path,
+    name: &str,
+    args: &[&str],
+    control: Option<&str>,
+) -> (f32, f64) {
+    compare(scene, name, rt.name(), args, |out| {
+        let mut e = args.to_vec();
+        if let Some(c) = control {
+            e.extend(["--control", c]);
+        }
+        draw(rt, scene, out, &e);
+    })
+}
+
+/// The demo's creature, and its Fox at Walk 0.35 s, within FLIP 0.05 of pelt with 16 shells
+/// and their fur's luminance within 10 %; every shell opaque fails the same threshold.
+pub fn check_demo_scenes(rt: &dyn Runtime, creature: &Path, fox: &Path) {
+    let shells = ["--shells", "16"];
+    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
+    for (scene, name, args) in [(creature, "creature", &shells[..]), (fox, "fox", &walk[..])] {
+        let (flip, ratio) = compare_with(rt, scene, name, args, None);
+        assert!(flip <= 0.05, "{name}: FLIP {flip} over 0.05");
+        assert!(
+            (ratio - 1.0).abs() <= 0.10,
+            "{name}: fur luminance ratio {ratio}"
+        );
+        let control = format!("{name}-control");
+        let (flip, _) = compare_with(rt, scene, &control, args, Some("opaque-shells"));
+        assert!(
+            flip > 0.05,
+            "{name}: the negative control (opaque shells) passes with FLIP {flip}"
+        );
+    }
+}
+
+/// One feature per scene, each with the negative control that leaves it out of the runtime's
+/// picture (which must then fail the same threshold): wind (a strong one at 0.7 s), shadows
+/// (the creature lifted over the ground under a point and a directional light that cast
+/// them; in the same scene the fur casting by its coverage, a finer threshold for a finer
+/// feature) and a textured fur asset (the Fox's fur coloured by its base colour texture).
+pub fn check_features(rt: &dyn Runtime, creature: &Path, fox: &Path) {
+    let (wind, shadows) = feature_scenes(creature);
+    let windy = ["--shells", "16", "--time", "0.7"];
+    let still = ["--shells", "16"];
+    let walk = ["--shells", "16", "--animation", "Walk", "--time", "0.35"];
+    for (scene, name, args, control, threshold) in [
+        (wind.as_path(), "wind", &windy[..], "no-wind", 0.05),
+        (shadows.as_path(), "shadows", &still[..], "no-shadows", 0.05),
+        (
+            shadows.as_path(),
+            "fur-shadow",
+            &still[..],
+            "no-fur-shadow",
+            0.044,
+        ),
+        (fox, "textured", &walk[..], "no-texture", 0.05),
+    ] {
+        let (flip, _) = compare_with(rt, scene, name, args, None);
+        assert!(flip <= threshold, "{name}: FLIP {flip} over {threshold}");
+        let (flip, _) = compare_with(rt, scene, &format!("{name}-control"), args, Some(control));
+        assert!(
+            flip > threshold,
+            "{name}: the negative control ({control}) passes with FLIP {flip}"
+        );
+    }
+}
+
+/// The Fox at two times of its Walk: each within FLIP 0.06 of pelt at that time, the two
+/// frames differ, and the runtime's pose of the other time fails against pelt's (the fur
+/// follows the skin).
+pub fn check_clip(rt: &dyn Runtime, fox: &Path) {
+    let dir = fox.parent().expect("folder").to_path_buf();
+    let mut frames = Vec::new();
+    for t in ["0.1", "0.6"] {
+        let args = ["--shells", "16", "--animation", "Walk", "--time", t];
+        let (flip, _) = compare_with(rt, fox, &format!("walk-{t}"), &args, None);
+        assert!(flip <= 0.06, "Walk at {t}: FLIP {flip} over 0.06");
+        frames.push(load_png(&dir.join(format!("walk-{t}-{}.png", rt.name()))));
+    }
+    let moved = flip_of(&frames[0], &frames[1]);
+    assert!(
+        moved > 0.01,
+        "the two times drew the same frame (FLIP {moved})"
+    );
+    let pelt = load_png(&dir.join("walk-0.1-pelt.png"));
+    let wrong = flip_of(&pelt, &frames[1]);
+    assert!(
+        wrong > 0.06,
+        "the pose at 0.6 s passes against 0.1 s (FLIP {wrong})"
+    );
+}
+
+/// The runtime's `--report` of `scene` at `size`: each fur mesh's shell count and whether
+/// the rule set it.
+pub fn report(rt: &dyn Runtime, scene: &Path, size: &str, extra: &[&str]) -> serde_json::Value {
+    let out = scene.with_file_name(format!("{}-report-{size}.png", rt.name()));
+    let o = rt.run(scene, &out, size, &[&["--report"][..], extra].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("JSON")
+}
+
+/// The shells-by-screen-size rule: the runtime draws the count pelt plans (`--explain`) at
+/// every size, the count falls as the fur shrinks on screen, a forced count is kept, and the
+/// two pictures agree without `--shells`.
+pub fn check_rule(rt: &dyn Runtime, creature: &Path) {
+    let mut counts = Vec::new();
+    for size in ["160x90", "320x180", "1280x720"] {
+        let r = report(rt, creature, size, &[]);
+        let drawn = r["fur"][0]["shells"].as_u64().expect("a fur mesh");
+        assert_eq!(r["fur"][0]["byScreenSize"], true);
+        let planned = planned_shells(creature, size);
+        assert_eq!(
+            drawn,
+            planned,
+            "{size}: {} draws {drawn} shells, pelt plans {planned}",
+            rt.name()
+        );
+        counts.push(drawn);
+    }
+    assert!(
+        counts[0] < counts[1] && counts[1] < counts[2],
+        "the count does not fall with size: {counts:?}"
+    );
+    let r = report(rt, creature, "160x90", &["--shells", "12"]);
+    assert_eq!(
+        (
+            r["fur"][0]["shells"].as_u64(),
+            r["fur"][0]["byScreenSize"].as_bool()
+        ),
+        (Some(12), Some(false))
+    );
+    let (flip, _) = compare_with(rt, creature, "rule", &[], None);
+    assert!(flip <= 0.05, "by screen size: FLIP {flip}");
+}
+
+/// Bad input: each `(scene, extra flags, what the error must name)` exits 1 with that in its
+/// message and writes no PNG; the good scene writes its PNG (the negative control).
+pub fn check_bad_input(rt: &dyn Runtime, good: &Path, cases: &[(&Path, &[&str], &str)]) {
+    for (scene, extra, want) in cases {
+        let out = scene.with_file_name(format!("{}-bad.png", rt.name()));
+        let o = rt.run(scene, &out, "64x36", extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{}: {err}", scene.display());
+        assert!(err.contains(want), "{want} not in: {err}");
+        assert!(!out.exists(), "{} was written", out.display());
+    }
+    let out = good.with_file_name(format!("{}-good.png", rt.name()));
+    draw(rt, good, &out, &[]);
+    assert!(out.exists());
+}
