@@ -24,7 +24,7 @@ use bevy::shader::ShaderRef;
 use pelt_scene::fur::{FIN_MIN_LENGTH, Level};
 
 use crate::extension::PeltFurData;
-use crate::material::ATTRIBUTE_FUR_COMB;
+use crate::material::{ATTRIBUTE_FUR_COMB, set_vertex_layout};
 use crate::shaders;
 
 /// This end's object-space comb (xyz) and comb length (w; 0 on a bare edge).
@@ -100,28 +100,19 @@ impl MaterialExtension for FinExtension {
         layout: &MeshVertexBufferLayoutRef,
         _key: MaterialExtensionKey<Self>,
     ) -> Result<(), SpecializedMeshPipelineError> {
-        let mut attributes = vec![
+        let attributes = [
             Mesh::ATTRIBUTE_POSITION.at_shader_location(0),
             Mesh::ATTRIBUTE_NORMAL.at_shader_location(1),
             Mesh::ATTRIBUTE_UV_0.at_shader_location(2),
             Mesh::ATTRIBUTE_UV_1.at_shader_location(3),
-        ];
-        if layout.0.contains(Mesh::ATTRIBUTE_JOINT_INDEX)
-            && layout.0.contains(Mesh::ATTRIBUTE_JOINT_WEIGHT)
-        {
-            attributes.push(Mesh::ATTRIBUTE_JOINT_INDEX.at_shader_location(6));
-            attributes.push(Mesh::ATTRIBUTE_JOINT_WEIGHT.at_shader_location(7));
-        }
-        attributes.extend([
             ATTRIBUTE_FIN_COMB.at_shader_location(9),
             ATTRIBUTE_FIN_OTHER.at_shader_location(10),
             ATTRIBUTE_FIN_OTHER_NORMAL.at_shader_location(11),
             ATTRIBUTE_FIN_OTHER_COMB.at_shader_location(12),
             ATTRIBUTE_FIN_FACE0.at_shader_location(13),
             ATTRIBUTE_FIN_FACE1.at_shader_location(14),
-        ]);
-        descriptor.vertex.buffers = vec![layout.0.get_layout(&attributes)?];
-        Ok(())
+        ];
+        set_vertex_layout(descriptor, layout, attributes)
     }
 }
 

@@ -6,7 +6,9 @@
 //!   scene loader gives objects without fur so that a scene file looks as in `pelt render`;
 //! - [`SkyMaterial`]: pelt's procedural sky (`shaders/sky.wgsl`).
 
-use bevy::mesh::{MeshVertexAttribute, MeshVertexBufferLayoutRef, VertexFormat};
+use bevy::mesh::{
+    MeshVertexAttribute, MeshVertexBufferLayoutRef, VertexAttributeDescriptor, VertexFormat,
+};
 use bevy::pbr::{
     ExtendedMaterial, MaterialExtension, MaterialExtensionKey, MaterialExtensionPipeline,
 };
@@ -87,22 +89,34 @@ impl MaterialExtension for FurExtension {
         layout: &MeshVertexBufferLayoutRef,
         _key: MaterialExtensionKey<Self>,
     ) -> Result<(), SpecializedMeshPipelineError> {
-        let mut attributes = vec![
+        let attributes = [
             Mesh::ATTRIBUTE_POSITION.at_shader_location(0),
             Mesh::ATTRIBUTE_NORMAL.at_shader_location(1),
             Mesh::ATTRIBUTE_UV_0.at_shader_location(2),
             Mesh::ATTRIBUTE_TANGENT.at_shader_location(4),
+            ATTRIBUTE_FUR_COMB.at_shader_location(9),
         ];
-        if layout.0.contains(Mesh::ATTRIBUTE_JOINT_INDEX)
-            && layout.0.contains(Mesh::ATTRIBUTE_JOINT_WEIGHT)
-        {
-            attributes.push(Mesh::ATTRIBUTE_JOINT_INDEX.at_shader_location(6));
-            attributes.push(Mesh::ATTRIBUTE_JOINT_WEIGHT.at_shader_location(7));
-        }
-        attributes.push(ATTRIBUTE_FUR_COMB.at_shader_location(9));
-        descriptor.vertex.buffers = vec![layout.0.get_layout(&attributes)?];
-        Ok(())
+        set_vertex_layout(descriptor, layout, attributes)
     }
+}
+
+/// The vertex buffer of a pipeline whose shader reads `attributes`, and the skin's joints
+/// and weights at locations 6 and 7 where the mesh has them (Bevy's `SKINNED` def then
+/// declares them in the shader).
+pub(crate) fn set_vertex_layout(
+    descriptor: &mut RenderPipelineDescriptor,
+    layout: &MeshVertexBufferLayoutRef,
+    attributes: impl IntoIterator<Item = VertexAttributeDescriptor>,
+) -> Result<(), SpecializedMeshPipelineError> {
+    let mut all: Vec<_> = attributes.into_iter().collect();
+    if layout.0.contains(Mesh::ATTRIBUTE_JOINT_INDEX)
+        && layout.0.contains(Mesh::ATTRIBUTE_JOINT_WEIGHT)
+    {
+        all.push(Mesh::ATTRIBUTE_JOINT_INDEX.at_shader_location(6));
+        all.push(Mesh::ATTRIBUTE_JOINT_WEIGHT.at_shader_location(7));
+    }
+    descriptor.vertex.buffers = vec![layout.0.get_layout(&all)?];
+    Ok(())
 }
 
 /// pelt's opaque surface: no data of its own.
