@@ -122,6 +122,9 @@ pub fn spawn(
     };
     let c = &scene.camera;
     let procedural = matches!(scene.sky, pelt_scene::scene::Sky::Procedural);
+    if matches!(scene.sky, pelt_scene::scene::Sky::Cubemap(_)) {
+        warn!("sky: cube-map skies are not drawn by bevy_pelt (the background colour is)");
+    }
     let eye = Vec3::from(c.position);
     let camera = s
         .commands
