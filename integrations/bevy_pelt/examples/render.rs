@@ -59,98 +59,114 @@ enum Shells {
     Fixed(u32),
 }
 
+fn parse_size(v: &str) -> Result<UVec2, String> {
+    let (w, h) = v
+        .split_once('x')
+        .ok_or(format!("--size: {v}: expected WxH"))?;
+    match (w.parse::<u32>(), h.parse::<u32>()) {
+        (Ok(w), Ok(h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => {
+            Ok(UVec2::new(w, h))
+        }
+        _ => Err(format!("--size: {v}: width and height must be 1 to 8192")),
+    }
+}
+
+fn parse_shells(v: &str) -> Result<Shells, String> {
+    match v {
+        "auto" => Ok(Shells::Auto),
+        n => match n.parse::<u32>() {
+            Ok(n) if (1..=1024).contains(&n) => Ok(Shells::Fixed(n)),
+            _ => Err(format!("--shells: {v}: expected 1 to 1024 or auto")),
+        },
+    }
+}
+
+fn parse_control(v: &str) -> Result<Control, String> {
+    Ok(match v {
+        "opaque-shells" => Control::Fur(FurControl::OpaqueShells),
+        "no-fur-shadow" => Control::Fur(FurControl::NoFurShadow),
+        "no-texture" => Control::Fur(FurControl::NoTexture),
+        "no-wind" => Control::NoWind,
+        "no-shadows" => Control::NoShadows,
+        c => {
+            return Err(format!(
+                "--control: {c}: known: opaque-shells, no-fur-shadow, no-texture, no-wind, no-shadows"
+            ));
+        }
+    })
+}
+
+fn parse_switch(flag: &str, v: &str) -> Result<bool, String> {
+    match v {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("{flag}: {v}: expected on or off")),
+    }
+}
+
+/// A number of `flag` that `ok` accepts, or an error saying what it expects.
+fn parse_number<T: std::str::FromStr>(
+    flag: &str,
+    v: &str,
+    ok: impl Fn(&T) -> bool,
+    expected: &str,
+) -> Result<T, String> {
+    v.parse::<T>()
+        .ok()
+        .filter(|x| ok(x))
+        .ok_or(format!("{flag}: {v}: expected {expected}"))
+}
+
 fn parse() -> Result<Args, String> {
     let mut it = std::env::args().skip(1);
-    let (mut scene, mut out, mut size, mut shells, mut animation, mut time) =
-        (None, None, None, None, None, None);
-    let (mut control, mut report, mut bench, mut fins) = (None, false, None, None);
-    while let Some(a) = it.next() {
+    let mut a = Args {
+        scene: PathBuf::new(),
+        out: PathBuf::new(),
+        size: None,
+        shells: None,
+        animation: None,
+        time: 0.0,
+        control: None,
+        report: false,
+        bench: None,
+        fins: None,
+    };
+    let (mut scene, mut out) = (None, None);
+    while let Some(flag) = it.next() {
         let mut value = |name: &str| it.next().ok_or(format!("{name} needs a value\n{USAGE}"));
-        match a.as_str() {
+        match flag.as_str() {
             "-o" | "--output" => out = Some(PathBuf::from(value("-o")?)),
-            "--size" => {
-                let v = value("--size")?;
-                let (w, h) = v
-                    .split_once('x')
-                    .ok_or(format!("--size: {v}: expected WxH"))?;
-                let (w, h) = (w.parse::<u32>(), h.parse::<u32>());
-                match (w, h) {
-                    (Ok(w), Ok(h)) if (1..=8192).contains(&w) && (1..=8192).contains(&h) => {
-                        size = Some(UVec2::new(w, h))
-                    }
-                    _ => return Err(format!("--size: {v}: width and height must be 1 to 8192")),
-                }
-            }
-            "--shells" => {
-                let v = value("--shells")?;
-                shells = Some(match v.as_str() {
-                    "auto" => Shells::Auto,
-                    n => match n.parse::<u32>() {
-                        Ok(n) if (1..=1024).contains(&n) => Shells::Fixed(n),
-                        _ => return Err(format!("--shells: {v}: expected 1 to 1024 or auto")),
-                    },
-                });
-            }
-            "--animation" => animation = Some(value("--animation")?),
-            // The tests' negative controls.
-            "--control" => {
-                control = Some(match value("--control")?.as_str() {
-                    "opaque-shells" => Control::Fur(FurControl::OpaqueShells),
-                    "no-fur-shadow" => Control::Fur(FurControl::NoFurShadow),
-                    "no-texture" => Control::Fur(FurControl::NoTexture),
-                    "no-wind" => Control::NoWind,
-                    "no-shadows" => Control::NoShadows,
-                    c => {
-                        return Err(format!(
-                            "--control: {c}: known: opaque-shells, no-fur-shadow, no-texture, no-wind, no-shadows"
-                        ));
-                    }
-                })
-            }
-            "--report" => report = true,
-            "--fins" => {
-                fins = Some(match value("--fins")?.as_str() {
-                    "on" => true,
-                    "off" => false,
-                    v => return Err(format!("--fins: {v}: expected on or off")),
-                })
-            }
-            "--bench" => {
-                let v = value("--bench")?;
-                bench = Some(
-                    v.parse::<u32>()
-                        .ok()
-                        .filter(|n| (1..=10_000).contains(n))
-                        .ok_or(format!("--bench: {v}: expected 1 to 10000 frames"))?,
-                );
-            }
+            "--size" => a.size = Some(parse_size(&value("--size")?)?),
+            "--shells" => a.shells = Some(parse_shells(&value("--shells")?)?),
+            "--animation" => a.animation = Some(value("--animation")?),
             "--time" => {
-                let v = value("--time")?;
-                time = Some(
-                    v.parse::<f32>()
-                        .ok()
-                        .filter(|t| t.is_finite() && *t >= 0.0)
-                        .ok_or(format!("--time: {v}: expected seconds, at least 0"))?,
-                );
+                a.time = parse_number(
+                    "--time",
+                    &value("--time")?,
+                    |t: &f32| t.is_finite() && *t >= 0.0,
+                    "seconds, at least 0",
+                )?
             }
-            "-h" | "--help" => return Err(USAGE.into()),
+            "--fins" => a.fins = Some(parse_switch("--fins", &value("--fins")?)?),
+            "--report" => a.report = true,
+            "--bench" => {
+                a.bench = Some(parse_number(
+                    "--bench",
+                    &value("--bench")?,
+                    |n: &u32| (1..=10_000).contains(n),
+                    "1 to 10000 frames",
+                )?)
+            }
+            // The tests' negative controls.
+            "--control" => a.control = Some(parse_control(&value("--control")?)?),
             s if s.starts_with('-') => return Err(format!("unknown flag {s}\n{USAGE}")),
             s if scene.is_none() => scene = Some(PathBuf::from(s)),
             s => return Err(format!("unexpected argument {s}\n{USAGE}")),
         }
     }
-    Ok(Args {
-        scene: scene.ok_or(USAGE)?,
-        out: out.ok_or(format!("-o OUT.png is required\n{USAGE}"))?,
-        size,
-        shells,
-        animation,
-        time: time.unwrap_or(0.0),
-        control,
-        report,
-        bench,
-        fins,
-    })
+    a.scene = scene.ok_or(USAGE)?;
+    a.out = out.ok_or(format!("-o OUT.png is required\n{USAGE}"))?;
+    Ok(a)
 }
 
 /// What the app reports back after it stops (`App::run` takes the app's world with it).
@@ -171,6 +187,10 @@ struct Capture {
 }
 
 fn main() -> ExitCode {
+    if std::env::args().skip(1).any(|a| a == "-h" || a == "--help") {
+        println!("{USAGE}");
+        return ExitCode::SUCCESS;
+    }
     match run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -180,8 +200,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run() -> Result<(), String> {
-    let args = parse()?;
+/// The scene file as the flags change it (a control's edits, `--shells auto` releasing the
+/// objects' counts), its assets checked.
+fn load(args: &Args) -> Result<pelt_scene::scene::Scene, String> {
     let mut file = pelt_scene::scene::Scene::load(&args.scene).map_err(|e| e.to_string())?;
     match args.control {
         Some(Control::NoWind) => file.wind = None,
@@ -196,6 +217,12 @@ fn run() -> Result<(), String> {
         }
     }
     scene::check_assets(&file).map_err(|e| format!("{}: {e}", args.scene.display()))?;
+    Ok(file)
+}
+
+fn run() -> Result<(), String> {
+    let args = parse()?;
+    let file = load(&args)?;
     let size = args
         .size
         .unwrap_or(UVec2::new(file.output.width, file.output.height));

@@ -63,7 +63,6 @@ fn parse() -> Result<Args, String> {
                         .map_err(|_| format!("--frames: {v}: expected a count"))?,
                 );
             }
-            "-h" | "--help" => return Err(USAGE.into()),
             f if f.starts_with('-') => return Err(format!("unknown flag {f}\n{USAGE}")),
             p if path.is_none() => path = Some(PathBuf::from(p)),
             p => return Err(format!("unexpected argument {p}\n{USAGE}")),
@@ -86,6 +85,10 @@ fn scene_of(path: &Path) -> Result<pelt_scene::scene::Scene, String> {
 }
 
 fn main() -> ExitCode {
+    if std::env::args().skip(1).any(|a| a == "-h" || a == "--help") {
+        println!("{USAGE}");
+        return ExitCode::SUCCESS;
+    }
     match run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

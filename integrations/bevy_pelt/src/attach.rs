@@ -183,6 +183,39 @@ struct Primitive<'a> {
     object: PeltObject,
 }
 
+/// The scene file's object at or above `entity` (tint and overrides), or an untinted one.
+fn scene_object(
+    entity: Entity,
+    parents: &Query<&ChildOf>,
+    objects: &Query<&PeltObject>,
+) -> PeltObject {
+    std::iter::once(entity)
+        .chain(parents.iter_ancestors(entity))
+        .find_map(|e| objects.get(e).ok())
+        .copied()
+        .unwrap_or(PeltObject {
+            tint: Vec3::ONE,
+            fur: true,
+            shells: None,
+            length: None,
+            fins: None,
+        })
+}
+
+/// `source` as the base mesh draws it (opaque, both sides) or as the shells do (blended,
+/// front faces).
+fn pass_material(source: &StandardMaterial, shells: bool) -> StandardMaterial {
+    let mut m = source.clone();
+    m.alpha_mode = if shells {
+        AlphaMode::Blend
+    } else {
+        AlphaMode::Opaque
+    };
+    m.cull_mode = shells.then_some(Face::Back);
+    m.double_sided = !shells;
+    m
+}
+
 /// Draws the fur of every tagged entity whose mesh, material and fur have loaded.
 pub(crate) fn attach_fur(
     mut commands: Commands,
@@ -208,18 +241,7 @@ pub(crate) fn attach_fur(
     objects: Query<&PeltObject>,
 ) {
     for (entity, fur, mesh3d, material3d, skinned) in &found {
-        // The scene file's object above it, if any (tint and overrides).
-        let object = std::iter::once(entity)
-            .chain(parents.iter_ancestors(entity))
-            .find_map(|e| objects.get(e).ok())
-            .copied()
-            .unwrap_or(PeltObject {
-                tint: Vec3::ONE,
-                fur: true,
-                shells: None,
-                length: None,
-                fins: None,
-            });
+        let object = scene_object(entity, &parents, &objects);
         if !object.fur {
             continue;
         }
@@ -303,15 +325,8 @@ fn attach(
             density_hi: hi.clone(),
         },
     };
-    let mut base = p.source.clone();
-    base.alpha_mode = AlphaMode::Opaque;
-    base.cull_mode = None;
-    base.double_sided = true;
-    let base_handle = s.materials.add(make(0, &base));
-    let mut layer = p.source.clone();
-    layer.alpha_mode = AlphaMode::Blend;
-    layer.cull_mode = Some(Face::Back);
-    layer.double_sided = false;
+    let base_handle = s.materials.add(make(0, &pass_material(p.source, false)));
+    let mut layer = pass_material(p.source, true);
     let mut shells = Vec::new();
     for i in 1..=max {
         layer.depth_bias = i as f32 * SHELL_ORDER_BIAS;

@@ -229,34 +229,10 @@ pub fn fin_mesh(fur: &Mesh, d: &PeltFurData) -> Option<Mesh> {
         out.indices
             .extend([first, first + 2, first + 3, first, first + 3, first + 1]);
     }
-    let mut m = Mesh::new(
-        PrimitiveTopology::TriangleList,
-        RenderAssetUsages::RENDER_WORLD,
-    );
-    m.insert_attribute(Mesh::ATTRIBUTE_POSITION, out.position);
-    m.insert_attribute(Mesh::ATTRIBUTE_NORMAL, out.normal);
-    m.insert_attribute(Mesh::ATTRIBUTE_UV_0, out.uv);
-    m.insert_attribute(Mesh::ATTRIBUTE_UV_1, out.base_uv);
-    m.insert_attribute(ATTRIBUTE_FIN_COMB, out.comb);
-    m.insert_attribute(ATTRIBUTE_FIN_OTHER, out.other);
-    m.insert_attribute(ATTRIBUTE_FIN_OTHER_NORMAL, out.other_normal);
-    m.insert_attribute(ATTRIBUTE_FIN_OTHER_COMB, out.other_comb);
-    m.insert_attribute(ATTRIBUTE_FIN_FACE0, out.face0);
-    m.insert_attribute(ATTRIBUTE_FIN_FACE1, out.face1);
-    if let (Some(VertexAttributeValues::Uint16x4(j)), Some(w)) = joints {
-        m.insert_attribute(
-            Mesh::ATTRIBUTE_JOINT_INDEX,
-            VertexAttributeValues::Uint16x4(out.vertex.iter().map(|&k| j[k]).collect()),
-        );
-        m.insert_attribute(
-            Mesh::ATTRIBUTE_JOINT_WEIGHT,
-            out.vertex.iter().map(|&k| w[k]).collect::<Vec<_>>(),
-        );
-    }
-    m.insert_indices(Indices::U32(out.indices));
-    Some(m)
+    Some(out.into_mesh(joints))
 }
 
+/// The fin quads' vertex arrays, and the fur mesh vertex each one copies its skin from.
 #[derive(Default)]
 struct FinArrays {
     position: Vec<[f32; 3]>,
@@ -271,4 +247,37 @@ struct FinArrays {
     face1: Vec<[f32; 3]>,
     vertex: Vec<usize>,
     indices: Vec<u32>,
+}
+
+impl FinArrays {
+    /// The fin mesh, with each vertex's end's joints and weights where `joints` has them.
+    fn into_mesh(self, joints: (Option<&VertexAttributeValues>, Option<&Vec<[f32; 4]>>)) -> Mesh {
+        let mut m = Mesh::new(
+            PrimitiveTopology::TriangleList,
+            RenderAssetUsages::RENDER_WORLD,
+        );
+        if let (Some(VertexAttributeValues::Uint16x4(j)), Some(w)) = joints {
+            let indices = self.vertex.iter().map(|&k| j[k]).collect();
+            m.insert_attribute(
+                Mesh::ATTRIBUTE_JOINT_INDEX,
+                VertexAttributeValues::Uint16x4(indices),
+            );
+            m.insert_attribute(
+                Mesh::ATTRIBUTE_JOINT_WEIGHT,
+                self.vertex.iter().map(|&k| w[k]).collect::<Vec<_>>(),
+            );
+        }
+        m.insert_attribute(Mesh::ATTRIBUTE_POSITION, self.position);
+        m.insert_attribute(Mesh::ATTRIBUTE_NORMAL, self.normal);
+        m.insert_attribute(Mesh::ATTRIBUTE_UV_0, self.uv);
+        m.insert_attribute(Mesh::ATTRIBUTE_UV_1, self.base_uv);
+        m.insert_attribute(ATTRIBUTE_FIN_COMB, self.comb);
+        m.insert_attribute(ATTRIBUTE_FIN_OTHER, self.other);
+        m.insert_attribute(ATTRIBUTE_FIN_OTHER_NORMAL, self.other_normal);
+        m.insert_attribute(ATTRIBUTE_FIN_OTHER_COMB, self.other_comb);
+        m.insert_attribute(ATTRIBUTE_FIN_FACE0, self.face0);
+        m.insert_attribute(ATTRIBUTE_FIN_FACE1, self.face1);
+        m.insert_indices(Indices::U32(self.indices));
+        m
+    }
 }

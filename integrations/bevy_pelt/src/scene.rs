@@ -120,11 +120,39 @@ pub fn spawn(
         options: options.clone(),
         ..default()
     };
+    out.camera = Some(spawn_camera(s, scene, size, target));
     let c = &scene.camera;
-    let procedural = matches!(scene.sky, pelt_scene::scene::Sky::Procedural);
-    if matches!(scene.sky, pelt_scene::scene::Sky::Cubemap(_)) {
-        warn!("sky: cube-map skies are not drawn by bevy_pelt (the background colour is)");
+    let shadow_size = scene.shadow_maps.size;
+    for (i, l) in scene.lights.iter().enumerate() {
+        spawn_light(s.commands, l, i, Vec3::from(c.target), shadow_size);
     }
+    s.commands.insert_resource(PointLightShadowMap {
+        size: shadow_size as usize,
+    });
+    s.commands.insert_resource(DirectionalLightShadowMap {
+        size: shadow_size as usize,
+    });
+    let wind = scene.wind.map_or_else(FurWind::default, |w| FurWind {
+        direction: Vec3::from(w.direction.to_array()),
+        strength: w.strength,
+        gust_hz: w.gust_hz,
+        turbulence: w.turbulence,
+        time: None,
+    });
+    s.commands.insert_resource(FurWind {
+        time: Some(options.time),
+        ..wind
+    });
+    for (i, o) in scene.objects.iter().enumerate() {
+        spawn_object(s, &mut out, i, o);
+    }
+    out
+}
+
+/// The scene's camera as pelt's (no tonemapping, exposure 1, no MSAA, its shadow filter and
+/// ambient), and its sky.
+fn spawn_camera(s: &mut Spawner, scene: &Scene, size: UVec2, target: RenderTarget) -> Entity {
+    let c = &scene.camera;
     let eye = Vec3::from(c.position);
     let camera = s
         .commands
@@ -163,42 +191,23 @@ pub fn spawn(
             },
         ))
         .id();
-    out.camera = Some(camera);
-    if procedural {
-        let sphere = s.meshes.add(Sphere::new(c.far * 0.9).mesh().uv(64, 32));
-        s.commands.spawn((
-            Mesh3d(sphere),
-            MeshMaterial3d(s.skies.add(SkyMaterial {})),
-            Transform::from_translation(eye),
-            NotShadowCaster,
-            NotShadowReceiver,
-        ));
+    match scene.sky {
+        pelt_scene::scene::Sky::Procedural => {
+            let sphere = s.meshes.add(Sphere::new(c.far * 0.9).mesh().uv(64, 32));
+            s.commands.spawn((
+                Mesh3d(sphere),
+                MeshMaterial3d(s.skies.add(SkyMaterial {})),
+                Transform::from_translation(eye),
+                NotShadowCaster,
+                NotShadowReceiver,
+            ));
+        }
+        pelt_scene::scene::Sky::Cubemap(_) => {
+            warn!("sky: cube-map skies are not drawn by bevy_pelt (the background colour is)");
+        }
+        pelt_scene::scene::Sky::None => {}
     }
-    let shadow_size = scene.shadow_maps.size;
-    for (i, l) in scene.lights.iter().enumerate() {
-        spawn_light(s.commands, l, i, Vec3::from(c.target), shadow_size);
-    }
-    s.commands.insert_resource(PointLightShadowMap {
-        size: scene.shadow_maps.size as usize,
-    });
-    s.commands.insert_resource(DirectionalLightShadowMap {
-        size: scene.shadow_maps.size as usize,
-    });
-    let wind = scene.wind.map_or_else(FurWind::default, |w| FurWind {
-        direction: Vec3::from(w.direction.to_array()),
-        strength: w.strength,
-        gust_hz: w.gust_hz,
-        turbulence: w.turbulence,
-        time: Some(options.time),
-    });
-    s.commands.insert_resource(FurWind {
-        time: Some(options.time),
-        ..wind
-    });
-    for (i, o) in scene.objects.iter().enumerate() {
-        spawn_object(s, &mut out, i, o);
-    }
-    out
+    camera
 }
 
 /// One light; a point light's depth bias is a texel of its shadow cube at the camera's target
