@@ -254,9 +254,29 @@ fn baked_textures(doc: &Document, m: &FurManifest, place: &str) -> Result<Textur
             texels,
         });
     }
+    let fin = fin_levels(doc, m, place)?;
+    if heights.is_empty() || fin.is_empty() {
+        return Err(doc.invalid(
+            format!("{place}.textures"),
+            "the heightfield and the fin texture need at least one level",
+        ));
+    }
+    Ok((heights, fin))
+}
+
+/// The fin texture's levels of manifest `m` (at `place`), decoded from the document's PNGs:
+/// 8-bit RGBA, at least one level.
+pub fn fin_levels(
+    doc: &Document,
+    m: &FurManifest,
+    place: &str,
+) -> Result<Vec<Level<[u8; 4]>>, IoError> {
     let mut fin = Vec::new();
     for l in &m.textures.fin.levels {
-        let (color, depth, buf) = decode_png(doc, image_of(l, "fin")?, (l.width, l.height), place)?;
+        let image = l
+            .image
+            .ok_or_else(|| doc.invalid(format!("{place}.textures.fin"), "a level has no image"))?;
+        let (color, depth, buf) = decode_png(doc, image, (l.width, l.height), place)?;
         if (color, depth) != (png::ColorType::Rgba, png::BitDepth::Eight) {
             return Err(doc.invalid(
                 format!("{place}.textures.fin"),
@@ -272,13 +292,13 @@ fn baked_textures(doc: &Document, m: &FurManifest, place: &str) -> Result<Textur
                 .collect(),
         });
     }
-    if heights.is_empty() || fin.is_empty() {
+    if fin.is_empty() {
         return Err(doc.invalid(
             format!("{place}.textures"),
             "the heightfield and the fin texture need at least one level",
         ));
     }
-    Ok((heights, fin))
+    Ok(fin)
 }
 
 /// The fur manifest of the primitive's material, if it has one.

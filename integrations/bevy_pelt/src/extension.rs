@@ -147,19 +147,23 @@ impl FurExtensionHandler {
         n: usize,
     ) -> Result<Option<PeltFurData>, String> {
         let e = |e: pelt_io::IoError| e.to_string();
-        if doc.fur_primitive(r).map_err(e)?.is_none() {
+        let Some((ext, _)) = doc.fur_primitive(r).map_err(e)? else {
             return Ok(None);
-        }
+        };
+        let tangents = ext
+            .get("tangents")
+            .and_then(|t| t.as_str())
+            .unwrap_or("mikktspace")
+            .to_owned();
         let Some(comb) = pelt_io::contract::read_comb(doc, r, n).map_err(e)? else {
             return Ok(None);
         };
         let place = doc.place(r);
-        let Some(found) = pelt_scene::fur::manifest(doc, r).map_err(e)? else {
+        let Some((m, mplace)) = pelt_scene::fur::manifest(doc, r).map_err(e)? else {
             return Err(format!(
                 "{place}: a fur primitive whose material has no {EXTENSION} manifest"
             ));
         };
-        let m = &found.0;
         let material = doc.primitive_material(r).map_err(e)?.unwrap_or(usize::MAX);
         let density = self
             .densities
@@ -169,27 +173,16 @@ impl FurExtensionHandler {
         let fin_texture = match self.fin_textures.get(&material) {
             Some(t) => t.clone(),
             None => {
-                let (_, (_, fin), _) =
-                    pelt_scene::fur::look_and_textures(doc, Some(&found)).map_err(e)?;
-                let t = Arc::new(fin);
+                let t = Arc::new(pelt_scene::fur::fin_levels(doc, &m, &mplace).map_err(e)?);
                 self.fin_textures.insert(material, t.clone());
                 t
             }
         };
         let fins = fin_edges(doc, r).map_err(e)?;
-        let tangents = doc
-            .fur_primitive(r)
-            .map_err(e)?
-            .and_then(|(x, _)| {
-                x.get("tangents")
-                    .and_then(|t| t.as_str())
-                    .map(str::to_owned)
-            })
-            .unwrap_or_else(|| "mikktspace".into());
         Ok(Some(PeltFurData {
             place,
             comb: comb.into_iter().map(|c| c.to_array()).collect(),
-            look: pelt_scene::fur::look_of(m),
+            look: pelt_scene::fur::look_of(&m),
             density,
             tangents,
             fins,

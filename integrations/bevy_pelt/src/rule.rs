@@ -38,34 +38,23 @@ fn fur_pixels(
     let reach = length;
     match projection {
         Projection::Perspective(p) => {
-            let to_view = eye.to_matrix().inverse() * model;
-            let (lo, hi) = (
-                bounds.0 - Vec3::splat(length),
-                bounds.1 + Vec3::splat(length),
-            );
-            let nearest = (0..8)
-                .map(|k| {
-                    let c = Vec3::new(
-                        if k & 1 == 0 { lo.x } else { hi.x },
-                        if k & 2 == 0 { lo.y } else { hi.y },
-                        if k & 4 == 0 { lo.z } else { hi.z },
-                    );
-                    to_view.transform_point3(c).z
-                })
-                .fold(f32::NEG_INFINITY, f32::max);
             let tan_y = (p.fov * 0.5).tan();
             let view = pelt_scene::view::View {
-                view: Glam30Mat4::IDENTITY,
+                view: to30(eye.to_matrix().inverse()),
                 proj: Glam30Mat4::IDENTITY,
                 tan_half: [tan_y * p.aspect_ratio, tan_y],
                 near: p.near,
                 far: p.far,
             };
+            // The box grown by the fur's length, its nearest view depth (as pelt's planner).
+            let grow = |v: Vec3| glam30::Vec3::from_array(v.to_array());
+            let (lo, hi) = (grow(bounds.0 - length), grow(bounds.1 + length));
+            let (_, vhi) = view.view_box(to30(model), lo, hi);
             Some(pelt_scene::footprint::fur_pixels(
                 &view,
                 (size.x, size.y),
                 to30(model),
-                -nearest,
+                -vhi.z,
                 reach,
             ))
         }

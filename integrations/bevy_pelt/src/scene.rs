@@ -343,42 +343,36 @@ pub struct PeltObject {
     pub fins: Option<bool>,
 }
 
-/// Marks a mesh entity whose material the scene already replaced.
-#[derive(Component)]
-pub struct SurfaceDone;
-
 /// Gives every mesh of a scene object without fur pelt's surface (the object's tint
 /// multiplied in), and takes the fur off objects whose material is not fur.
 pub fn surfaces(
     mut commands: Commands,
-    roots: Query<(Entity, &PeltObject)>,
-    children: Query<&Children>,
-    meshes: Query<(Option<&MeshMaterial3d<StandardMaterial>>, Has<PeltFur>), Without<SurfaceDone>>,
+    meshes: Query<(Entity, &MeshMaterial3d<StandardMaterial>, Has<PeltFur>)>,
+    parents: Query<&ChildOf>,
+    objects: Query<&PeltObject>,
     standard: Res<Assets<StandardMaterial>>,
     mut surfaces: ResMut<Assets<PeltSurfaceMaterial>>,
 ) {
-    for (root, object) in &roots {
-        for e in children.iter_descendants(root) {
-            let Ok((material, has_fur)) = meshes.get(e) else {
-                continue;
-            };
-            if has_fur && object.fur {
-                continue;
-            }
-            let Some(material) = material else { continue };
-            let Some(m) = standard.get(&material.0) else {
-                continue;
-            };
-            let mut m = m.clone();
-            m.base_color = (m.base_color.to_linear().to_vec3() * object.tint)
-                .extend(m.base_color.alpha())
-                .into_linear_color();
-            commands
-                .entity(e)
-                .remove::<MeshMaterial3d<StandardMaterial>>()
-                .remove::<PeltFur>()
-                .insert((MeshMaterial3d(surfaces.add(surface(m))), SurfaceDone));
+    // Only meshes that still have Bevy's material: each is replaced once.
+    for (e, material, has_fur) in &meshes {
+        let Some(object) = parents.iter_ancestors(e).find_map(|a| objects.get(a).ok()) else {
+            continue;
+        };
+        if has_fur && object.fur {
+            continue;
         }
+        let Some(m) = standard.get(&material.0) else {
+            continue;
+        };
+        let mut m = m.clone();
+        m.base_color = (m.base_color.to_linear().to_vec3() * object.tint)
+            .extend(m.base_color.alpha())
+            .into_linear_color();
+        commands
+            .entity(e)
+            .remove::<MeshMaterial3d<StandardMaterial>>()
+            .remove::<PeltFur>()
+            .insert(MeshMaterial3d(surfaces.add(surface(m))));
     }
 }
 
