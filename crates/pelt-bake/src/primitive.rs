@@ -29,7 +29,7 @@ use serde::Serialize;
 use crate::comb;
 use crate::frame::Frame;
 use crate::options::{BakeOptions, CombSource, TangentGenerator, TangentMode, TopologyMode};
-use crate::vertex_pass::{self, Writes};
+use crate::vertex_pass::{self, CHUNK, Writes};
 
 /// Where the output tangents came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -251,9 +251,6 @@ impl<T: Copy> Attr<'_, T> {
         matches!(self, Attr::Corner(_))
     }
 }
-
-/// Output vertices handled by one parallel task.
-pub(crate) const CHUNK: usize = 4096;
 
 /// Bakes one primitive. The mesh must have passed [`Mesh::validate`] and carry COLOR_0 unless
 /// the comb is generated.

@@ -20,6 +20,10 @@ pub(crate) struct Writes {
     pub tangents: bool,
 }
 
+/// Output vertices handled by one parallel task (the vertex pass's and the bake's other
+/// per-vertex loops).
+pub(crate) const CHUNK: usize = 4096;
+
 /// Flag bits per vertex.
 const DEGENERATE: u8 = 1;
 const GRAY: u8 = 2;
@@ -64,7 +68,7 @@ pub(crate) fn run(
     write: Writes,
 ) -> VertexOut {
     // Tasks sized like the topology's, so a small mesh still spreads over every core.
-    let chunk = pelt_geom::task_len(n, crate::primitive::CHUNK);
+    let chunk = pelt_geom::task_len(n, CHUNK);
     let tasks = n.div_ceil(chunk);
     let mut comb = vec![[0.0f32; 4]; n];
     let mut flags = vec![0u8; n];
@@ -106,7 +110,7 @@ pub(crate) fn run(
 /// `src[map[o]]` for every output vertex `o`.
 fn gather<T: Copy + Send + Sync>(src: &[T], map: &[u32]) -> Vec<T> {
     map.par_iter()
-        .with_min_len(crate::primitive::CHUNK)
+        .with_min_len(CHUNK)
         .map(|&v| src[v as usize])
         .collect()
 }
@@ -128,7 +132,7 @@ impl VertexOut {
         let count = |f: u8, bit: u8| usize::from(f & bit != 0);
         self.flags
             .par_iter()
-            .with_min_len(crate::primitive::CHUNK)
+            .with_min_len(CHUNK)
             .fold(Counts::default, |c, &f| Counts {
                 degenerate_tangents: c.degenerate_tangents + count(f, DEGENERATE),
                 gray: c.gray + count(f, GRAY),

@@ -13,7 +13,8 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::smooth::{Welded, corner_angle, face_normals};
+use crate::normals::face_normals;
+use crate::smooth::{Welded, corner_angle};
 
 /// Below this length a projected direction has no usable direction.
 const VANISHING: f64 = 1e-6;

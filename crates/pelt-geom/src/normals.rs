@@ -7,6 +7,7 @@
 //! subnormal ones, give the same direction as coordinates near 1.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// A normal whose length is off by more than this is counted as non-unit.
 pub const UNIT_TOLERANCE: f64 = 1e-3;
@@ -46,6 +47,20 @@ pub fn face_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Option<DVec3> {
     (len_sq > 0.0 && len_sq.is_finite()).then(|| c / len_sq.sqrt())
 }
 
+/// Unit normal (f64) of every face, `None` where it has no area.
+pub fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Option<DVec3>> {
+    indices
+        .par_chunks_exact(3)
+        .map(|t| {
+            face_normal(
+                positions[t[0] as usize],
+                positions[t[1] as usize],
+                positions[t[2] as usize],
+            )
+        })
+        .collect()
+}
+
 /// Unit length in f64, or `None` when the vector is too short to have a direction.
 pub fn normalize_f64(v: Vec3) -> Option<DVec3> {
     let d = v.as_dvec3();
@@ -68,7 +83,7 @@ pub fn corner_normals(
         generated_flat: normals.is_none(),
         ..NormalStats::default()
     };
-    let faces: Vec<Option<DVec3>> = crate::smooth::face_normals(positions, indices);
+    let faces: Vec<Option<DVec3>> = face_normals(positions, indices);
     stats.degenerate_triangles = faces.iter().filter(|f| f.is_none()).count();
 
     // Per vertex: its normalized stored normal, or None when it needs a flat one.

@@ -10,7 +10,9 @@
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::normals::{DEGENERATE_FALLBACK, face_normal};
+// `face_normals` lives with the other normals; its old path here keeps working.
+pub use crate::normals::face_normals;
+use crate::normals::DEGENERATE_FALLBACK;
 use crate::topology::stars;
 use crate::weld::weld_positions;
 
@@ -44,20 +46,6 @@ impl Welded {
     pub fn star(&self, p: u32) -> &[u32] {
         &self.star[self.star_start[p as usize] as usize..self.star_start[p as usize + 1] as usize]
     }
-}
-
-/// Unit normal (f64) of every face, `None` where it has no area.
-pub fn face_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Option<DVec3>> {
-    indices
-        .par_chunks_exact(3)
-        .map(|t| {
-            face_normal(
-                positions[t[0] as usize],
-                positions[t[1] as usize],
-                positions[t[2] as usize],
-            )
-        })
-        .collect()
 }
 
 /// The angle of the triangle at corner `c` (radians; 0 for a degenerate triangle).

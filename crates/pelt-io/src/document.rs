@@ -20,6 +20,20 @@ const CHUNK_BIN: u32 = 0x004E_4942;
 /// Geometry extensions whose data pelt cannot decode.
 const UNSUPPORTED_EXTENSIONS: &[&str] = &["KHR_draco_mesh_compression"];
 
+/// The meshopt compression extensions (decoded by [`crate::meshopt`]).
+pub const MESHOPT_EXTENSIONS: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
+
+/// Whether buffer JSON `b` is a meshopt fallback buffer (`extensions.*.fallback: true`).
+pub(crate) fn is_fallback(b: &Value) -> bool {
+    MESHOPT_EXTENSIONS.iter().any(|e| {
+        b.get("extensions")
+            .and_then(|x| x.get(e))
+            .and_then(|x| x.get("fallback"))
+            .and_then(Value::as_bool)
+            == Some(true)
+    })
+}
+
 /// One primitive: `meshes[mesh].primitives[primitive]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct PrimitiveRef {
@@ -202,7 +216,7 @@ pub struct Document {
     /// BufferViews an edit stopped using (fin records replaced by a new bake).
     pub(crate) detached_views: Vec<usize>,
     /// Each bufferView's compressed stream ([`Document::pack_meshopt`]), for the writer.
-    pub(crate) packed: Option<Vec<Option<crate::pack::Packed>>>,
+    pub(crate) packed: Option<Vec<Option<crate::pack_codec::Packed>>>,
     /// What loading read past or repaired (an OBJ's missing `.mtl`, text that was not UTF-8),
     /// each naming the file and the place; a bake reports them.
     pub warnings: Vec<String>,
@@ -433,7 +447,7 @@ impl Document {
                 (
                     b.get("uri").and_then(Value::as_str).map(str::to_owned),
                     b.get("byteLength").and_then(Value::as_u64),
-                    crate::meshopt::is_fallback(b),
+                    is_fallback(b),
                 )
             })
             .collect();

@@ -144,7 +144,7 @@ impl Document {
         match form {
             Form::Extension => for_each_fin_accessor(&mut fins, &mut |v| found.extend(v.as_u64())),
             Form::Legacy => {
-                crate::topology::for_each_fin_view(&mut fins, &mut |v| found.extend(v.as_u64()));
+                for_each_fin_view(&mut fins, &mut |v| found.extend(v.as_u64()));
             }
         }
         let found = found.into_iter().map(|i| i as usize);
@@ -415,6 +415,21 @@ pub fn for_each_material_texture(fur: &mut Value, f: &mut dyn FnMut(&mut Value))
         }
         if let Some(m) = t.get_mut("mipLevels").and_then(Value::as_array_mut) {
             m.iter_mut().for_each(&mut *f);
+        }
+    }
+}
+
+/// Every bufferView reference in a primitive's `extras.pelt.fins` (the records, or the
+/// exceptions of fins derived from the index list), visited mutably.
+pub(crate) fn for_each_fin_view(fins: &mut Value, f: &mut impl FnMut(&mut Value)) {
+    if let Some(v) = fins.get_mut("bufferView") {
+        f(v);
+    }
+    if let Some(d) = fins.get_mut("fromIndices") {
+        for part in ["added", "removed"] {
+            if let Some(v) = d.get_mut(part).and_then(|p| p.get_mut("bufferView")) {
+                f(v);
+            }
         }
     }
 }

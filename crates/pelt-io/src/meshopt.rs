@@ -14,22 +14,12 @@ use serde_json::Value;
 use crate::document::{Buffer, Document};
 use crate::error::Result;
 
-/// The extensions decoded here.
-pub const EXTENSIONS: [&str; 2] = ["EXT_meshopt_compression", "KHR_meshopt_compression"];
+// The extensions' names are the document's (it recognises their fallback buffers on
+// loading); their old path here keeps working.
+pub use crate::document::MESHOPT_EXTENSIONS as EXTENSIONS;
 
 /// Most bytes one bufferView may decode to.
 pub const MAX_DECODED: u64 = 1 << 30;
-
-/// Whether buffer JSON `b` is a meshopt fallback buffer (`extensions.*.fallback: true`).
-pub(crate) fn is_fallback(b: &Value) -> bool {
-    EXTENSIONS.iter().any(|e| {
-        b.get("extensions")
-            .and_then(|x| x.get(e))
-            .and_then(|x| x.get("fallback"))
-            .and_then(Value::as_bool)
-            == Some(true)
-    })
-}
 
 /// One compressed view's parameters.
 struct Compressed {

@@ -23,25 +23,12 @@ use serde_json::Value;
 use crate::accessor::{self, ComponentType, view_bytes};
 use crate::document::{Document, ViewData};
 use crate::error::Result;
+// The stream type is the codecs' (the document holds it); its old path here keeps working.
+pub use crate::pack_codec::Packed;
 use crate::pack_codec::{Filter, encode_triangles, encode_vertices};
 
 /// The extension compressed output uses.
 pub const EXTENSION: &str = "EXT_meshopt_compression";
-
-/// One bufferView's compressed stream and how to decode it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Packed {
-    /// `ATTRIBUTES` or `TRIANGLES`.
-    pub mode: &'static str,
-    /// The filter a reader applies after decoding.
-    pub filter: Option<Filter>,
-    /// Bytes per element.
-    pub stride: usize,
-    /// Elements.
-    pub count: usize,
-    /// The compressed bytes.
-    pub stream: Vec<u8>,
-}
 
 /// What compressing did, for the bake report.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]

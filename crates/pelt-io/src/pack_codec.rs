@@ -5,6 +5,21 @@
 
 use meshopt::ffi;
 
+/// One bufferView's compressed stream and how to decode it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Packed {
+    /// `ATTRIBUTES` or `TRIANGLES`.
+    pub mode: &'static str,
+    /// The filter a reader applies after decoding.
+    pub filter: Option<Filter>,
+    /// Bytes per element.
+    pub stride: usize,
+    /// Elements.
+    pub count: usize,
+    /// The compressed bytes.
+    pub stream: Vec<u8>,
+}
+
 /// A filter the extension defines, applied before the vertex codec.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Filter {

@@ -8,6 +8,9 @@ use std::io::Cursor;
 
 pub use gltf::texture::WrappingMode;
 
+// The decoded image is the bounded decoder's type; its lookups are below.
+pub use crate::picture_bounded::Rgba8;
+
 use crate::error::Result;
 use crate::{Document, typed};
 
@@ -15,17 +18,6 @@ use crate::{Document, typed};
 pub const MAX_SIDE: u32 = 16384;
 /// Most bytes one decode may allocate.
 pub const MAX_ALLOC: u64 = 1 << 30;
-
-/// An 8-bit RGBA image, rows top to bottom.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Rgba8 {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// 4 bytes per pixel.
-    pub pixels: Vec<u8>,
-}
 
 /// Largest width or height of an image decoded smaller than it is stored
 /// ([`decode_within`]): its memory follows the size used.

@@ -14,7 +14,16 @@
 
 use std::io::Cursor;
 
-use crate::picture::Rgba8;
+/// An 8-bit RGBA image, rows top to bottom.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Rgba8 {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// 4 bytes per pixel.
+    pub pixels: Vec<u8>,
+}
 
 /// The smallest power of two `k` with both sides divided by it (rounded up) within `max`.
 pub fn halvings(width: u32, height: u32, max: u32) -> u32 {

@@ -151,7 +151,7 @@ fn for_each_view_ref(json: &mut serde_json::Map<String, Value>, f: &mut impl FnM
                     .and_then(|e| e.get_mut("pelt"))
                     .and_then(|e| e.get_mut("fins"));
                 if let Some(fins) = fins {
-                    crate::topology::for_each_fin_view(fins, f);
+                    crate::extension::for_each_fin_view(fins, f);
                 }
             }
         }

@@ -58,21 +58,6 @@ pub fn decode_fins(bytes: &[u8]) -> Vec<FinEdge> {
         .collect()
 }
 
-/// Every bufferView reference in a primitive's `extras.pelt.fins` (the records, or the
-/// exceptions of fins derived from the index list), visited mutably.
-pub(crate) fn for_each_fin_view(fins: &mut Value, f: &mut impl FnMut(&mut Value)) {
-    if let Some(v) = fins.get_mut("bufferView") {
-        f(v);
-    }
-    if let Some(d) = fins.get_mut("fromIndices") {
-        for part in ["added", "removed"] {
-            if let Some(v) = d.get_mut(part).and_then(|p| p.get_mut("bufferView")) {
-                f(v);
-            }
-        }
-    }
-}
-
 /// What a renderer needs of one fin, decoded through the index list.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinGeometry {

@@ -16,6 +16,12 @@ use crate::material::{Material, MaterialReader, Part};
 use crate::skin::SkinBinding;
 use crate::vertex::{FurVertex, Vertex};
 
+// Items that moved below this module (the material reader's limit, the scene file's
+// built-in prefix, the skin's pose): their old paths here keep working.
+pub use crate::material::DEFAULT_MAX_TEXTURE;
+pub use crate::scene::BUILTIN;
+pub use crate::skin::PoseAt;
+
 /// Why an asset could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum AssetError {
@@ -57,10 +63,6 @@ pub struct MeshData {
     /// [`LoadOptions::max_texture`]).
     pub warnings: Vec<String>,
 }
-
-/// The largest texture side an asset is loaded with unless told otherwise: 8192, the 2D
-/// texture limit every device wgpu opens with its default limits offers.
-pub const DEFAULT_MAX_TEXTURE: u32 = 8192;
 
 /// How assets load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -123,15 +125,6 @@ pub struct ObjectAssetError {
     pub source: AssetError,
 }
 
-/// A moment of an animation: assets are loaded posed there (`pelt render --animation`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PoseAt {
-    /// The clip's name.
-    pub animation: String,
-    /// Seconds (clamped to the clip's keys).
-    pub time: f32,
-}
-
 /// Loads each distinct asset of `scene` once; returns the meshes and each object's index
 /// into them. Objects are tinted by their scene colour in the shader, not here.
 pub fn load_scene(
@@ -175,9 +168,6 @@ pub fn load_scene_with(
     }
     Ok((meshes, of))
 }
-
-/// The prefix of built-in shape names.
-pub const BUILTIN: &str = "builtin:";
 
 /// Loads `path`: a `builtin:` shape, an `.obj`, or a `.gltf`/`.glb`.
 pub fn load(path: &Path) -> Result<MeshData, AssetError> {

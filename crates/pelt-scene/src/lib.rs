@@ -18,6 +18,7 @@
 
 pub mod asset;
 pub mod budget;
+pub mod checked;
 pub mod debug;
 pub mod flags;
 pub mod footprint;

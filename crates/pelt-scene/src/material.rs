@@ -11,6 +11,10 @@ use std::sync::Arc;
 use pelt_io::picture::{self, Rgba8, Slot, WrappingMode};
 use pelt_io::{Document, IoError};
 
+/// The largest texture side an asset is loaded with unless told otherwise: 8192, the 2D
+/// texture limit every device wgpu opens with its default limits offers.
+pub const DEFAULT_MAX_TEXTURE: u32 = 8192;
+
 /// One texture of a material.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Texture {
@@ -101,7 +105,7 @@ pub struct MaterialReader {
 
 impl Default for MaterialReader {
     fn default() -> Self {
-        MaterialReader::with_max_texture(crate::asset::DEFAULT_MAX_TEXTURE)
+        MaterialReader::with_max_texture(DEFAULT_MAX_TEXTURE)
     }
 }
 

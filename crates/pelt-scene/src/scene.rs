@@ -11,10 +11,17 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3};
 
+// The checked numbers moved below this module (the wind reads them too); their old paths here
+// keep working.
+pub use crate::checked::{Ior, NonNegative, Positive, Unit};
 use crate::shading::Emitter;
 use crate::wind::Wind;
 pub use pelt_anim::spring::Spring;
 use serde::{Deserialize, Serialize};
+
+/// The prefix of built-in shape names: an object's asset named so is a built-in shape, not a
+/// file beside the scene.
+pub const BUILTIN: &str = "builtin:";
 
 /// A material.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -541,59 +548,6 @@ impl From<Material> for MaterialSpec {
         spec
     }
 }
-
-/// A checked `f32` newtype: deserializing one that fails `$ok` is an error at its place in
-/// the file, with `$what` as the message.
-macro_rules! checked_f32 {
-    ($(#[$doc:meta])* $name:ident, |$v:ident| $ok:expr, $what:literal) => {
-        $(#[$doc])*
-        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-        #[serde(try_from = "f32", into = "f32")]
-        pub struct $name(pub f32);
-
-        impl TryFrom<f32> for $name {
-            type Error = String;
-            fn try_from($v: f32) -> Result<Self, String> {
-                if $ok {
-                    Ok($name($v))
-                } else {
-                    Err(format!(concat!("must be ", $what, ", got {}"), $v))
-                }
-            }
-        }
-
-        impl From<$name> for f32 {
-            fn from(x: $name) -> f32 {
-                x.0
-            }
-        }
-    };
-}
-
-checked_f32!(
-    /// A number in (0, 1].
-    Unit,
-    |v| v > 0.0 && v <= 1.0,
-    "above 0 and at most 1"
-);
-checked_f32!(
-    /// An index of refraction in [1, 3].
-    Ior,
-    |v| (1.0..=3.0).contains(&v),
-    "from 1 to 3"
-);
-checked_f32!(
-    /// A finite number ≥ 0.
-    NonNegative,
-    |v| v.is_finite() && v >= 0.0,
-    "a finite number of at least 0"
-);
-checked_f32!(
-    /// A finite number > 0.
-    Positive,
-    |v| v.is_finite() && v > 0.0,
-    "a finite number above 0"
-);
 
 /// A placement: translation, rotation (unit quaternion x, y, z, w), scale.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -1181,7 +1135,7 @@ impl Scene {
         let mut scene = Scene::parse(path, &text)?;
         let dir = path.parent().unwrap_or(Path::new(""));
         for o in &mut scene.objects {
-            if !o.asset.to_string_lossy().starts_with(crate::asset::BUILTIN) {
+            if !o.asset.to_string_lossy().starts_with(BUILTIN) {
                 o.asset = dir.join(&o.asset);
             }
         }

@@ -11,6 +11,15 @@ use pelt_anim::posed::SkinJob;
 use pelt_anim::rig::Rig;
 use pelt_io::{Document, IoError, PrimitiveRef};
 
+/// A moment of an animation: assets are loaded posed there (`pelt render --animation`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseAt {
+    /// The clip's name.
+    pub animation: String,
+    /// Seconds (clamped to the clip's keys).
+    pub time: f32,
+}
+
 /// One skinned primitive.
 #[derive(Debug, Clone)]
 pub struct SkinRange {
@@ -40,7 +49,7 @@ pub struct SkinBinding {
     pub fins: Vec<FinSource>,
     /// The pose the CPU loaded the mesh at ([`crate::asset::skinned`]): a view prepared from
     /// the mesh stands there, and fur springs are bent for it.
-    pub loaded: Option<crate::asset::PoseAt>,
+    pub loaded: Option<PoseAt>,
 }
 
 impl PartialEq for SkinBinding {

@@ -10,7 +10,7 @@
 use glam::{IVec3, Mat3, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::scene::NonNegative;
+use crate::checked::NonNegative;
 
 /// The scene's wind.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

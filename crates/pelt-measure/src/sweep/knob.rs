@@ -1,4 +1,4 @@
-//! The quality knobs `pelt sweep` turns, one entry each in [`KNOBS`]: its name (the flag of
+//! The quality knobs `pelt sweep` turns, one entry each in [`KNOBS`](super::table::KNOBS): its name (the flag of
 //! `pelt render` or `pelt bake`), what the scene must hold for it to change anything, how a
 //! value is parsed, the values swept when none are given, how a value is applied to a
 //! setting (the scene's overrides, the mode or a re-bake) and the scene's own value. The
@@ -18,7 +18,6 @@ use pelt_scene::fur::FurData;
 use pelt_scene::knobs::Knobs;
 use pelt_scene::scene::{FurBlend, FurCoverage, FurLighting, FurSettings, Scene, Technique};
 
-pub use super::table::KNOBS;
 
 /// What a knob is measured against (declared with the knob by the feature that reads it).
 pub use pelt_preview::feature::Reference as Truth;
@@ -56,7 +55,7 @@ pub struct Own<'a> {
     pub settings: Option<FurSettings>,
 }
 
-/// A knob: one entry of [`KNOBS`].
+/// A knob: one entry of [`KNOBS`](super::table::KNOBS).
 #[derive(Debug, Clone, Copy)]
 pub struct Knob {
     /// Its name (the `pelt render` or `pelt bake` flag without dashes).
@@ -139,10 +138,12 @@ impl fmt::Display for Value {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KnobError {
     /// No such knob.
-    #[error("unknown knob {name:?} (knobs: {})", names())]
+    #[error("unknown knob {name:?} (knobs: {known})")]
     Unknown {
         /// What was given.
         name: String,
+        /// Every knob's name, comma separated.
+        known: String,
     },
     /// Not `NAME=V1,V2,...`.
     #[error("--knob {given:?}: expected NAME=V1,V2,... (for example shells=4,16,64)")]
@@ -170,23 +171,10 @@ pub enum KnobError {
     },
 }
 
-/// Every knob's name, comma separated.
-fn names() -> String {
-    KNOBS.iter().map(|k| k.name).collect::<Vec<_>>().join(", ")
-}
-
 /// A knob without a registered descriptor (the registry test rules it out).
 const UNREGISTERED: KnobDesc = KnobDesc::new("?", "?", "?", Truth::Strands);
 
 impl Knob {
-    /// The knob called `name`.
-    pub fn named(name: &str) -> Result<&'static Knob, KnobError> {
-        KNOBS
-            .iter()
-            .find(|k| k.name == name)
-            .ok_or_else(|| KnobError::Unknown { name: name.into() })
-    }
-
     /// Its descriptor, as the feature that reads it registered it
     /// (`pelt_preview::features::registry`): range, default, reference.
     pub fn desc(&self) -> &'static KnobDesc {
@@ -207,21 +195,6 @@ impl Knob {
         })
     }
 
-    /// Parses `NAME=V1,V2,...`.
-    pub fn parse_list(arg: &str) -> Result<(&'static Knob, Vec<Value>), KnobError> {
-        let (name, values) = arg
-            .split_once('=')
-            .ok_or_else(|| KnobError::Syntax { given: arg.into() })?;
-        let knob = Knob::named(name.trim())?;
-        let values = values
-            .split(',')
-            .map(|v| knob.value(v.trim()))
-            .collect::<Result<Vec<_>, _>>()?;
-        if values.is_empty() {
-            return Err(KnobError::Syntax { given: arg.into() });
-        }
-        Ok((knob, values))
-    }
 
     /// The reference the knob is measured against.
     pub fn truth(&self) -> Truth {
@@ -275,6 +248,7 @@ impl Setting {
 
 #[cfg(test)]
 mod tests {
+    use super::super::table::KNOBS;
     use super::*;
     use pelt_scene::scene::{ShadowMaps, reflection_limits as limits};
 

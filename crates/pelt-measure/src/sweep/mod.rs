@@ -27,7 +27,8 @@ use pelt_scene::scene::{Material, Scene};
 
 use crate::Flip;
 use crate::reflections::MeasureError;
-use knob::{KNOBS, Knob, KnobError, Need, Own, Setting, Truth, Value};
+use knob::{Knob, KnobError, Need, Own, Setting, Truth, Value};
+use table::KNOBS;
 
 /// What to sweep and how.
 #[derive(Debug, Clone)]
@@ -166,6 +167,24 @@ impl Sweep {
             .iter()
             .filter(|row| row.truth == Truth::Strands && row.ms <= r.ms * fraction)
             .min_by(|a, b| a.error.total_cmp(&b.error))
+    }
+}
+
+/// Marks each row on its knob's Pareto front.
+pub fn mark_pareto(rows: &mut [Row]) {
+    let on: Vec<bool> = rows
+        .iter()
+        .map(|r| {
+            !rows.iter().any(|o| {
+                o.knob == r.knob
+                    && o.ms <= r.ms
+                    && o.error <= r.error
+                    && (o.ms < r.ms || o.error < r.error)
+            })
+        })
+        .collect();
+    for (r, p) in rows.iter_mut().zip(on) {
+        r.pareto = p;
     }
 }
 
@@ -582,7 +601,7 @@ pub fn run(
         progress(Event::Row(&row, rows.len() + 1, settings));
         rows.push(row);
     }
-    report::mark_pareto(&mut rows);
+    mark_pareto(&mut rows);
     Ok(Sweep {
         rows,
         references: refs.info,

@@ -6,25 +6,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+// The Pareto marks are made with the rows (`super::run`); their old path here keeps working.
+pub use super::mark_pareto;
 use super::{Row, Sweep, SweepError};
-
-/// Marks each row on its knob's Pareto front.
-pub fn mark_pareto(rows: &mut [Row]) {
-    let on: Vec<bool> = rows
-        .iter()
-        .map(|r| {
-            !rows.iter().any(|o| {
-                o.knob == r.knob
-                    && o.ms <= r.ms
-                    && o.error <= r.error
-                    && (o.ms < r.ms || o.error < r.error)
-            })
-        })
-        .collect();
-    for (r, p) in rows.iter_mut().zip(on) {
-        r.pareto = p;
-    }
-}
 
 /// Quotes a CSV field when it needs it.
 fn field(s: &str) -> String {

@@ -12,7 +12,7 @@ use pelt_scene::scene::{
     FurBlend, FurCoverage, FurLighting, ShadowMaps, Technique, reflection_limits as limits,
 };
 
-use super::knob::{Knob, Need, Value};
+use super::knob::{Knob, KnobError, Need, Value};
 
 /// A power of two from `lo` to `hi`.
 fn pow2(s: &str, lo: u32, hi: u32) -> Option<Value> {
@@ -350,3 +350,38 @@ pub const KNOBS: &[Knob] = &[
         own: |o| Some(Value::Count(o.scene.shadow_maps.opacity_layers)),
     },
 ];
+
+/// Every knob's name, comma separated.
+fn names() -> String {
+    KNOBS.iter().map(|k| k.name).collect::<Vec<_>>().join(", ")
+}
+
+/// The lookups by name, in this table.
+impl Knob {
+    /// The knob called `name`.
+    pub fn named(name: &str) -> Result<&'static Knob, KnobError> {
+        KNOBS
+            .iter()
+            .find(|k| k.name == name)
+            .ok_or_else(|| KnobError::Unknown {
+                name: name.into(),
+                known: names(),
+            })
+    }
+
+    /// Parses `NAME=V1,V2,...`.
+    pub fn parse_list(arg: &str) -> Result<(&'static Knob, Vec<Value>), KnobError> {
+        let (name, values) = arg
+            .split_once('=')
+            .ok_or_else(|| KnobError::Syntax { given: arg.into() })?;
+        let knob = Knob::named(name.trim())?;
+        let values = values
+            .split(',')
+            .map(|v| knob.value(v.trim()))
+            .collect::<Result<Vec<_>, _>>()?;
+        if values.is_empty() {
+            return Err(KnobError::Syntax { given: arg.into() });
+        }
+        Ok((knob, values))
+    }
+}
