@@ -106,9 +106,7 @@ fn the_reader_sees_subfolders_and_nested_groups() {
     let graph = preview.graph();
     // `features/reflect/` is read: a folder below a folder, with its `mod.rs`.
     assert!(
-        graph
-            .keys()
-            .any(|m| m.starts_with("features::reflect::")),
+        graph.keys().any(|m| m.starts_with("features::reflect::")),
         "{:?}",
         graph.keys().collect::<Vec<_>>()
     );
@@ -134,7 +132,10 @@ fn a_circle_only_visible_through_a_nested_group_is_found() {
     let k = synthetic(&[
         ("lib.rs", "mod e; mod f; mod g;"),
         ("e.rs", "use crate::{g, f::{inner::{X, Y}, Z}};"),
-        ("f.rs", "mod inner { pub struct X; pub struct Y; }\nuse super::{e::{self}};"),
+        (
+            "f.rs",
+            "mod inner { pub struct X; pub struct Y; }\nuse super::{e::{self}};",
+        ),
         ("g.rs", "pub fn g() {}"),
     ]);
     assert_eq!(found(&k), vec![names(&["e", "f"])]);
@@ -156,7 +157,10 @@ fn a_circle_in_a_subfolder_is_found() {
         ("parts/mod.rs", "pub mod deep; pub mod shallow;"),
         ("parts/shallow.rs", "use self::super::deep::leaf::Leaf;"),
         ("parts/deep/mod.rs", "pub mod leaf;"),
-        ("parts/deep/leaf.rs", "pub struct Leaf; use super::super::shallow as s;"),
+        (
+            "parts/deep/leaf.rs",
+            "pub struct Leaf; use super::super::shallow as s;",
+        ),
     ]);
     assert_eq!(
         found(&k),
@@ -191,7 +195,10 @@ fn comments_strings_and_tests_name_no_module() {
     let k = synthetic(&[
         ("lib.rs", "mod a; mod b;"),
         ("a.rs", "use crate::b::X;"),
-        ("b.rs", "#[cfg(test)]\nmod tests { use crate::a::Y; }\nuse crate::a::W;"),
+        (
+            "b.rs",
+            "#[cfg(test)]\nmod tests { use crate::a::Y; }\nuse crate::a::W;",
+        ),
     ]);
     assert_eq!(found(&k), vec![names(&["a", "b"])]);
 }
@@ -201,7 +208,10 @@ fn a_root_reexport_leads_to_the_owner() {
     // `crate::Skin` is `skin::Skin` re-exported at the root: naming it imports `skin`, not the
     // root, so `skin` importing the root's own `Error` makes no circle with `fur`…
     let k = synthetic(&[
-        ("lib.rs", "mod fur; mod skin; pub use skin::Skin; pub struct Error;"),
+        (
+            "lib.rs",
+            "mod fur; mod skin; pub use skin::Skin; pub struct Error;",
+        ),
         ("fur.rs", "use crate::Skin; pub struct Fur;"),
         ("skin.rs", "pub struct Skin; use crate::Error;"),
     ]);

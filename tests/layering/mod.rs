@@ -239,7 +239,10 @@ impl Crate {
 
     /// The file modules (the graph's nodes).
     pub fn file_modules(&self) -> BTreeSet<String> {
-        self.scopes.values().map(|s| s.file_module.clone()).collect()
+        self.scopes
+            .values()
+            .map(|s| s.file_module.clone())
+            .collect()
     }
 
     /// The module a path written in `from` leads to, by the rule in this file's docs;
@@ -258,14 +261,15 @@ impl Crate {
             "crate" | "$crate" => self.root.clone(),
             "self" => from.to_owned(),
             "super" => self.scopes.get(from)?.parent.clone()?,
-            name if self.scopes.get(from)?.children.contains(name) => {
-                self.child_key(from, name)
-            }
+            name if self.scopes.get(from)?.children.contains(name) => self.child_key(from, name),
             name => {
                 // A name a `use` of this scope brought in (`use crate::fur;` … `fur::X`).
-                let u = self.scopes.get(from)?.uses.iter().find(|u| {
-                    !u.glob && u.name.as_deref() == Some(name) && u.path.len() > 1
-                })?;
+                let u = self
+                    .scopes
+                    .get(from)?
+                    .uses
+                    .iter()
+                    .find(|u| !u.glob && u.name.as_deref() == Some(name) && u.path.len() > 1)?;
                 let mut p = u.path.clone();
                 p.extend_from_slice(&path[1..]);
                 return self.resolve_depth(from, &p, depth + 1);
@@ -420,7 +424,10 @@ pub fn circles(graph: &Graph) -> Vec<BTreeSet<String>> {
 
 /// A circle written out with the edges inside it and the paths behind each.
 pub fn describe(graph: &Graph, circle: &BTreeSet<String>) -> String {
-    let mut out = format!("{{{}}}", circle.iter().cloned().collect::<Vec<_>>().join(", "));
+    let mut out = format!(
+        "{{{}}}",
+        circle.iter().cloned().collect::<Vec<_>>().join(", ")
+    );
     for from in circle {
         for (to, paths) in &graph[from] {
             if circle.contains(to) {
@@ -523,7 +530,13 @@ fn raw_string_end(c: &[char], i: usize) -> Option<usize> {
     }
     let mut j = i + hashes + 1;
     while j < c.len() {
-        if c[j] == '"' && c[j + 1..].iter().take(hashes).filter(|&&ch| ch == '#').count() == hashes
+        if c[j] == '"'
+            && c[j + 1..]
+                .iter()
+                .take(hashes)
+                .filter(|&&ch| ch == '#')
+                .count()
+                == hashes
         {
             return Some(j + 1 + hashes);
         }
@@ -681,12 +694,24 @@ fn read_scope(krate: &mut Crate, file_key: &str, toks: &[Tok]) {
                     && word(toks.get(i + 2)).is_some() =>
             {
                 let name = word(toks.get(i + 2)).unwrap_or_default().to_owned();
-                krate.scopes.get_mut(&here).expect("scope").items.insert(name);
+                krate
+                    .scopes
+                    .get_mut(&here)
+                    .expect("scope")
+                    .items
+                    .insert(name);
             }
             Tok::Ident(w)
                 if matches!(
                     w.as_str(),
-                    "struct" | "enum" | "fn" | "trait" | "type" | "const" | "static" | "union"
+                    "struct"
+                        | "enum"
+                        | "fn"
+                        | "trait"
+                        | "type"
+                        | "const"
+                        | "static"
+                        | "union"
                         | "mod"
                 ) && word(toks.get(i + 1)).is_some() =>
             {
@@ -708,10 +733,16 @@ fn read_scope(krate: &mut Crate, file_key: &str, toks: &[Tok]) {
                     i += 2;
                     continue;
                 }
-                krate.scopes.get_mut(&here).expect("scope").items.insert(name);
+                krate
+                    .scopes
+                    .get_mut(&here)
+                    .expect("scope")
+                    .items
+                    .insert(name);
             }
-            Tok::Ident(w) if toks.get(i + 1) == Some(&Tok::Path)
-                && i.checked_sub(1).is_none_or(|p| toks[p] != Tok::Path) =>
+            Tok::Ident(w)
+                if toks.get(i + 1) == Some(&Tok::Path)
+                    && i.checked_sub(1).is_none_or(|p| toks[p] != Tok::Path) =>
             {
                 // A path: its segments up to the first thing that is not `ident ::`.
                 let mut path = vec![w.clone()];

@@ -11,8 +11,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 // `face_normals` lives with the other normals; its old path here keeps working.
-pub use crate::normals::face_normals;
 use crate::normals::DEGENERATE_FALLBACK;
+pub use crate::normals::face_normals;
 use crate::topology::stars;
 use crate::weld::weld_positions;
 

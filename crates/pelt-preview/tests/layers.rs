@@ -49,7 +49,10 @@ fn the_core_imports_no_feature() {
     let graph = krate.graph();
     assert!(graph.len() > 30, "found {} modules", graph.len());
     let found = core_imports_of_features(&graph);
-    assert!(found.is_empty(), "core modules importing features: {found:?}");
+    assert!(
+        found.is_empty(),
+        "core modules importing features: {found:?}"
+    );
     // The check sees imports: the frame driver does import the registry's features, and a
     // feature folder's modules are read (features/reflect/).
     assert!(graph["frame"].keys().any(|t| t.starts_with("features")));
@@ -62,8 +65,14 @@ fn a_core_module_naming_a_feature_is_found_negative_control() {
         ("lib.rs", "mod frame; mod draw; mod targets; mod features;"),
         ("frame.rs", "use crate::features::fur::Fur;"),
         // Only through a nested group, and from a file in a subfolder.
-        ("draw.rs", "use crate::{targets, features::{reflect::{inputs::{MapInputs}}}};"),
-        ("targets.rs", "// crate::features::fur\nconst S: &str = \"crate::features\";"),
+        (
+            "draw.rs",
+            "use crate::{targets, features::{reflect::{inputs::{MapInputs}}}};",
+        ),
+        (
+            "targets.rs",
+            "// crate::features::fur\nconst S: &str = \"crate::features\";",
+        ),
         ("features/mod.rs", "pub mod fur; pub mod reflect;"),
         ("features/fur.rs", "use crate::draw;"),
         ("features/reflect/mod.rs", "pub mod inputs;"),

@@ -18,7 +18,6 @@ use pelt_scene::fur::FurData;
 use pelt_scene::knobs::Knobs;
 use pelt_scene::scene::{FurBlend, FurCoverage, FurLighting, FurSettings, Scene, Technique};
 
-
 /// What a knob is measured against (declared with the knob by the feature that reads it).
 pub use pelt_preview::feature::Reference as Truth;
 
@@ -194,7 +193,6 @@ impl Knob {
             allowed: self.allowed(),
         })
     }
-
 
     /// The reference the knob is measured against.
     pub fn truth(&self) -> Truth {
