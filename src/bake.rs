@@ -67,7 +67,10 @@ pub fn run(args: &BakeArgs) -> anyhow::Result<ExitCode> {
                 failures.iter().for_each(|f| eprintln!("  {f}"));
             }
         }
-        (false, true) if !failures.is_empty() => eprintln!("pelt: {}", failures.join("\n")),
+        (false, true) if !failures.is_empty() => {
+            let lines: Vec<String> = failures.iter().map(ToString::to_string).collect();
+            eprintln!("pelt: {}", lines.join("\n"));
+        }
         _ => {}
     }
     let code = if failures.is_empty() {

@@ -103,7 +103,7 @@ fn every_bad_file_fails_naming_file_and_place_within_bounded_memory() {
             let (verdict, peak) = bake_in_process(&path);
             let err = match verdict {
                 pelt_fuzz::Verdict::Baked => None,
-                pelt_fuzz::Verdict::Refused(e) => Some(e),
+                pelt_fuzz::Verdict::Refused(e) => Some(e.to_string()),
                 pelt_fuzz::Verdict::Defect(d) => {
                     wrong.push(format!("{name}: {d}"));
                     Some(d)

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use pelt_fur::FurConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::options::{CombSource, GeneratedComb, LengthTexture};
+use crate::options::{CombSource, CombSourceError, GeneratedComb, LengthTexture};
 
 /// A bake config.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -61,26 +61,39 @@ pub struct LengthTextureConfig {
     pub channel: String,
 }
 
+/// Why a `comb` section names no comb.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum CombSectionError {
+    /// `source` is not `painted`, `generate` or `generate:AXIS`.
+    #[error("{0}")]
+    Source(#[from] CombSourceError),
+    /// `lengthTexture.texture` names no texture slot.
+    #[error("{0:?} is not baseColor, metallicRoughness, normal, occlusion or emissive")]
+    LengthTexture(String),
+    /// `lengthTexture.channel` names no channel.
+    #[error("{0:?} is not r, g, b or a")]
+    LengthChannel(String),
+}
+
+impl CombSectionError {
+    /// The field at fault, from the root (`comb.source`).
+    pub fn field(&self) -> &'static str {
+        match self {
+            CombSectionError::Source(_) => "comb.source",
+            CombSectionError::LengthTexture(_) => "comb.lengthTexture.texture",
+            CombSectionError::LengthChannel(_) => "comb.lengthTexture.channel",
+        }
+    }
+}
+
 impl LengthTextureConfig {
-    fn parse(&self) -> Result<LengthTexture, (String, String)> {
-        let slot = pelt_io::picture::Slot::parse(&self.texture).ok_or_else(|| {
-            (
-                "comb.lengthTexture.texture".to_owned(),
-                format!(
-                    "{:?} is not baseColor, metallicRoughness, normal, occlusion or emissive",
-                    self.texture
-                ),
-            )
-        })?;
+    fn parse(&self) -> Result<LengthTexture, CombSectionError> {
+        let slot = pelt_io::picture::Slot::parse(&self.texture)
+            .ok_or_else(|| CombSectionError::LengthTexture(self.texture.clone()))?;
         let channel = ["r", "g", "b", "a"]
             .iter()
             .position(|c| *c == self.channel)
-            .ok_or_else(|| {
-                (
-                    "comb.lengthTexture.channel".to_owned(),
-                    format!("{:?} is not r, g, b or a", self.channel),
-                )
-            })?;
+            .ok_or_else(|| CombSectionError::LengthChannel(self.channel.clone()))?;
         Ok(LengthTexture {
             slot,
             channel: channel as u8,
@@ -101,17 +114,16 @@ impl Default for CombConfig {
 
 impl CombConfig {
     /// The comb this section asks for, with `source` replaced by `flag` when given.
-    pub fn source(&self, flag: Option<CombSource>) -> Result<CombSource, String> {
+    pub fn source(&self, flag: Option<CombSource>) -> Result<CombSource, CombSectionError> {
         let source = match flag {
             Some(f) => f,
-            None => self.source.parse().map_err(|e| format!("{e}"))?,
+            None => self.source.parse()?,
         };
         let length_texture = self
             .length_texture
             .as_ref()
             .map(LengthTextureConfig::parse)
-            .transpose()
-            .map_err(|(_, why)| why)?;
+            .transpose()?;
         Ok(match source {
             CombSource::Generate(g) => CombSource::Generate(GeneratedComb {
                 length: self.length,
@@ -162,6 +174,15 @@ pub enum ConfigError {
         column: usize,
         /// What is wrong.
         message: String,
+    },
+    /// The `comb` section names no comb (its source, or its length texture).
+    #[error("{}: {}: {source}", path.display(), source.field())]
+    Comb {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, and in which field.
+        #[source]
+        source: CombSectionError,
     },
     /// A value out of range.
     #[error("{}: {field}: {why}", path.display())]
@@ -227,10 +248,15 @@ impl BakeConfig {
             why,
         };
         if let Some(comb) = &config.comb {
+            // The length texture first: its error names its own field.
+            let comb_error = |source| ConfigError::Comb {
+                path: path.to_owned(),
+                source,
+            };
             if let Some(t) = &comb.length_texture {
-                t.parse().map_err(|(field, why)| invalid(&field, why))?;
+                t.parse().map_err(comb_error)?;
             }
-            comb.source(None).map_err(|e| invalid("comb.source", e))?;
+            comb.source(None).map_err(comb_error)?;
             if !(0.0..=1.0).contains(&comb.length) {
                 return Err(invalid(
                     "comb.length",

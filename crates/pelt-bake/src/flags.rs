@@ -84,7 +84,7 @@ impl Default for Flags {
 /// A config's `comb` section that cannot be combined with the flags.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("comb.source: {0}")]
-pub struct CombConfigError(String);
+pub struct CombConfigError(#[source] crate::config::CombSectionError);
 
 impl Flags {
     /// The bake options: these flags, with the config's comb and normals where no flag

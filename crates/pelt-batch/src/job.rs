@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use pelt_bake::fur::{FurAssets, FurReport, combed, embed};
 use pelt_bake::{AssetReport, BakeOptions, bake_document};
+use pelt_io::IoError;
 
 use crate::Job;
 use crate::key::{self, Record};
@@ -47,8 +48,35 @@ pub enum Status {
     Baked(Box<Baked>),
     /// The output already records this input's key (`--incremental`).
     UpToDate,
-    /// Not written; the message names the file and the place.
-    Failed(String),
+    /// Not written; the error names the file and the place.
+    Failed(JobError),
+}
+
+/// Why a job wrote no output. Every message names the file and the place.
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    /// Loading, baking, embedding fur, packing or writing failed (the error names the file
+    /// and the place in it).
+    #[error(transparent)]
+    Asset(#[from] IoError),
+    /// The input's files could not be read again for the content key (`--incremental`).
+    #[error("{}: hashing for the content key: {source}", input.display())]
+    Key {
+        /// The input.
+        input: PathBuf,
+        /// The read that failed.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The output's folder could not be created.
+    #[error("{}: create: {source}", dir.display())]
+    CreateDir {
+        /// The folder.
+        dir: PathBuf,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
 }
 
 /// A job's result.
@@ -77,17 +105,17 @@ pub fn bake_file(job: &Job, s: &Settings) -> Outcome {
     let mut reads = vec![job.input.clone()];
     let status = match bake(job, s, &mut reads) {
         Ok(b) => Status::Baked(Box::new(b)),
-        Err(message) => {
+        Err(e) => {
             remove_stale(&job.output);
-            Status::Failed(message)
+            Status::Failed(e)
         }
     };
     Outcome { status, reads }
 }
 
-fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, String> {
+fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, JobError> {
     let t0 = Instant::now();
-    let mut doc = pelt_io::load(&job.input).map_err(|e| e.to_string())?;
+    let mut doc = pelt_io::load(&job.input)?;
     reads.clone_from(&doc.files_read);
     let read_ms = ms(t0);
     let rel = key::relative_reads(&job.input, &doc.files_read);
@@ -101,12 +129,14 @@ fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, Stri
         },
         || bake_document(&mut doc, &s.options),
     );
-    let mut bake = bake.map_err(|e| e.to_string())?;
-    let key =
-        key.map_err(|e| format!("{}: hashing for the content key: {e}", job.input.display()))?;
+    let mut bake = bake?;
+    let key = key.map_err(|source| JobError::Key {
+        input: job.input.clone(),
+        source,
+    })?;
     let mut fur_report = None;
     if let Some(fur) = s.fur {
-        let f = embed(&mut doc, fur, &combed(&bake)).map_err(|e| e.to_string())?;
+        let f = embed(&mut doc, fur, &combed(&bake))?;
         bake.warnings.extend(f.warnings.iter().cloned());
         fur_report = Some(f);
     }
@@ -117,12 +147,15 @@ fn bake(job: &Job, s: &Settings, reads: &mut Vec<PathBuf>) -> Result<Baked, Stri
                 .to_owned(),
         );
     }
-    pelt_bake::pack_output(&mut doc, &s.options, &mut bake).map_err(|e| e.to_string())?;
+    pelt_bake::pack_output(&mut doc, &s.options, &mut bake)?;
     if let Some(dir) = job.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: create: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|source| JobError::CreateDir {
+            dir: dir.to_owned(),
+            source,
+        })?;
     }
     let t1 = Instant::now();
-    let w = pelt_io::glb::write_glb(&doc, &job.output).map_err(|e| e.to_string())?;
+    let w = pelt_io::glb::write_glb(&doc, &job.output)?;
     Ok(Baked {
         bake,
         fur: fur_report,

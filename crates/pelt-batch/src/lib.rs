@@ -21,4 +21,4 @@ pub mod run;
 pub mod temp;
 
 pub use inputs::{Job, PlanError, plan};
-pub use job::{Baked, Outcome, Settings, Status, bake_file};
+pub use job::{Baked, JobError, Outcome, Settings, Status, bake_file};

@@ -2,7 +2,7 @@
 //! counts and warnings; up to date; failed), the batch's one-line summary
 //! ([`crate::report::Summary`]'s `Display`) and its failures. `pelt bake` prints these.
 
-use crate::{Job, Outcome, Status};
+use crate::{Job, JobError, Outcome, Status};
 
 /// The lines that report `o`, the outcome of `job`: the first says what happened, the rest are
 /// the bake's warnings. `batch` is whether the job is one of several (a lone failure reads as
@@ -34,11 +34,11 @@ pub fn outcome_lines(job: &Job, o: &Outcome, batch: bool) -> Vec<String> {
 }
 
 /// The failures' messages, in the order planned (each names the file and the place).
-pub fn failures(outcomes: &[Outcome]) -> Vec<&str> {
+pub fn failures(outcomes: &[Outcome]) -> Vec<&JobError> {
     outcomes
         .iter()
         .filter_map(|o| match &o.status {
-            Status::Failed(e) => Some(e.as_str()),
+            Status::Failed(e) => Some(e),
             _ => None,
         })
         .collect()
@@ -69,7 +69,14 @@ mod tests {
     fn lines_say_what_happened_to_each_input() {
         let up = outcome(Status::UpToDate);
         assert_eq!(outcome_lines(&job(), &up, true), ["up to date: out/a.glb"]);
-        let failed = outcome(Status::Failed("in/a.glb: accessor 3: out of range".into()));
+        let invalid = |file: &str, place: &str, message: &str| {
+            Status::Failed(JobError::Asset(pelt_io::IoError::invalid(
+                std::path::Path::new(file),
+                place,
+                message,
+            )))
+        };
+        let failed = outcome(invalid("in/a.glb", "accessor 3", "out of range"));
         assert_eq!(
             outcome_lines(&job(), &failed, true),
             ["FAILED in/a.glb: accessor 3: out of range"]
@@ -78,8 +85,19 @@ mod tests {
             outcome_lines(&job(), &failed, false),
             ["pelt: in/a.glb: accessor 3: out of range"]
         );
-        let all = [up, failed, outcome(Status::Failed("b".into()))];
-        assert_eq!(failures(&all), ["in/a.glb: accessor 3: out of range", "b"]);
+        let all = [
+            up,
+            failed,
+            outcome(invalid("b.glb", "buffers[0]", "missing")),
+        ];
+        let messages: Vec<String> = failures(&all).iter().map(ToString::to_string).collect();
+        assert_eq!(
+            messages,
+            [
+                "in/a.glb: accessor 3: out of range",
+                "b.glb: buffers[0]: missing"
+            ]
+        );
         let s = Summary::of(&all, 2, 1234.0);
         assert_eq!(
             s.to_string(),

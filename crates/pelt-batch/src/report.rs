@@ -232,7 +232,7 @@ impl InputReport {
                 r.output_bytes = Some(b.output_bytes);
             }
             Status::UpToDate => r.status = "up to date",
-            Status::Failed(e) => r.error = Some(e),
+            Status::Failed(e) => r.error = Some(e.to_string()),
         }
         r
     }

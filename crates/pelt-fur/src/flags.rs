@@ -87,13 +87,13 @@ impl StrandFlags {
     }
 }
 
-/// `8` or `16`.
+/// `8` or `16`. A clap value parser: its error is clap's message, so a `String`.
 #[cfg(feature = "cli")]
 fn parse_bits(s: &str) -> Result<HeightBits, String> {
     s.parse::<u8>()
-        .map_err(|e| e.to_string())
-        .and_then(HeightBits::try_from)
-        .map_err(|_| format!("{s:?} is not 8 or 16"))
+        .ok()
+        .and_then(|bits| HeightBits::try_from(bits).ok())
+        .ok_or_else(|| format!("{s:?} is not 8 or 16"))
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ use std::time::Instant;
 use pelt_bake::BakeOptions;
 use pelt_bake::fur::{FurAssets, combed, embed};
 use pelt_bake::options::{Quantize, TangentGenerator, TangentMode};
+use pelt_io::IoError;
 
 /// The seed files: every fixture under `root/fixtures` small enough to bake quickly in a
 /// debug build (the edge cases, the bad corpus, fuzz finds, sphere and torus), sorted.
@@ -65,9 +66,23 @@ pub enum Verdict {
     /// Baked, and the output loads and bakes again.
     Baked,
     /// A clean error naming the file.
-    Refused(String),
+    Refused(IoError),
     /// A defect: what went wrong.
     Defect(String),
+}
+
+/// Why a case stopped before its output baked again.
+#[derive(Debug, thiserror::Error)]
+enum CaseError {
+    /// The input was refused: loading, baking, embedding fur or writing it failed.
+    #[error(transparent)]
+    Refused(#[from] IoError),
+    /// The output was written but does not load: a defect.
+    #[error("DEFECT: the output does not load: {0}")]
+    OutputLoad(#[source] IoError),
+    /// The output loads but does not bake again: a defect.
+    #[error("DEFECT: the output does not bake again: {0}")]
+    OutputBake(#[source] IoError),
 }
 
 /// Runs one input through the whole bake. `path` names it in errors and anchors the relative
@@ -82,21 +97,20 @@ pub fn exercise(
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let result = std::panic::catch_unwind(AssertUnwindSafe(|| -> Result<(), String> {
-        let mut doc = pelt_io::load_bytes(path, bytes).map_err(|e| e.to_string())?;
+    let result = std::panic::catch_unwind(AssertUnwindSafe(|| -> Result<(), CaseError> {
+        let mut doc = pelt_io::load_bytes(path, bytes)?;
         let opts = BakeOptions {
             quantize,
             ..BakeOptions::default()
         };
-        let report = pelt_bake::bake_document(&mut doc, &opts).map_err(|e| e.to_string())?;
+        let report = pelt_bake::bake_document(&mut doc, &opts)?;
         if let Some(fur) = fur {
-            embed(&mut doc, fur, &combed(&report)).map_err(|e| e.to_string())?;
+            embed(&mut doc, fur, &combed(&report))?;
         }
-        let out = pelt_io::glb::to_vec(&doc).map_err(|e| e.to_string())?;
+        let out = pelt_io::glb::to_vec(&doc)?;
         // The output must stand on its own: load and bake it again.
         let again = Path::new("output.glb");
-        let mut back = pelt_io::Document::from_bytes(again, out)
-            .map_err(|e| format!("DEFECT: the output does not load: {e}"))?;
+        let mut back = pelt_io::Document::from_bytes(again, out).map_err(CaseError::OutputLoad)?;
         // The second bake regenerates MikkTSpace tangents, so every input exercises both
         // generators (the first used the default: gradient unless a normal map asks).
         let again_opts = BakeOptions {
@@ -104,15 +118,16 @@ pub fn exercise(
             tangent_generator: TangentGenerator::Mikktspace,
             ..opts
         };
-        pelt_bake::bake_document(&mut back, &again_opts)
-            .map_err(|e| format!("DEFECT: the output does not bake again: {e}"))?;
+        pelt_bake::bake_document(&mut back, &again_opts).map_err(CaseError::OutputBake)?;
         Ok(())
     }));
     match result {
         Ok(Ok(())) => Verdict::Baked,
-        Ok(Err(e)) if e.starts_with("DEFECT") => Verdict::Defect(e),
-        Ok(Err(e)) if e.contains(&name) => Verdict::Refused(e),
-        Ok(Err(e)) => Verdict::Defect(format!("the error does not name {name}: {e}")),
+        Ok(Err(CaseError::Refused(e))) if e.to_string().contains(&name) => Verdict::Refused(e),
+        Ok(Err(CaseError::Refused(e))) => {
+            Verdict::Defect(format!("the error does not name {name}: {e}"))
+        }
+        Ok(Err(defect)) => Verdict::Defect(defect.to_string()),
         Err(panic) => {
             let msg = panic
                 .downcast_ref::<String>()

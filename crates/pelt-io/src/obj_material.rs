@@ -26,6 +26,29 @@ pub(crate) struct MtlReader<'a> {
     pub(crate) files: RefCell<Vec<PathBuf>>,
 }
 
+/// Why a file an OBJ or MTL names was not read: a warning, since the OBJ loads without it.
+/// The message names the file as the OBJ or MTL spells it.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum NamedFileError {
+    /// The name is empty, absolute, or leaves the OBJ's folder.
+    #[error("{name:?} {why}")]
+    NotFollowed {
+        /// The name as written.
+        name: String,
+        /// Why it is not followed.
+        why: &'static str,
+    },
+    /// The file could not be read.
+    #[error("{name:?}: {source}")]
+    Read {
+        /// The name as written.
+        name: String,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
 /// A path an OBJ or MTL names, as a relative path that stays in the asset's folder.
 fn relative(name: &str) -> Result<PathBuf, &'static str> {
     let path = PathBuf::from(name.replace('\\', "/"));
@@ -58,13 +81,19 @@ impl<'a> MtlReader<'a> {
     }
 
     /// Reads a file named in the OBJ or an MTL, relative to the OBJ's folder.
-    fn read(&self, name: &str) -> Result<(PathBuf, Vec<u8>), String> {
-        let rel = relative(name).map_err(|why| format!("{name:?} {why}"))?;
+    fn read(&self, name: &str) -> Result<(PathBuf, Vec<u8>), NamedFileError> {
+        let rel = relative(name).map_err(|why| NamedFileError::NotFollowed {
+            name: name.to_owned(),
+            why,
+        })?;
         let path = self
             .obj
             .parent()
             .map_or_else(|| rel.clone(), |d| d.join(&rel));
-        let bytes = std::fs::read(&path).map_err(|e| format!("{name:?}: {e}"))?;
+        let bytes = std::fs::read(&path).map_err(|source| NamedFileError::Read {
+            name: name.to_owned(),
+            source,
+        })?;
         self.files.borrow_mut().push(path.clone());
         Ok((path, bytes))
     }

@@ -25,6 +25,49 @@ pub struct Rgba8 {
     pub pixels: Vec<u8>,
 }
 
+/// Why an image could not be decoded smaller than it is stored. The caller names the file and
+/// the image (`images[3]`).
+#[derive(Debug, thiserror::Error)]
+pub enum DecodeError {
+    /// The PNG decoder refused the data.
+    #[error(transparent)]
+    Png(#[from] png::DecodingError),
+    /// The JPEG decoder refused the data.
+    #[error(transparent)]
+    Jpeg(#[from] jpeg_decoder::Error),
+    /// The header gives a side longer than any image is decoded from.
+    #[error("{width}×{height} is larger than {max_side} a side")]
+    TooLarge {
+        /// The stored width.
+        width: u32,
+        /// The stored height.
+        height: u32,
+        /// The longest side read.
+        max_side: u32,
+    },
+    /// An interlaced PNG has fewer rows than its header gives.
+    #[error("the image data ends early")]
+    EndsEarly,
+    /// The JPEG decoder read no header.
+    #[error("no header")]
+    NoHeader,
+    /// A JPEG pixel format other than grey or RGB (CMYK, 16-bit grey).
+    #[error("pixel format {0:?} is not read")]
+    PixelFormat(Option<jpeg_decoder::PixelFormat>),
+}
+
+/// [`DecodeError::TooLarge`] unless both sides are within `max_side`.
+fn check_size(width: u32, height: u32, max_side: u32) -> Result<(), DecodeError> {
+    if width > max_side || height > max_side {
+        return Err(DecodeError::TooLarge {
+            width,
+            height,
+            max_side,
+        });
+    }
+    Ok(())
+}
+
 /// The smallest power of two `k` with both sides divided by it (rounded up) within `max`.
 pub fn halvings(width: u32, height: u32, max: u32) -> u32 {
     let mut k = 1u32;
@@ -121,18 +164,16 @@ fn rgba(row: &[u8], channels: usize) -> impl Iterator<Item = [u8; 4]> + '_ {
 }
 
 /// A PNG decoded `k` times smaller (k > 1), row by row.
-pub fn png(bytes: &[u8], k: u32, max_side: u32) -> Result<Rgba8, String> {
+pub fn png(bytes: &[u8], k: u32, max_side: u32) -> Result<Rgba8, DecodeError> {
     let mut decoder = png::Decoder::new(Cursor::new(bytes));
     decoder.set_transformations(png::Transformations::normalize_to_color8());
-    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let mut reader = decoder.read_info()?;
     let (width, height) = (reader.info().width, reader.info().height);
-    if width > max_side || height > max_side {
-        return Err(format!("{width}×{height} is larger than {max_side} a side"));
-    }
+    check_size(width, height, max_side)?;
     let channels = reader.output_color_type().0.samples();
     let mut shrink = Shrink::new(width, height, k);
     if !reader.info().interlaced {
-        while let Some(row) = reader.next_row().map_err(|e| e.to_string())? {
+        while let Some(row) = reader.next_row()? {
             shrink.row(rgba(row.data(), channels));
         }
         return Ok(shrink.finish(height));
@@ -150,8 +191,8 @@ pub fn png(bytes: &[u8], k: u32, max_side: u32) -> Result<Rgba8, String> {
         (0..if pw == 0 { 0 } else { ph }).map(move |line| (p, line))
     });
     for (pass, line) in rows {
-        let Some(row) = reader.next_row().map_err(|e| e.to_string())? else {
-            return Err("the image data ends early".to_owned());
+        let Some(row) = reader.next_row()? else {
+            return Err(DecodeError::EndsEarly);
         };
         let (x0, dx, y0, dy) = adam7(pass);
         let y = (y0 + dy * line) as usize;
@@ -188,24 +229,20 @@ fn adam7(p: u8) -> (u32, u32, u32, u32) {
 
 /// A JPEG decoded `k` times smaller (k > 1): scaled by its inverse DCT (up to 1/8), the rest
 /// by averaging.
-pub fn jpeg(bytes: &[u8], k: u32, max_side: u32) -> Result<Rgba8, String> {
+pub fn jpeg(bytes: &[u8], k: u32, max_side: u32) -> Result<Rgba8, DecodeError> {
     let mut d = jpeg_decoder::Decoder::new(Cursor::new(bytes));
-    d.read_info().map_err(|e| e.to_string())?;
-    let info = d.info().ok_or("no header")?;
+    d.read_info()?;
+    let info = d.info().ok_or(DecodeError::NoHeader)?;
     let (width, height) = (u32::from(info.width), u32::from(info.height));
-    if width > max_side || height > max_side {
-        return Err(format!("{width}×{height} is larger than {max_side} a side"));
-    }
+    check_size(width, height, max_side)?;
     let idct = k.min(8);
     let want = |s: u32| s.div_ceil(idct).clamp(1, u32::from(u16::MAX)) as u16;
-    let (sw, sh) = d
-        .scale(want(width), want(height))
-        .map_err(|e| e.to_string())?;
-    let data = d.decode().map_err(|e| e.to_string())?;
+    let (sw, sh) = d.scale(want(width), want(height))?;
+    let data = d.decode()?;
     let channels = match d.info().map(|i| i.pixel_format) {
         Some(jpeg_decoder::PixelFormat::L8) => 1,
         Some(jpeg_decoder::PixelFormat::RGB24) => 3,
-        other => return Err(format!("pixel format {other:?} is not read")),
+        other => return Err(DecodeError::PixelFormat(other)),
     };
     let (sw, sh) = (u32::from(sw), u32::from(sh));
     let rest = halvings(sw, sh, width.div_ceil(k).max(height.div_ceil(k)));

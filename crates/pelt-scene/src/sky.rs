@@ -16,34 +16,67 @@ pub struct CubeImages {
 /// Largest face side.
 pub const MAX_FACE: u32 = 4096;
 
-/// Why the sky could not be loaded.
+/// Why the sky could not be loaded: the face, its file, and what is wrong with it.
 #[derive(Debug, thiserror::Error)]
-#[error("sky.faces[{face}] ({}): {message}", path.display())]
+#[error("sky.faces[{face}] ({}): {source}", path.display())]
 pub struct SkyError {
     /// Index of the face (0 = +X … 5 = −Z).
     pub face: usize,
     /// Its file.
     pub path: PathBuf,
     /// What is wrong.
-    pub message: String,
+    #[source]
+    pub source: FaceError,
 }
 
-fn face(path: &Path) -> Result<(u32, Vec<u8>), String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+/// What is wrong with one face of the sky.
+#[derive(Debug, thiserror::Error)]
+pub enum FaceError {
+    /// The file could not be opened.
+    #[error("{0}")]
+    Open(#[source] std::io::Error),
+    /// The PNG decoder refused it.
+    #[error("{0}")]
+    Png(#[from] png::DecodingError),
+    /// Not square, empty, or larger than [`MAX_FACE`].
+    #[error("faces must be square and at most {MAX_FACE} texels, this is {width}×{height}")]
+    Shape {
+        /// Its width.
+        width: u32,
+        /// Its height.
+        height: u32,
+    },
+    /// Its decoded size does not fit in memory.
+    #[error("image too large")]
+    TooLarge,
+    /// An indexed PNG the decoder did not expand.
+    #[error("indexed colour was not expanded")]
+    Indexed,
+    /// Not the size of the first face.
+    #[error("is {size}×{size}, the first face is {first}×{first}")]
+    Size {
+        /// Its side.
+        size: u32,
+        /// The first face's side.
+        first: u32,
+    },
+}
+
+fn face(path: &Path) -> Result<(u32, Vec<u8>), FaceError> {
+    let file = std::fs::File::open(path).map_err(FaceError::Open)?;
     let mut dec = png::Decoder::new(std::io::BufReader::new(file));
     dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = dec.read_info().map_err(|e| e.to_string())?;
+    let mut reader = dec.read_info()?;
     let (w, h) = (reader.info().width, reader.info().height);
     if w != h || w == 0 || w > MAX_FACE {
-        return Err(format!(
-            "faces must be square and at most {MAX_FACE} texels, this is {w}×{h}"
-        ));
+        return Err(FaceError::Shape {
+            width: w,
+            height: h,
+        });
     }
-    let size = reader
-        .output_buffer_size()
-        .ok_or_else(|| "image too large".to_owned())?;
+    let size = reader.output_buffer_size().ok_or(FaceError::TooLarge)?;
     let mut buf = vec![0; size];
-    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    let info = reader.next_frame(&mut buf)?;
     buf.truncate(info.buffer_size());
     let rgba: Vec<u8> = match info.color_type {
         png::ColorType::Rgba => buf,
@@ -56,7 +89,7 @@ fn face(path: &Path) -> Result<(u32, Vec<u8>), String> {
             .chunks_exact(2)
             .flat_map(|c| [c[0], c[0], c[0], c[1]])
             .collect(),
-        png::ColorType::Indexed => return Err("indexed colour was not expanded".into()),
+        png::ColorType::Indexed => return Err(FaceError::Indexed),
     };
     Ok((w, rgba))
 }
@@ -66,14 +99,17 @@ pub fn load_cube(faces: &[PathBuf; 6]) -> Result<CubeImages, SkyError> {
     let mut size = 0;
     let mut out = Vec::with_capacity(6);
     for (i, p) in faces.iter().enumerate() {
-        let err = |message: String| SkyError {
+        let err = |source: FaceError| SkyError {
             face: i,
             path: p.clone(),
-            message,
+            source,
         };
         let (s, rgba) = face(p).map_err(err)?;
         if i > 0 && s != size {
-            return Err(err(format!("is {s}×{s}, the first face is {size}×{size}")));
+            return Err(err(FaceError::Size {
+                size: s,
+                first: size,
+            }));
         }
         size = s;
         out.push(rgba);

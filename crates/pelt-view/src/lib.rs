@@ -18,7 +18,7 @@ pub mod viewer;
 pub mod watch;
 
 pub use args::{DEFAULT_SIZE, ViewArgs, window_size};
-pub use viewer::ViewError;
+pub use viewer::{AnimationError, ViewError};
 
 /// Opens the window and runs until it closes (or the scripted frames are drawn).
 pub fn run(args: ViewArgs) -> Result<(), ViewError> {

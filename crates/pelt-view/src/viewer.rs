@@ -21,7 +21,7 @@ use pelt_preview::scene::{Material, Scene};
 use pelt_preview::{Image, Preview, RenderError, SceneView, ViewOutput};
 
 use crate::controls::Settings;
-use crate::timeline::Timeline;
+use crate::timeline::{Timeline, UnknownClip};
 use crate::watch::Watch;
 
 /// The window's output.
@@ -152,19 +152,21 @@ fn animation_of(
             .starts_with(pelt_preview::asset::BUILTIN)
     {
         return match start {
-            Some(_) => Err(ViewError::Animation(
-                "--animation needs an asset (.glb, .gltf), not a scene file".into(),
-            )),
+            Some(_) => Err(AnimationError::NotAnAsset.into()),
             None => Ok(None),
         };
     }
-    let doc = pelt_io::load(path).map_err(|e| ViewError::Animation(e.to_string()))?;
+    let doc = pelt_io::load(path).map_err(AnimationError::Load)?;
     if doc.array("animations").is_empty() && start.is_none() {
         return Ok(None);
     }
-    let rig = pelt_anim::rig::Rig::load(&doc).map_err(|e| ViewError::Animation(e.to_string()))?;
-    let t = Timeline::new(rig.summary().animations, start, time, playing)
-        .map_err(|e| ViewError::Animation(format!("{}: {e}", path.display())))?;
+    let rig = pelt_anim::rig::Rig::load(&doc).map_err(AnimationError::Load)?;
+    let t = Timeline::new(rig.summary().animations, start, time, playing).map_err(|source| {
+        AnimationError::UnknownClip {
+            path: path.to_owned(),
+            source,
+        }
+    })?;
     Ok(t.map(|t| (doc, t)))
 }
 
@@ -263,8 +265,8 @@ impl Viewer {
         let mut views = vec![&self.full];
         views.extend(self.reduced.as_ref().map(|r| &r.view));
         let asset = (&self.input.meshes[0], doc, self.path.as_path());
-        let followed = animate::follow(preview, &views, asset, &pose)
-            .map_err(|e| ViewError::Animation(e.to_string()))?;
+        let followed =
+            animate::follow(preview, &views, asset, &pose).map_err(AnimationError::Follow)?;
         self.posed_at = Some(pose.clone());
         match followed {
             // Skinned on the GPU: views prepared later are posed too (`catch_up`).
@@ -293,7 +295,7 @@ impl Viewer {
         if let Some(p) = &self.gpu_pose {
             preview
                 .pose(sv, &p.animation, p.time, &self.path)
-                .map_err(|e| ViewError::Animation(e.to_string()))?;
+                .map_err(AnimationError::Pose)?;
         }
         Ok(())
     }
@@ -793,8 +795,34 @@ pub enum ViewError {
     #[error(transparent)]
     Frame(#[from] pelt_preview::FrameError),
     /// The asset's animation cannot be played (a clip that does not exist, a bad rig).
-    #[error("{0}")]
-    Animation(String),
+    #[error(transparent)]
+    Animation(#[from] AnimationError),
+}
+
+/// Why the asset's animation cannot be played. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum AnimationError {
+    /// `--animation` was given for a scene file (or a built-in asset).
+    #[error("--animation needs an asset (.glb, .gltf), not a scene file")]
+    NotAnAsset,
+    /// The asset, or its rig, could not be read.
+    #[error(transparent)]
+    Load(pelt_io::IoError),
+    /// The asset has no clip by the name asked for.
+    #[error("{}: {source}", path.display())]
+    UnknownClip {
+        /// The asset.
+        path: PathBuf,
+        /// The name asked for and the names it has.
+        #[source]
+        source: UnknownClip,
+    },
+    /// The asset could not be drawn at the timeline's pose.
+    #[error(transparent)]
+    Follow(animate::AnimateError),
+    /// The GPU could not skin a view to the timeline's pose.
+    #[error(transparent)]
+    Pose(pelt_preview::PoseError),
 }
 
 /// Time since `t`, in milliseconds.

@@ -50,6 +50,11 @@ pub struct Options {
 /// Most settings a grid may have.
 pub const MAX_SETTINGS: usize = 512;
 
+/// A drawing error on the in-memory bitmap the pictures are drawn on.
+pub type PlotError = plotters::drawing::DrawingAreaErrorKind<
+    <plotters::prelude::BitMapBackend<'static> as plotters::prelude::DrawingBackend>::ErrorType,
+>;
+
 /// Why a sweep stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
@@ -76,6 +81,15 @@ pub enum SweepError {
     /// The strand reference did not converge.
     #[error(transparent)]
     NotConverged(#[from] crate::strands::NotConverged),
+    /// A picture (`sweep.png`, `contact.png`) could not be drawn.
+    #[error("{what}: {source}")]
+    Plot {
+        /// The picture.
+        what: &'static str,
+        /// plotters' error.
+        #[source]
+        source: PlotError,
+    },
     /// An output could not be written.
     #[error("{path}: {message}")]
     Write {

@@ -7,9 +7,10 @@
 use std::path::Path;
 use std::sync::Once;
 
+use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 
-use super::{Row, Sweep, SweepError};
+use super::{PlotError, Row, Sweep, SweepError};
 use pelt_preview::Image;
 
 /// The family name the embedded font is registered under.
@@ -24,11 +25,9 @@ fn register_font() {
     });
 }
 
-fn plot_error(what: &str, e: impl std::fmt::Display) -> SweepError {
-    SweepError::Write {
-        path: what.into(),
-        message: e.to_string(),
-    }
+/// `e` while drawing the picture `what` (`sweep.png`, `contact.png`).
+fn plot_error(what: &'static str) -> impl FnOnce(PlotError) -> SweepError {
+    move |source| SweepError::Plot { what, source }
 }
 
 /// RGB bytes to an RGBA image.
@@ -59,7 +58,7 @@ fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     knob: &str,
     rows: &[&Row],
-) -> Result<(), String> {
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     let xmax = rows.iter().map(|r| r.ms).fold(0.0, f64::max).max(1e-3) * 1.15;
     // The error axis spans the knob's errors with a margin (from 0 when they reach near it),
     // so a knob whose settings differ by little still shows its order.
@@ -78,8 +77,7 @@ fn panel<DB: DrawingBackend>(
         .margin(8)
         .x_label_area_size(30)
         .y_label_area_size(48)
-        .build_cartesian_2d(0.0..xmax, ylo..yhi)
-        .map_err(|e| e.to_string())?;
+        .build_cartesian_2d(0.0..xmax, ylo..yhi)?;
     chart
         .configure_mesh()
         .x_desc("frame ms")
@@ -89,40 +87,31 @@ fn panel<DB: DrawingBackend>(
         .x_labels(5)
         .y_labels(5)
         .light_line_style(WHITE)
-        .draw()
-        .map_err(|e| e.to_string())?;
+        .draw()?;
     let mut front: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.pareto)
         .map(|r| (r.ms, f64::from(r.error)))
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    chart
-        .draw_series(LineSeries::new(front.clone(), RED.stroke_width(2)))
-        .map_err(|e| e.to_string())?;
-    chart
-        .draw_series(
-            front
-                .iter()
-                .map(|&p| Circle::new(p, 7, RED.stroke_width(2))),
-        )
-        .map_err(|e| e.to_string())?;
-    chart
-        .draw_series(rows.iter().map(|r| {
-            let style = if r.default {
-                BLACK.filled()
-            } else {
-                BLUE.filled()
-            };
-            Circle::new((r.ms, f64::from(r.error)), 4, style)
-        }))
-        .map_err(|e| e.to_string())?;
-    chart
-        .draw_series(rows.iter().map(|r| {
-            EmptyElement::at((r.ms, f64::from(r.error)))
-                + Text::new(r.value.clone(), (9, -14), (FONT, 11).into_font())
-        }))
-        .map_err(|e| e.to_string())?;
+    chart.draw_series(LineSeries::new(front.clone(), RED.stroke_width(2)))?;
+    chart.draw_series(
+        front
+            .iter()
+            .map(|&p| Circle::new(p, 7, RED.stroke_width(2))),
+    )?;
+    chart.draw_series(rows.iter().map(|r| {
+        let style = if r.default {
+            BLACK.filled()
+        } else {
+            BLUE.filled()
+        };
+        Circle::new((r.ms, f64::from(r.error)), 4, style)
+    }))?;
+    chart.draw_series(rows.iter().map(|r| {
+        EmptyElement::at((r.ms, f64::from(r.error)))
+            + Text::new(r.value.clone(), (9, -14), (FONT, 11).into_font())
+    }))?;
     Ok(())
 }
 
@@ -137,13 +126,13 @@ pub fn chart(s: &Sweep) -> Result<Image, SweepError> {
     let mut buf = vec![255u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| plot_error("sweep.png", e))?;
+        root.fill(&WHITE).map_err(plot_error("sweep.png"))?;
         let areas = root.split_evenly((rows_n, cols));
         for (area, knob) in areas.iter().zip(&names) {
             let rows: Vec<&Row> = s.rows.iter().filter(|r| r.knob == *knob).collect();
-            panel(area, knob, &rows).map_err(|e| plot_error("sweep.png", e))?;
+            panel(area, knob, &rows).map_err(plot_error("sweep.png"))?;
         }
-        root.present().map_err(|e| plot_error("sweep.png", e))?;
+        root.present().map_err(plot_error("sweep.png"))?;
     }
     Ok(image_of(&buf, w, h))
 }
@@ -185,9 +174,9 @@ pub fn contact_sheet(s: &Sweep, dir: &Path) -> Result<Image, SweepError> {
                 (x0 as i32 + 3, (y0 + th + 3) as i32),
                 (FONT, 12).into_font(),
             ))
-            .map_err(|e| plot_error("contact.png", e))?;
+            .map_err(plot_error("contact.png"))?;
         }
-        root.present().map_err(|e| plot_error("contact.png", e))?;
+        root.present().map_err(plot_error("contact.png"))?;
     }
     Ok(image_of(&buf, w, h))
 }
