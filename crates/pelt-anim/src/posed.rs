@@ -205,6 +205,8 @@ pub struct SkinJob {
     pub unweighted: Mat4,
 }
 
+/// The job that poses primitive `r` of `node`: its attributes read, morphed by the pose's
+/// weights, with the influences and joint matrices `mats` when the node has a skin.
 fn skin_job(
     doc: &Document,
     rig: &Rig,
@@ -222,8 +224,6 @@ fn skin_job(
         .nth(r.mesh)
         .and_then(|m| m.primitives().nth(r.primitive))
         .ok_or_else(|| doc.invalid(&place, "not found"))?;
-    let get = typed::buffers(doc);
-    let reader = prim.reader(get.clone());
     let mut positions = m.positions.clone();
     let mut normals = m.normals.clone();
     let mut tangents: Option<Vec<Vec3>> = m
@@ -231,41 +231,10 @@ fn skin_job(
         .as_ref()
         .map(|t| t.iter().map(|t| t.truncate()).collect());
     // Morph targets first (glTF: morphing happens before skinning).
-    let targets: Vec<gltf::mesh::MorphTarget<'_>> = prim.morph_targets().collect();
-    if !targets.is_empty() {
-        let w = rig.morph_weights(node, pose, targets.len());
-        let read = |a: Option<gltf::Accessor<'_>>, what: &str, k: usize| {
-            a.map(|a| {
-                typed::check_kind(
-                    doc,
-                    &a,
-                    &format!("{place}.targets[{k}].{what}"),
-                    Dimensions::Vec3,
-                    &[DataType::F32],
-                )?;
-                let it =
-                    gltf::accessor::Iter::<[f32; 3]>::new(a, get.clone()).ok_or_else(|| {
-                        doc.invalid(format!("{place}.targets[{k}].{what}"), "cannot be read")
-                    })?;
-                let v: Vec<Vec3> = it.map(Vec3::from).collect();
-                if v.len() != positions.len() {
-                    return Err(doc.invalid(
-                        format!("{place}.targets[{k}].{what}"),
-                        format!("{} elements for {} vertices", v.len(), positions.len()),
-                    ));
-                }
-                Ok(v)
-            })
-            .transpose()
-        };
-        let mut dp = Vec::new();
-        let mut dn = Vec::new();
-        let mut dt = Vec::new();
-        for (k, t) in targets.iter().enumerate() {
-            dp.push(read(t.positions(), "POSITION", k)?);
-            dn.push(read(t.normals(), "NORMAL", k)?);
-            dt.push(read(t.tangents(), "TANGENT", k)?);
-        }
+    let targets = prim.morph_targets().len();
+    if targets > 0 {
+        let w = rig.morph_weights(node, pose, targets);
+        let [dp, dn, dt] = target_deltas(doc, &place, &prim, positions.len())?;
         morph(&mut positions, &dp, &w);
         if let Some(n) = normals.as_mut() {
             morph(n, &dn, &w);
@@ -274,75 +243,10 @@ fn skin_job(
             morph(t, &dt, &w);
         }
     }
-    let mut influences = Influences::default();
-    if let Some(mats) = mats {
-        for set in 0u32.. {
-            let (Some(ja), Some(wa)) = (
-                prim.get(&gltf::Semantic::Joints(set)),
-                prim.get(&gltf::Semantic::Weights(set)),
-            ) else {
-                break;
-            };
-            typed::check_kind(
-                doc,
-                &ja,
-                &format!("{place}.attributes.JOINTS_{set}"),
-                Dimensions::Vec4,
-                &[DataType::U8, DataType::U16],
-            )?;
-            typed::check_kind(
-                doc,
-                &wa,
-                &format!("{place}.attributes.WEIGHTS_{set}"),
-                Dimensions::Vec4,
-                &[DataType::F32, DataType::U8, DataType::U16],
-            )?;
-            let j: Vec<[u16; 4]> = reader
-                .read_joints(set)
-                .map(|j| j.into_u16().collect())
-                .unwrap_or_default();
-            let w: Vec<[f32; 4]> = reader
-                .read_weights(set)
-                .map(|w| w.into_f32().collect())
-                .unwrap_or_default();
-            if j.len() != positions.len() || w.len() != positions.len() {
-                return Err(doc.invalid(
-                    format!("{place}.attributes.JOINTS_{set}"),
-                    format!(
-                        "{} joints and {} weights for {} vertices",
-                        j.len(),
-                        w.len(),
-                        positions.len()
-                    ),
-                ));
-            }
-            if let Some(i) = w.iter().flatten().position(|x| !x.is_finite() || *x < 0.0) {
-                return Err(doc.invalid(
-                    format!("{place}.attributes.WEIGHTS_{set}"),
-                    format!("vertex {}: weights must be finite and not negative", i / 4),
-                ));
-            }
-            influences.joints.push(j);
-            influences.weights.push(w);
-        }
-        if influences.joints.is_empty() {
-            return Err(doc.invalid(
-                &place,
-                "the node has a skin but the primitive has no JOINTS_0 and WEIGHTS_0",
-            ));
-        }
-        if let Some(b) = influences.bad_joint(mats.len()) {
-            return Err(doc.invalid(
-                format!("{place}.attributes.JOINTS_{}", b.set),
-                format!(
-                    "vertex {} names joint {}, but the skin has {} joints",
-                    b.vertex,
-                    b.joint,
-                    mats.len()
-                ),
-            ));
-        }
-    }
+    let influences = match mats {
+        Some(mats) => skin_influences(doc, &place, &prim, positions.len(), mats.len())?,
+        None => Influences::default(),
+    };
     let tangents = tangents.map(|t| {
         t.iter()
             .enumerate()
@@ -358,6 +262,128 @@ fn skin_job(
         joints: mats.map(|ms| ms.iter().map(|j| to_node * *j).collect()),
         unweighted: to_node * pose.global[node],
     })
+}
+
+/// Reading the morph targets: each target's POSITION, NORMAL and TANGENT displacements (absent
+/// ones `None`), checked to be float VEC3 with one element per vertex (`vertices`).
+fn target_deltas(
+    doc: &Document,
+    place: &str,
+    prim: &gltf::Primitive<'_>,
+    vertices: usize,
+) -> Result<[Vec<Option<Vec<Vec3>>>; 3], IoError> {
+    let get = typed::buffers(doc);
+    let read = |a: Option<gltf::Accessor<'_>>, what: &str, k: usize| {
+        a.map(|a| {
+            typed::check_kind(
+                doc,
+                &a,
+                &format!("{place}.targets[{k}].{what}"),
+                Dimensions::Vec3,
+                &[DataType::F32],
+            )?;
+            let it = gltf::accessor::Iter::<[f32; 3]>::new(a, get.clone()).ok_or_else(|| {
+                doc.invalid(format!("{place}.targets[{k}].{what}"), "cannot be read")
+            })?;
+            let v: Vec<Vec3> = it.map(Vec3::from).collect();
+            if v.len() != vertices {
+                return Err(doc.invalid(
+                    format!("{place}.targets[{k}].{what}"),
+                    format!("{} elements for {} vertices", v.len(), vertices),
+                ));
+            }
+            Ok(v)
+        })
+        .transpose()
+    };
+    let mut dp = Vec::new();
+    let mut dn = Vec::new();
+    let mut dt = Vec::new();
+    for (k, t) in prim.morph_targets().enumerate() {
+        dp.push(read(t.positions(), "POSITION", k)?);
+        dn.push(read(t.normals(), "NORMAL", k)?);
+        dt.push(read(t.tangents(), "TANGENT", k)?);
+    }
+    Ok([dp, dn, dt])
+}
+
+/// Reading the skin's influences: every JOINTS_n/WEIGHTS_n pair of `prim`, checked (kinds,
+/// one element per vertex, finite weights that are not negative, joints within the skin's
+/// `joints`). A skinned primitive must have at least JOINTS_0 and WEIGHTS_0.
+fn skin_influences(
+    doc: &Document,
+    place: &str,
+    prim: &gltf::Primitive<'_>,
+    vertices: usize,
+    joints: usize,
+) -> Result<Influences, IoError> {
+    let reader = prim.reader(typed::buffers(doc));
+    let mut influences = Influences::default();
+    for set in 0u32.. {
+        let (Some(ja), Some(wa)) = (
+            prim.get(&gltf::Semantic::Joints(set)),
+            prim.get(&gltf::Semantic::Weights(set)),
+        ) else {
+            break;
+        };
+        typed::check_kind(
+            doc,
+            &ja,
+            &format!("{place}.attributes.JOINTS_{set}"),
+            Dimensions::Vec4,
+            &[DataType::U8, DataType::U16],
+        )?;
+        typed::check_kind(
+            doc,
+            &wa,
+            &format!("{place}.attributes.WEIGHTS_{set}"),
+            Dimensions::Vec4,
+            &[DataType::F32, DataType::U8, DataType::U16],
+        )?;
+        let j: Vec<[u16; 4]> = reader
+            .read_joints(set)
+            .map(|j| j.into_u16().collect())
+            .unwrap_or_default();
+        let w: Vec<[f32; 4]> = reader
+            .read_weights(set)
+            .map(|w| w.into_f32().collect())
+            .unwrap_or_default();
+        if j.len() != vertices || w.len() != vertices {
+            return Err(doc.invalid(
+                format!("{place}.attributes.JOINTS_{set}"),
+                format!(
+                    "{} joints and {} weights for {} vertices",
+                    j.len(),
+                    w.len(),
+                    vertices
+                ),
+            ));
+        }
+        if let Some(i) = w.iter().flatten().position(|x| !x.is_finite() || *x < 0.0) {
+            return Err(doc.invalid(
+                format!("{place}.attributes.WEIGHTS_{set}"),
+                format!("vertex {}: weights must be finite and not negative", i / 4),
+            ));
+        }
+        influences.joints.push(j);
+        influences.weights.push(w);
+    }
+    if influences.joints.is_empty() {
+        return Err(doc.invalid(
+            place,
+            "the node has a skin but the primitive has no JOINTS_0 and WEIGHTS_0",
+        ));
+    }
+    if let Some(b) = influences.bad_joint(joints) {
+        return Err(doc.invalid(
+            format!("{place}.attributes.JOINTS_{}", b.set),
+            format!(
+                "vertex {} names joint {}, but the skin has {} joints",
+                b.vertex, b.joint, joints
+            ),
+        ));
+    }
+    Ok(influences)
 }
 
 impl SkinJob {

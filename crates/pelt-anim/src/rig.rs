@@ -315,100 +315,12 @@ fn skin(doc: &Document, s: &gltf::Skin<'_>, in_scene: &[bool]) -> Result<Skin, I
     })
 }
 
+/// Animation `a` as a clip: its channels, and the time span they cover.
 fn clip(doc: &Document, a: &gltf::Animation<'_>) -> Result<Clip, IoError> {
     let place = format!("animations[{}]", a.index());
     let mut channels = Vec::new();
     for ch in a.channels() {
-        let sampler = ch.sampler();
-        let at = format!("{place}.samplers[{}]", sampler.index());
-        typed::check_kind(
-            doc,
-            &sampler.input(),
-            &format!("{at}.input"),
-            Dimensions::Scalar,
-            &[DataType::F32],
-        )?;
-        let ints = [
-            DataType::F32,
-            DataType::I8,
-            DataType::U8,
-            DataType::I16,
-            DataType::U16,
-        ];
-        let (dims, types): (Dimensions, &[DataType]) = match ch.target().property() {
-            gltf::animation::Property::Translation | gltf::animation::Property::Scale => {
-                (Dimensions::Vec3, &[DataType::F32])
-            }
-            gltf::animation::Property::Rotation => (Dimensions::Vec4, &ints),
-            gltf::animation::Property::MorphTargetWeights => (Dimensions::Scalar, &ints),
-        };
-        typed::check_kind(doc, &sampler.output(), &format!("{at}.output"), dims, types)?;
-        let reader = ch.reader(typed::buffers(doc));
-        let times: Vec<f32> = reader
-            .read_inputs()
-            .ok_or_else(|| doc.invalid(format!("{at}.input"), "cannot be read"))?
-            .collect();
-        if let Some(k) =
-            (0..times.len()).find(|&k| !times[k].is_finite() || (k > 0 && times[k] <= times[k - 1]))
-        {
-            return Err(doc.invalid(
-                format!("{at}.input"),
-                format!(
-                    "key {k} at time {}: times must be finite and strictly increasing",
-                    times[k]
-                ),
-            ));
-        }
-        let (property, values) = match reader.read_outputs() {
-            Some(ReadOutputs::Translations(v)) => (Property::Translation, v.flatten().collect()),
-            Some(ReadOutputs::Rotations(v)) => {
-                (Property::Rotation, v.into_f32().flatten().collect())
-            }
-            Some(ReadOutputs::Scales(v)) => (Property::Scale, v.flatten().collect()),
-            Some(ReadOutputs::MorphTargetWeights(v)) => (Property::Weights, v.into_f32().collect()),
-            None => return Err(doc.invalid(format!("{at}.output"), "cannot be read")),
-        };
-        let values: Vec<f32> = values;
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(doc.invalid(
-                format!("{at}.output"),
-                format!("value {i} is {}: keyframes must be finite", values[i]),
-            ));
-        }
-        let interpolation = match sampler.interpolation() {
-            gltf::animation::Interpolation::Step => Interpolation::Step,
-            gltf::animation::Interpolation::Linear => Interpolation::Linear,
-            gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
-        };
-        let per_key = times.len()
-            * if interpolation == Interpolation::CubicSpline {
-                3
-            } else {
-                1
-            };
-        let components = match property {
-            Property::Translation | Property::Scale => 3,
-            Property::Rotation => 4,
-            Property::Weights => values.len() / per_key.max(1),
-        };
-        if times.is_empty() || components == 0 || values.len() != per_key * components {
-            return Err(doc.invalid(
-                format!("{at}.output"),
-                format!(
-                    "{} values for {} keys ({interpolation:?}) do not make whole keyframes",
-                    values.len(),
-                    times.len()
-                ),
-            ));
-        }
-        channels.push(Channel {
-            node: ch.target().node().index(),
-            property,
-            interpolation,
-            times,
-            values,
-            components,
-        });
+        channels.push(channel(doc, &place, &ch)?);
     }
     let start = channels
         .iter()
@@ -426,6 +338,117 @@ fn clip(doc: &Document, a: &gltf::Animation<'_>) -> Result<Clip, IoError> {
         end: if end.is_finite() { end } else { 0.0 },
         channels,
     })
+}
+
+/// Reading one channel of the animation at `place`: its sampler's accessors checked, its key
+/// times (finite, strictly increasing) and its values (finite, whole keyframes for the
+/// interpolation).
+fn channel(
+    doc: &Document,
+    place: &str,
+    ch: &gltf::animation::Channel<'_>,
+) -> Result<Channel, IoError> {
+    let sampler = ch.sampler();
+    let at = format!("{place}.samplers[{}]", sampler.index());
+    check_sampler_kinds(doc, &at, ch)?;
+    let reader = ch.reader(typed::buffers(doc));
+    let times: Vec<f32> = reader
+        .read_inputs()
+        .ok_or_else(|| doc.invalid(format!("{at}.input"), "cannot be read"))?
+        .collect();
+    if let Some(k) =
+        (0..times.len()).find(|&k| !times[k].is_finite() || (k > 0 && times[k] <= times[k - 1]))
+    {
+        return Err(doc.invalid(
+            format!("{at}.input"),
+            format!(
+                "key {k} at time {}: times must be finite and strictly increasing",
+                times[k]
+            ),
+        ));
+    }
+    let (property, values) = match reader.read_outputs() {
+        Some(ReadOutputs::Translations(v)) => (Property::Translation, v.flatten().collect()),
+        Some(ReadOutputs::Rotations(v)) => (Property::Rotation, v.into_f32().flatten().collect()),
+        Some(ReadOutputs::Scales(v)) => (Property::Scale, v.flatten().collect()),
+        Some(ReadOutputs::MorphTargetWeights(v)) => (Property::Weights, v.into_f32().collect()),
+        None => return Err(doc.invalid(format!("{at}.output"), "cannot be read")),
+    };
+    let values: Vec<f32> = values;
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(doc.invalid(
+            format!("{at}.output"),
+            format!("value {i} is {}: keyframes must be finite", values[i]),
+        ));
+    }
+    let interpolation = match sampler.interpolation() {
+        gltf::animation::Interpolation::Step => Interpolation::Step,
+        gltf::animation::Interpolation::Linear => Interpolation::Linear,
+        gltf::animation::Interpolation::CubicSpline => Interpolation::CubicSpline,
+    };
+    let per_key = times.len()
+        * if interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
+    let components = match property {
+        Property::Translation | Property::Scale => 3,
+        Property::Rotation => 4,
+        Property::Weights => values.len() / per_key.max(1),
+    };
+    if times.is_empty() || components == 0 || values.len() != per_key * components {
+        return Err(doc.invalid(
+            format!("{at}.output"),
+            format!(
+                "{} values for {} keys ({interpolation:?}) do not make whole keyframes",
+                values.len(),
+                times.len()
+            ),
+        ));
+    }
+    Ok(Channel {
+        node: ch.target().node().index(),
+        property,
+        interpolation,
+        times,
+        values,
+        components,
+    })
+}
+
+/// The kinds of a channel's sampler accessors (at `at`): float scalar times; values float VEC3
+/// for translation and scale, and float or normalized integers (VEC4 for rotation, scalars for
+/// morph weights).
+fn check_sampler_kinds(
+    doc: &Document,
+    at: &str,
+    ch: &gltf::animation::Channel<'_>,
+) -> Result<(), IoError> {
+    let sampler = ch.sampler();
+    typed::check_kind(
+        doc,
+        &sampler.input(),
+        &format!("{at}.input"),
+        Dimensions::Scalar,
+        &[DataType::F32],
+    )?;
+    let ints = [
+        DataType::F32,
+        DataType::I8,
+        DataType::U8,
+        DataType::I16,
+        DataType::U16,
+    ];
+    let (dims, types): (Dimensions, &[DataType]) = match ch.target().property() {
+        gltf::animation::Property::Translation | gltf::animation::Property::Scale => {
+            (Dimensions::Vec3, &[DataType::F32])
+        }
+        gltf::animation::Property::Rotation => (Dimensions::Vec4, &ints),
+        gltf::animation::Property::MorphTargetWeights => (Dimensions::Scalar, &ints),
+    };
+    typed::check_kind(doc, &sampler.output(), &format!("{at}.output"), dims, types)?;
+    Ok(())
 }
 
 /// What `pelt inspect` lists of a rig.

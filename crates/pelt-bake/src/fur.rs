@@ -3,6 +3,7 @@
 //! the fur manifest in each fur material's `extensions.PELT_fur` (`pelt_io::extension`). The textures are
 //! generated once and shared by every asset of a run.
 
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use pelt_fur::set::level_name;
@@ -71,6 +72,52 @@ pub fn embed(
 ) -> Result<FurReport, IoError> {
     let mut report = FurReport::default();
     strip_old_fur(doc, &mut report);
+    let materials = fur_materials(doc, assets, combed, &mut report)?;
+    if materials.is_empty() {
+        report
+            .warnings
+            .push("no primitive has a comb: fur textures were not embedded".into());
+        return Ok(report);
+    }
+    let (images, by_image) = push_textures(doc, assets, &mut report);
+    let textures: BTreeMap<&str, usize> = ["heightfield", "dots", "fin"]
+        .into_iter()
+        .filter_map(|stem| Some((stem, by_image[images.get(&level_name(stem, 0))?])))
+        .collect();
+    let manifest = assets.set.manifest(
+        &assets.config,
+        &mut |stem, level| (None, images.get(&level_name(stem, level)).copied()),
+        &mut |stem| textures.get(stem).copied(),
+    );
+    let manifest = serde_json::to_value(&manifest)
+        .map_err(|e| IoError::invalid(&doc.path, "fur manifest", format!("cannot encode: {e}")))?;
+    let value = extension_from_manifest(&manifest, &mut |image| by_image[&image]);
+    for &m in &materials {
+        let base = doc.array("materials")[m]["pbrMetallicRoughness"].get("baseColorTexture");
+        let sheen = sheen_fallback(&value, base);
+        if doc.set_fur_material(m, value.clone())
+            && doc.set_material_extension(m, pelt_io::extension::SHEEN, sheen)
+        {
+            report.materials.push(m);
+        } else {
+            report.warnings.push(format!(
+                "material {m}: extensions is not a JSON object: the fur manifest was not stored"
+            ));
+        }
+    }
+    Ok(report)
+}
+
+/// Choosing the fur's materials: those the config names, or else those of the combed
+/// primitives (a combed primitive without a material gets the added [`FUR_MATERIAL_NAME`]
+/// material), sorted, each once. An added material an earlier bake left with glTF's default
+/// factors is made the neutral dielectric, with a warning.
+fn fur_materials(
+    doc: &mut Document,
+    assets: &FurAssets,
+    combed: &[PrimitiveRef],
+    report: &mut FurReport,
+) -> Result<Vec<usize>, IoError> {
     let mut materials: Vec<usize> = Vec::new();
     if let Some(names) = &assets.config.materials {
         for name in names {
@@ -116,14 +163,19 @@ pub fn embed(
             ));
         }
     }
-    if materials.is_empty() {
-        report
-            .warnings
-            .push("no primitive has a comb: fur textures were not embedded".into());
-        return Ok(report);
-    }
+    Ok(materials)
+}
 
-    let mut images = std::collections::BTreeMap::new();
+/// Adding the fur textures: every level's image, the tiling and fin samplers, and a texture
+/// per image (level 0 the one a textureInfo names, the others its `mipLevels`, so that tools
+/// which prune or dedup textures keep and remap them all). Returns the image index of each
+/// level's name and the texture index of each image.
+fn push_textures(
+    doc: &mut Document,
+    assets: &FurAssets,
+    report: &mut FurReport,
+) -> (BTreeMap<String, usize>, BTreeMap<usize, usize>) {
+    let mut images = BTreeMap::new();
     for (img, png) in assets.set.images().zip(&assets.pngs) {
         let index = doc.push_image(png.clone(), pelt_fur::Image::MIME, &img.name);
         images.insert(img.name.clone(), index);
@@ -139,7 +191,7 @@ pub fn embed(
     );
     // Every level is a texture (level 0 the one a textureInfo names, the others its
     // `mipLevels`), so that tools which prune or dedup textures keep and remap them all.
-    let mut by_image = std::collections::BTreeMap::new();
+    let mut by_image = BTreeMap::new();
     for (stem, sampler) in [("heightfield", tile), ("dots", tile), ("fin", fin)] {
         let mut level = 0;
         while let Some(&image) = images.get(&level_name(stem, level)) {
@@ -151,32 +203,7 @@ pub fn embed(
             level += 1;
         }
     }
-    let textures: std::collections::BTreeMap<&str, usize> = ["heightfield", "dots", "fin"]
-        .into_iter()
-        .filter_map(|stem| Some((stem, by_image[images.get(&level_name(stem, 0))?])))
-        .collect();
-    let manifest = assets.set.manifest(
-        &assets.config,
-        &mut |stem, level| (None, images.get(&level_name(stem, level)).copied()),
-        &mut |stem| textures.get(stem).copied(),
-    );
-    let manifest = serde_json::to_value(&manifest)
-        .map_err(|e| IoError::invalid(&doc.path, "fur manifest", format!("cannot encode: {e}")))?;
-    let value = extension_from_manifest(&manifest, &mut |image| by_image[&image]);
-    for &m in &materials {
-        let base = doc.array("materials")[m]["pbrMetallicRoughness"].get("baseColorTexture");
-        let sheen = sheen_fallback(&value, base);
-        if doc.set_fur_material(m, value.clone())
-            && doc.set_material_extension(m, pelt_io::extension::SHEEN, sheen)
-        {
-            report.materials.push(m);
-        } else {
-            report.warnings.push(format!(
-                "material {m}: extensions is not a JSON object: the fur manifest was not stored"
-            ));
-        }
-    }
-    Ok(report)
+    (images, by_image)
 }
 
 /// The material an earlier bake added to primitives without one, reused when baking its output

@@ -32,70 +32,9 @@ pub fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
     let (mut vertices, mut triangles) = (0usize, 0usize);
     for r in doc.primitives() {
         let place = doc.place(r);
-        let p = doc.primitive(r)?;
-        let mode = doc.mode(r)?;
-        let mut attrs = serde_json::Map::new();
-        let mut count = 0usize;
-        for (name, v) in p
-            .get("attributes")
-            .and_then(Value::as_object)
-            .into_iter()
-            .flatten()
-        {
-            let Some(i) = v.as_u64().map(|i| i as usize) else {
-                continue;
-            };
-            let e = accessor::read(doc, i, &format!("{place} attribute {name}"))?;
-            count = e.count;
-            let enc = encoding(doc, i).map(|e| e.describe()).unwrap_or_default();
-            attrs.insert(
-                name.clone(),
-                json!({"accessor": i, "encoding": enc, "count": e.count}),
-            );
-        }
-        let indices = match p.get("indices").and_then(Value::as_u64) {
-            Some(i) => accessor::read_indices(doc, i as usize, &format!("{place} indices"))?.len(),
-            None => count,
-        };
-        let tris = match mode {
-            4 => indices / 3,
-            5 | 6 => indices.saturating_sub(2),
-            _ => 0,
-        };
+        let (mut entry, count, tris) = primitive_entry(doc, r, &place)?;
         vertices += count;
         triangles += tris;
-        let mut entry = json!({
-            "mesh": r.mesh, "primitive": r.primitive, "name": doc.mesh_name(r.mesh),
-            "mode": mode, "vertices": count, "triangles": tris, "attributes": attrs,
-        });
-        if let Some(i) = doc.attribute(r, "POSITION")? {
-            let p = accessor::read_vec::<3>(doc, i, &format!("{place} attribute POSITION"))?;
-            let (lo, hi) = p.iter().fold(
-                ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
-                |(lo, hi), v| {
-                    (
-                        std::array::from_fn(|k| lo[k].min(v[k])),
-                        std::array::from_fn(|k| hi[k].max(v[k])),
-                    )
-                },
-            );
-            entry["bounds"] = json!({"min": lo, "max": hi});
-        }
-        if let Some(c) = contract::read_comb(doc, r, count)? {
-            entry["comb"] = comb_stats(c.iter().map(|&c| c.to_array()));
-        } else if let Some(i) = doc.attribute(r, "COLOR_0")? {
-            let e = accessor::read(doc, i, &format!("{place} attribute COLOR_0"))?;
-            let lens: Vec<f32> = (0..e.count)
-                .map(|k| {
-                    if e.components == 4 {
-                        e.component_f32(4 * k + 3)
-                    } else {
-                        1.0
-                    }
-                })
-                .collect();
-            entry["color_0_length"] = range_stats(&lens);
-        }
         if let Some(t) = topology(doc, r, &place)? {
             ids.extend(t.ids.iter().copied());
             for (k, v) in &mut totals {
@@ -133,6 +72,90 @@ pub fn describe(doc: &pelt_io::Document) -> Result<Value, pelt_io::IoError> {
     };
     info["primitive"] = Value::Array(prims);
     Ok(info)
+}
+
+/// One primitive's entry, before its topology and contract: mesh, mode, vertex and triangle
+/// counts, attributes, bounds, and the comb's statistics (or COLOR_0's lengths when it holds
+/// no comb). Returns the entry with its vertex and triangle counts.
+fn primitive_entry(
+    doc: &pelt_io::Document,
+    r: pelt_io::PrimitiveRef,
+    place: &str,
+) -> Result<(Value, usize, usize), pelt_io::IoError> {
+    let p = doc.primitive(r)?;
+    let mode = doc.mode(r)?;
+    let (attrs, count) = attribute_table(doc, place, p)?;
+    let indices = match p.get("indices").and_then(Value::as_u64) {
+        Some(i) => accessor::read_indices(doc, i as usize, &format!("{place} indices"))?.len(),
+        None => count,
+    };
+    let tris = match mode {
+        4 => indices / 3,
+        5 | 6 => indices.saturating_sub(2),
+        _ => 0,
+    };
+    let mut entry = json!({
+        "mesh": r.mesh, "primitive": r.primitive, "name": doc.mesh_name(r.mesh),
+        "mode": mode, "vertices": count, "triangles": tris, "attributes": attrs,
+    });
+    if let Some(i) = doc.attribute(r, "POSITION")? {
+        let p = accessor::read_vec::<3>(doc, i, &format!("{place} attribute POSITION"))?;
+        let (lo, hi) = p.iter().fold(
+            ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+            |(lo, hi), v| {
+                (
+                    std::array::from_fn(|k| lo[k].min(v[k])),
+                    std::array::from_fn(|k| hi[k].max(v[k])),
+                )
+            },
+        );
+        entry["bounds"] = json!({"min": lo, "max": hi});
+    }
+    if let Some(c) = contract::read_comb(doc, r, count)? {
+        entry["comb"] = comb_stats(c.iter().map(|&c| c.to_array()));
+    } else if let Some(i) = doc.attribute(r, "COLOR_0")? {
+        let e = accessor::read(doc, i, &format!("{place} attribute COLOR_0"))?;
+        let lens: Vec<f32> = (0..e.count)
+            .map(|k| {
+                if e.components == 4 {
+                    e.component_f32(4 * k + 3)
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        entry["color_0_length"] = range_stats(&lens);
+    }
+    Ok((entry, count, tris))
+}
+
+/// The attribute table of primitive `p`: each attribute's accessor, colour encoding and
+/// count, and the vertex count (the last attribute's count).
+fn attribute_table(
+    doc: &pelt_io::Document,
+    place: &str,
+    p: &serde_json::Map<String, Value>,
+) -> Result<(serde_json::Map<String, Value>, usize), pelt_io::IoError> {
+    let mut attrs = serde_json::Map::new();
+    let mut count = 0usize;
+    for (name, v) in p
+        .get("attributes")
+        .and_then(Value::as_object)
+        .into_iter()
+        .flatten()
+    {
+        let Some(i) = v.as_u64().map(|i| i as usize) else {
+            continue;
+        };
+        let e = accessor::read(doc, i, &format!("{place} attribute {name}"))?;
+        count = e.count;
+        let enc = encoding(doc, i).map(|e| e.describe()).unwrap_or_default();
+        attrs.insert(
+            name.clone(),
+            json!({"accessor": i, "encoding": enc, "count": e.count}),
+        );
+    }
+    Ok((attrs, count))
 }
 
 /// A primitive's topology as stored by a bake.
@@ -250,16 +273,28 @@ fn comb_stats(c: impl Iterator<Item = [f32; 4]>) -> Value {
     json!({"count": c.len(), "zero_length": zero, "length": range_stats(&lens), "max_abs_z": max_z, "max_unit_error": max_unit_err})
 }
 
+/// Appends a formatted line to the `String` `out`.
+macro_rules! say {
+    ($out:expr, $($t:tt)*) => {{
+        $out.push_str(&format!($($t)*));
+        $out.push('\n');
+    }};
+}
+
 /// [`describe`]'s report as the lines `pelt inspect` prints.
 pub fn text(v: &Value) -> String {
     let mut out = String::new();
-    macro_rules! say {
-        ($($t:tt)*) => {{
-            out.push_str(&format!($($t)*));
-            out.push('\n');
-        }};
+    asset_lines(v, &mut out);
+    for p in v["primitive"].as_array().into_iter().flatten() {
+        primitive_lines(p, &mut out);
     }
+    out
+}
+
+/// The asset's lines: its counts, its topology totals (when baked), its skins and animations.
+fn asset_lines(v: &Value, out: &mut String) {
     say!(
+        out,
         "{}: {} meshes, {} primitives, {} vertices, {} triangles, {} nodes, {} materials, {} images",
         v["file"].as_str().unwrap_or("?"),
         v["meshes"],
@@ -272,6 +307,7 @@ pub fn text(v: &Value) -> String {
     );
     if !v["normal_groups"].is_null() {
         say!(
+            out,
             "topology: {} normal groups, {} IDs used, {} split vertices, {} fin edges, {} boundary and {} non-manifold edges",
             v["normal_groups"],
             v["ids_used"],
@@ -289,6 +325,7 @@ pub fn text(v: &Value) -> String {
             .filter_map(Value::as_str)
             .collect();
         say!(
+            out,
             "skin{}: {} joints ({})",
             s["name"]
                 .as_str()
@@ -300,6 +337,7 @@ pub fn text(v: &Value) -> String {
     }
     for a in v["animations"].as_array().into_iter().flatten() {
         say!(
+            out,
             "animation {:?}: {:.3} s ({:.3} to {:.3} s), {} channels",
             a["name"].as_str().unwrap_or("?"),
             a["duration"].as_f64().unwrap_or(0.0),
@@ -308,56 +346,63 @@ pub fn text(v: &Value) -> String {
             a["channels"]
         );
     }
-    for p in v["primitive"].as_array().into_iter().flatten() {
-        let name = p["name"]
-            .as_str()
-            .map(|n| format!(" {n:?}"))
-            .unwrap_or_default();
+}
+
+/// One primitive's lines: its counts, attributes, bounds, comb (or COLOR_0's lengths) and
+/// contract.
+fn primitive_lines(p: &Value, out: &mut String) {
+    let name = p["name"]
+        .as_str()
+        .map(|n| format!(" {n:?}"))
+        .unwrap_or_default();
+    say!(
+        out,
+        "meshes[{}]{name} primitives[{}]: mode {}, {} vertices, {} triangles",
+        p["mesh"],
+        p["primitive"],
+        p["mode"],
+        p["vertices"],
+        p["triangles"]
+    );
+    for (k, a) in p["attributes"].as_object().into_iter().flatten() {
         say!(
-            "meshes[{}]{name} primitives[{}]: mode {}, {} vertices, {} triangles",
-            p["mesh"],
-            p["primitive"],
-            p["mode"],
-            p["vertices"],
-            p["triangles"]
-        );
-        for (k, a) in p["attributes"].as_object().into_iter().flatten() {
-            say!(
-                "  {k:<13} {} ({} elements, accessor {})",
-                a["encoding"].as_str().unwrap_or("?"),
-                a["count"],
-                a["accessor"]
-            );
-        }
-        if let Some(b) = p.get("bounds") {
-            say!("  bounds        min {} max {}", b["min"], b["max"]);
-        }
-        if let Some(c) = p.get("comb") {
-            say!(
-                "  comb          {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
-                c["count"],
-                c["zero_length"],
-                c["length"]["min"],
-                c["length"]["max"],
-                c["length"]["mean"].as_f64().unwrap_or(0.0),
-                c["max_abs_z"].as_f64().unwrap_or(0.0),
-                c["max_unit_error"].as_f64().unwrap_or(0.0)
-            );
-        }
-        if let Some(c) = p.get("color_0_length") {
-            say!(
-                "  COLOR_0 A     {}..{} (mean {:.3}); not baked yet",
-                c["min"],
-                c["max"],
-                c["mean"].as_f64().unwrap_or(0.0)
-            );
-        }
-        say!(
-            "  contract      {}",
-            contract_line(&p["contract"], &p["topology"])
+            out,
+            "  {k:<13} {} ({} elements, accessor {})",
+            a["encoding"].as_str().unwrap_or("?"),
+            a["count"],
+            a["accessor"]
         );
     }
-    out
+    if let Some(b) = p.get("bounds") {
+        say!(out, "  bounds        min {} max {}", b["min"], b["max"]);
+    }
+    if let Some(c) = p.get("comb") {
+        say!(
+            out,
+            "  comb          {} vertices, {} of length 0, length {}..{} (mean {:.3}), max |z| {:.2e}, max unit error {:.2e}",
+            c["count"],
+            c["zero_length"],
+            c["length"]["min"],
+            c["length"]["max"],
+            c["length"]["mean"].as_f64().unwrap_or(0.0),
+            c["max_abs_z"].as_f64().unwrap_or(0.0),
+            c["max_unit_error"].as_f64().unwrap_or(0.0)
+        );
+    }
+    if let Some(c) = p.get("color_0_length") {
+        say!(
+            out,
+            "  COLOR_0 A     {}..{} (mean {:.3}); not baked yet",
+            c["min"],
+            c["max"],
+            c["mean"].as_f64().unwrap_or(0.0)
+        );
+    }
+    say!(
+        out,
+        "  contract      {}",
+        contract_line(&p["contract"], &p["topology"])
+    );
 }
 
 /// One line on which parts of pelt's contract a primitive carries.

@@ -109,6 +109,14 @@ impl Default for StrandParams {
     }
 }
 
+/// A [`ParamError`] for `field`.
+fn bad(field: &str, why: String) -> Result<(), ParamError> {
+    Err(ParamError {
+        field: field.to_owned(),
+        why,
+    })
+}
+
 impl StrandParams {
     /// The fin texture's height in texels (`fin_height`, or `size / 4` when 0).
     pub fn fin_rows(&self) -> u32 {
@@ -121,12 +129,21 @@ impl StrandParams {
 
     /// Checks every parameter; the error names the first bad one.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let bad = |field: &str, why: String| {
-            Err(ParamError {
-                field: field.to_owned(),
-                why,
-            })
-        };
+        self.check_layout()?;
+        self.check_finite()?;
+        self.check_strand_shape()?;
+        self.check_clumps()?;
+        if !(self.fin_depth > 0.0 && self.fin_depth <= 1.0) {
+            return bad(
+                "finDepth",
+                format!("must be above 0 and at most 1, got {}", self.fin_depth),
+            );
+        }
+        Ok(())
+    }
+
+    /// The texture's layout: its size, the fin texture's rows, and the strand count.
+    fn check_layout(&self) -> Result<(), ParamError> {
         if !self.size.is_power_of_two() || !(4..=MAX_SIZE).contains(&self.size) {
             return bad(
                 "size",
@@ -152,6 +169,11 @@ impl StrandParams {
                 format!("must be 1 to {MAX_STRANDS}, got {}", self.strands),
             );
         }
+        Ok(())
+    }
+
+    /// Every real-valued parameter is a finite number.
+    fn check_finite(&self) -> Result<(), ParamError> {
         let finite = [
             ("radius", self.radius),
             ("radiusJitter", self.radius_jitter),
@@ -166,6 +188,11 @@ impl StrandParams {
         if let Some((field, v)) = finite.iter().find(|(_, v)| !v.is_finite()) {
             return bad(field, format!("must be a finite number, got {v}"));
         }
+        Ok(())
+    }
+
+    /// One strand's shape: radius, heights, tilt, and the footprint they make together.
+    fn check_strand_shape(&self) -> Result<(), ParamError> {
         if !(self.radius > 0.0 && self.radius <= 0.1) {
             return bad(
                 "radius",
@@ -219,6 +246,11 @@ impl StrandParams {
                 ),
             );
         }
+        Ok(())
+    }
+
+    /// The clumps: how strongly strands gather, how many clumps, and their radius.
+    fn check_clumps(&self) -> Result<(), ParamError> {
         if !(0.0..=1.0).contains(&self.clumping) {
             return bad(
                 "clumping",
@@ -247,12 +279,6 @@ impl StrandParams {
                     "must be above 0 and at most 0.25, got {}",
                     self.clump_radius
                 ),
-            );
-        }
-        if !(self.fin_depth > 0.0 && self.fin_depth <= 1.0) {
-            return bad(
-                "finDepth",
-                format!("must be above 0 and at most 1, got {}", self.fin_depth),
             );
         }
         Ok(())

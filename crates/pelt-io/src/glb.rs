@@ -30,25 +30,61 @@ impl Piece<'_> {
     }
 }
 
-/// Lays the document out as GLB: the final JSON and the BIN pieces in order (with padding).
 /// The GLB layout: final JSON text, BIN pieces at their offsets, BIN length.
 type Layout<'a> = (Vec<u8>, Vec<(u64, Piece<'a>)>, u64);
 
+/// The BIN chunk as it is laid out: each piece at its offset, 4-byte aligned, in order.
+#[derive(Default)]
+struct Bin<'a> {
+    pieces: Vec<(u64, Piece<'a>)>,
+    len: u64,
+}
+
+impl<'a> Bin<'a> {
+    /// Places `bytes` after what is placed, at a multiple of 4; returns its offset.
+    fn place(&mut self, bytes: &'a [u8]) -> u64 {
+        let off = self.len.next_multiple_of(4);
+        self.len = off + bytes.len() as u64;
+        self.pieces.push((off, Piece(bytes)));
+        off
+    }
+}
+
+/// Lays the document out as GLB: the final JSON and the BIN pieces in order (with padding).
 fn layout(doc: &Document) -> Result<Layout<'_>> {
     let mut json = doc.json.clone();
-    let mut pieces: Vec<(u64, Piece<'_>)> = Vec::new();
-    let mut at = 0u64;
-    let mut place = |len: usize| {
-        let off = at.next_multiple_of(4);
-        at = off + len as u64;
-        off
-    };
-
+    let mut bin = Bin::default();
     let mut views: Vec<Value> = json
         .get("bufferViews")
         .and_then(Value::as_array)
         .cloned()
         .unwrap_or_default();
+    let fallback = place_views(doc, &mut views, &mut bin)?;
+    let mut images: Vec<Value> = json
+        .get("images")
+        .and_then(Value::as_array)
+        .cloned()
+        .unwrap_or_default();
+    embed_uri_images(doc, &mut images, &mut views, &mut bin)?;
+    let bin_len = bin.len;
+
+    if !views.is_empty() {
+        json.insert("bufferViews".into(), Value::Array(views));
+    }
+    if !images.is_empty() {
+        json.insert("images".into(), Value::Array(images));
+    }
+    set_buffers(&mut json, bin_len, fallback);
+
+    let text = serde_json::to_vec(&Value::Object(json))
+        .map_err(|e| doc.invalid("JSON", format!("cannot serialize: {e}")))?;
+    Ok((text, bin.pieces, bin_len))
+}
+
+/// Placing the bufferViews in the BIN chunk, in order: each view's bytes in buffer 0, or a
+/// compressed view's stream, the view itself then reading from the fallback buffer (buffer 1,
+/// which holds no bytes). Returns the fallback buffer's length (0: none).
+fn place_views<'a>(doc: &'a Document, views: &mut [Value], bin: &mut Bin<'a>) -> Result<u64> {
     let packed = match &doc.packed {
         Some(p) if p.len() != views.len() => {
             return Err(doc.invalid(
@@ -59,7 +95,6 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         Some(p) => &p[..],
         None => &[],
     };
-    // Compressed views read from a fallback buffer (buffer 1) that holds no bytes.
     let mut fallback = 0u64;
     for (i, v) in views.iter_mut().enumerate() {
         let vplace = format!("bufferViews[{i}]");
@@ -67,7 +102,7 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
             .as_object_mut()
             .ok_or_else(|| doc.invalid(&vplace, "not an object"))?;
         if let Some(Some(p)) = packed.get(i) {
-            let off = place(p.stream.len());
+            let off = bin.place(&p.stream);
             let at = fallback.next_multiple_of(4);
             fallback = at + (p.count * p.stride) as u64;
             obj.insert("buffer".into(), json!(1));
@@ -76,27 +111,28 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
             if let Some(e) = exts.as_object_mut() {
                 e.insert(crate::pack::EXTENSION.into(), compressed_view(p, off));
             }
-            pieces.push((off, Piece(&p.stream)));
             continue;
         }
         let (data, _) = crate::accessor::view_bytes(doc, i, "output")?;
-        let bytes = Piece(data);
-        let off = place(bytes.bytes().len());
+        let off = bin.place(data);
         obj.insert("buffer".into(), json!(0));
         if off == 0 {
             obj.remove("byteOffset");
         } else {
             obj.insert("byteOffset".into(), json!(off));
         }
-        pieces.push((off, bytes));
     }
+    Ok(fallback)
+}
 
-    // Embed URI images as bufferViews.
-    let mut images: Vec<Value> = json
-        .get("images")
-        .and_then(Value::as_array)
-        .cloned()
-        .unwrap_or_default();
+/// Embedding the images read from URIs: each one's bytes placed in the BIN chunk behind a
+/// new bufferView (appended to `views`), the image naming that view and its MIME type.
+fn embed_uri_images<'a>(
+    doc: &'a Document,
+    images: &mut [Value],
+    views: &mut Vec<Value>,
+    bin: &mut Bin<'a>,
+) -> Result<()> {
     for (i, img) in images.iter_mut().enumerate() {
         let Some(Some(uri)) = doc.uri_images.get(i) else {
             continue;
@@ -104,7 +140,7 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         let obj = img
             .as_object_mut()
             .ok_or_else(|| doc.invalid(format!("images[{i}]"), "not an object"))?;
-        let off = place(uri.bytes.len());
+        let off = bin.place(&uri.bytes);
         let mut view = Map::new();
         view.insert("buffer".into(), json!(0));
         if off != 0 {
@@ -115,16 +151,14 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
         obj.insert("bufferView".into(), json!(views.len()));
         obj.insert("mimeType".into(), json!(uri.mime));
         views.push(Value::Object(view));
-        pieces.push((off, Piece(&uri.bytes)));
     }
-    let bin_len = at;
+    Ok(())
+}
 
-    if !views.is_empty() {
-        json.insert("bufferViews".into(), Value::Array(views));
-    }
-    if !images.is_empty() {
-        json.insert("images".into(), Value::Array(images));
-    }
+/// The `buffers` entry: buffer 0 the BIN chunk (`bin_len` bytes, the first buffer's other
+/// properties kept, its URI dropped), buffer 1 the compressed views' fallback when there is
+/// one; none when the BIN chunk is empty.
+fn set_buffers(json: &mut Map<String, Value>, bin_len: u64, fallback: u64) {
     if bin_len > 0 {
         let mut buffer = json
             .get("buffers")
@@ -146,10 +180,6 @@ fn layout(doc: &Document) -> Result<Layout<'_>> {
     } else {
         json.remove("buffers");
     }
-
-    let text = serde_json::to_vec(&Value::Object(json))
-        .map_err(|e| doc.invalid("JSON", format!("cannot serialize: {e}")))?;
-    Ok((text, pieces, bin_len))
 }
 
 /// The `EXT_meshopt_compression` object of a view whose stream starts at BIN offset `off`.

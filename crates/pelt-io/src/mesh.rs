@@ -112,42 +112,8 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
         checked_len(v.len())?;
         Ok(Some(v))
     }
-    let colors = || -> Result<(Option<Vec<Vec4>>, Option<Encoding>)> {
-        let Some(i) = attr("COLOR_0")? else {
-            return Ok((None, None));
-        };
-        let e = accessor::locate(doc, i, &at("COLOR_0"))?;
-        let legal = e.component == ComponentType::F32
-            || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
-        if !legal || !(e.components == 3 || e.components == 4) {
-            return Err(doc.invalid(
-                format!("{} (accessor {i})", at("COLOR_0")),
-                format!("COLOR_0 must be VEC3 or VEC4 of float or normalized unsigned byte/short, found {} {}{}", e.ty, e.component.name(), if e.normalized { " normalized" } else { "" }),
-            ));
-        }
-        checked_len("COLOR_0", e.count)?;
-        let c: Vec<Vec4> = if e.components == 4 {
-            e.decode::<4, Vec4>(doc)?
-        } else {
-            e.decode::<3, Rgb>(doc)?.into_iter().map(|c| c.0).collect()
-        };
-        Ok((Some(c), encoding(doc, i)))
-    };
-    let indices = || -> Result<(Vec<u32>, bool)> {
-        let prim = doc.primitive(r)?;
-        Ok(match prim.get("indices") {
-            Some(v) => {
-                let i = v.as_u64().ok_or_else(|| {
-                    doc.invalid(format!("{place} indices"), "not an accessor index")
-                })? as usize;
-                (
-                    accessor::read_indices(doc, i, &format!("{place} indices"))?,
-                    true,
-                )
-            }
-            None => ((0..n as u32).collect(), false),
-        })
-    };
+    let colors = || read_colors(doc, r, &place, n);
+    let indices = || read_indices(doc, r, &place, n);
     let mode = doc.mode(r)?;
     if !triangles::is_triangles(mode) {
         return Err(doc.invalid(
@@ -208,6 +174,67 @@ pub fn read_primitive(doc: &Document, r: PrimitiveRef) -> Result<PrimitiveMesh> 
         indexed,
         mode,
         dropped,
+    })
+}
+
+/// Reading COLOR_0 (the comb): float, or normalized unsigned byte or short, VEC3 or VEC4,
+/// one per vertex (`n`); with the colour encoding the file records for it.
+fn read_colors(
+    doc: &Document,
+    r: PrimitiveRef,
+    place: &str,
+    n: usize,
+) -> Result<(Option<Vec<Vec4>>, Option<Encoding>)> {
+    let at = format!("{place} attribute COLOR_0");
+    let Some(i) = doc.attribute(r, "COLOR_0")? else {
+        return Ok((None, None));
+    };
+    let e = accessor::locate(doc, i, &at)?;
+    let legal = e.component == ComponentType::F32
+        || (e.normalized && matches!(e.component, ComponentType::U8 | ComponentType::U16));
+    if !legal || !(e.components == 3 || e.components == 4) {
+        return Err(doc.invalid(
+            format!("{at} (accessor {i})"),
+            format!(
+                "COLOR_0 must be VEC3 or VEC4 of float or normalized unsigned byte/short, found {} {}{}",
+                e.ty,
+                e.component.name(),
+                if e.normalized { " normalized" } else { "" }
+            ),
+        ));
+    }
+    if e.count != n {
+        return Err(doc.invalid(at, format!("has {} elements, POSITION has {n}", e.count)));
+    }
+    let c: Vec<Vec4> = if e.components == 4 {
+        e.decode::<4, Vec4>(doc)?
+    } else {
+        e.decode::<3, Rgb>(doc)?.into_iter().map(|c| c.0).collect()
+    };
+    Ok((Some(c), encoding(doc, i)))
+}
+
+/// Reading the indices: the index accessor's, or `0..n` for a primitive without one (the
+/// flag says which).
+fn read_indices(
+    doc: &Document,
+    r: PrimitiveRef,
+    place: &str,
+    n: usize,
+) -> Result<(Vec<u32>, bool)> {
+    let prim = doc.primitive(r)?;
+    Ok(match prim.get("indices") {
+        Some(v) => {
+            let i = v
+                .as_u64()
+                .ok_or_else(|| doc.invalid(format!("{place} indices"), "not an accessor index"))?
+                as usize;
+            (
+                accessor::read_indices(doc, i, &format!("{place} indices"))?,
+                true,
+            )
+        }
+        None => ((0..n as u32).collect(), false),
     })
 }
 

@@ -63,48 +63,7 @@ pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
                 format!("face index {bad} is past the {n} vertices"),
             ));
         }
-        let pos: Vec<[f32; 3]> = mesh
-            .positions
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        let mut attrs = Map::new();
-        let mut p = NewAccessor::f32(&pos);
-        p.min_max = true;
-        attrs.insert("POSITION".into(), json!(doc.push_accessor(p)));
-        if mesh.normals.len() == 3 * n {
-            let v: Vec<[f32; 3]> = mesh
-                .normals
-                .chunks_exact(3)
-                .map(|c| [c[0], c[1], c[2]])
-                .collect();
-            attrs.insert(
-                "NORMAL".into(),
-                json!(doc.push_accessor(NewAccessor::f32(&v))),
-            );
-        }
-        if mesh.texcoords.len() == 2 * n {
-            let v: Vec<[f32; 2]> = mesh
-                .texcoords
-                .chunks_exact(2)
-                .map(|c| [c[0], 1.0 - c[1]])
-                .collect();
-            attrs.insert(
-                "TEXCOORD_0".into(),
-                json!(doc.push_accessor(NewAccessor::f32(&v))),
-            );
-        }
-        if mesh.vertex_color.len() == 3 * n {
-            let v: Vec<[f32; 3]> = mesh
-                .vertex_color
-                .chunks_exact(3)
-                .map(|c| [c[0], c[1], c[2]])
-                .collect();
-            attrs.insert(
-                "COLOR_0".into(),
-                json!(doc.push_accessor(NewAccessor::f32(&v))),
-            );
-        }
+        let attrs = push_attributes(&mut doc, mesh, n);
         let idx = doc.push_accessor(NewAccessor::indices(&mesh.indices, n));
         let mi = doc.add_mesh_node(&m.name, attrs, idx);
         if let Some(material) = mesh
@@ -129,6 +88,55 @@ pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Document> {
         return Err(IoError::invalid(path, "OBJ", "no faces"));
     }
     Ok(doc)
+}
+
+/// The vertex attributes of an OBJ object's `n` vertices as accessors: POSITION (with its
+/// bounds), and NORMAL, TEXCOORD_0 (V flipped to glTF's top-left origin) and COLOR_0 when
+/// every vertex has them. Returns the primitive's `attributes`.
+fn push_attributes(doc: &mut Document, mesh: &tobj::Mesh, n: usize) -> Map<String, Value> {
+    let pos: Vec<[f32; 3]> = mesh
+        .positions
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let mut attrs = Map::new();
+    let mut p = NewAccessor::f32(&pos);
+    p.min_max = true;
+    attrs.insert("POSITION".into(), json!(doc.push_accessor(p)));
+    if mesh.normals.len() == 3 * n {
+        let v: Vec<[f32; 3]> = mesh
+            .normals
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        attrs.insert(
+            "NORMAL".into(),
+            json!(doc.push_accessor(NewAccessor::f32(&v))),
+        );
+    }
+    if mesh.texcoords.len() == 2 * n {
+        let v: Vec<[f32; 2]> = mesh
+            .texcoords
+            .chunks_exact(2)
+            .map(|c| [c[0], 1.0 - c[1]])
+            .collect();
+        attrs.insert(
+            "TEXCOORD_0".into(),
+            json!(doc.push_accessor(NewAccessor::f32(&v))),
+        );
+    }
+    if mesh.vertex_color.len() == 3 * n {
+        let v: Vec<[f32; 3]> = mesh
+            .vertex_color
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        attrs.insert(
+            "COLOR_0".into(),
+            json!(doc.push_accessor(NewAccessor::f32(&v))),
+        );
+    }
+    attrs
 }
 
 /// Checks every `f`, `l` and `p` index of the file against the vertex data it really holds:

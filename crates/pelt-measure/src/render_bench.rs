@@ -295,6 +295,30 @@ pub fn reflection_tables(
     let off = measure(envmap(Technique::Off))?;
     t.push(row("off (opaque)".into(), &off, shade_base));
     tables.push(t);
+    tables.extend(knob_tables(base, shade_base, &mut measure)?);
+    let pictures = vec![
+        ("distance-maps-flip.png", default.flip.heat_map()),
+        ("envmap-flip.png", env.flip.heat_map()),
+        ("raytrace.png", reference.image),
+        ("distance-maps.png", default.image),
+        ("envmap.png", env.image),
+    ];
+    Ok(ReflectionTables {
+        intro,
+        tables,
+        pictures,
+    })
+}
+
+/// The tables that vary one knob of the scene's reflections `base` at a time: Figure 17-6's
+/// linear and secant steps, min-max acceleration against linear steps, cube size, layers and
+/// bounces. `measure` renders and measures a setting.
+fn knob_tables(
+    base: Reflections,
+    shade_base: f64,
+    measure: &mut impl FnMut(Reflections) -> Result<Run, BenchError>,
+) -> Result<Vec<Table>, BenchError> {
+    let mut tables = Vec::new();
     let mut t = section("Figure 17-6: linear / secant steps");
     for (l, s) in [(15, 1), (15, 10), (80, 1), (80, 10)] {
         let k = Reflections {
@@ -337,16 +361,5 @@ pub fn reflection_tables(
         t.push(row(format!("{max_depth}"), &measure(k)?, shade_base));
     }
     tables.push(t);
-    let pictures = vec![
-        ("distance-maps-flip.png", default.flip.heat_map()),
-        ("envmap-flip.png", env.flip.heat_map()),
-        ("raytrace.png", reference.image),
-        ("distance-maps.png", default.image),
-        ("envmap.png", env.image),
-    ];
-    Ok(ReflectionTables {
-        intro,
-        tables,
-        pictures,
-    })
+    Ok(tables)
 }
