@@ -64,7 +64,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<ExitCode> {
         Err(e) => return Ok(fail(format_args!("{}: {e}", args.input.display()))),
     };
     if args.explain {
-        print!("{}", plan.explain());
+        print!("{}", pelt_preview::explain(&plan));
         if args.output.is_none() && args.bench.is_none() {
             return Ok(ExitCode::SUCCESS);
         }

@@ -6,8 +6,9 @@
 
 use std::time::Instant;
 
+use pelt_preview::Pass;
 use pelt_preview::asset::MeshData;
-use pelt_preview::plan::Pass;
+use pelt_preview::features::{forward, material, reflect};
 use pelt_preview::scene::{Reflections, Technique};
 use pelt_preview::{Image, Mode, Preview, RenderError, Scene};
 
@@ -128,9 +129,9 @@ pub fn run(
     let image = preview.render(&view)?;
     let t = preview.time(&view, warmup, frames)?;
     let shade = if mode == Mode::Forward {
-        Pass::Forward
+        forward::PASS
     } else {
-        Pass::Material
+        material::PASS
     };
     let flip = Flip::new(&reference.image, &image)?;
     Ok(Run {
@@ -140,8 +141,8 @@ pub fn run(
         flip,
         image,
         frame_ms: t.frame_ms,
-        maps_ms: pass_ms(&t, Pass::DistanceMaps),
-        minmax_ms: pass_ms(&t, Pass::MinMax),
+        maps_ms: pass_ms(&t, reflect::MAPS),
+        minmax_ms: pass_ms(&t, reflect::MIN_MAX),
         shade_ms: pass_ms(&t, shade).unwrap_or(0.0),
     })
 }
@@ -163,9 +164,9 @@ pub fn shade_without(
     Ok(pass_ms(
         &t,
         if mode == Mode::Forward {
-            Pass::Forward
+            forward::PASS
         } else {
-            Pass::Material
+            material::PASS
         },
     )
     .unwrap_or(0.0))

@@ -408,7 +408,7 @@ fn a_cube_size_above_the_adapter_limit_is_an_error_naming_the_field() {
 #[test]
 fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
     use pelt_preview::frame::{Maps, recipes};
-    use pelt_preview::plan::Pass;
+    use pelt_preview::features::reflect::MAPS;
     let mut p = preview();
     let l = box_scene();
     let mut sv = p
@@ -418,7 +418,7 @@ fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
         recipes(&sv.own_frame().expect("frame"), Maps::IfStale)
             .expect("recipes")
             .iter()
-            .filter(|r| r.pass == Pass::DistanceMaps)
+            .filter(|r| r.pass == MAPS)
             .count()
     };
     assert_eq!(faces(&sv), 3 * 3 * 6, "three maps, three layers, six faces");

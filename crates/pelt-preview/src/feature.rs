@@ -1,7 +1,7 @@
-//! What a feature declares, in one descriptor ([`Feature`]): its name and `--explain` line,
-//! its render and compute pipelines (descriptors built through the renderer's descriptor →
-//! handle cache), the planned passes it builds ([`PassDesc`]), what it draws inside the
-//! passes features share, by [`Phase`] ([`DrawDesc`]), the per-view targets it owns
+//! What a feature declares, in one descriptor ([`Feature`]): its name, its render and compute
+//! pipelines (descriptors built through the renderer's descriptor → handle cache), the
+//! planned passes it builds ([`PassDesc`]: when a plan wants each, what it follows, its
+//! `--explain` line; [`planned`] orders them), what it draws inside the passes features share, by [`Phase`] ([`DrawDesc`]), the per-view targets it owns
 //! ([`TargetsDesc`]) and the quality knobs it reads ([`KnobDesc`]); and what every pass draws
 //! from, one view's [`Frame`]. Part of the renderer's core: the registry of features
 //! (`features::registry::FEATURES`) lists one per feature module.
@@ -13,7 +13,8 @@ use crate::draw::{MissingInput, slot, vertex_slot};
 use crate::frame_data::{FrameData, Res};
 use crate::gpu_material::TEXTURED;
 use crate::owned::Owned;
-use crate::plan::{Pass, Plan};
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::poses::ObjectPose;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, PipelineDesc};
@@ -51,13 +52,24 @@ pub enum DrawsInto {
     Output,
 }
 
-/// A planned pass a feature builds.
+/// A planned pass a feature builds: when a plan wants it, what it must follow, what
+/// `--explain` says of it, and how its recipes are built.
 #[derive(Debug, Clone, Copy)]
 pub struct PassDesc {
-    /// The pass, as the plan lists it.
+    /// Its id.
     pub pass: Pass,
+    /// Whether a frame of `plan` runs it (a function of the plan's facts: its mode, lights,
+    /// fur, mirrors and glass).
+    pub wanted: fn(&Plan) -> bool,
+    /// The passes it must follow when they run too (what it reads that they write).
+    pub after: &'static [Pass],
+    /// Its line in `--explain` (after its name).
+    pub explain: fn(&Plan) -> String,
     /// Where it draws.
     pub into: DrawsInto,
+    /// Whether it draws at the L-buffer's size (its cost scales with the L-buffer scale:
+    /// the frame budget's split of a frame's time).
+    pub at_lbuffer: bool,
     /// Whether what it draws outlives the frame (the distance maps depend on the scene, not
     /// the camera): the frame then skips it while it is fresh, unless asked to draw every
     /// pass.
@@ -67,15 +79,42 @@ pub struct PassDesc {
 }
 
 impl PassDesc {
-    /// A pass drawing into the scene colour.
-    pub const fn new(pass: Pass, build: Build) -> PassDesc {
+    /// A pass drawing into the scene colour at the output's size, following nothing.
+    pub const fn new(
+        pass: Pass,
+        build: Build,
+        wanted: fn(&Plan) -> bool,
+        explain: fn(&Plan) -> String,
+    ) -> PassDesc {
         PassDesc {
             pass,
+            wanted,
+            after: &[],
+            explain,
             into: DrawsInto::Scene,
+            at_lbuffer: false,
             cached: None,
             build,
         }
     }
+}
+
+/// The passes of `features` that `plan` wants, in order: each after every wanted pass it
+/// must follow, otherwise in the order they are registered. (Were the `after` lists ever to
+/// form a circle, the rest would keep registry order; the registry's tests rule that out.)
+pub fn planned<'f>(features: &'f [Feature], plan: &Plan) -> Vec<&'f PassDesc> {
+    let mut left: Vec<&PassDesc> = features
+        .iter()
+        .flat_map(|f| f.passes)
+        .filter(|p| (p.wanted)(plan))
+        .collect();
+    let mut out = Vec::with_capacity(left.len());
+    while !left.is_empty() {
+        let waits = |p: &PassDesc| p.after.iter().any(|a| left.iter().any(|q| q.pass == *a));
+        let next = left.iter().position(|p| !waits(p)).unwrap_or(0);
+        out.push(left.remove(next));
+    }
+    out
 }
 
 /// How a pass whose output outlives the frame tracks it.
@@ -92,8 +131,6 @@ pub struct Cached {
 pub struct Feature {
     /// Its name (the module's).
     pub name: &'static str,
-    /// What it draws, in one line (`--explain`).
-    pub explain: &'static str,
     /// Every render pipeline it may draw, each variant once.
     pub pipelines: fn() -> Vec<PipelineDesc>,
     /// Its compute pipelines.
@@ -167,10 +204,9 @@ impl Reference {
 
 impl Feature {
     /// A feature with no pipelines, passes, draws or targets yet.
-    pub const fn named(name: &'static str, explain: &'static str) -> Feature {
+    pub const fn named(name: &'static str) -> Feature {
         Feature {
             name,
-            explain,
             pipelines: Vec::new,
             compute: &[],
             passes: &[],

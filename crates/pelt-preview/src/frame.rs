@@ -6,9 +6,9 @@
 use std::time::Instant;
 
 use crate::draw::MissingInput;
-use crate::feature::{DrawsInto, Frame, Output, PassDesc};
+use crate::feature::{DrawsInto, Frame, Output, planned};
 use crate::features;
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::recipe::{Counts, Queries, Recipe};
 use crate::renderer::Renderer;
 use crate::targets::Target;
@@ -29,14 +29,13 @@ pub enum Maps {
     Never,
 }
 
-/// The frame's passes in the plan's order, as recipes: each planned pass built by the
-/// feature that registered it (in the frame's feature table).
+/// The frame's passes as recipes: each pass of the frame's feature table that its plan
+/// wants, in the registry's order ([`planned`]), built by the feature that registered it.
 pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, MissingInput> {
     let mut out = Vec::new();
     // Every pass before the resolve draws into the scene colour where the plan has one.
     let inner = &features::resolve::inner(outer)?;
-    for &p in &inner.plan.passes {
-        let b = builder(inner, p)?;
+    for b in planned(inner.features, inner.plan) {
         let skip = b.cached.is_some_and(|c| match maps {
             Maps::IfStale => (c.fresh)(inner),
             Maps::Always => false,
@@ -54,25 +53,11 @@ pub fn recipes<'a>(outer: &Frame<'a>, maps: Maps) -> Result<Vec<Recipe<'a>>, Mis
     Ok(out)
 }
 
-/// The registered feature pass that builds `p`.
-fn builder(f: &Frame<'_>, p: Pass) -> Result<&'static PassDesc, MissingInput> {
-    f.features
-        .iter()
-        .flat_map(|x| x.passes)
-        .find(|d| d.pass == p)
-        .ok_or_else(|| MissingInput {
-            pass: p.name(),
-            what: "a feature that builds it (upscaling, mips and the overlay are drawn on request, never planned)".into(),
-        })
-}
-
 /// Records that the submitted frame `f` drew (or kept) the planned passes whose output
 /// outlives it.
 fn mark_drawn(f: &Frame<'_>) {
-    for &p in &f.plan.passes {
-        if let Ok(Some(c)) = builder(f, p).map(|b| b.cached) {
-            (c.drawn)(f);
-        }
+    for c in planned(f.features, f.plan).iter().filter_map(|b| b.cached) {
+        (c.drawn)(f);
     }
 }
 

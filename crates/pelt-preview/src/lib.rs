@@ -30,6 +30,7 @@ pub mod gpu;
 pub mod gpu_material;
 pub mod layout;
 pub mod owned;
+pub mod pass;
 pub mod poses;
 pub mod progressive;
 pub mod readback;
@@ -49,8 +50,10 @@ pub use pelt_scene::{
 
 use std::sync::Arc;
 
+pub use features::registry::{explain, passes};
 pub use frame::{FrameError, Image, PassClock, PassProfile, Timings};
 pub use gpu::{Backend, Gpu, GpuError};
+pub use pass::Pass;
 pub use pelt_scene::{Mode, Plan, PlanError, Scene, SceneError};
 pub use renderer::Renderer;
 pub use scene_view::SceneView;

@@ -7,7 +7,7 @@
 
 use std::ops::Range;
 
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::renderer::{
     ComputeDesc, MAX_COLOR_TARGETS, PipelineDesc, PipelineError, PipelineKey, Renderer,
 };

@@ -10,7 +10,7 @@ use crate::draw::{MissingInput, object_blends, object_depth, vertex_layout};
 use crate::feature::{Frame, Phase, Shade};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
 use crate::shaders::{Lighting, ShaderDesc};

@@ -7,7 +7,7 @@
 //! targets, and nothing else does.
 
 use crate::owned::Owned;
-use crate::plan::{Pass, Plan};
+use crate::plan::Plan;
 use crate::renderer::{DEPTH_FORMAT, DSF_FORMAT, LBUFFER_FORMAT, Renderer};
 
 /// What a view's targets depend on.
@@ -47,7 +47,7 @@ impl TargetSpec {
             lbuffer: plan.lbuffer,
             color_format,
             own_color,
-            composition: plan.lbuffer.is_some() && plan.passes.contains(&Pass::Obliterate),
+            composition: plan.lbuffer.is_some() && !plan.fur.is_empty(),
             owned,
         }
     }

@@ -845,7 +845,7 @@ fn fur_off_screen_casts_by_its_coverage() {
         let plan = pelt_scene::Plan::new(&lit, &f.meshes, &of, mode).expect("plan");
         assert_eq!((plan.shown, plan.fur.len()), (1, 0), "only the floor shows");
         assert_eq!(plan.fur_casters.len(), 1, "the sphere's fur casts");
-        let e = plan.explain();
+        let e = pelt_preview::explain(&plan);
         assert!(e.contains("(1 fur object(s) off screen cast too)"), "{e}");
         lit.shadow_maps.opacity_layers = 0;
         let plain = pelt_scene::Plan::new(&lit, &f.meshes, &of, mode).expect("plan");

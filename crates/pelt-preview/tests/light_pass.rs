@@ -20,9 +20,10 @@ mod common;
 use std::path::Path;
 
 use glam::Vec3;
+use pelt_preview::Pass;
+use pelt_preview::features::forward;
 use pelt_preview::features::{lights, shadows};
 use pelt_preview::frame::{self, Maps};
-use pelt_preview::plan::Pass;
 use pelt_preview::procedural::grid_scene;
 use pelt_preview::recipe::{Recipe, Step};
 use pelt_preview::renderer::PipelineDesc;
@@ -89,7 +90,7 @@ fn any_sun(descs: &[PipelineDesc]) -> bool {
 fn light_pipelines_compile_out_what_their_lights_do_not_need() {
     let mut p = common::preview();
     // Point lights, none casting: one pipeline, point reach only, no shadow lookup.
-    let point = pipelines(&mut p, &point_scene(), Mode::Inferred, Pass::Light);
+    let point = pipelines(&mut p, &point_scene(), Mode::Inferred, lights::PASS);
     assert_eq!(point.len(), 1, "one kind of light, one pipeline");
     let names = reached(&point[0]);
     eprintln!("point lights reach: {names:?}");
@@ -112,7 +113,7 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
     assert!(holds(&either, COMMON, "sun_reach") && !holds(&either, COMMON, "point_reach"));
 
     // A directional light among them: a pipeline per kind, each with its own reach only.
-    let mixed = pipelines(&mut p, &mixed_scene(), Mode::Inferred, Pass::Light);
+    let mixed = pipelines(&mut p, &mixed_scene(), Mode::Inferred, lights::PASS);
     assert_eq!(mixed.len(), 2, "a pipeline per kind");
     let kinds: Vec<(bool, bool)> = mixed
         .iter()
@@ -130,12 +131,12 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
     // A casting light: the lookup is there (the check sees it where it is compiled in).
     let mut casting = point_scene();
     casting.lights[0].shadows = true;
-    for d in pipelines(&mut p, &casting, Mode::Inferred, Pass::Light) {
+    for d in pipelines(&mut p, &casting, Mode::Inferred, lights::PASS) {
         assert!(holds(&reached(&d), SHADOWS, "shadow_seen"));
     }
 
     // The forward pass loops over every light: its branch on the kind only with a sun.
-    let fwd = pipelines(&mut p, &point_scene(), Mode::Forward, Pass::Forward);
+    let fwd = pipelines(&mut p, &point_scene(), Mode::Forward, forward::PASS);
     for d in &fwd {
         let n = reached(d);
         assert!(!holds(&n, COMMON, "sun_reach") && !holds(&n, SHADOWS, "shadow_seen"));
@@ -146,7 +147,7 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
             "negative control"
         );
     }
-    for d in pipelines(&mut p, &mixed_scene(), Mode::Forward, Pass::Forward) {
+    for d in pipelines(&mut p, &mixed_scene(), Mode::Forward, forward::PASS) {
         assert!(holds(&reached(&d), COMMON, "sun_reach"));
     }
 }
@@ -236,7 +237,7 @@ fn light_work(p: &Preview, sv: &SceneView, change: impl Fn(&mut [Step<'_>])) -> 
     let mut recipes = frame::recipes(&f, Maps::Always).expect("recipes");
     let at = recipes
         .iter()
-        .position(|x| x.pass == Pass::Light)
+        .position(|x| x.pass == lights::PASS)
         .expect("a light pass");
     change(recipes[at].steps_mut());
     r.prepare(recipes.iter().flat_map(Recipe::keys))
@@ -383,7 +384,7 @@ fn the_light_pass_switches_pipeline_where_the_kind_of_light_changes() {
     let recipes = frame::recipes(&f, Maps::Always).expect("recipes");
     let light = recipes
         .iter()
-        .find(|r| r.pass == Pass::Light)
+        .find(|r| r.pass == lights::PASS)
         .expect("light pass");
     let mut runs: Vec<Option<f64>> = Vec::new();
     for l in &f.plan.lights {

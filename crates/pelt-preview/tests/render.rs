@@ -444,16 +444,26 @@ fn rendering_is_deterministic_and_explains_itself() {
     assert_eq!(a.png(), b.png(), "same scene, same bytes");
     assert_eq!((a.width, a.height), (256, 144));
     let d = p.prepare(&s, Mode::Inferred).expect("prepare");
-    let e = d.plan.explain();
+    let e = pelt_preview::explain(&d.plan);
     assert!(
         e.contains("geometry") && e.contains("light") && e.contains("material"),
         "{e}"
     );
-    // Timing runs and reports every pass.
+    // Timing runs and reports every pass, in the plan's order, each with a time a clock can
+    // give (finite, not negative) and the same time in the profile; together they take time.
+    // (A pass is timed in frames of its own, so it is not bounded by `frame_ms`.)
     let t = p.time(&d, 1, 3).expect("time");
-    assert_eq!(t.passes.len(), 3);
+    let names: Vec<&str> = t.profile.iter().map(|x| x.pass).collect();
+    assert_eq!(names, ["geometry", "light", "material"], "{t:?}");
+    let total: f64 = t.passes.iter().map(|(_, ms)| ms).sum();
     assert!(
-        t.frame_ms > 0.0 && t.passes.iter().all(|(_, ms)| *ms >= 0.0),
+        t.frame_ms.is_finite()
+            && t.frame_ms > 0.0
+            && t.passes.len() == t.profile.len()
+            && t.passes.iter().zip(&t.profile).all(|((_, ms), x)| {
+                ms.is_finite() && *ms >= 0.0 && ms.to_bits() == x.ms.to_bits()
+            })
+            && total > 0.0,
         "{t:?}"
     );
 }

@@ -243,69 +243,6 @@ pub struct PlannedLight {
     pub shadow: Option<u32>,
 }
 
-/// A pass, for `--explain` and timing labels.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Pass {
-    /// Layered distance maps of every mirror and glass object (GPU Gems 3 §17.2.1).
-    DistanceMaps,
-    /// Each distance-map layer's minimum and maximum distance (Figure 17-4), a compute pass.
-    MinMax,
-    /// A cube of distances about each shadow-casting light (Kircher & Lawrance's shadows,
-    /// applied per L-buffer pixel in the light pass and per pixel in the forward pass).
-    Shadows,
-    /// G-buffer at L-buffer resolution.
-    Geometry,
-    /// Scissored lights into the L-buffer.
-    Light,
-    /// Full materials at output resolution, lighting inferred from the L-buffer.
-    Material,
-    /// Forward shading with a light loop.
-    Forward,
-    /// Fur: stipple obliteration into the composition copy of the L-buffer and DSF buffer.
-    Obliterate,
-    /// Fur shells and fins into the weighted blended OIT accumulation.
-    FurAccum,
-    /// Weighted blended OIT resolve over the image, then alpha objects.
-    Composite,
-    /// The linear half-float colour the passes before drew into, written to the output.
-    /// Planned where fur shells blend: tens of thin layers blended one after another
-    /// straight into 8-bit sRGB each round to the nearest step, and the steps add up (at 64
-    /// shells the fur came out up to a fifth too bright).
-    Resolve,
-    /// A reduced-resolution frame scaled up to a window (`pelt view`'s frame budget; never
-    /// in a plan).
-    Upscale,
-    /// Mip levels of a layered target (never in a plan).
-    Mips,
-    /// `pelt view`'s text overlay (never in a plan).
-    Overlay,
-    /// A debug view of every object, unlit.
-    Debug,
-}
-
-impl Pass {
-    /// Short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Pass::DistanceMaps => "distance-maps",
-            Pass::MinMax => "min-max",
-            Pass::Shadows => "shadow-maps",
-            Pass::Geometry => "geometry",
-            Pass::Light => "light",
-            Pass::Material => "material",
-            Pass::Forward => "forward",
-            Pass::Obliterate => "obliterate",
-            Pass::FurAccum => "fur-oit",
-            Pass::Composite => "composite",
-            Pass::Resolve => "resolve",
-            Pass::Upscale => "upscale",
-            Pass::Mips => "mips",
-            Pass::Overlay => "overlay",
-            Pass::Debug => "debug",
-        }
-    }
-}
-
 /// Everything decided before the GPU runs.
 #[derive(Debug, Clone)]
 pub struct Plan {
@@ -355,8 +292,6 @@ pub struct Plan {
     pub sky: Sky,
     /// Lights that reach the screen.
     pub lights: Vec<PlannedLight>,
-    /// Passes, in order.
-    pub passes: Vec<Pass>,
     /// The wind's per-frame constants at the scene's time ([`crate::wind::constants`]).
     pub wind: ([f32; 4], [f32; 4]),
     /// Linear ambient light.
@@ -856,41 +791,12 @@ impl Plan {
                 max: MAX_FORWARD_LIGHTS,
             });
         }
-        let (mut passes, lbuffer) = match mode {
-            Mode::Forward | Mode::Strands => (vec![Pass::Forward], None),
-            Mode::Debug(_) => (vec![Pass::Debug], None),
-            _ if lights.is_empty() || shown == 0 => (vec![Pass::Material], None),
-            _ if !fur.is_empty() => (
-                vec![
-                    Pass::Geometry,
-                    Pass::Light,
-                    Pass::Obliterate,
-                    Pass::Material,
-                ],
-                scene.lbuffer,
-            ),
-            _ => (
-                vec![Pass::Geometry, Pass::Light, Pass::Material],
-                scene.lbuffer,
-            ),
-        };
-        let debug = matches!(mode, Mode::Debug(_));
-        if !fur.is_empty() && scene.fur_blend == FurBlend::Wboit && !debug {
-            passes.extend([Pass::FurAccum, Pass::Composite]);
-        }
-        if !fur.is_empty() && mode != Mode::Strands && !debug {
-            passes.push(Pass::Resolve);
-        }
-        if scene.lights.iter().any(|l| l.shadows) && !debug {
-            passes.insert(0, Pass::Shadows);
-        }
-        if !maps.is_empty() {
-            let mut first = vec![Pass::DistanceMaps];
-            if scene.reflections.min_max && scene.reflections.technique == Technique::DistanceMaps {
-                first.push(Pass::MinMax);
-            }
-            passes.splice(0..0, first);
-        }
+        // The G-buffer and L-buffer exist where the mode lights through them and a light and
+        // an object show; with no light on screen, the ambient term needs neither.
+        let deferred = !mode.is_forward() && !matches!(mode, Mode::Debug(_));
+        let lbuffer = scene
+            .lbuffer
+            .filter(|_| deferred && !lights.is_empty() && shown > 0);
         Ok(Plan {
             mode,
             view,
@@ -919,7 +825,6 @@ impl Plan {
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
             lights,
-            passes,
             ambient: scene.ambient,
             wind: scene.wind,
             culled_objects,
@@ -929,8 +834,10 @@ impl Plan {
         })
     }
 
-    /// The plan in words (`--explain`).
-    pub fn explain(&self) -> String {
+    /// The plan in words (`--explain`): its facts, then each planned pass by name with its
+    /// line (the renderer declares the passes, when each runs and what each says of this
+    /// plan: `pelt_preview::explain`), then the notes.
+    pub fn explain(&self, passes: &[(&str, String)]) -> String {
         let mut s = String::new();
         let (w, h) = self.output;
         let _ = write!(s, "mode {}: output {w}×{h}", self.mode);
@@ -951,6 +858,19 @@ impl Plan {
             self.lights.len(),
             self.culled_lights
         );
+        self.explain_wind(&mut s);
+        let _ = writeln!(s, "passes:");
+        for (name, line) in passes {
+            let _ = writeln!(s, "  {name:<14}{line}");
+        }
+        for n in &self.notes {
+            let _ = writeln!(s, "note: {n}");
+        }
+        s
+    }
+
+    /// The wind in words, when it blows.
+    fn explain_wind(&self, s: &mut String) {
         let (wind, gust) = self.wind;
         if wind[..3] != [0.0; 3] {
             let v = Vec3::from_slice(&wind[..3]);
@@ -968,209 +888,30 @@ impl Plan {
                 wind[3]
             );
         }
-        let alpha_layers = |s: &mut String| {
-            if !self.alpha.is_empty() {
-                let mut used: Vec<u32> = self
-                    .alpha
-                    .iter()
-                    .map(|&k| self.objects[k].pattern)
-                    .collect();
-                used.sort_unstable();
-                used.dedup();
-                let _ = write!(s, "; stipple patterns used {used:?}");
-                if self.crowded_alpha > 0 {
-                    let _ = write!(
-                        s,
-                        " ({} alpha objects overlap 3 others and share a pattern)",
-                        self.crowded_alpha
-                    );
-                }
-            }
-        };
-        let _ = writeln!(s, "passes:");
-        for p in &self.passes {
-            let _ = write!(s, "  {:<14}", p.name());
-            match p {
-                Pass::DistanceMaps => self.explain_maps(&mut s),
-                Pass::Shadows => {
-                    let (points, suns) = self.shadow_lights;
-                    let mut what = Vec::new();
-                    if points > 0 {
-                        what.push(format!("{points} point light(s) × 6 cube faces"));
-                    }
-                    if suns > 0 {
-                        what.push(format!(
-                            "{suns} directional light(s) × 1 orthographic map (fitted to the scene)"
-                        ));
-                    }
-                    let _ = write!(
-                        s,
-                        "{} of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
-                        what.join(", "),
-                        size = self.shadow_maps.size,
-                        pcf = self.shadow_maps.pcf
-                    );
-                    let layers = self.shadow_maps.opacity_layers;
-                    if layers > 0 && !self.fur_casters.is_empty() {
-                        let _ = write!(
-                            s,
-                            "; the fur from each: its nearest distance, then {layers} deep opacity layer(s) of its shells' optical depth (Yuksel & Keyser 2008), which fur and everything behind it read"
-                        );
-                        let off = self.fur_casters.len() - self.fur.len();
-                        if off > 0 {
-                            let _ = write!(s, " ({off} fur object(s) off screen cast too)");
-                        }
-                    }
-                }
-                Pass::MinMax => {
-                    let _ = write!(
-                        s,
-                        "compute: minimum and maximum distance of each of {} maps × {} layers (Figure 17-4), one workgroup each",
-                        self.maps.len(),
-                        self.reflections.layers
-                    );
-                }
-                Pass::Geometry => {
-                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
-                    let _ = write!(
-                        s,
-                        "{lw}×{lh}: view normals (eq. 1, X/Y 16-bit), DSF (16-bit linear depth, ID object<<8|group), depth; {} opaque, {} alpha stippled 2×2",
-                        self.opaque.len(),
-                        self.alpha.len()
-                    );
-                    alpha_layers(&mut s);
-                    if !self.fur.is_empty() {
-                        let _ = write!(
-                            s,
-                            "; {} fur: base mesh with grain normals (Revie 2.5), outer shell stippled 1 in 4 with rim normals (2.1, 2.3)",
-                            self.fur.len()
-                        );
-                    }
-                }
-                Pass::Obliterate => {
-                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
-                    let _ = write!(
-                        s,
-                        "{lw}×{lh}: composition copy of the L-buffer and DSF buffer with the outer-shell stipple texels replaced by base-mesh neighbours"
-                    );
-                }
-                Pass::FurAccum => {
-                    let _ = write!(
-                        s,
-                        "{w}×{h}: shells and fins of {} fur objects into weighted blended OIT (depth-weighted accumulation, revealage)",
-                        self.fur.len()
-                    );
-                }
-                Pass::Upscale => {
-                    let _ = write!(s, "a reduced-resolution frame scaled up to the window");
-                }
-                Pass::Mips => {
-                    let _ = write!(s, "mip levels of a layered target");
-                }
-                Pass::Overlay => {
-                    let _ = write!(s, "text over the window");
-                }
-                Pass::Debug => {
-                    let _ = write!(
-                        s,
-                        "{w}×{h}: {} objects unlit, {}",
-                        self.shown,
-                        match self.mode {
-                            Mode::Debug(DebugView::Comb) =>
-                                "the decoded comb as colour, its length as brightness",
-                            _ => "each normal group in its class's colour, neighbours distinct",
-                        }
-                    );
-                }
-                Pass::Composite => {
-                    let _ = write!(
-                        s,
-                        "{w}×{h}: OIT resolve over the image; {} alpha back to front",
-                        self.alpha.len()
-                    );
-                }
-                Pass::Resolve => {
-                    let _ = write!(
-                        s,
-                        "{w}×{h}: the half-float colour the fur's layers blended into, to the output"
-                    );
-                }
-                Pass::Light => {
-                    let (lw, lh) = self.lbuffer.unwrap_or(self.output);
-                    let area: f64 = self
-                        .lights
-                        .iter()
-                        .map(|l| {
-                            f64::from(l.rect[2] - l.rect[0]) * f64::from(l.rect[3] - l.rect[1])
-                        })
-                        .sum();
-                    let _ = write!(
-                        s,
-                        "{lw}×{lh}: {} lights, each a scissored full-screen triangle (mean {:.1}% of the L-buffer), added into RGB diffuse + A specular",
-                        self.lights.len(),
-                        100.0 * area
-                            / self.lights.len().max(1) as f64
-                            / (f64::from(lw) * f64::from(lh))
-                    );
-                }
-                Pass::Material => {
-                    let _ = write!(s, "{w}×{h}: ");
-                    if self.lbuffer.is_none() {
-                        let _ = write!(
-                            s,
-                            "no lights on screen, ambient only (no G-buffer or L-buffer); "
-                        );
-                    } else if self.dsf {
-                        let _ = write!(
-                            s,
-                            "DSF bilinear over 4 L-buffer taps (ID equal, depth within threshold); "
-                        );
-                    } else {
-                        let _ = write!(s, "plain bilinear L-buffer taps; ");
-                    }
-                    let _ = write!(
-                        s,
-                        "{} opaque front to back, {} alpha back to front",
-                        self.opaque.len(),
-                        self.alpha.len()
-                    );
-                    self.explain_fur(&mut s);
-                }
-                Pass::Forward => {
-                    let _ = write!(
-                        s,
-                        "{w}×{h}: {} objects × {} lights in a per-pixel loop; {} alpha back to front",
-                        self.shown,
-                        self.lights.len(),
-                        self.alpha.len()
-                    );
-                    self.explain_fur(&mut s);
-                }
-            }
-            s.push('\n');
-        }
-        for n in &self.notes {
-            let _ = writeln!(s, "note: {n}");
-        }
-        s
     }
 
-    /// The distance-map pass in words, with its cost drivers.
-    fn explain_maps(&self, s: &mut String) {
-        let r = &self.reflections;
-        let faces = self.maps.len() as u64 * 6 * u64::from(r.layers);
-        let texels = faces * u64::from(r.cube_size) * u64::from(r.cube_size);
-        let _ = write!(
-            s,
-            "{} maps × 6 faces × {} layers (the object's front faces, its back faces, {} of the rest of the scene, depth-peeled) × {}² texels = {} face renders, {:.1} M texels: radiance + material (Listing 17-5's sign convention), normal + distance; every object of the scene × {} lights per texel",
-            self.maps.len(),
-            r.layers,
-            r.layers - 2,
-            r.cube_size,
-            faces,
-            texels as f64 / 1e6,
-            self.map_lights
-        );
+    /// The stipple patterns the alpha objects use, in words (`; stipple patterns used [1,
+    /// 2]`), or nothing without alpha objects.
+    pub fn explain_stipple(&self) -> String {
+        let mut s = String::new();
+        if !self.alpha.is_empty() {
+            let mut used: Vec<u32> = self
+                .alpha
+                .iter()
+                .map(|&k| self.objects[k].pattern)
+                .collect();
+            used.sort_unstable();
+            used.dedup();
+            let _ = write!(s, "; stipple patterns used {used:?}");
+            if self.crowded_alpha > 0 {
+                let _ = write!(
+                    s,
+                    " ({} alpha objects overlap 3 others and share a pattern)",
+                    self.crowded_alpha
+                );
+            }
+        }
+        s
     }
 
     /// The mirror and glass part of the material (or forward) pass in words.
@@ -1201,8 +942,9 @@ impl Plan {
         }
     }
 
-    /// The fur and sky part of the material (or forward) pass in words.
-    fn explain_fur(&self, s: &mut String) {
+    /// The mirror, glass, fur and sky part of the shading (material or forward) pass in
+    /// words.
+    pub fn explain_shading(&self, s: &mut String) {
         self.explain_reflective(s);
         for &k in &self.fur {
             let o = &self.objects[k];
@@ -1259,47 +1001,49 @@ mod tests {
     }
 
     #[test]
-    fn a_debug_mode_plans_one_unlit_pass_and_round_trips_its_name() {
-        let s = grid_scene(Path::new("builtin:cube"), 3, 2, 1, 64, 48);
-        for (name, view) in [
-            ("debug-groups", DebugView::Groups),
-            ("debug-comb", DebugView::Comb),
+    fn modes_round_trip_their_names() {
+        for name in [
+            "inferred",
+            "deferred",
+            "forward",
+            "strands",
+            "debug-groups",
+            "debug-comb",
         ] {
-            let mode: Mode = name.parse().expect("a debug mode");
-            assert_eq!(
-                (mode, mode.to_string()),
-                (Mode::Debug(view), name.to_owned())
-            );
-            let p = plan(&s, mode);
-            assert_eq!((p.passes.clone(), p.lbuffer), (vec![Pass::Debug], None));
-            assert!(p.explain().contains("unlit"), "{}", p.explain());
+            let mode: Mode = name.parse().expect("a mode");
+            assert_eq!(mode.to_string(), name);
         }
         let e = "debug".parse::<Mode>().expect_err("not a mode");
         assert!(e.contains("debug-groups or debug-comb"), "{e}");
     }
 
     #[test]
-    fn passes_follow_the_mode_and_the_scene() {
+    fn the_lbuffer_follows_the_mode_and_the_lights_on_screen() {
         let mut s = grid_scene(Path::new("builtin:cube"), 9, 5, 1, 160, 90);
         s.lbuffer_scale = 0.5;
         let p = plan(&s, Mode::Inferred);
-        assert_eq!(p.passes, vec![Pass::Geometry, Pass::Light, Pass::Material]);
-        assert_eq!(p.lbuffer, Some((80, 45)));
-        assert!(p.dsf);
+        assert_eq!((p.lbuffer, p.dsf), (Some((80, 45)), true));
         let d = plan(&s, Mode::Deferred);
         assert_eq!((d.lbuffer, d.dsf), (Some((160, 90)), false));
-        let f = plan(&s, Mode::Forward);
-        assert_eq!((f.passes.clone(), f.lbuffer), (vec![Pass::Forward], None));
-        assert!(
-            f.explain().contains("9 objects × 5 lights"),
-            "{}",
-            f.explain()
-        );
-        // No lights: the material pass alone.
+        for mode in [Mode::Forward, Mode::Strands, Mode::Debug(DebugView::Groups)] {
+            assert_eq!(plan(&s, mode).lbuffer, None, "{mode}");
+        }
+        // No lights: the ambient term needs no L-buffer.
         s.lights.clear();
-        let n = plan(&s, Mode::Inferred);
-        assert_eq!((n.passes.clone(), n.lbuffer), (vec![Pass::Material], None));
-        assert!(n.explain().contains("ambient only"), "{}", n.explain());
+        assert_eq!(plan(&s, Mode::Inferred).lbuffer, None);
+    }
+
+    #[test]
+    fn explain_lists_the_passes_it_is_given_between_the_facts_and_the_notes() {
+        let s = grid_scene(Path::new("builtin:cube"), 2, 1, 1, 160, 90);
+        let mut p = plan(&s, Mode::Inferred);
+        p.notes.push("a note".into());
+        let e = p.explain(&[("first", "one".into()), ("second-pass", "two".into())]);
+        assert!(e.starts_with("mode inferred: output 160×90"), "{e}");
+        assert!(
+            e.contains("passes:\n  first         one\n  second-pass   two\nnote: a note\n"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -1317,49 +1061,7 @@ mod tests {
         let pats: Vec<u32> = p.alpha.iter().map(|&k| p.objects[k].pattern).collect();
         assert_eq!(pats, vec![3, 2, 1], "nearest takes pattern 1; all differ");
         assert_eq!(p.opaque.len(), 1);
-        assert!(
-            p.explain().contains("stipple patterns used [1, 2, 3]"),
-            "{}",
-            p.explain()
-        );
-    }
-
-    #[test]
-    fn the_shadow_pass_runs_only_for_casting_lights_and_says_what_it_draws() {
-        let mut s = grid_scene(Path::new("builtin:cube"), 1, 1, 1, 160, 90);
-        let e = plan(&s, Mode::Inferred).explain();
-        assert!(!e.contains("shadow-maps"), "{e}");
-        s.lights[0].shadows = true;
-        s.lights.push(crate::scene::Light {
-            emitter: Emitter::Directional {
-                direction: Vec3::NEG_Y,
-            },
-            shadows: true,
-            ..s.lights[0]
-        });
-        let e = plan(&s, Mode::Inferred).explain();
-        assert!(
-            e.contains("shadow-maps   1 point light(s) × 6 cube faces, 1 directional light(s) × 1 orthographic map (fitted to the scene) of 512²"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn explain_says_when_and_how_the_wind_blows() {
-        let mut s = grid_scene(Path::new("builtin:cube"), 1, 1, 1, 160, 90);
-        assert!(!plan(&s, Mode::Inferred).explain().contains("wind"));
-        s.wind = Some(crate::wind::Wind {
-            direction: Vec3::Z,
-            strength: 0.5,
-            gust_hz: 2.0,
-            turbulence: 0.25,
-        });
-        s.time = 1.5;
-        let e = plan(&s, Mode::Inferred).explain();
-        assert!(
-            e.contains("wind toward [0.00, 0.00, 1.00], strength 0.50, 2 gusts/s, turbulence 0.25, at 1.5 s"),
-            "{e}"
-        );
+        assert_eq!(p.explain_stipple(), "; stipple patterns used [1, 2, 3]");
     }
 
     #[test]

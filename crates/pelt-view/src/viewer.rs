@@ -9,13 +9,14 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use pelt_preview::Pass;
 use pelt_preview::animate::{self, Followed};
 use pelt_preview::budget::{Budget, Costs, Quality};
 use pelt_preview::features::Output;
+use pelt_preview::features::registry::builder;
 use pelt_preview::features::upscale::Upscale;
 use pelt_preview::knobs::{self, Input, Knobs, ShellCount};
 use pelt_preview::orbit::Orbit;
-use pelt_preview::plan::Pass;
 use pelt_preview::progressive::Progressive;
 use pelt_preview::scene::{Material, Scene};
 use pelt_preview::{Image, Preview, RenderError, SceneView, ViewOutput};
@@ -436,11 +437,10 @@ impl Viewer {
         let t = preview.time(&sv, 1, 1)?;
         let split = |passes: &[(Pass, f64)]| {
             let lres = |p: Pass| {
-                mode == pelt_preview::Mode::Inferred
-                    && matches!(p, Pass::Geometry | Pass::Light | Pass::Obliterate)
+                mode == pelt_preview::Mode::Inferred && builder(p).is_some_and(|d| d.at_lbuffer)
             };
             // The distance maps do not depend on the camera: a moving frame reuses them.
-            let per_frame = |p: Pass| !matches!(p, Pass::DistanceMaps | Pass::MinMax);
+            let per_frame = |p: Pass| builder(p).is_none_or(|d| d.cached.is_none());
             passes
                 .iter()
                 .filter(|(p, _)| per_frame(*p))

@@ -26,10 +26,7 @@ pub const FEATURE: Feature = Feature {
             draw: transparent,
         },
     ],
-    ..Feature::named(
-        "alpha",
-        "stippled alpha objects, lit from their own stipple samples",
-    )
+    ..Feature::named("alpha")
 };
 
 /// The alpha objects' stippled G-buffer draws (after opaque and fur).

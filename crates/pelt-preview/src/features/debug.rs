@@ -10,7 +10,8 @@ use crate::draw::{MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
 use crate::feature::{Build, Feature, Frame, PassDesc};
 use crate::frame_data::Res;
 use crate::layout;
-use crate::plan::{DebugView, Mode, Pass};
+use crate::pass::Pass;
+use crate::plan::{DebugView, Mode, Plan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::shaders::{Entry, ShaderDesc};
@@ -61,26 +62,44 @@ pub fn pipeline(shader: ShaderDesc) -> PipelineDesc {
     }
 }
 
+/// The debug pass.
+pub const PASS: Pass = Pass::new("debug");
+
 /// The debug views' feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || [GROUPS, COMB, PLAIN].map(pipeline).to_vec(),
-    passes: &[PassDesc::new(Pass::Debug, Build::One(pass))],
-    ..Feature::named(
-        "debug",
-        "debug views: normal groups, neighbours distinct; the decoded comb",
-    )
+    passes: &[PassDesc::new(
+        PASS,
+        Build::One(pass),
+        |plan| matches!(plan.mode, Mode::Debug(_)),
+        explain,
+    )],
+    ..Feature::named("debug")
 };
+
+/// The debug pass in words.
+fn explain(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    format!(
+        "{w}×{h}: {} objects unlit, {}",
+        plan.shown,
+        match plan.mode {
+            Mode::Debug(DebugView::Comb) => "the decoded comb as colour, its length as brightness",
+            _ => "each normal group in its class's colour, neighbours distinct",
+        }
+    )
+}
 
 /// The debug pass: every planned object, nearest first within each kind, into the output.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let Mode::Debug(view) = f.plan.mode else {
         return Err(MissingInput {
-            pass: Pass::Debug.name(),
+            pass: PASS.name(),
             what: "a debug mode (debug-groups or debug-comb)".into(),
         });
     };
     let mut r = Recipe::new(
-        Pass::Debug,
+        PASS,
         vec![Color {
             view: f.output.view,
             format: f.output.format,
@@ -98,12 +117,12 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         .into_iter()
         .flatten()
     {
-        let mesh = f.mesh(Pass::Debug.name(), k)?;
+        let mesh = f.mesh(PASS.name(), k)?;
         let second = match view {
             DebugView::Groups => Some((
                 GROUPS,
                 mesh.groups.as_ref().ok_or_else(|| MissingInput {
-                    pass: Pass::Debug.name(),
+                    pass: PASS.name(),
                     what: format!(
                         "the normal-group classes of objects[{}]",
                         p.objects[k].scene_index

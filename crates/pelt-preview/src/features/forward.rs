@@ -7,7 +7,8 @@ use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
 use crate::gpu_material::with_untextured;
 use crate::layout;
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::recipe::Recipe;
 use crate::renderer::{Blend, PipelineDesc};
 use crate::shaders::{Lighting, ShaderDesc};
@@ -58,23 +59,48 @@ pub const FEATURE: Feature = Feature {
             .flat_map(|d| [d.clone(), lights::without_suns(d)]);
         with_untextured(shadows::with_unshadowed(kinds.collect()))
     },
-    passes: &[PassDesc::new(Pass::Forward, Build::One(pass))],
-    ..Feature::named(
-        "forward",
-        "the forward reference: every object loops over every light",
-    )
+    passes: &[PassDesc {
+        after: &[
+            Pass::new("distance-maps"),
+            Pass::new("min-max"),
+            Pass::new("shadow-maps"),
+        ],
+        ..PassDesc::new(
+            PASS,
+            Build::One(pass),
+            |plan| plan.mode.is_forward(),
+            explain,
+        )
+    }],
+    ..Feature::named("forward")
 };
 
 /// The forward pass.
+pub const PASS: Pass = Pass::new("forward");
+
+/// The forward pass in words.
+fn explain(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    let mut s = format!(
+        "{w}×{h}: {} objects × {} lights in a per-pixel loop; {} alpha back to front",
+        plan.shown,
+        plan.lights.len(),
+        plan.alpha.len()
+    );
+    plan.explain_shading(&mut s);
+    s
+}
+
+/// The forward pass's recipe.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let s = Shade {
         shared: Shared::Shading,
-        pass: Pass::Forward,
+        pass: PASS,
         lit: Lighting::Forward,
         object: for_view(f),
     };
     let mut r = shading::begin(f, &s);
-    shadows::bind(f, &mut r, Pass::Forward)?;
+    shadows::bind(f, &mut r, PASS)?;
     shading::run_phases(f, &mut r, &s)?;
     Ok(r)
 }

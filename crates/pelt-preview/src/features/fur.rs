@@ -14,7 +14,8 @@ use crate::feature::{
     Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
 };
 use crate::layout::{self, LayoutDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, PipelineDesc, PipelineSpec};
 use crate::scene::{FurBlend, FurCoverage};
@@ -315,7 +316,16 @@ pub const FEATURE: Feature = Feature {
     ],
     pipelines,
     compute: &[TANGENT_FRAMES, FIN_RECORDS],
-    passes: &[PassDesc::new(Pass::Obliterate, Build::One(obliterate_pass))],
+    passes: &[PassDesc {
+        after: &[Pass::new("light")],
+        at_lbuffer: true,
+        ..PassDesc::new(
+            OBLITERATE_PASS,
+            Build::One(obliterate_pass),
+            |plan| plan.lbuffer.is_some() && !plan.fur.is_empty(),
+            explain_obliterate,
+        )
+    }],
     draws: &[
         DrawDesc {
             into: Shared::Geometry,
@@ -333,11 +343,7 @@ pub const FEATURE: Feature = Feature {
             draw: shade_layers,
         },
     ],
-    ..Feature::named(
-        "fur",
-        "Revie's deferred fur: G-buffer base and stippled outer shell, obliteration, \
-              shells and fins",
-    )
+    ..Feature::named("fur")
 };
 
 /// The fur's base mesh in the shading pass, lit as fur.
@@ -367,21 +373,33 @@ pub fn gbuffer<'a>(f: &Frame<'a>, r: &mut Recipe<'a>) -> Result<(), MissingInput
     if f.plan.fur.is_empty() {
         return Ok(());
     }
+    let pass = r.pass.name();
     for shader in [BASE, OUTER] {
         r.pipeline(gbuffer_pipeline(shader));
         for &k in &f.plan.fur {
-            let (mesh, _) = f.bind_fur(r, Pass::Geometry.name(), k)?;
+            let (mesh, _) = f.bind_fur(r, pass, k)?;
             r.push(Step::DrawIndexed(0..mesh.count, 0..1));
         }
     }
     Ok(())
 }
 
+/// The obliteration pass (Revie §2.4.4).
+pub const OBLITERATE_PASS: Pass = Pass::new("obliterate");
+
+/// The obliteration pass in words.
+fn explain_obliterate(plan: &Plan) -> String {
+    let (lw, lh) = plan.lbuffer.unwrap_or(plan.output);
+    format!(
+        "{lw}×{lh}: composition copy of the L-buffer and DSF buffer with the outer-shell stipple texels replaced by base-mesh neighbours"
+    )
+}
+
 /// Stipple obliteration (Revie §2.4.4): the composition copy of the L-buffer and DSF buffer,
 /// with every outer-shell texel replaced by a neighbour of its 2×2 cell.
 pub fn obliterate_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let c = f.targets.composition.as_ref().ok_or_else(|| MissingInput {
-        pass: Pass::Obliterate.name(),
+        pass: OBLITERATE_PASS.name(),
         what: "the composition copy of the L-buffer".into(),
     })?;
     let clear = |t: &'a crate::targets::Target| Color {
@@ -389,7 +407,7 @@ pub fn obliterate_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         format: t.format,
         load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
     };
-    let mut r = Recipe::new(Pass::Obliterate, vec![clear(&c.light), clear(&c.dsf)], None);
+    let mut r = Recipe::new(OBLITERATE_PASS, vec![clear(&c.light), clear(&c.dsf)], None);
     r.pipeline(obliterate_pipeline());
     r.bind(obliterate_slot::SOURCE, &f.targets.lbuffer_read, None);
     r.bind(obliterate_slot::SHELL_TABLE, f.data.shell_table(), None);

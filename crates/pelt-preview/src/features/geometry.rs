@@ -9,7 +9,8 @@ use crate::feature::{Build, DrawDesc, Feature, Frame, PassDesc, Phase, Shade, Sh
 use crate::frame_data::Res;
 use crate::gpu_material::with_untextured;
 use crate::layout;
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::shaders::{Lighting, ShaderDesc};
@@ -43,26 +44,52 @@ pub fn opaque_pipeline() -> PipelineDesc {
     pipeline().with_constant(STIPPLED, Some(0.0))
 }
 
+/// The geometry pass: the G-buffer at the L-buffer's size.
+pub const PASS: Pass = Pass::new("geometry");
+
+/// The geometry pass in words.
+fn explain(plan: &Plan) -> String {
+    let (lw, lh) = plan.lbuffer.unwrap_or(plan.output);
+    let mut s = format!(
+        "{lw}×{lh}: view normals (eq. 1, X/Y 16-bit), DSF (16-bit linear depth, ID object<<8|group), depth; {} opaque, {} alpha stippled 2×2",
+        plan.opaque.len(),
+        plan.alpha.len()
+    );
+    s += &plan.explain_stipple();
+    if !plan.fur.is_empty() {
+        s += &format!(
+            "; {} fur: base mesh with grain normals (Revie 2.5), outer shell stippled 1 in 4 with rim normals (2.1, 2.3)",
+            plan.fur.len()
+        );
+    }
+    s
+}
+
 /// The geometry pass's feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || with_untextured([pipeline(), opaque_pipeline()]),
-    passes: &[PassDesc::new(Pass::Geometry, Build::One(pass))],
+    passes: &[PassDesc {
+        at_lbuffer: true,
+        ..PassDesc::new(
+            PASS,
+            Build::One(pass),
+            |plan| plan.lbuffer.is_some(),
+            explain,
+        )
+    }],
     draws: &[DrawDesc {
         into: Shared::Geometry,
         phase: Phase::Opaque,
         draw: opaque,
     }],
-    ..Feature::named(
-        "geometry",
-        "opaque geometry into the G-buffer at L-buffer resolution",
-    )
+    ..Feature::named("geometry")
 };
 
 /// The G-buffer's colour and depth attachments, cleared: normals 0, DSF depth code 65535
 /// (no surface) and ID 0, depth 1.
 fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let g = f.targets.gbuffer.as_ref().ok_or_else(|| MissingInput {
-        pass: Pass::Geometry.name(),
+        pass: PASS.name(),
         what: "a G-buffer".into(),
     })?;
     let dsf_empty = wgpu::Color {
@@ -72,7 +99,7 @@ fn attachments<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         a: 0.0,
     };
     Ok(Recipe::new(
-        Pass::Geometry,
+        PASS,
         vec![
             Color {
                 view: &g.normals.view,
@@ -113,7 +140,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     f.bind_frame(&mut r, Res::Lbuffer);
     let s = Shade {
         shared: Shared::Geometry,
-        pass: Pass::Geometry,
+        pass: PASS,
         lit: Lighting::Inferred,
         object: Box::new(|_| pipeline()),
     };

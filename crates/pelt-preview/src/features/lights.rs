@@ -11,7 +11,8 @@ use crate::draw::{ADD, MissingInput};
 use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::frame_data::Res;
 use crate::layout;
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::FurLighting;
@@ -107,6 +108,24 @@ fn strand_lit(f: &Frame<'_>) -> bool {
         .any(|o| o.fur.is_some_and(|x| x.lighting == FurLighting::KajiyaKay))
 }
 
+/// The light pass: each light into the L-buffer.
+pub const PASS: Pass = Pass::new("light");
+
+/// The light pass in words.
+fn explain(plan: &Plan) -> String {
+    let (lw, lh) = plan.lbuffer.unwrap_or(plan.output);
+    let area: f64 = plan
+        .lights
+        .iter()
+        .map(|l| f64::from(l.rect[2] - l.rect[0]) * f64::from(l.rect[3] - l.rect[1]))
+        .sum();
+    format!(
+        "{lw}×{lh}: {} lights, each a scissored full-screen triangle (mean {:.1}% of the L-buffer), added into RGB diffuse + A specular",
+        plan.lights.len(),
+        100.0 * area / plan.lights.len().max(1) as f64 / (f64::from(lw) * f64::from(lh))
+    )
+}
+
 /// The light pass's feature.
 pub const FEATURE: Feature = Feature {
     knobs: &[KnobDesc::new(
@@ -125,14 +144,23 @@ pub const FEATURE: Feature = Feature {
             .flat_map(|d| [d.clone(), without_strands(d)]);
         shadows::with_unshadowed(strands.collect())
     },
-    passes: &[PassDesc::new(Pass::Light, Build::One(pass))],
-    ..Feature::named("lights", "scissored point lights into the L-buffer")
+    passes: &[PassDesc {
+        after: &[Pass::new("shadow-maps"), Pass::new("geometry")],
+        at_lbuffer: true,
+        ..PassDesc::new(
+            PASS,
+            Build::One(pass),
+            |plan| plan.lbuffer.is_some(),
+            explain,
+        )
+    }],
+    ..Feature::named("lights")
 };
 
-/// The light pass.
+/// The light pass's recipe.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let missing = |what: &str| MissingInput {
-        pass: Pass::Light.name(),
+        pass: PASS.name(),
         what: what.into(),
     };
     let g = f
@@ -147,7 +175,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         .ok_or_else(|| missing("an L-buffer"))?;
     let a = f.plan.ambient.as_dvec3();
     let mut r = Recipe::new(
-        Pass::Light,
+        PASS,
         vec![Color {
             view: &l.view,
             format: l.format,
@@ -179,7 +207,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     );
     r.bind(slot::GBUFFER, &g.read, None);
     r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
-    shadows::bind(f, &mut r, Pass::Light)?;
+    shadows::bind(f, &mut r, PASS)?;
     let mut kind = None;
     for (i, light) in f.plan.lights.iter().enumerate() {
         // In the scene's order (the L-buffer's sums stay as they were), switching pipeline

@@ -11,7 +11,8 @@ use crate::feature::{
 };
 use crate::gpu_material::with_untextured;
 use crate::layout;
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::{Mode, Plan};
 use crate::recipe::Recipe;
 use crate::renderer::{Blend, PipelineDesc};
 use crate::shaders::{Lighting, ShaderDesc};
@@ -30,16 +31,22 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 pub const FEATURE: Feature = Feature {
     knobs: &[KnobDesc::new("dsf", "on or off", "on", Reference::Deferred)],
     pipelines: || with_untextured([pipeline(Blend::None), pipeline(Blend::Over)]),
-    passes: &[PassDesc::new(Pass::Material, Build::One(pass))],
+    passes: &[PassDesc {
+        after: &[
+            Pass::new("distance-maps"),
+            Pass::new("min-max"),
+            Pass::new("shadow-maps"),
+            Pass::new("light"),
+            Pass::new("obliterate"),
+        ],
+        ..PassDesc::new(PASS, Build::One(pass), wanted, explain)
+    }],
     draws: &[DrawDesc {
         into: Shared::Shading,
         phase: Phase::Opaque,
         draw: opaque,
     }],
-    ..Feature::named(
-        "material",
-        "materials at output resolution, lit from the L-buffer through DSF",
-    )
+    ..Feature::named("material")
 };
 
 /// The opaque objects, front to back, each part with its material.
@@ -60,10 +67,39 @@ pub fn opaque<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), Mi
 }
 
 /// The material pass.
+pub const PASS: Pass = Pass::new("material");
+
+/// Whether `plan` shades through the material pass: every mode lit from an L-buffer, or by
+/// the ambient term alone.
+fn wanted(plan: &Plan) -> bool {
+    !plan.mode.is_forward() && !matches!(plan.mode, Mode::Debug(_))
+}
+
+/// The material pass in words.
+fn explain(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    let mut s = format!("{w}×{h}: ");
+    s += if plan.lbuffer.is_none() {
+        "no lights on screen, ambient only (no G-buffer or L-buffer); "
+    } else if plan.dsf {
+        "DSF bilinear over 4 L-buffer taps (ID equal, depth within threshold); "
+    } else {
+        "plain bilinear L-buffer taps; "
+    };
+    s += &format!(
+        "{} opaque front to back, {} alpha back to front",
+        plan.opaque.len(),
+        plan.alpha.len()
+    );
+    plan.explain_shading(&mut s);
+    s
+}
+
+/// The material pass's recipe.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let s = Shade {
         shared: Shared::Shading,
-        pass: Pass::Material,
+        pass: PASS,
         lit: Lighting::Inferred,
         object: Box::new(pipeline),
     };

@@ -5,7 +5,7 @@
 
 use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::recipe::{Color, Queries, Recipe, Step};
 use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
@@ -36,10 +36,13 @@ pub fn pipeline() -> PipelineDesc {
     PipelineDesc::fullscreen(SHADER, vec![LAYOUT, layout::SIZE], None)
 }
 
+/// Mip levels of a layered target (drawn on request, never planned).
+pub const PASS: Pass = Pass::new("mips");
+
 /// The mips feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || vec![pipeline()],
-    ..Feature::named("mips", "mip chains of layered targets")
+    ..Feature::named("mips")
 };
 
 /// One level of one layer: its source group, its parameters and the view it writes.
@@ -113,7 +116,7 @@ pub fn mip_chain(r: &Renderer, t: &LayeredTarget) -> Result<(), crate::FrameErro
                 format: t.format,
             };
             let mut recipe = Recipe::new(
-                Pass::Mips,
+                PASS,
                 vec![Color {
                     view: out.view,
                     format: out.format,

@@ -19,7 +19,8 @@ use glam::Mat4;
 use crate::draw::{ADD, MissingInput, fur_vertex_layout, slot, vertex_layout};
 use crate::feature::Frame;
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
-use crate::plan::{Pass, ScenePlan};
+use crate::pass::Pass;
+use crate::plan::ScenePlan;
 use crate::recipe::{Color, Depth, Recipe};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::shaders::{Coverage, Entry, ShaderDesc};
@@ -210,10 +211,11 @@ impl OpacityMaps {
 
     /// The two passes of drawn layer `i` (the nearest fur into `cube`, the cube's layer,
     /// then the opacity layers) drawing the fur objects that cast into the view with `depth`
-    /// (the cubes' depth target).
+    /// (the cubes' depth target), as recipes of `pass`.
     pub fn passes<'a>(
         &'a self,
         f: &Frame<'a>,
+        pass: Pass,
         i: usize,
         cube: &'a wgpu::TextureView,
         depth: &'a wgpu::TextureView,
@@ -229,7 +231,7 @@ impl OpacityMaps {
                 )
             };
             let mut r = Recipe::new(
-                Pass::Shadows,
+                pass,
                 vec![Color {
                     view,
                     format: FORMAT,
@@ -268,7 +270,8 @@ fn draw_fur<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, nearest: bool) -> Result<(), 
             _ => Coverage::Medium,
         };
         r.pipeline(pipeline(nearest, coverage));
-        let (mesh, fur) = f.bind_fur(r, Pass::Shadows.name(), k)?;
+        let pass = r.pass.name();
+        let (mesh, fur) = f.bind_fur(r, pass, k)?;
         let n = planned.shells.min(SHELLS);
         let shells = if nearest { n..n + 1 } else { 1..n + 1 };
         Frame::draw_fur_parts(r, mesh, fur, shells);

@@ -5,7 +5,7 @@
 
 use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
@@ -39,10 +39,13 @@ pub fn pipeline() -> PipelineDesc {
     )
 }
 
+/// `pelt view`'s text overlay (drawn on request, never planned).
+pub const PASS: Pass = Pass::new("overlay");
+
 /// The overlay feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || vec![pipeline()],
-    ..Feature::named("overlay", "pelt view's text overlay")
+    ..Feature::named("overlay")
 };
 
 /// `lines` rasterized: (width, height, one byte per pixel, 255 where the font has ink), with
@@ -155,7 +158,7 @@ impl Overlay {
     pub fn pass<'a>(&'a self, output: Output<'a>) -> Option<Recipe<'a>> {
         let group = self.group.as_ref()?;
         let mut r = Recipe::new(
-            Pass::Overlay,
+            PASS,
             vec![Color {
                 view: output.view,
                 format: output.format,

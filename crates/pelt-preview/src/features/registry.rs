@@ -1,24 +1,28 @@
 //! The table of features. Each feature module declares one [`Feature`] ([`crate::feature`]):
-//! its name, the line `--explain` prints for it, every render pipeline it may draw (as
-//! descriptors, formats left to the passes that draw them), its compute pipelines, the
-//! planned passes it builds, its draws in the shading pass, the targets it owns and the
-//! quality knobs it reads (with [`CORE_KNOBS`], the ones no one feature owns). The
-//! shader-validation test and hot reload walk this table, so a shader a feature declares is
-//! validated and reloaded without being listed anywhere else; the frame looks each planned
-//! pass up here ([`builder`]), so a new pass needs no arm in the frame's code.
+//! its name, every render pipeline it may draw (as descriptors, formats left to the passes
+//! that draw them), its compute pipelines, the planned passes it builds (each with when a
+//! plan wants it, what it follows and its `--explain` line), its draws in the shading pass,
+//! the targets it owns and the quality knobs it reads (with [`CORE_KNOBS`], the ones no one
+//! feature owns). The shader-validation test and hot reload walk this table, so a shader a
+//! feature declares is validated and reloaded without being listed anywhere else; a plan's
+//! passes and their order come from it ([`passes`]), so a new pass needs no arm in the
+//! frame's code, the plan or `--explain`.
 
+use crate::feature::planned;
 pub use crate::feature::{
     Build, Cached, DrawDesc, DrawsInto, Feature, KnobDesc, PassDesc, Reference, TargetsDesc,
 };
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::Plan;
 use crate::renderer::PipelineDesc;
 use crate::shaders::ShaderDesc;
 
-/// Every feature, in the order their draws run within a phase of the shading pass.
+/// Every feature, in the order their draws run within a phase of the shading pass and their
+/// passes run where no `after` orders them.
 pub const FEATURES: &[Feature] = &[
     super::skin::FEATURE,
-    super::shadows::FEATURE,
     super::reflect::FEATURE,
+    super::shadows::FEATURE,
     super::geometry::FEATURE,
     super::alpha::FEATURE,
     super::fur::FEATURE,
@@ -65,13 +69,28 @@ pub fn knob(name: &str) -> Option<&'static KnobDesc> {
     knobs().into_iter().map(|(_, k)| k).find(|k| k.name == name)
 }
 
-/// The feature pass that builds `pass`, if one does (upscaling, mips and the overlay are
+/// The registered pass `pass`, if a feature builds it (upscaling, mips and the overlay are
 /// drawn on request, never planned).
 pub fn builder(pass: Pass) -> Option<&'static PassDesc> {
     FEATURES
         .iter()
         .flat_map(|f| f.passes)
         .find(|p| p.pass == pass)
+}
+
+/// The passes a frame of `plan` runs, in order.
+pub fn passes(plan: &Plan) -> Vec<Pass> {
+    planned(FEATURES, plan).iter().map(|p| p.pass).collect()
+}
+
+/// `plan` in words (`--explain`): its facts, then each pass it runs with what that pass
+/// says of it.
+pub fn explain(plan: &Plan) -> String {
+    let lines: Vec<(&str, String)> = planned(FEATURES, plan)
+        .iter()
+        .map(|p| (p.pass.name(), (p.explain)(plan)))
+        .collect();
+    plan.explain(&lines)
 }
 
 /// The own targets of every feature that has some, in registry order (a view's
@@ -104,42 +123,105 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_plannable_pass_has_exactly_one_builder() {
-        let planned = [
-            Pass::Shadows,
-            Pass::DistanceMaps,
-            Pass::MinMax,
-            Pass::Geometry,
-            Pass::Light,
-            Pass::Obliterate,
-            Pass::Material,
-            Pass::Forward,
-            Pass::FurAccum,
-            Pass::Composite,
-            Pass::Resolve,
-            Pass::Debug,
-        ];
-        for p in planned {
-            let n = FEATURES
-                .iter()
-                .flat_map(|f| f.passes)
-                .filter(|d| d.pass == p)
-                .count();
-            assert_eq!(n, 1, "{} is built by {n} features", p.name());
+    fn every_pass_is_registered_once_and_follows_registered_passes() {
+        let all: Vec<&PassDesc> = FEATURES.iter().flat_map(|f| f.passes).collect();
+        assert!(all.len() >= 12, "{} passes", all.len());
+        for p in &all {
+            let n = all.iter().filter(|d| d.pass == p.pass).count();
+            assert_eq!(n, 1, "{} is built by {n} features", p.pass);
+            for a in p.after {
+                assert!(
+                    builder(*a).is_some(),
+                    "{} follows {a}, which no feature builds",
+                    p.pass
+                );
+            }
         }
-        for p in [Pass::Upscale, Pass::Mips, Pass::Overlay] {
-            assert!(builder(p).is_none(), "{} is drawn on request", p.name());
+        for p in [
+            super::super::upscale::PASS,
+            super::super::mips::PASS,
+            super::super::overlay::PASS,
+        ] {
+            assert!(builder(p).is_none(), "{p} is drawn on request");
         }
         assert_eq!(
-            builder(Pass::Resolve).map(|d| d.into),
+            builder(super::super::resolve::PASS).map(|d| d.into),
             Some(DrawsInto::Output)
         );
-        assert!(builder(Pass::MinMax).is_some_and(|d| d.cached.is_some()));
-        assert!(builder(Pass::Geometry).is_some_and(|d| d.cached.is_none()));
+        assert!(builder(super::super::reflect::MIN_MAX).is_some_and(|d| d.cached.is_some()));
+        assert!(builder(super::super::geometry::PASS).is_some_and(|d| d.cached.is_none()));
         assert!(
             FEATURES.len() <= 64,
             "a view's own targets are a 64-bit set"
         );
+    }
+
+    /// Each `after` of `passes` that `order` breaks, as (pass, the pass it should follow).
+    fn broken(passes: &[PassDesc], order: &[Pass]) -> Vec<(Pass, Pass)> {
+        let at = |p: Pass| order.iter().position(|&x| x == p);
+        passes
+            .iter()
+            .flat_map(|p| p.after.iter().map(move |a| (p.pass, *a)))
+            .filter(|&(p, a)| at(a) > at(p))
+            .collect()
+    }
+
+    /// The order `planned` gives `passes`, all wanted.
+    fn order_all(passes: &'static [PassDesc]) -> Vec<Pass> {
+        let one = [Feature {
+            passes,
+            ..Feature::named("all")
+        }];
+        planned(&one, &test_plan()).iter().map(|p| p.pass).collect()
+    }
+
+    /// With every pass wanted, the order keeps every `after`: no circle among them.
+    #[test]
+    fn the_after_lists_order_every_pass() {
+        let all: Vec<PassDesc> = FEATURES
+            .iter()
+            .flat_map(|f| f.passes)
+            .map(|p| PassDesc {
+                wanted: |_| true,
+                ..*p
+            })
+            .collect();
+        let all: &'static [PassDesc] = Box::leak(all.into_boxed_slice());
+        let order = order_all(all);
+        assert_eq!(order.len(), all.len());
+        assert_eq!(broken(all, &order), vec![], "{order:?}");
+        // Negative control: two passes each after the other cannot both be kept.
+        const A: &[Pass] = &[Pass::new("a")];
+        const B: &[Pass] = &[Pass::new("b")];
+        let circle: &'static [PassDesc] = Box::leak(Box::new([
+            PassDesc {
+                pass: Pass::new("a"),
+                after: B,
+                ..all[0]
+            },
+            PassDesc {
+                pass: Pass::new("b"),
+                after: A,
+                ..all[0]
+            },
+        ]));
+        let order = order_all(circle);
+        assert_eq!(order, [Pass::new("a"), Pass::new("b")], "registry order");
+        assert_eq!(broken(circle, &order), [(Pass::new("a"), Pass::new("b"))]);
+    }
+
+    /// A plan of one cube with one light.
+    fn test_plan() -> Plan {
+        let s = pelt_scene::procedural::grid_scene(
+            std::path::Path::new("builtin:cube"),
+            1,
+            1,
+            1,
+            64,
+            48,
+        );
+        let meshes = vec![pelt_scene::asset::builtin("cube").expect("cube")];
+        Plan::new(&s, &meshes, &[0], crate::Mode::Inferred).expect("plan")
     }
 
     #[test]

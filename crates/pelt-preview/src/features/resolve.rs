@@ -12,7 +12,8 @@
 use super::upscale::Upscale;
 use crate::draw::MissingInput;
 use crate::feature::{Build, DrawsInto, Feature, Frame, Output, PassDesc, TargetsDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::{Mode, Plan};
 use crate::recipe::Recipe;
 use crate::renderer::{Renderer, SCENE_FORMAT};
 use crate::targets::Target;
@@ -21,17 +22,35 @@ use crate::targets::Target;
 pub const FEATURE: Feature = Feature {
     passes: &[PassDesc {
         into: DrawsInto::Output,
-        ..PassDesc::new(Pass::Resolve, Build::One(pass))
+        after: &[
+            Pass::new("material"),
+            Pass::new("forward"),
+            Pass::new("fur-oit"),
+            Pass::new("composite"),
+        ],
+        ..PassDesc::new(PASS, Build::One(pass), wanted, explain)
     }],
     targets: Some(TargetsDesc {
-        needed: |plan| plan.passes.contains(&Pass::Resolve),
+        needed: wanted,
         make: |r, spec, owned| owned.insert(SceneColor::new(r, spec.output)),
     }),
-    ..Feature::named(
-        "resolve",
-        "the half-float scene colour the fur blends into, to the output",
-    )
+    ..Feature::named("resolve")
 };
+
+/// The resolve pass.
+pub const PASS: Pass = Pass::new("resolve");
+
+/// Whether `plan` draws into a scene colour: where fur layers blend (the strands are
+/// opaque; the debug views unlit).
+fn wanted(plan: &Plan) -> bool {
+    !plan.fur.is_empty() && plan.mode != Mode::Strands && !matches!(plan.mode, Mode::Debug(_))
+}
+
+/// The resolve pass in words.
+fn explain(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    format!("{w}×{h}: the half-float colour the fur's layers blended into, to the output")
+}
 
 /// The scene colour target and the copy that resolves it.
 #[derive(Debug)]
@@ -53,7 +72,7 @@ impl SceneColor {
 /// `f` as the passes before the resolve see it: drawing into the scene colour where the plan
 /// resolves one, else `f` itself.
 pub fn inner<'a>(f: &Frame<'a>) -> Result<Frame<'a>, MissingInput> {
-    if !f.plan.passes.contains(&Pass::Resolve) {
+    if !wanted(f.plan) {
         return Ok(*f);
     }
     let scene = scene_color(f)?;
@@ -67,12 +86,10 @@ pub fn inner<'a>(f: &Frame<'a>) -> Result<Frame<'a>, MissingInput> {
 }
 
 fn scene_color<'a>(f: &Frame<'a>) -> Result<&'a SceneColor, MissingInput> {
-    f.targets
-        .owned
-        .need(Pass::Resolve.name(), "the scene colour target")
+    f.targets.owned.need(PASS.name(), "the scene colour target")
 }
 
 /// The resolve pass: the scene colour into `f`'s output.
 pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    Ok(scene_color(f)?.copy.pass_as(Pass::Resolve, f.output))
+    Ok(scene_color(f)?.copy.pass_as(PASS, f.output))
 }

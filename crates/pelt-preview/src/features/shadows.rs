@@ -20,7 +20,8 @@ use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
 use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
-use crate::plan::{MAX_SHADOW_LIGHTS, Pass, ScenePlan};
+use crate::pass::Pass;
+use crate::plan::{MAX_SHADOW_LIGHTS, Mode, Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::shaders::ShaderDesc;
@@ -146,13 +147,49 @@ pub const FEATURE: Feature = Feature {
     pipelines: || [vec![pipeline()], opacity::pipelines()].concat(),
     passes: &[PassDesc {
         cached: Some(CACHED),
-        ..PassDesc::new(Pass::Shadows, Build::Many(passes))
+        ..PassDesc::new(
+            PASS,
+            Build::Many(passes),
+            |plan| plan.shadow_lights != (0, 0) && !matches!(plan.mode, Mode::Debug(_)),
+            explain,
+        )
     }],
-    ..Feature::named(
-        "shadows",
-        "a distance cube per shadow-casting point light, read per L-buffer or forward pixel",
-    )
+    ..Feature::named("shadows")
 };
+
+/// The shadow pass: a map about each light that casts shadows.
+pub const PASS: Pass = Pass::new("shadow-maps");
+
+/// The shadow pass in words.
+fn explain(plan: &Plan) -> String {
+    let (points, suns) = plan.shadow_lights;
+    let mut what = Vec::new();
+    if points > 0 {
+        what.push(format!("{points} point light(s) × 6 cube faces"));
+    }
+    if suns > 0 {
+        what.push(format!(
+            "{suns} directional light(s) × 1 orthographic map (fitted to the scene)"
+        ));
+    }
+    let mut s = format!(
+        "{} of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
+        what.join(", "),
+        size = plan.shadow_maps.size,
+        pcf = plan.shadow_maps.pcf
+    );
+    let layers = plan.shadow_maps.opacity_layers;
+    if layers > 0 && !plan.fur_casters.is_empty() {
+        s += &format!(
+            "; the fur from each: its nearest distance, then {layers} deep opacity layer(s) of its shells' optical depth (Yuksel & Keyser 2008), which fur and everything behind it read"
+        );
+        let off = plan.fur_casters.len() - plan.fur.len();
+        if off > 0 {
+            s += &format!(" ({off} fur object(s) off screen cast too)");
+        }
+    }
+    s
+}
 
 /// The cubes outlive the frame: drawn again only when a light or a caster moved, any
 /// caster is posed (its vertices change each frame), or the fur the view draws changed.
@@ -564,12 +601,12 @@ pub fn cubes<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a ShadowCubes, M
 
 /// The shadow pass: every face of every light's cube, each a render pass.
 pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    let name = Pass::Shadows.name();
+    let name = PASS.name();
     let c = cubes(f, name)?;
     let mut out = Vec::new();
     for (i, (_, view)) in c.views.iter().enumerate() {
         let mut r = Recipe::new(
-            Pass::Shadows,
+            PASS,
             vec![Color {
                 view,
                 format: FORMAT,
@@ -605,7 +642,7 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
         }
         out.push(r);
         if c.opacity.on {
-            out.extend(c.opacity.passes(f, i, view, &c.depth.view)?);
+            out.extend(c.opacity.passes(f, PASS, i, view, &c.depth.view)?);
         }
     }
     Ok(out)

@@ -56,10 +56,7 @@ fn bind_pair(pass: &mut wgpu::ComputePass<'_>, groups: &[wgpu::BindGroup; 2]) {
 /// The skinning feature.
 pub const FEATURE: Feature = Feature {
     compute: &[SKIN, SKIN_SCATTER, FIN_REBUILD],
-    ..Feature::named(
-        "skin",
-        "GPU skinning of animated meshes, their fins rebuilt from the pose",
-    )
+    ..Feature::named("skin")
 };
 
 /// A vertex at rest. Keep in sync with `SkinVertex` in shaders/skin.wgsl.

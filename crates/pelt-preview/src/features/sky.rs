@@ -52,10 +52,7 @@ pub const FEATURE: Feature = Feature {
         phase: Phase::Sky,
         draw: |f, r, s| draw(f, r, s.pass.name()),
     }],
-    ..Feature::named(
-        "sky",
-        "the procedural or cube-map sky where nothing else is",
-    )
+    ..Feature::named("sky")
 };
 
 /// Draws the sky (the frame group at the output's slot must be bound).

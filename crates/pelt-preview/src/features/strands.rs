@@ -212,10 +212,7 @@ pub const FEATURE: Feature = Feature {
         phase: Phase::FurLayers,
         draw: shade,
     }],
-    ..Feature::named(
-        "strands",
-        "explicit strands lit per light: the converged fur reference",
-    )
+    ..Feature::named("strands")
 };
 
 /// The strands in the shading pass, lit as fur (strands mode only).

@@ -5,7 +5,7 @@
 
 use crate::feature::{Feature, Output};
 use crate::layout::{self, FILTERABLE, LayoutDesc};
-use crate::plan::Pass;
+use crate::pass::Pass;
 use crate::recipe::{Color, Recipe, Step};
 use crate::renderer::{PipelineDesc, Renderer};
 use crate::shaders::ShaderDesc;
@@ -36,13 +36,13 @@ pub fn pipeline() -> PipelineDesc {
     PipelineDesc::fullscreen(SHADER, vec![LAYOUT, layout::SIZE], None)
 }
 
+/// A reduced-resolution frame scaled up to a window (`pelt view`'s frame budget; drawn on request, never planned).
+pub const PASS: Pass = Pass::new("upscale");
+
 /// The upscale feature.
 pub const FEATURE: Feature = Feature {
     pipelines: || vec![pipeline()],
-    ..Feature::named(
-        "upscale",
-        "a reduced-resolution frame scaled up to the window",
-    )
+    ..Feature::named("upscale")
 };
 
 /// What the pass reads: one source frame into one target size.
@@ -101,7 +101,7 @@ impl Upscale {
 
     /// The pass drawing the source over `output`.
     pub fn pass<'a>(&'a self, output: Output<'a>) -> Recipe<'a> {
-        self.pass_as(Pass::Upscale, output)
+        self.pass_as(PASS, output)
     }
 
     /// [`Upscale::pass`] under another pass's name (a same-size copy: [`super::resolve`]).

@@ -12,9 +12,11 @@ use crate::feature::{
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
 use crate::owned::Owned;
-use crate::plan::Pass;
+use crate::pass::Pass;
+use crate::plan::{Mode, Plan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec, REVEAL_FORMAT, Renderer};
+use crate::scene::FurBlend;
 use crate::shaders::{Lighting, ShaderDesc};
 use crate::shading;
 use crate::targets::{Target, TargetSpec};
@@ -60,18 +62,60 @@ pub const FEATURE: Feature = Feature {
     )],
     pipelines: || vec![pipeline()],
     passes: &[
-        PassDesc::new(Pass::FurAccum, Build::One(accum_pass)),
-        PassDesc::new(Pass::Composite, Build::One(composite_pass)),
+        PassDesc {
+            after: &[
+                Pass::new("shadow-maps"),
+                Pass::new("material"),
+                Pass::new("forward"),
+            ],
+            ..PassDesc::new(ACCUM, Build::One(accum_pass), wanted, explain_accum)
+        },
+        PassDesc {
+            after: &[ACCUM, Pass::new("material"), Pass::new("forward")],
+            ..PassDesc::new(
+                COMPOSITE,
+                Build::One(composite_pass),
+                wanted,
+                explain_composite,
+            )
+        },
     ],
     targets: Some(TargetsDesc {
-        needed: |plan| plan.passes.contains(&Pass::FurAccum),
+        needed: wanted,
         make: make_targets,
     }),
-    ..Feature::named(
-        "wboit",
-        "fur layers accumulated order-independently, then composited",
-    )
+    ..Feature::named("wboit")
 };
+
+/// The accumulation pass: fur shells and fins into the OIT targets.
+pub const ACCUM: Pass = Pass::new("fur-oit");
+/// The composite pass: the OIT resolve over the image, then the alpha objects.
+pub const COMPOSITE: Pass = Pass::new("composite");
+
+/// Whether `plan` blends its fur by weighted blended OIT.
+fn wanted(plan: &Plan) -> bool {
+    !plan.fur.is_empty()
+        && plan.fur_blend == FurBlend::Wboit
+        && !matches!(plan.mode, Mode::Debug(_))
+}
+
+/// The accumulation pass in words.
+fn explain_accum(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    format!(
+        "{w}×{h}: shells and fins of {} fur objects into weighted blended OIT (depth-weighted accumulation, revealage)",
+        plan.fur.len()
+    )
+}
+
+/// The composite pass in words.
+fn explain_composite(plan: &Plan) -> String {
+    let (w, h) = plan.output;
+    format!(
+        "{w}×{h}: OIT resolve over the image; {} alpha back to front",
+        plan.alpha.len()
+    )
+}
 
 /// Weighted blended OIT targets, at output size (a view's, owned by this feature).
 #[derive(Debug)]
@@ -108,7 +152,7 @@ fn alpha_shade(f: &Frame<'_>) -> Shade {
     let lit = shading::object_lighting(f.plan);
     Shade {
         shared: Shared::Shading,
-        pass: Pass::Composite,
+        pass: COMPOSITE,
         lit,
         object: match lit {
             Lighting::Inferred => Box::new(super::material::pipeline),
@@ -127,14 +171,14 @@ fn keep_depth<'a>(f: &Frame<'a>) -> Option<Depth<'a>> {
 
 /// Fur shells and fins into the OIT targets.
 pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    let oit = oit(f, Pass::FurAccum)?;
+    let oit = oit(f, ACCUM)?;
     let target = |t: &'a Target, clear| Color {
         view: &t.view,
         format: t.format,
         load: wgpu::LoadOp::Clear(clear),
     };
     let mut r = Recipe::new(
-        Pass::FurAccum,
+        ACCUM,
         vec![
             target(&oit.accum, wgpu::Color::TRANSPARENT),
             target(&oit.reveal, wgpu::Color::WHITE),
@@ -146,17 +190,17 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
     if lighting == Lighting::Forward {
-        super::shadows::bind(f, &mut r, Pass::FurAccum)?;
+        super::shadows::bind(f, &mut r, ACCUM)?;
     }
-    fur::layers(f, &mut r, Pass::FurAccum.name(), lighting, Blend::Wboit)?;
+    fur::layers(f, &mut r, ACCUM.name(), lighting, Blend::Wboit)?;
     Ok(r)
 }
 
 /// Resolves the OIT accumulation over the image, then draws the alpha objects.
 pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    let oit = oit(f, Pass::Composite)?;
+    let oit = oit(f, COMPOSITE)?;
     let mut r = Recipe::new(
-        Pass::Composite,
+        COMPOSITE,
         vec![Color {
             view: f.output.view,
             format: f.output.format,
@@ -169,7 +213,7 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     r.push(Step::Draw(0..3, 0..1));
     let shade = alpha_shade(f);
     if shade.lit == Lighting::Forward {
-        super::shadows::bind(f, &mut r, Pass::Composite)?;
+        super::shadows::bind(f, &mut r, COMPOSITE)?;
     }
     alpha::draw(f, &mut r, &shade)?;
     Ok(r)

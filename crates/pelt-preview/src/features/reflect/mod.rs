@@ -21,9 +21,11 @@ use crate::feature::{
     Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared, Sides,
 };
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
-use crate::plan::{Pass, ScenePlan};
+use crate::pass::Pass;
+use crate::plan::{Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
+use crate::scene::Technique;
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{LightUniforms, UNIFORM_STRIDE};
@@ -221,7 +223,7 @@ impl Maps {
         let limit = r.gpu.device.limits().max_texture_dimension_2d;
         if k.cube_size > limit {
             return Err(MissingInput {
-                pass: Pass::DistanceMaps.name(),
+                pass: MAPS.name(),
                 what: format!(
                     "reflections.cubeSize {} within the adapter's texture limit ({limit})",
                     k.cube_size
@@ -230,7 +232,7 @@ impl Maps {
         }
         if plan.maps.len() > MAX_MAPS {
             return Err(MissingInput {
-                pass: Pass::DistanceMaps.name(),
+                pass: MAPS.name(),
                 what: format!(
                     "at most {MAX_MAPS} mirror and glass objects (the scene has {})",
                     plan.maps.len()
@@ -406,11 +408,26 @@ pub const FEATURE: Feature = Feature {
     passes: &[
         PassDesc {
             cached: Some(CACHED),
-            ..PassDesc::new(Pass::DistanceMaps, Build::Many(map_passes))
+            ..PassDesc::new(
+                MAPS,
+                Build::Many(map_passes),
+                |plan| !plan.maps.is_empty(),
+                explain_maps,
+            )
         },
         PassDesc {
             cached: Some(CACHED),
-            ..PassDesc::new(Pass::MinMax, Build::One(minmax_pass))
+            after: &[MAPS],
+            ..PassDesc::new(
+                MIN_MAX,
+                Build::One(minmax_pass),
+                |plan| {
+                    !plan.maps.is_empty()
+                        && plan.reflections.min_max
+                        && plan.reflections.technique == Technique::DistanceMaps
+                },
+                explain_min_max,
+            )
         },
     ],
     draws: &[DrawDesc {
@@ -418,8 +435,39 @@ pub const FEATURE: Feature = Feature {
         phase: Phase::Mirrors,
         draw: |f, r, s| draw(f, r, s.pass.name()),
     }],
-    ..Feature::named("reflect", "mirrors and glass from layered distance maps")
+    ..Feature::named("reflect")
 };
+
+/// The distance-map pass: every map's faces and layers.
+pub const MAPS: Pass = Pass::new("distance-maps");
+/// The min-max pass: each map layer's nearest and farthest distance, a compute pass.
+pub const MIN_MAX: Pass = Pass::new("min-max");
+
+/// The distance-map pass in words, with its cost drivers.
+fn explain_maps(plan: &Plan) -> String {
+    let r = &plan.reflections;
+    let faces = plan.maps.len() as u64 * 6 * u64::from(r.layers);
+    let texels = faces * u64::from(r.cube_size) * u64::from(r.cube_size);
+    format!(
+        "{} maps × 6 faces × {} layers (the object's front faces, its back faces, {} of the rest of the scene, depth-peeled) × {}² texels = {} face renders, {:.1} M texels: radiance + material (Listing 17-5's sign convention), normal + distance; every object of the scene × {} lights per texel",
+        plan.maps.len(),
+        r.layers,
+        r.layers - 2,
+        r.cube_size,
+        faces,
+        texels as f64 / 1e6,
+        plan.map_lights
+    )
+}
+
+/// The min-max pass in words.
+fn explain_min_max(plan: &Plan) -> String {
+    format!(
+        "compute: minimum and maximum distance of each of {} maps × {} layers (Figure 17-4), one workgroup each",
+        plan.maps.len(),
+        plan.reflections.layers
+    )
+}
 
 /// The distance maps outlive the frame: drawn again only when the scene or its knobs
 /// changed.
@@ -439,7 +487,7 @@ fn maps<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a Maps, MissingInput>
 /// The distance-map pass: every face of every layer of every map, each a render pass (a
 /// copy of the previous layer before each peeled one).
 pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
-    let name = Pass::DistanceMaps.name();
+    let name = MAPS.name();
     let m = maps(f, name)?;
     let mut out = Vec::new();
     for map in 0..m.spec.maps {
@@ -447,7 +495,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             let base = (map * m.spec.layers + layer) * 6;
             if layer >= 3 {
                 out.push(Recipe::copy(
-                    Pass::DistanceMaps,
+                    MAPS,
                     &m.geometry.texture,
                     base - 6,
                     &m.peel.texture,
@@ -459,7 +507,7 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             for face in 0..6 {
                 let (mat, geo) = &m.views[(base + face) as usize];
                 let mut r = Recipe::new(
-                    Pass::DistanceMaps,
+                    MAPS,
                     vec![
                         Color {
                             view: mat,
@@ -512,8 +560,8 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
 
 /// The min-max pass: one workgroup per (map, layer).
 pub fn minmax_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
-    let m = maps(f, Pass::MinMax.name())?;
-    let mut r = Recipe::compute(Pass::MinMax);
+    let m = maps(f, MIN_MAX.name())?;
+    let mut r = Recipe::compute(MIN_MAX);
     r.push(Step::Compute(MINMAX));
     r.bind(slot::RANGES, &m.minmax, None);
     r.push(Step::Dispatch([m.spec.maps, m.spec.layers, 1]));
