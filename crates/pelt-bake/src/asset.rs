@@ -22,7 +22,8 @@ use crate::options::{
     TopologyMode,
 };
 use crate::primitive::{
-    PrimitiveStats, TangentSource, TopologyStats, bake_primitive_with, group_primitive,
+    BakedPrimitive, PrimitiveStats, TangentSource, TopologyStats, bake_primitive_with,
+    group_primitive,
 };
 
 /// The attribute pelt writes.
@@ -145,47 +146,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
             ));
         }
         if prim.mesh.colors.is_none() && !generate {
-            let t1 = Instant::now();
-            let grouped = (opts.topology_mode != TopologyMode::Off)
-                .then(|| group_primitive(&prim.mesh, opts))
-                .flatten();
-            report.timings.bake_ms += ms(t1);
-            match grouped {
-                Some(g) => {
-                    let t2 = Instant::now();
-                    as_list(doc, r, &prim, &mut report.warnings)?;
-                    if let Some((map, indices)) = &g.remap {
-                        doc.remap_primitive(r, map, indices, &[NORMAL_GROUP_ATTRIBUTE])?;
-                    }
-                    let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&g.normal_group)));
-                    doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
-                    let extras = Extras {
-                        topology: &g.stats,
-                        comb: false,
-                        tangents: None,
-                        fins: None,
-                        indices: g.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
-                    };
-                    write_extras(doc, r, extras, opts, &mut report.warnings)?;
-                    report.timings.encode_ms += ms(t2);
-                    report.timings.topology_ms += g.topology_ms;
-                    report.primitives_grouped += 1;
-                    entry.status = "normal groups only: no COLOR_0 (no comb painted)".to_owned();
-                    report
-                        .warnings
-                        .extend(g.warnings.iter().map(|w| format!("{place}: {w}")));
-                    entry.groups_only = Some(g.stats);
-                }
-                None if opts.topology_mode == TopologyMode::Off => {
-                    entry.status = "skipped: no COLOR_0 (no comb painted)".to_owned();
-                }
-                None => {
-                    entry.status = "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat \
-                                    shaded); --comb generate grows fur on it"
-                        .to_owned();
-                }
-            }
-            report.warnings.push(format!("{place}: {}", entry.status));
+            group_only(doc, r, &prim, opts, &mut report, &mut entry)?;
             report.primitives.push(entry);
             continue;
         }
@@ -203,59 +164,8 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         report.timings.bake_ms += ms(t1);
 
         let t2 = Instant::now();
-        as_list(doc, r, &prim, &mut report.warnings)?;
         report.timings.topology_ms += baked.topology_ms;
-        if let Some((map, indices)) = &baked.remap {
-            let mut replaced = vec![COMB_ATTRIBUTE, NORMAL_GROUP_ATTRIBUTE];
-            if baked.normals.is_some() {
-                replaced.push("NORMAL");
-            }
-            if baked.tangents.is_some() {
-                replaced.push("TANGENT");
-            }
-            doc.remap_primitive(r, map, indices, &replaced)?;
-        }
-        // The baked arrays become the new bufferViews as they are (no copy).
-        if let Some(n) = baked.normals.take() {
-            let a = doc.push_accessor(NewAccessor::f32_owned(n));
-            doc.set_attribute(r, "NORMAL", a)?;
-        }
-        if let Some(t) = baked.tangents.take() {
-            let a = doc.push_accessor(NewAccessor::f32_owned(t));
-            doc.set_attribute(r, "TANGENT", a)?;
-        }
-        let comb = match comb_storage(opts) {
-            Quantize::Float => NewAccessor::f32_owned(std::mem::take(&mut baked.comb)),
-            Quantize::U16 => NewAccessor::u16_norm(
-                &baked
-                    .comb
-                    .iter()
-                    .map(|&c| comb::encode_u16(c))
-                    .collect::<Vec<_>>(),
-            ),
-            Quantize::U8 => NewAccessor::u8_norm(
-                &baked
-                    .comb
-                    .iter()
-                    .map(|&c| comb::encode_u8(c))
-                    .collect::<Vec<_>>(),
-            ),
-        };
-        let a = doc.push_accessor(comb);
-        doc.set_attribute(r, COMB_ATTRIBUTE, a)?;
-        if opts.topology_mode != TopologyMode::Off {
-            let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
-            doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
-            let fins = baked.fins.take();
-            let extras = Extras {
-                topology: &baked.stats.topology,
-                comb: true,
-                tangents: baked.stats.tangents,
-                fins,
-                indices: baked.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
-            };
-            write_extras(doc, r, extras, opts, &mut report.warnings)?;
-        }
+        write_baked(doc, r, &prim, &mut baked, opts, &mut report.warnings)?;
         report.timings.encode_ms += ms(t2);
 
         report.vertices += baked.stats.vertices_out;
@@ -268,6 +178,138 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
         entry.stats = Some(baked.stats);
         report.primitives.push(entry);
     }
+    finish(doc, &mut report)?;
+    Ok(report)
+}
+
+/// A primitive without a comb (no COLOR_0, none generated): normal groups only, written with
+/// their extras, or skipped with why in `entry`'s status.
+fn group_only(
+    doc: &mut Document,
+    r: PrimitiveRef,
+    prim: &pelt_io::mesh::PrimitiveMesh,
+    opts: &BakeOptions,
+    report: &mut AssetReport,
+    entry: &mut PrimitiveReport,
+) -> Result<(), IoError> {
+    let place = doc.place(r);
+    let t1 = Instant::now();
+    let grouped = (opts.topology_mode != TopologyMode::Off)
+        .then(|| group_primitive(&prim.mesh, opts))
+        .flatten();
+    report.timings.bake_ms += ms(t1);
+    match grouped {
+        Some(g) => {
+            let t2 = Instant::now();
+            as_list(doc, r, &prim, &mut report.warnings)?;
+            if let Some((map, indices)) = &g.remap {
+                doc.remap_primitive(r, map, indices, &[NORMAL_GROUP_ATTRIBUTE])?;
+            }
+            let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&g.normal_group)));
+            doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
+            let extras = Extras {
+                topology: &g.stats,
+                comb: false,
+                tangents: None,
+                fins: None,
+                indices: g.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
+            };
+            write_extras(doc, r, extras, opts, &mut report.warnings)?;
+            report.timings.encode_ms += ms(t2);
+            report.timings.topology_ms += g.topology_ms;
+            report.primitives_grouped += 1;
+            entry.status = "normal groups only: no COLOR_0 (no comb painted)".to_owned();
+            report
+                .warnings
+                .extend(g.warnings.iter().map(|w| format!("{place}: {w}")));
+            entry.groups_only = Some(g.stats);
+        }
+        None if opts.topology_mode == TopologyMode::Off => {
+            entry.status = "skipped: no COLOR_0 (no comb painted)".to_owned();
+        }
+        None => {
+            entry.status = "skipped: no COLOR_0 (no comb painted) and no NORMAL (flat \
+                            shaded); --comb generate grows fur on it"
+                .to_owned();
+        }
+    }
+    report.warnings.push(format!("{place}: {}", entry.status));
+    Ok(())
+}
+
+/// The encode step: a baked primitive's arrays written into the document (remapped where
+/// vertices were split), as new accessors for NORMAL, TANGENT, the comb and the normal
+/// groups, with the extras.
+fn write_baked(
+    doc: &mut Document,
+    r: PrimitiveRef,
+    prim: &pelt_io::mesh::PrimitiveMesh,
+    baked: &mut BakedPrimitive,
+    opts: &BakeOptions,
+    warnings: &mut Vec<String>,
+) -> Result<(), IoError> {
+    as_list(doc, r, prim, warnings)?;
+    if let Some((map, indices)) = &baked.remap {
+        let mut replaced = vec![COMB_ATTRIBUTE, NORMAL_GROUP_ATTRIBUTE];
+        if baked.normals.is_some() {
+            replaced.push("NORMAL");
+        }
+        if baked.tangents.is_some() {
+            replaced.push("TANGENT");
+        }
+        doc.remap_primitive(r, map, indices, &replaced)?;
+    }
+    // The baked arrays become the new bufferViews as they are (no copy).
+    if let Some(n) = baked.normals.take() {
+        let a = doc.push_accessor(NewAccessor::f32_owned(n));
+        doc.set_attribute(r, "NORMAL", a)?;
+    }
+    if let Some(t) = baked.tangents.take() {
+        let a = doc.push_accessor(NewAccessor::f32_owned(t));
+        doc.set_attribute(r, "TANGENT", a)?;
+    }
+    let comb = comb_accessor(opts, &mut baked.comb);
+    let a = doc.push_accessor(comb);
+    doc.set_attribute(r, COMB_ATTRIBUTE, a)?;
+    if opts.topology_mode != TopologyMode::Off {
+        let a = doc.push_accessor(NewAccessor::u16(&as_scalars(&baked.normal_group)));
+        doc.set_attribute(r, NORMAL_GROUP_ATTRIBUTE, a)?;
+        let fins = baked.fins.take();
+        let extras = Extras {
+            topology: &baked.stats.topology,
+            comb: true,
+            tangents: baked.stats.tangents,
+            fins,
+            indices: baked.remap.as_ref().map_or(&prim.mesh.indices, |(_, i)| i),
+        };
+        write_extras(doc, r, extras, opts, warnings)?;
+    }
+    Ok(())
+}
+
+/// The comb's accessor, as `opts` stores it: float (the baked array, taken as it is), or
+/// normalized u16 or u8.
+fn comb_accessor(opts: &BakeOptions, baked: &mut Vec<[f32; 4]>) -> NewAccessor {
+    match comb_storage(opts) {
+        Quantize::Float => NewAccessor::f32_owned(std::mem::take(baked)),
+        Quantize::U16 => NewAccessor::u16_norm(
+            &baked
+                .iter()
+                .map(|&c| comb::encode_u16(c))
+                .collect::<Vec<_>>(),
+        ),
+        Quantize::U8 => NewAccessor::u8_norm(
+            &baked
+                .iter()
+                .map(|&c| comb::encode_u8(c))
+                .collect::<Vec<_>>(),
+        ),
+    }
+}
+
+/// After every primitive: "nothing to bake" when no primitive had a triangle, the check of
+/// the whole document, the pruning of what the bake detached, and the timings rounded.
+fn finish(doc: &mut Document, report: &mut AssetReport) -> Result<(), IoError> {
     if report
         .primitives
         .iter()
@@ -304,7 +346,7 @@ pub fn bake_document(doc: &mut Document, opts: &BakeOptions) -> Result<AssetRepo
     ] {
         *v = (*v * 100.0).round() / 100.0;
     }
-    Ok(report)
+    Ok(())
 }
 
 /// Packs a baked document for output as `opts.compress` asks (nothing for plain output):

@@ -28,7 +28,9 @@ use serde::Serialize;
 
 use crate::comb;
 use crate::frame::Frame;
-use crate::options::{BakeOptions, CombSource, TangentGenerator, TangentMode, TopologyMode};
+use crate::options::{
+    BakeOptions, CombSource, GeneratedComb, TangentGenerator, TangentMode, TopologyMode,
+};
 use crate::vertex_pass::{self, CHUNK, Writes};
 
 /// Where the output tangents came from.
@@ -273,79 +275,11 @@ pub fn bake_primitive_with(
     let mut warnings = Vec::new();
     let idx = &mesh.indices;
 
-    // Normals: per vertex when the file's are usable (borrowed when already unit), per corner
-    // (flat) otherwise.
-    let (normals, rewrite_normals) = match &mesh.normals {
-        Some(ns) => {
-            let (zero, renormalized) = ns
-                .par_iter()
-                .with_min_len(CHUNK)
-                .map(|&n| match normalize_f64(n) {
-                    None => (1, 0),
-                    Some(_) => (
-                        0,
-                        usize::from((n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE),
-                    ),
-                })
-                .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-            stats.zero_normals = zero;
-            stats.renormalized_normals = renormalized;
-            if zero > 0 {
-                (
-                    Attr::Corner(corner_normals(&mesh.positions, Some(ns), idx).0),
-                    true,
-                )
-            } else if renormalized > 0 {
-                let unit = ns
-                    .par_iter()
-                    .with_min_len(CHUNK)
-                    .map(|&n| normalize_f64(n).map_or(Vec3::Z, |u| u.as_vec3()))
-                    .collect();
-                (Attr::Vertex(Cow::Owned(unit)), true)
-            } else {
-                (Attr::Vertex(Cow::Borrowed(ns.as_slice())), false)
-            }
-        }
-        None if opts.crease_angle <= 0.0 => {
-            stats.flat_normals = true;
-            warnings.push("no NORMAL: flat normals generated and written".to_owned());
-            (
-                Attr::Corner(corner_normals(&mesh.positions, None, idx).0),
-                true,
-            )
-        }
-        None => {
-            stats.smooth_normals = true;
-            warnings.push(format!(
-                "no NORMAL: smooth normals generated (angle-weighted, crease angle {:.0}°) and \
-                 written; glTF clients would shade it flat (--crease-angle 0 does that)",
-                opts.crease_angle.to_degrees()
-            ));
-            (
-                Attr::Corner(smooth_corner_normals(
-                    &mesh.positions,
-                    idx,
-                    opts.crease_angle,
-                )),
-                true,
-            )
-        }
-    };
+    // Normals: per vertex when the file's are usable, per corner otherwise.
+    let (normals, rewrite_normals) = source_normals(mesh, opts, &mut stats, &mut warnings);
 
     // Tangents: kept (per vertex), MikkTSpace (per corner) or the gradient frame (per vertex).
-    let keep =
-        opts.tangents == TangentMode::Keep && mesh.tangents.is_some() && mesh.normals.is_some();
-    if mesh.tangents.is_some() && mesh.normals.is_none() {
-        warnings.push(
-            "TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned(),
-        );
-    }
-    let kept = mesh.tangents.as_deref().filter(|_| keep);
-    let source = match kept {
-        Some(_) => TangentSource::Kept,
-        None if opts.tangent_generator == TangentGenerator::Mikktspace => TangentSource::Mikktspace,
-        None => TangentSource::Gradient,
-    };
+    let (keep, kept, source) = tangent_source(mesh, opts, &mut warnings);
     stats.tangents = Some(source);
 
     // MikkTSpace first: its working memory is freed before the topology's is taken.
@@ -407,57 +341,22 @@ pub fn bake_primitive_with(
     // vertices (split vertices copy their source's results). The topology, the longer, starts
     // at once on this thread; another takes the rest when it wakes.
     let ((mut topo, mut topology_ms), side) = rayon::join(
+        || primitive_topology(mesh, &normals, opts),
         || {
-            let t_topology = Instant::now();
-            let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
-                let t = topology::build(
-                    &mesh.positions,
-                    idx,
-                    corner_normals_of(&normals),
-                    &opts.topology,
-                );
-                let ids = group_ids::assign(&t);
-                (t, ids)
-            });
-            (topo, ms(t_topology))
-        },
-        || {
-            let gradient = (source == TangentSource::Gradient)
-                .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
-            let flow =
-                generate.map(|g| comb_flow(&mesh.positions, idx, Vec3::from(g.axis), g.smoothing));
-            let vertex_tangents = kept.or(gradient.as_ref().map(|g| g.vertices.as_slice()));
-            let early = match (&normals, vertex_tangents) {
-                (Attr::Vertex(ns), Some(ts)) => Some(vertex_pass::run(
-                    mesh.vertex_count(),
-                    &|v| (v, ns[v], ts[v]),
-                    &|v, f| comb_at(v, f, flow.as_deref()),
-                    &tangent_out,
-                    write,
-                )),
-                _ => None,
-            };
-            (gradient, flow, early)
+            beside_topology(
+                mesh,
+                source,
+                generate,
+                kept,
+                &normals,
+                &comb_at,
+                &tangent_out,
+                write,
+            )
         },
     );
     let (gradient, flow, early) = side;
-    let tangents: Attr<Vec4> = match (kept, mikktspace) {
-        (Some(ts), _) => Attr::Vertex(Cow::Borrowed(ts)),
-        (None, Some(corners)) => Attr::Corner(corners),
-        (None, None) => {
-            if mesh.uvs.is_none() {
-                warnings.push(
-                    "no TEXCOORD_0: tangents are perpendiculars of the normal (no UV gradient)"
-                        .to_owned(),
-                );
-            }
-            // Made beside the topology above (the source is Gradient here).
-            let g = gradient
-                .unwrap_or_else(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
-            stats.degenerate_uv_triangles = g.degenerate_uv_triangles;
-            Attr::Vertex(Cow::Owned(g.vertices))
-        }
-    };
+    let tangents = framing_tangents(mesh, kept, mikktspace, gradient, &mut stats, &mut warnings);
 
     match &topo {
         Some((t, ids)) => {
@@ -474,41 +373,15 @@ pub fn bake_primitive_with(
 
     // Output vertices: one per distinct (source vertex, normal, tangent, group ID).
     // With per-corner data, each output vertex reads it at the first corner that uses it.
-    let per_corner = normals.is_corner() || tangents.is_corner() || groups > 1;
-    let (remap, first_corner) = if per_corner {
-        let split = split_vertices(mesh, &normals, Some(&tangents), &corner_id);
-        stats.topology.group_split_vertices = split.for_ids;
-        (split.remap, Some(split.first_corner))
-    } else {
-        (None, None)
-    };
+    let (remap, first_corner) =
+        output_vertices(mesh, &normals, &tangents, groups, &corner_id, &mut stats);
     let out_count = remap.as_ref().map_or(mesh.vertex_count(), |(m, _)| m.len());
     let map = remap.as_ref().map(|(m, _)| m.as_slice());
     stats.vertices_out = out_count;
     stats.split_vertices = out_count - mesh.vertex_count();
 
     // The (normal, tangent) an output vertex is framed by.
-    let inputs = |o: usize| -> (usize, Vec3, Vec4) {
-        let v = map.map_or(o, |m| m[o] as usize);
-        let c = first_corner.as_ref().map_or(u32::MAX, |f| f[o]);
-        if c != u32::MAX {
-            return (v, normals.at(v, c as usize), tangents.at(v, c as usize));
-        }
-        // Per-vertex data, or a vertex no triangle uses: stored normal (or +Z), any tangent.
-        let n = match &normals {
-            Attr::Vertex(ns) => ns[v],
-            Attr::Corner(_) => mesh
-                .normals
-                .as_ref()
-                .and_then(|ns| normalize_f64(ns[v]))
-                .map_or(Vec3::Z, |d| d.as_vec3()),
-        };
-        let t = match &tangents {
-            Attr::Vertex(ts) => ts[v],
-            Attr::Corner(_) => Vec4::new(1.0, 0.0, 0.0, 1.0),
-        };
-        (v, n, t)
-    };
+    let inputs = |o: usize| framed_by(mesh, &normals, &tangents, map, first_corner.as_deref(), o);
 
     // The per-vertex pass over the output vertices: copied from the source vertices' where it
     // ran beside the topology, else run now.
@@ -531,33 +404,14 @@ pub fn bake_primitive_with(
     comb_warnings(&stats, &comb, mesh.uvs.is_some(), &mut warnings);
 
     // The group ID of every output vertex: its first corner's face's.
-    let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
     let normal_group: Vec<u16> = match &topo {
         None => Vec::new(),
-        Some(_) => (0..out_count)
-            .into_par_iter()
-            .with_min_len(CHUNK)
-            .map(|o| match (&first_corner, only_id) {
-                (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
-                (None, Some(id)) => id,
-                _ => 0,
-            })
-            .collect(),
+        Some(_) => output_groups(out_count, first_corner.as_deref(), groups, &corner_id),
     };
 
     // Kept tangents that were unusable are replaced: only then is TANGENT rewritten.
     if out_tangents.is_none() && stats.degenerate_tangents > 0 {
-        out_tangents = Some(
-            (0..out_count)
-                .into_par_iter()
-                .with_min_len(CHUNK)
-                .map(|o| {
-                    let (_, n, t) = inputs(o);
-                    let (frame, degenerate) = Frame::new(n, t);
-                    tangent_out(&frame, degenerate, t)
-                })
-                .collect(),
-        );
+        out_tangents = Some(replaced_tangents(out_count, &inputs, &tangent_out));
     }
     if stats.degenerate_tangents > 0 && keep {
         warnings.push(format!(
@@ -570,18 +424,7 @@ pub fn bake_primitive_with(
     let fins = match &mut topo {
         Some((t, _)) if opts.topology_mode == TopologyMode::Full => {
             let out_indices = remap.as_ref().map_or(idx.as_slice(), |(_, i)| i.as_slice());
-            let lengths: Vec<f32> = comb.par_iter().with_min_len(CHUNK).map(|c| c[3]).collect();
-            let fur = if lengths.par_iter().all(|&l| l > 0.0) {
-                fins::Fur::Everywhere
-            } else {
-                fins::Fur::Lengths(&lengths)
-            };
-            let edges = t.take_edges();
-            let all = edges.len();
-            let fins = fins::build(edges, out_indices, fur);
-            stats.topology.fin_edges = fins.len();
-            stats.topology.bare_edges = all - fins.len();
-            Some(fins)
+            Some(fin_edges(t, out_indices, &comb, &mut stats))
         }
         _ => None,
     };
@@ -665,6 +508,298 @@ pub fn group_primitive(mesh: &Mesh, opts: &BakeOptions) -> Option<GroupedPrimiti
         warnings,
         topology_ms: ms(t0),
     })
+}
+
+/// The normals step: per vertex when the file's are usable (borrowed when already unit), per
+/// corner (flat, or smooth with a crease angle) otherwise; with whether NORMAL is rewritten.
+fn source_normals<'a>(
+    mesh: &'a Mesh,
+    opts: &BakeOptions,
+    stats: &mut PrimitiveStats,
+    warnings: &mut Vec<String>,
+) -> (Attr<'a, Vec3>, bool) {
+    let idx = &mesh.indices;
+    match &mesh.normals {
+        Some(ns) => {
+            let (zero, renormalized) = ns
+                .par_iter()
+                .with_min_len(CHUNK)
+                .map(|&n| match normalize_f64(n) {
+                    None => (1, 0),
+                    Some(_) => (
+                        0,
+                        usize::from((n.as_dvec3().length() - 1.0).abs() > UNIT_TOLERANCE),
+                    ),
+                })
+                .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+            stats.zero_normals = zero;
+            stats.renormalized_normals = renormalized;
+            if zero > 0 {
+                (
+                    Attr::Corner(corner_normals(&mesh.positions, Some(ns), idx).0),
+                    true,
+                )
+            } else if renormalized > 0 {
+                let unit = ns
+                    .par_iter()
+                    .with_min_len(CHUNK)
+                    .map(|&n| normalize_f64(n).map_or(Vec3::Z, |u| u.as_vec3()))
+                    .collect();
+                (Attr::Vertex(Cow::Owned(unit)), true)
+            } else {
+                (Attr::Vertex(Cow::Borrowed(ns.as_slice())), false)
+            }
+        }
+        None if opts.crease_angle <= 0.0 => {
+            stats.flat_normals = true;
+            warnings.push("no NORMAL: flat normals generated and written".to_owned());
+            (
+                Attr::Corner(corner_normals(&mesh.positions, None, idx).0),
+                true,
+            )
+        }
+        None => {
+            stats.smooth_normals = true;
+            warnings.push(format!(
+                "no NORMAL: smooth normals generated (angle-weighted, crease angle {:.0}°) and \
+                 written; glTF clients would shade it flat (--crease-angle 0 does that)",
+                opts.crease_angle.to_degrees()
+            ));
+            (
+                Attr::Corner(smooth_corner_normals(
+                    &mesh.positions,
+                    idx,
+                    opts.crease_angle,
+                )),
+                true,
+            )
+        }
+    }
+}
+
+/// The tangents' source: the file's, kept (`keep`; then they are borrowed), or generated by
+/// MikkTSpace or the gradient frame.
+fn tangent_source<'a>(
+    mesh: &'a Mesh,
+    opts: &BakeOptions,
+    warnings: &mut Vec<String>,
+) -> (bool, Option<&'a [Vec4]>, TangentSource) {
+    let keep =
+        opts.tangents == TangentMode::Keep && mesh.tangents.is_some() && mesh.normals.is_some();
+    if mesh.tangents.is_some() && mesh.normals.is_none() {
+        warnings.push(
+            "TANGENT ignored: without NORMAL glTF clients must ignore it; regenerated".to_owned(),
+        );
+    }
+    let kept = mesh.tangents.as_deref().filter(|_| keep);
+    let source = match kept {
+        Some(_) => TangentSource::Kept,
+        None if opts.tangent_generator == TangentGenerator::Mikktspace => TangentSource::Mikktspace,
+        None => TangentSource::Gradient,
+    };
+    (keep, kept, source)
+}
+
+/// The tangents the output is framed by: the kept ones, MikkTSpace's per corner, or the
+/// gradient frame's (made beside the topology when the source is the gradient).
+fn framing_tangents<'a>(
+    mesh: &Mesh,
+    kept: Option<&'a [Vec4]>,
+    mikktspace: Option<Vec<Vec4>>,
+    gradient: Option<gradient::GradientTangents>,
+    stats: &mut PrimitiveStats,
+    warnings: &mut Vec<String>,
+) -> Attr<'a, Vec4> {
+    match (kept, mikktspace) {
+        (Some(ts), _) => Attr::Vertex(Cow::Borrowed(ts)),
+        (None, Some(corners)) => Attr::Corner(corners),
+        (None, None) => {
+            if mesh.uvs.is_none() {
+                warnings.push(
+                    "no TEXCOORD_0: tangents are perpendiculars of the normal (no UV gradient)"
+                        .to_owned(),
+                );
+            }
+            // Made beside the topology (the source is Gradient here).
+            let g = gradient.unwrap_or_else(|| {
+                gradient::generate(&mesh.positions, mesh.uvs.as_deref(), &mesh.indices)
+            });
+            stats.degenerate_uv_triangles = g.degenerate_uv_triangles;
+            Attr::Vertex(Cow::Owned(g.vertices))
+        }
+    }
+}
+
+/// The group ID of every output vertex: its first corner's face's (0 for a vertex no face
+/// uses); with a single group, every vertex's without a first corner too.
+fn output_groups(
+    out_count: usize,
+    first_corner: Option<&[u32]>,
+    groups: usize,
+    corner_id: &(impl Fn(usize) -> u8 + Sync),
+) -> Vec<u16> {
+    let only_id = (groups == 1).then(|| u16::from(corner_id(0)));
+    (0..out_count)
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .map(|o| match (first_corner, only_id) {
+            (Some(f), _) if f[o] != u32::MAX => u16::from(corner_id(f[o] as usize)),
+            (None, Some(id)) => id,
+            _ => 0,
+        })
+        .collect()
+}
+
+/// The fins step: the topology's edges kept as fins where there is fur (a comb longer than
+/// 0 on the edge), over the output vertices' `out_indices`.
+fn fin_edges(
+    t: &mut Topology,
+    out_indices: &[u32],
+    comb: &[[f32; 4]],
+    stats: &mut PrimitiveStats,
+) -> Vec<FinEdge> {
+    let lengths: Vec<f32> = comb.par_iter().with_min_len(CHUNK).map(|c| c[3]).collect();
+    let fur = if lengths.par_iter().all(|&l| l > 0.0) {
+        fins::Fur::Everywhere
+    } else {
+        fins::Fur::Lengths(&lengths)
+    };
+    let edges = t.take_edges();
+    let all = edges.len();
+    let fins = fins::build(edges, out_indices, fur);
+    stats.topology.fin_edges = fins.len();
+    stats.topology.bare_edges = all - fins.len();
+    fins
+}
+
+/// The topology step over the normals as written (none with `--topology off`): the groups
+/// and their IDs, with the milliseconds it took.
+fn primitive_topology(
+    mesh: &Mesh,
+    normals: &Attr<Vec3>,
+    opts: &BakeOptions,
+) -> (Option<(Topology, GroupIds)>, f64) {
+    let t_topology = Instant::now();
+    let topo = (opts.topology_mode != TopologyMode::Off).then(|| {
+        let t = topology::build(
+            &mesh.positions,
+            &mesh.indices,
+            corner_normals_of(normals),
+            &opts.topology,
+        );
+        let ids = group_ids::assign(&t);
+        (t, ids)
+    });
+    (topo, ms(t_topology))
+}
+
+/// The output vertices step: split where a source vertex's corners differ in normal, tangent
+/// or group ID (none when every one is per vertex and there is one group); the remap and
+/// each output vertex's first corner.
+fn output_vertices(
+    mesh: &Mesh,
+    normals: &Attr<Vec3>,
+    tangents: &Attr<Vec4>,
+    groups: usize,
+    corner_id: &(impl Fn(usize) -> u8 + Sync),
+    stats: &mut PrimitiveStats,
+) -> (Option<(Vec<u32>, Vec<u32>)>, Option<Vec<u32>>) {
+    let per_corner = normals.is_corner() || tangents.is_corner() || groups > 1;
+    if !per_corner {
+        return (None, None);
+    }
+    let split = split_vertices(mesh, normals, Some(tangents), corner_id);
+    stats.topology.group_split_vertices = split.for_ids;
+    (split.remap, Some(split.first_corner))
+}
+
+/// TANGENT rewritten for every output vertex, when kept tangents were unusable: each framed
+/// again from its (normal, tangent) and written as `tangent_out` writes it.
+fn replaced_tangents(
+    out_count: usize,
+    inputs: &(impl Fn(usize) -> (usize, Vec3, Vec4) + Sync),
+    tangent_out: &(impl Fn(&Frame, bool, Vec4) -> [f32; 4] + Sync),
+) -> Vec<[f32; 4]> {
+    (0..out_count)
+        .into_par_iter()
+        .with_min_len(CHUNK)
+        .map(|o| {
+            let (_, n, t) = inputs(o);
+            let (frame, degenerate) = Frame::new(n, t);
+            tangent_out(&frame, degenerate, t)
+        })
+        .collect()
+}
+
+/// The source vertex, normal and tangent output vertex `o` is framed by: its first corner's
+/// where data is per corner, else its source vertex's (a vertex no triangle uses: the stored
+/// normal, or +Z, and any tangent).
+fn framed_by(
+    mesh: &Mesh,
+    normals: &Attr<Vec3>,
+    tangents: &Attr<Vec4>,
+    map: Option<&[u32]>,
+    first_corner: Option<&[u32]>,
+    o: usize,
+) -> (usize, Vec3, Vec4) {
+    let v = map.map_or(o, |m| m[o] as usize);
+    let c = first_corner.map_or(u32::MAX, |f| f[o]);
+    if c != u32::MAX {
+        return (v, normals.at(v, c as usize), tangents.at(v, c as usize));
+    }
+    // Per-vertex data, or a vertex no triangle uses: stored normal (or +Z), any tangent.
+    let n = match normals {
+        Attr::Vertex(ns) => ns[v],
+        Attr::Corner(_) => mesh
+            .normals
+            .as_ref()
+            .and_then(|ns| normalize_f64(ns[v]))
+            .map_or(Vec3::Z, |d| d.as_vec3()),
+    };
+    let t = match tangents {
+        Attr::Vertex(ts) => ts[v],
+        Attr::Corner(_) => Vec4::new(1.0, 0.0, 0.0, 1.0),
+    };
+    (v, n, t)
+}
+
+/// The work beside the topology, none of which needs the groups: the gradient frame (when it
+/// is the tangents' source), a generated comb's flow, and, where every vertex's normal and
+/// tangent are its own, the per-vertex pass over the source vertices.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the bake's inputs and its two closures, passed as they are to the vertex pass"
+)]
+fn beside_topology(
+    mesh: &Mesh,
+    source: TangentSource,
+    generate: Option<GeneratedComb>,
+    kept: Option<&[Vec4]>,
+    normals: &Attr<Vec3>,
+    comb_at: &(impl Fn(usize, &Frame, Option<&[Vec3]>) -> ([f32; 4], comb::CombCase) + Sync),
+    tangent_out: &(impl Fn(&Frame, bool, Vec4) -> [f32; 4] + Sync),
+    write: Writes,
+) -> (
+    Option<gradient::GradientTangents>,
+    Option<Vec<Vec3>>,
+    Option<vertex_pass::VertexOut>,
+) {
+    let idx = &mesh.indices;
+    let gradient = (source == TangentSource::Gradient)
+        .then(|| gradient::generate(&mesh.positions, mesh.uvs.as_deref(), idx));
+    let flow = generate.map(|g| comb_flow(&mesh.positions, idx, Vec3::from(g.axis), g.smoothing));
+    let vertex_tangents = kept.or(gradient.as_ref().map(|g| g.vertices.as_slice()));
+    let early = match (normals, vertex_tangents) {
+        (Attr::Vertex(ns), Some(ts)) => Some(vertex_pass::run(
+            mesh.vertex_count(),
+            &|v| (v, ns[v], ts[v]),
+            &|v, f| comb_at(v, f, flow.as_deref()),
+            tangent_out,
+            write,
+        )),
+        _ => None,
+    };
+    (gradient, flow, early)
 }
 
 /// The normals topology compares, borrowed from the bake's.

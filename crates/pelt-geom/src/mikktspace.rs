@@ -86,58 +86,10 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         .collect();
 
     // Fans: the proper-face corners of each welded vertex, in corner order.
-    let mut fan_start = vec![0u32; welded + 1];
-    for (c, &w) in wid.iter().enumerate() {
-        if !faces[c / 3].degenerate {
-            fan_start[w as usize + 1] += 1;
-        }
-    }
-    for i in 0..welded {
-        fan_start[i + 1] += fan_start[i];
-    }
-    let mut fill = fan_start.clone();
-    let mut fan = vec![0u32; fan_start[welded] as usize];
-    // Each proper corner's position in `fan` (where its tangent space will be written).
-    let mut fan_pos = vec![NONE; 3 * nf];
-    for (c, &w) in wid.iter().enumerate() {
-        if !faces[c / 3].degenerate {
-            fan[fill[w as usize] as usize] = c as u32;
-            fan_pos[c] = fill[w as usize];
-            fill[w as usize] += 1;
-        }
-    }
-    drop(fill);
-    let fan_of = |w: u32| &fan[fan_start[w as usize] as usize..fan_start[w as usize + 1] as usize];
+    let (fan_start, fan, fan_pos) = fans(&wid, &faces, welded);
 
     // Neighbour across each edge (edge e runs from corner e to corner e+1).
-    let mut neighbours = vec![NONE; 3 * nf];
-    neighbours
-        .par_chunks_mut(3)
-        .enumerate()
-        .with_min_len(2048)
-        .for_each_init(Vec::new, |entries: &mut Vec<(u32, bool)>, (f, out)| {
-            if faces[f].degenerate {
-                return;
-            }
-            for (e, slot) in out.iter_mut().enumerate() {
-                let a = wid[3 * f + e];
-                let b = wid[3 * f + (e + 1) % 3];
-                entries.clear();
-                let mut me = 0;
-                for &c in fan_of(a) {
-                    let (g, j) = (c as usize / 3, c as usize % 3);
-                    if wid[3 * g + (j + 1) % 3] == b {
-                        if g == f {
-                            me = entries.len();
-                        }
-                        entries.push((g as u32, true));
-                    } else if wid[3 * g + (j + 2) % 3] == b {
-                        entries.push((g as u32, false));
-                    }
-                }
-                *slot = pair_in_edge_group(entries, me);
-            }
-        });
+    let neighbours = edge_neighbours(&faces, &wid, &fan_start, &fan);
 
     // The 4-rule groups: around each welded vertex, the faces connected across shared edges
     // with one orientation. Each corner's tangent space is written at its place in `fan`
@@ -169,9 +121,106 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     if ordered.iter().any(|&o| o) {
         ordered_groups(&ctx, &mut faces, &ordered, &fan_pos, &mut fan_space);
     }
-    let faces_ref = &faces;
+    unordered_groups(&ctx, &faces, &ordered, &fan_start, &mut fan_space);
+
+    // What the gather below needs of the faces; the rest is freed first, so the per-corner
+    // result does not add to the walk's peak memory.
+    let degenerate: Vec<bool> = faces.par_iter().map(|f| f.degenerate).collect();
+    let degenerate_triangles = degenerate.iter().filter(|&&d| d).count();
+    let degenerate_uv_triangles = faces.iter().filter(|f| !f.degenerate && f.any).count();
+    drop((faces, neighbours, fan));
+
+    // Each corner's space: its own, or for a degenerate triangle the space of the first proper
+    // corner at the same welded vertex; corners no group reached get the reference default.
+    let (corners, default_corners) = gather(&degenerate, &wid, &fan_start, &fan_pos, &fan_space);
+    Tangents {
+        corners,
+        stats: TangentStats {
+            degenerate_triangles,
+            degenerate_uv_triangles,
+            default_corners,
+        },
+    }
+}
+
+/// The fans step: the proper-face corners of each welded vertex, in corner order (`fan`,
+/// vertex `w`'s from `fan_start[w]`), and each proper corner's place in `fan` (where its
+/// tangent space will be written; `NONE` for a degenerate face's).
+fn fans(wid: &[u32], faces: &[Face], welded: usize) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let nf = faces.len();
+    let mut fan_start = vec![0u32; welded + 1];
+    for (c, &w) in wid.iter().enumerate() {
+        if !faces[c / 3].degenerate {
+            fan_start[w as usize + 1] += 1;
+        }
+    }
+    for i in 0..welded {
+        fan_start[i + 1] += fan_start[i];
+    }
+    let mut fill = fan_start.clone();
+    let mut fan = vec![0u32; fan_start[welded] as usize];
+    // Each proper corner's position in `fan` (where its tangent space will be written).
+    let mut fan_pos = vec![NONE; 3 * nf];
+    for (c, &w) in wid.iter().enumerate() {
+        if !faces[c / 3].degenerate {
+            fan[fill[w as usize] as usize] = c as u32;
+            fan_pos[c] = fill[w as usize];
+            fill[w as usize] += 1;
+        }
+    }
+    drop(fill);
+    (fan_start, fan, fan_pos)
+}
+
+/// The neighbours step: for each edge of each proper face (edge e runs from corner e to
+/// corner e+1), the face across it that pairs with it in its edge group, or `NONE`.
+fn edge_neighbours(faces: &[Face], wid: &[u32], fan_start: &[u32], fan: &[u32]) -> Vec<u32> {
+    let fan_of = |w: u32| &fan[fan_start[w as usize] as usize..fan_start[w as usize + 1] as usize];
+    let mut neighbours = vec![NONE; 3 * faces.len()];
+    neighbours
+        .par_chunks_mut(3)
+        .enumerate()
+        .with_min_len(2048)
+        .for_each_init(Vec::new, |entries: &mut Vec<(u32, bool)>, (f, out)| {
+            if faces[f].degenerate {
+                return;
+            }
+            for (e, slot) in out.iter_mut().enumerate() {
+                let a = wid[3 * f + e];
+                let b = wid[3 * f + (e + 1) % 3];
+                entries.clear();
+                let mut me = 0;
+                for &c in fan_of(a) {
+                    let (g, j) = (c as usize / 3, c as usize % 3);
+                    if wid[3 * g + (j + 1) % 3] == b {
+                        if g == f {
+                            me = entries.len();
+                        }
+                        entries.push((g as u32, true));
+                    } else if wid[3 * g + (j + 2) % 3] == b {
+                        entries.push((g as u32, false));
+                    }
+                }
+                *slot = pair_in_edge_group(entries, me);
+            }
+        });
+    neighbours
+}
+
+/// The 4-rule groups around every vertex whose walk needs no global order, in parallel over
+/// blocks of welded vertices: each group's tangent space written at its corners' places in
+/// `fan_space` (w = ±1 by the group's orientation).
+fn unordered_groups(
+    ctx: &Context,
+    faces: &[Face],
+    ordered: &[bool],
+    fan_start: &[u32],
+    fan_space: &mut [[f32; 4]],
+) {
+    let welded = ordered.len();
+    let faces_ref = faces;
     let mut blocks = Vec::new();
-    let mut rest = fan_space.as_mut_slice();
+    let mut rest = fan_space;
     for w0 in (0..welded).step_by(4096) {
         let w1 = welded.min(w0 + 4096);
         let len = (fan_start[w1] - fan_start[w0]) as usize;
@@ -185,7 +234,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         let base = fan_start[range.start] as usize;
         for w in range.filter(|&w| !ordered[w]) {
             let at = fan_start[w] as usize - base;
-            walk.groups(&ctx, faces_ref, w as u32);
+            walk.groups(ctx, faces_ref, w as u32);
             for g in 0..walk.count() {
                 let (members, places, orient) = walk.group(g);
                 ctx.evaluate(w as u32, members, faces_ref, &mut scratch);
@@ -196,16 +245,19 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
             }
         }
     });
+}
 
-    // What the gather below needs of the faces; the rest is freed first, so the per-corner
-    // result does not add to the walk's peak memory.
-    let degenerate: Vec<bool> = faces.par_iter().map(|f| f.degenerate).collect();
-    let degenerate_triangles = degenerate.iter().filter(|&&d| d).count();
-    let degenerate_uv_triangles = faces.iter().filter(|f| !f.degenerate && f.any).count();
-    drop((faces, neighbours, fan));
-
-    // Each corner's space: its own, or for a degenerate triangle the space of the first proper
-    // corner at the same welded vertex; corners no group reached get the reference default.
+/// The gather step: each corner's tangent space, its own, or for a degenerate triangle the
+/// space of the first proper corner at the same welded vertex; corners no group reached get
+/// the reference default (1, 0, 0, -1), and are counted.
+fn gather(
+    degenerate: &[bool],
+    wid: &[u32],
+    fan_start: &[u32],
+    fan_pos: &[u32],
+    fan_space: &[[f32; 4]],
+) -> (Vec<Vec4>, usize) {
+    let nf = degenerate.len();
     let source = |c: usize| -> Option<[f32; 4]> {
         let q = if degenerate[c / 3] {
             let w = wid[c] as usize;
@@ -229,14 +281,7 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
         .filter(|&c| source(c).is_none())
         .count();
     let default_corners = unreached + degenerate_unreached;
-    Tangents {
-        corners,
-        stats: TangentStats {
-            degenerate_triangles,
-            degenerate_uv_triangles,
-            default_corners,
-        },
-    }
+    (corners, default_corners)
 }
 
 /// What the group walk and evaluation read.

@@ -306,107 +306,20 @@ pub fn build(
         .with_min_len(crate::task_len(indices.len(), CHUNK))
         .map(|&v| position_id[v as usize])
         .collect();
-    let pid = |c: u32| corner_pid[c as usize];
-    let degenerate: Vec<bool> = (0..nf)
-        .into_par_iter()
-        .with_min_len(crate::task_len(nf, CHUNK))
-        .map(|f| {
-            let [a, b, c] = [0, 1, 2].map(|k| corner_pid[3 * f + k]);
-            let p = |k: usize| positions[indices[3 * f + k] as usize];
-            a == b || b == c || a == c || face_normal(p(0), p(1), p(2)).is_none()
-        })
-        .collect();
-    let is_degenerate = |f: u32| degenerate[f as usize];
+    let degenerate = degenerate_faces(positions, indices, &corner_pid);
     let (star_start, star) = stars(&corner_pid, n_pos);
-    let star_at =
-        |p: u32| &star[star_start[p as usize] as usize..star_start[p as usize + 1] as usize];
-    let cos_tol = f64::from(opts.normal_tolerance.clamp(0.0, std::f32::consts::PI)).cos();
-    let corners_agree = |c: u32, d: u32| match normals {
-        CornerNormals::Vertex(n) => {
-            let (v, w) = (indices[c as usize] as usize, indices[d as usize] as usize);
-            v == w || agree(n[v], n[w], cos_tol)
-        }
-        CornerNormals::Corner(n) => agree(n[c as usize], n[d as usize], cos_tol),
+    let faces = Faces {
+        indices,
+        corner_pid: &corner_pid,
+        star_start: &star_start,
+        star: &star,
+        degenerate: &degenerate,
+        normals,
+        cos_tol: f64::from(opts.normal_tolerance.clamp(0.0, std::f32::consts::PI)).cos(),
     };
-    // Two faces given by their corners at the edge's two ends.
-    let same_group =
-        |x: [u32; 2], y: [u32; 2]| corners_agree(x[0], y[0]) && corners_agree(x[1], y[1]);
-    // Face g's corner d sits at one end of the edge (a, b); its corner at b, if g uses the
-    // edge (and is proper).
-    let other_end = |d: u32, b: u32| {
-        let (next, prev) = (next_corner(d), prev_corner(d));
-        if pid(next) == b {
-            Some(next)
-        } else if pid(prev) == b {
-            Some(prev)
-        } else {
-            None
-        }
-    };
-
-    // Edges, each found at its lower welded position; faces joined across them as they are.
     let sets = AtomicUnionFind::new(nf);
-    let chunk = crate::task_len(n_pos, CHUNK);
-    let parts: Vec<(Vec<Edge>, usize)> = (0..n_pos.div_ceil(chunk))
-        .into_par_iter()
-        .map(|task| {
-            let mut edges = Vec::with_capacity(chunk * 3 + 16);
-            let mut nonmanifold = 0;
-            let mut around: Vec<Side> = Vec::new();
-            for a in (task * chunk..((task + 1) * chunk).min(n_pos)).map(|a| a as u32) {
-                sides_at(a, star_at(a), &pid, &is_degenerate, &mut around);
-                for run in around.chunk_by(|x, y| x.b == y.b) {
-                    for (i, x) in run.iter().enumerate() {
-                        for y in &run[i + 1..] {
-                            if same_group(x.ends, y.ends) {
-                                sets.join(x.face, y.face);
-                            }
-                        }
-                    }
-                    nonmanifold += usize::from(run.len() > 2);
-                    edges.push(Edge {
-                        corner: run[0].start,
-                        second_corner: run.get(1).map_or(NO_CORNER, |s| s.start),
-                    });
-                }
-            }
-            (edges, nonmanifold)
-        })
-        .collect();
-    let nonmanifold = parts.iter().map(|p| p.1).sum();
-    let edges = concat(parts.into_iter().map(|p| p.0).collect());
-    // Degenerate faces join proper neighbours across their edges by the same rule, in
-    // parallel like the edges above (joins are atomic; the labels do not depend on their order).
-    // The faces on an edge (a, b) are in the stars of both ends: the smaller one is searched.
-    // Degenerate faces gather at high-valence positions (a UV sphere's poles), whose stars
-    // are long: searching from the pole made this step quadratic in the valence.
-    let degenerate_faces = (0..nf as u32)
-        .into_par_iter()
-        .with_min_len(crate::task_len(nf, CHUNK))
-        .filter(|&f| is_degenerate(f));
-    degenerate_faces.for_each(|f| {
-        for c in 3 * f..3 * f + 3 {
-            let (a, b) = (pid(c), pid(next_corner(c)));
-            if a == b {
-                continue;
-            }
-            let from_a = star_at(a).len() <= star_at(b).len();
-            let (near, far) = if from_a { (a, b) } else { (b, a) };
-            for &d in star_at(near) {
-                let g = d / 3;
-                if is_degenerate(g) {
-                    continue;
-                }
-                let Some(e) = other_end(d, far) else {
-                    continue;
-                };
-                let (at_a, at_b) = if from_a { (d, e) } else { (e, d) };
-                if same_group([c, next_corner(c)], [at_a, at_b]) {
-                    sets.join(f, g);
-                }
-            }
-        }
-    });
+    let (edges, nonmanifold) = faces.edges(&sets, n_pos);
+    faces.join_degenerate(&sets);
     let (face_group, groups) = sets.into_sequential().labels();
     Topology {
         position_id,
@@ -419,6 +332,157 @@ pub fn build(
         nonmanifold,
         face_group,
         groups,
+    }
+}
+
+/// Which faces are degenerate: two corners at one welded position, or no area.
+fn degenerate_faces(positions: &[Vec3], indices: &[u32], corner_pid: &[u32]) -> Vec<bool> {
+    let nf = indices.len() / 3;
+    (0..nf)
+        .into_par_iter()
+        .with_min_len(crate::task_len(nf, CHUNK))
+        .map(|f| {
+            let [a, b, c] = [0, 1, 2].map(|k| corner_pid[3 * f + k]);
+            let p = |k: usize| positions[indices[3 * f + k] as usize];
+            a == b || b == c || a == c || face_normal(p(0), p(1), p(2)).is_none()
+        })
+        .collect()
+}
+
+/// The faces as the grouping rule sees them: welded corners, the stars of the welded
+/// positions, which faces are degenerate, and the normals compared.
+struct Faces<'a> {
+    indices: &'a [u32],
+    corner_pid: &'a [u32],
+    star_start: &'a [u32],
+    star: &'a [u32],
+    degenerate: &'a [bool],
+    normals: CornerNormals<'a>,
+    /// The cosine of the normal tolerance.
+    cos_tol: f64,
+}
+
+impl Faces<'_> {
+    /// Corner `c`'s welded position.
+    fn pid(&self, c: u32) -> u32 {
+        self.corner_pid[c as usize]
+    }
+
+    /// The corners at welded position `p`.
+    fn star_at(&self, p: u32) -> &[u32] {
+        &self.star[self.star_start[p as usize] as usize..self.star_start[p as usize + 1] as usize]
+    }
+
+    /// Whether face `f` is degenerate.
+    fn is_degenerate(&self, f: u32) -> bool {
+        self.degenerate[f as usize]
+    }
+
+    /// Whether corners `c` and `d` have normals within the tolerance.
+    fn corners_agree(&self, c: u32, d: u32) -> bool {
+        match self.normals {
+            CornerNormals::Vertex(n) => {
+                let (v, w) = (
+                    self.indices[c as usize] as usize,
+                    self.indices[d as usize] as usize,
+                );
+                v == w || agree(n[v], n[w], self.cos_tol)
+            }
+            CornerNormals::Corner(n) => agree(n[c as usize], n[d as usize], self.cos_tol),
+        }
+    }
+
+    /// Whether two faces, given by their corners at the edge's two ends, are one group.
+    fn same_group(&self, x: [u32; 2], y: [u32; 2]) -> bool {
+        self.corners_agree(x[0], y[0]) && self.corners_agree(x[1], y[1])
+    }
+
+    /// Face g's corner d sits at one end of the edge (a, b); its corner at b, if g uses the
+    /// edge (and is proper).
+    fn other_end(&self, d: u32, b: u32) -> Option<u32> {
+        let (next, prev) = (next_corner(d), prev_corner(d));
+        if self.pid(next) == b {
+            Some(next)
+        } else if self.pid(prev) == b {
+            Some(prev)
+        } else {
+            None
+        }
+    }
+
+    /// The edges step: every edge, each found at its lower welded position, with the count of
+    /// non-manifold ones; the proper faces on each are joined in `sets` as the rule says.
+    fn edges(&self, sets: &AtomicUnionFind, n_pos: usize) -> (Vec<Edge>, usize) {
+        let chunk = crate::task_len(n_pos, CHUNK);
+        let pid = |c: u32| self.pid(c);
+        let is_degenerate = |f: u32| self.is_degenerate(f);
+        let parts: Vec<(Vec<Edge>, usize)> = (0..n_pos.div_ceil(chunk))
+            .into_par_iter()
+            .map(|task| {
+                let mut edges = Vec::with_capacity(chunk * 3 + 16);
+                let mut nonmanifold = 0;
+                let mut around: Vec<Side> = Vec::new();
+                for a in (task * chunk..((task + 1) * chunk).min(n_pos)).map(|a| a as u32) {
+                    sides_at(a, self.star_at(a), &pid, &is_degenerate, &mut around);
+                    for run in around.chunk_by(|x, y| x.b == y.b) {
+                        for (i, x) in run.iter().enumerate() {
+                            for y in &run[i + 1..] {
+                                if self.same_group(x.ends, y.ends) {
+                                    sets.join(x.face, y.face);
+                                }
+                            }
+                        }
+                        nonmanifold += usize::from(run.len() > 2);
+                        edges.push(Edge {
+                            corner: run[0].start,
+                            second_corner: run.get(1).map_or(NO_CORNER, |s| s.start),
+                        });
+                    }
+                }
+                (edges, nonmanifold)
+            })
+            .collect();
+        let nonmanifold = parts.iter().map(|p| p.1).sum();
+        (
+            concat(parts.into_iter().map(|p| p.0).collect()),
+            nonmanifold,
+        )
+    }
+
+    /// Degenerate faces join proper neighbours across their edges by the same rule, in
+    /// parallel like the edges (joins are atomic; the labels do not depend on their order).
+    /// The faces on an edge (a, b) are in the stars of both ends: the smaller one is searched.
+    /// Degenerate faces gather at high-valence positions (a UV sphere's poles), whose stars
+    /// are long: searching from the pole made this step quadratic in the valence.
+    fn join_degenerate(&self, sets: &AtomicUnionFind) {
+        let nf = self.degenerate.len();
+        let degenerate_faces = (0..nf as u32)
+            .into_par_iter()
+            .with_min_len(crate::task_len(nf, CHUNK))
+            .filter(|&f| self.is_degenerate(f));
+        degenerate_faces.for_each(|f| {
+            for c in 3 * f..3 * f + 3 {
+                let (a, b) = (self.pid(c), self.pid(next_corner(c)));
+                if a == b {
+                    continue;
+                }
+                let from_a = self.star_at(a).len() <= self.star_at(b).len();
+                let (near, far) = if from_a { (a, b) } else { (b, a) };
+                for &d in self.star_at(near) {
+                    let g = d / 3;
+                    if self.is_degenerate(g) {
+                        continue;
+                    }
+                    let Some(e) = self.other_end(d, far) else {
+                        continue;
+                    };
+                    let (at_a, at_b) = if from_a { (d, e) } else { (e, d) };
+                    if self.same_group([c, next_corner(c)], [at_a, at_b]) {
+                        sets.join(f, g);
+                    }
+                }
+            }
+        });
     }
 }
 

@@ -481,13 +481,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
     out.parts.clear();
     out.materials.clear();
     let mut reader = MaterialReader::with_max_texture(opts.max_texture);
-    let mut fur_vertices: Vec<FurVertex> = Vec::new();
-    let mut fins = Vec::new();
-    let mut fin_sources = Vec::new();
-    let mut manifest = None;
-    let mut any_comb = false;
-    let mut fur_without_uvs = false;
-    let mut load_warnings = Vec::new();
+    let mut fur = FurGathered::default();
     for (mesh, world) in mesh_instances(doc) {
         let normal_world = Mat3::from_mat4(world).inverse().transpose();
         let flips = world.determinant() < 0.0;
@@ -511,94 +505,38 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
             match &m.normals {
                 Some(normals) => {
                     out.primitive_bases.push((r, base));
-                    for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
-                        out.vertices.push(Vertex {
-                            position: world.transform_point3(pos).into(),
-                            normal: (normal_world * n).normalize_or_zero().into(),
-                            albedo,
-                            group: groups.as_ref().map_or(0, |g| g[k]),
-                            uv: uv(k),
-                        });
-                    }
-                    for t in m.indices.chunks_exact(3) {
-                        let t = if flips {
-                            [t[0], t[2], t[1]]
-                        } else {
-                            [t[0], t[1], t[2]]
-                        };
-                        out.indices.extend(t.map(|i| base + i));
-                    }
-                    let comb = fur::read_comb(doc, r, m.vertex_count())?;
-                    load_warnings.extend(fur::lost_contract(doc, r, comb.is_some())?);
-                    if comb.is_some() {
-                        any_comb = true;
-                        fur_without_uvs |= m.uvs.is_none();
-                        if manifest.is_none() {
-                            manifest = fur::manifest(doc, r)?;
-                        }
-                    }
-                    let mut tangents = None;
-                    if comb.is_some()
-                        && let Some((t, note)) = crate::tangents::regenerate(doc, r, m)?
-                    {
-                        load_warnings.push(note);
-                        tangents = Some(t);
-                    }
-                    fur_vertices.extend(fur::fur_vertices(
-                        world,
+                    push_smooth(
+                        &mut out,
+                        m,
                         normals,
-                        tangents.as_deref().or(m.tangents.as_deref()),
-                        m.uvs.as_deref(),
-                        comb.as_deref(),
-                    ));
-                    if comb.is_some() {
-                        let (f, sources) = fur::fin_instances(
-                            (doc, r),
-                            m,
-                            &out.vertices,
-                            &fur_vertices,
-                            (base as usize, world),
-                            &reader.read[material as usize].1,
-                            &mut load_warnings,
-                        )?;
-                        fins.extend(f);
-                        fin_sources.extend(sources);
-                    }
+                        (world, normal_world, flips),
+                        (albedo, groups.as_deref(), &uv),
+                    );
+                    let read = &reader.read[material as usize].1;
+                    let at = (base as usize, world);
+                    fur.primitive((doc, r), m, normals, &out.vertices, at, read)?;
                 }
                 None => {
                     // glTF: no NORMAL means flat shading. One vertex per corner; no fur.
-                    for t in m.indices.chunks_exact(3) {
-                        let c = [t[0], t[1], t[2]]
-                            .map(|i| world.transform_point3(m.positions[i as usize]));
-                        let mut n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
-                        if flips {
-                            n = -n;
-                        }
-                        let order = if flips { [0, 2, 1] } else { [0, 1, 2] };
-                        for k in order {
-                            out.indices.push(out.vertices.len() as u32);
-                            out.vertices.push(Vertex {
-                                position: c[k].into(),
-                                normal: n.into(),
-                                albedo,
-                                group: groups.as_ref().map_or(0, |g| g[t[k] as usize]),
-                                uv: uv(t[k] as usize),
-                            });
-                        }
-                    }
-                    fur_vertices.resize(out.vertices.len(), FurVertex::NONE);
+                    push_flat(
+                        &mut out,
+                        m,
+                        (world, flips),
+                        (albedo, groups.as_deref(), &uv),
+                    );
+                    fur.vertices.resize(out.vertices.len(), FurVertex::NONE);
                 }
             }
             push_part(&mut out.parts, first, out.indices.len() as u32, material);
         }
     }
     out.warnings = std::mem::take(&mut reader.warnings);
-    out.warnings.append(&mut load_warnings);
+    out.warnings.append(&mut fur.warnings);
     let file = doc.path.display();
     let collapsed = pelt_io::nodes::collapsed(doc);
     out.warnings
         .extend(collapsed.iter().map(|w| format!("{file}: {w}")));
-    if fur_without_uvs {
+    if fur.without_uvs {
         out.warnings.push(format!(
             "{file}: a furred primitive has no TEXCOORD_0: the fur's strand textures are laid \
              out by it, so shells draw untextured fur and the strand reference grows no strands"
@@ -610,24 +548,167 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
             path: doc.path.clone(),
         });
     }
-    if any_comb {
-        let (look, (heightfield, fin), source) = fur::look_and_textures(doc, manifest.as_ref())?;
-        let model = manifest
-            .as_ref()
-            .map_or_else(fur::generated_model, |(m, _)| m.strands.clone());
-        out.fur = Some(FurData {
-            vertices: fur_vertices,
-            fins,
-            fin_sources,
-            look,
-            heightfield,
-            fin,
-            source,
-            density: fur::density_of(&model),
-            model,
-        });
+    if fur.any_comb {
+        out.fur = Some(fur_data(doc, fur)?);
     }
     Ok(out)
+}
+
+/// The fur gathered over an asset's primitives while they are flattened.
+#[derive(Default)]
+struct FurGathered {
+    /// One per flattened vertex ([`FurVertex::NONE`] where there is no fur).
+    vertices: Vec<FurVertex>,
+    /// The fins of every furred primitive.
+    fins: Vec<crate::vertex::FinInstance>,
+    /// Where each fin came from (for skinning).
+    fin_sources: Vec<crate::skin::FinSource>,
+    /// The first furred primitive's fur manifest, if it has one.
+    manifest: Option<(pelt_fur::FurManifest, String)>,
+    /// Whether any primitive has a comb.
+    any_comb: bool,
+    /// Whether a furred primitive has no TEXCOORD_0.
+    without_uvs: bool,
+    /// What reading the fur noted (a lost contract, regenerated tangents, fins).
+    warnings: Vec<String>,
+}
+
+impl FurGathered {
+    /// The fur step of a primitive with NORMAL, its vertices already flattened into `verts`
+    /// from `base` by `world`: its comb (if any), tangents regenerated where the stored ones
+    /// do not match the bake, the fur vertices and the fins.
+    fn primitive(
+        &mut self,
+        (doc, r): (&Document, PrimitiveRef),
+        m: &pelt_geom::Mesh,
+        normals: &[Vec3],
+        verts: &[Vertex],
+        (base, world): (usize, Mat4),
+        material: &Material,
+    ) -> Result<(), AssetError> {
+        let comb = fur::read_comb(doc, r, m.vertex_count())?;
+        self.warnings
+            .extend(fur::lost_contract(doc, r, comb.is_some())?);
+        if comb.is_some() {
+            self.any_comb = true;
+            self.without_uvs |= m.uvs.is_none();
+            if self.manifest.is_none() {
+                self.manifest = fur::manifest(doc, r)?;
+            }
+        }
+        let mut tangents = None;
+        if comb.is_some()
+            && let Some((t, note)) = crate::tangents::regenerate(doc, r, m)?
+        {
+            self.warnings.push(note);
+            tangents = Some(t);
+        }
+        self.vertices.extend(fur::fur_vertices(
+            world,
+            normals,
+            tangents.as_deref().or(m.tangents.as_deref()),
+            m.uvs.as_deref(),
+            comb.as_deref(),
+        ));
+        if comb.is_some() {
+            let (f, sources) = fur::fin_instances(
+                (doc, r),
+                m,
+                verts,
+                &self.vertices,
+                (base, world),
+                material,
+                &mut self.warnings,
+            )?;
+            self.fins.extend(f);
+            self.fin_sources.extend(sources);
+        }
+        Ok(())
+    }
+}
+
+/// A primitive with NORMAL: its vertices placed in the world (normals by `normal_world`)
+/// and its triangles, wound the other way where `world` mirrors (`flips`).
+fn push_smooth(
+    out: &mut MeshData,
+    m: &pelt_geom::Mesh,
+    normals: &[Vec3],
+    (world, normal_world, flips): (Mat4, Mat3, bool),
+    (albedo, groups, uv): ([f32; 4], Option<&[u32]>, &dyn Fn(usize) -> [f32; 2]),
+) {
+    let base = out.vertices.len() as u32;
+    for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
+        out.vertices.push(Vertex {
+            position: world.transform_point3(pos).into(),
+            normal: (normal_world * n).normalize_or_zero().into(),
+            albedo,
+            group: groups.map_or(0, |g| g[k]),
+            uv: uv(k),
+        });
+    }
+    for t in m.indices.chunks_exact(3) {
+        let t = if flips {
+            [t[0], t[2], t[1]]
+        } else {
+            [t[0], t[1], t[2]]
+        };
+        out.indices.extend(t.map(|i| base + i));
+    }
+}
+
+/// A primitive without NORMAL, flat shaded as glTF says: one vertex per corner, with its
+/// face's world normal, wound the other way where `world` mirrors (`flips`).
+fn push_flat(
+    out: &mut MeshData,
+    m: &pelt_geom::Mesh,
+    (world, flips): (Mat4, bool),
+    (albedo, groups, uv): ([f32; 4], Option<&[u32]>, &dyn Fn(usize) -> [f32; 2]),
+) {
+    for t in m.indices.chunks_exact(3) {
+        let c = [t[0], t[1], t[2]].map(|i| world.transform_point3(m.positions[i as usize]));
+        let mut n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+        if flips {
+            n = -n;
+        }
+        let order = if flips { [0, 2, 1] } else { [0, 1, 2] };
+        for k in order {
+            out.indices.push(out.vertices.len() as u32);
+            out.vertices.push(Vertex {
+                position: c[k].into(),
+                normal: n.into(),
+                albedo,
+                group: groups.map_or(0, |g| g[t[k] as usize]),
+                uv: uv(t[k] as usize),
+            });
+        }
+    }
+}
+
+/// The asset's fur, once every primitive is read: its look, textures and strand model (the
+/// manifest's, or generated), with the fur vertices and fins gathered.
+fn fur_data(doc: &Document, gathered: FurGathered) -> Result<FurData, AssetError> {
+    let FurGathered {
+        vertices,
+        fins,
+        fin_sources,
+        manifest,
+        ..
+    } = gathered;
+    let (look, (heightfield, fin), source) = fur::look_and_textures(doc, manifest.as_ref())?;
+    let model = manifest
+        .as_ref()
+        .map_or_else(fur::generated_model, |(m, _)| m.strands.clone());
+    Ok(FurData {
+        vertices,
+        fins,
+        fin_sources,
+        look,
+        heightfield,
+        fin,
+        source,
+        density: fur::density_of(&model),
+        model,
+    })
 }
 
 /// Extends `parts` with indices `first..end` drawn with `material` (merged into the last

@@ -389,101 +389,24 @@ fn mirror_f0(m: &MaterialSpec) -> Result<[f32; 3], String> {
 impl TryFrom<MaterialSpec> for Material {
     type Error = String;
     fn try_from(m: MaterialSpec) -> Result<Self, String> {
-        let extra = |what: &str| {
-            Err(format!(
-                "{what} is not a property of {:?} materials",
-                m.kind
-            ))
-        };
-        if m.kind != MaterialKind::Mirror {
-            if m.f0.is_some() {
-                return extra("f0");
-            }
-            if m.n.is_some() {
-                return extra("n");
-            }
-            if m.k.is_some() {
-                return extra("k");
-            }
-        }
-        if m.kind != MaterialKind::Glass && m.tint.is_some() {
-            return extra("tint");
-        }
-        if !matches!(m.kind, MaterialKind::Mirror | MaterialKind::Glass) && m.reference.is_some() {
-            return extra("reference");
-        }
-        if let Some(r) = m.reference
-            && !r.iter().all(|v| v.is_finite())
-        {
-            return Err(format!("reference must be finite, got {r:?}"));
-        }
-        if m.kind != MaterialKind::Fur {
-            if m.shells.is_some() {
-                return extra("shells");
-            }
-            if m.fins.is_some() {
-                return extra("fins");
-            }
-            if m.length.is_some() {
-                return extra("length");
-            }
-            if m.spring.is_some() {
-                return extra("spring");
-            }
-        }
+        m.check_properties()?;
         match m.kind {
-            MaterialKind::Fur => {
-                if m.opacity.is_some() {
-                    return extra("opacity");
-                }
-                if m.ior.is_some() {
-                    return extra("ior");
-                }
-                if let Some(n) = m.shells
-                    && !(1..=MAX_SHELLS).contains(&n)
-                {
-                    return Err(format!("shells must be 1 to {MAX_SHELLS}, got {n}"));
-                }
-                if let Some(l) = m.length
-                    && !(l.is_finite() && l >= 0.0)
-                {
-                    return Err(format!("length must be finite and at least 0, got {l}"));
-                }
-                Ok(Material::Fur(FurSettings {
-                    shells: m.shells,
-                    fins: m.fins,
-                    length: m.length,
-                    spring: m.spring.map(TryFrom::try_from).transpose()?,
-                }))
-            }
+            MaterialKind::Fur => m.fur(),
             MaterialKind::Alpha => {
                 if m.ior.is_some() {
-                    return extra("ior");
+                    return m.extra("ior");
                 }
                 m.opacity
                     .map(|opacity| Material::Alpha { opacity })
                     .ok_or_else(|| "an alpha material needs an opacity".to_owned())
             }
-            MaterialKind::Glass => {
-                if m.opacity.is_some() {
-                    return extra("opacity");
-                }
-                let tint = m.tint.map_or([1.0; 3], Rgb::channels);
-                if !tint.iter().all(|v| (0.0..=1.0).contains(v)) {
-                    return Err(format!("tint components must be from 0 to 1, got {tint:?}"));
-                }
-                Ok(Material::Glass {
-                    ior: m.ior.unwrap_or(Ior(1.5)),
-                    tint,
-                    reference: m.reference,
-                })
-            }
+            MaterialKind::Glass => m.glass(),
             kind => {
                 if m.opacity.is_some() {
-                    return extra("opacity");
+                    return m.extra("opacity");
                 }
                 if m.ior.is_some() {
-                    return extra("ior");
+                    return m.extra("ior");
                 }
                 Ok(match kind {
                     MaterialKind::Mirror => Material::Mirror {
@@ -494,6 +417,105 @@ impl TryFrom<MaterialSpec> for Material {
                 })
             }
         }
+    }
+}
+
+impl MaterialSpec {
+    /// The error for a property `what` that this spec's kind does not have.
+    fn extra<T>(&self, what: &str) -> Result<T, String> {
+        Err(format!(
+            "{what} is not a property of {:?} materials",
+            self.kind
+        ))
+    }
+
+    /// The properties of one kind that a spec of another gives (the mirror's f0, n and k, the
+    /// glass's tint, a mirror's or glass's reference, the fur's shells, fins, length and
+    /// spring), and a reference that is not finite: errors, in that order.
+    fn check_properties(&self) -> Result<(), String> {
+        if self.kind != MaterialKind::Mirror {
+            if self.f0.is_some() {
+                return self.extra("f0");
+            }
+            if self.n.is_some() {
+                return self.extra("n");
+            }
+            if self.k.is_some() {
+                return self.extra("k");
+            }
+        }
+        if self.kind != MaterialKind::Glass && self.tint.is_some() {
+            return self.extra("tint");
+        }
+        if !matches!(self.kind, MaterialKind::Mirror | MaterialKind::Glass)
+            && self.reference.is_some()
+        {
+            return self.extra("reference");
+        }
+        if let Some(r) = self.reference
+            && !r.iter().all(|v| v.is_finite())
+        {
+            return Err(format!("reference must be finite, got {r:?}"));
+        }
+        if self.kind != MaterialKind::Fur {
+            if self.shells.is_some() {
+                return self.extra("shells");
+            }
+            if self.fins.is_some() {
+                return self.extra("fins");
+            }
+            if self.length.is_some() {
+                return self.extra("length");
+            }
+            if self.spring.is_some() {
+                return self.extra("spring");
+            }
+        }
+        Ok(())
+    }
+
+    /// A fur material: no opacity or ior; shells within 1 to [`MAX_SHELLS`], a finite length
+    /// of at least 0, and a valid spring.
+    fn fur(&self) -> Result<Material, String> {
+        if self.opacity.is_some() {
+            return self.extra("opacity");
+        }
+        if self.ior.is_some() {
+            return self.extra("ior");
+        }
+        if let Some(n) = self.shells
+            && !(1..=MAX_SHELLS).contains(&n)
+        {
+            return Err(format!("shells must be 1 to {MAX_SHELLS}, got {n}"));
+        }
+        if let Some(l) = self.length
+            && !(l.is_finite() && l >= 0.0)
+        {
+            return Err(format!("length must be finite and at least 0, got {l}"));
+        }
+        Ok(Material::Fur(FurSettings {
+            shells: self.shells,
+            fins: self.fins,
+            length: self.length,
+            spring: self.spring.map(TryFrom::try_from).transpose()?,
+        }))
+    }
+
+    /// A glass material: no opacity; its tint's components from 0 to 1 (white by default),
+    /// its ior 1.5 by default.
+    fn glass(&self) -> Result<Material, String> {
+        if self.opacity.is_some() {
+            return self.extra("opacity");
+        }
+        let tint = self.tint.map_or([1.0; 3], Rgb::channels);
+        if !tint.iter().all(|v| (0.0..=1.0).contains(v)) {
+            return Err(format!("tint components must be from 0 to 1, got {tint:?}"));
+        }
+        Ok(Material::Glass {
+            ior: self.ior.unwrap_or(Ior(1.5)),
+            tint,
+            reference: self.reference,
+        })
     }
 }
 
