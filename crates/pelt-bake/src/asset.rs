@@ -201,7 +201,7 @@ fn group_only(
     match grouped {
         Some(g) => {
             let t2 = Instant::now();
-            as_list(doc, r, &prim, &mut report.warnings)?;
+            as_list(doc, r, prim, &mut report.warnings)?;
             if let Some((map, indices)) = &g.remap {
                 doc.remap_primitive(r, map, indices, &[NORMAL_GROUP_ATTRIBUTE])?;
             }

@@ -693,6 +693,9 @@ fn primitive_topology(
     (topo, ms(t_topology))
 }
 
+/// Split vertices: output vertex → source vertex, and the new indices.
+type Remap = (Vec<u32>, Vec<u32>);
+
 /// The output vertices step: split where a source vertex's corners differ in normal, tangent
 /// or group ID (none when every one is per vertex and there is one group); the remap and
 /// each output vertex's first corner.
@@ -703,7 +706,7 @@ fn output_vertices(
     groups: usize,
     corner_id: &(impl Fn(usize) -> u8 + Sync),
     stats: &mut PrimitiveStats,
-) -> (Option<(Vec<u32>, Vec<u32>)>, Option<Vec<u32>>) {
+) -> (Option<Remap>, Option<Vec<u32>>) {
     let per_corner = normals.is_corner() || tangents.is_corner() || groups > 1;
     if !per_corner {
         return (None, None);

@@ -627,6 +627,10 @@ impl FurGathered {
     }
 }
 
+/// What a flattened vertex takes besides its place: the primitive's albedo, its normal groups
+/// and its texture coordinates, by source vertex.
+type VertexLook<'a> = ([f32; 4], Option<&'a [u32]>, &'a dyn Fn(usize) -> [f32; 2]);
+
 /// A primitive with NORMAL: its vertices placed in the world (normals by `normal_world`)
 /// and its triangles, wound the other way where `world` mirrors (`flips`).
 fn push_smooth(
@@ -634,7 +638,7 @@ fn push_smooth(
     m: &pelt_geom::Mesh,
     normals: &[Vec3],
     (world, normal_world, flips): (Mat4, Mat3, bool),
-    (albedo, groups, uv): ([f32; 4], Option<&[u32]>, &dyn Fn(usize) -> [f32; 2]),
+    (albedo, groups, uv): VertexLook,
 ) {
     let base = out.vertices.len() as u32;
     for (k, (&pos, &n)) in m.positions.iter().zip(normals).enumerate() {
@@ -662,7 +666,7 @@ fn push_flat(
     out: &mut MeshData,
     m: &pelt_geom::Mesh,
     (world, flips): (Mat4, bool),
-    (albedo, groups, uv): ([f32; 4], Option<&[u32]>, &dyn Fn(usize) -> [f32; 2]),
+    (albedo, groups, uv): VertexLook,
 ) {
     for t in m.indices.chunks_exact(3) {
         let c = [t[0], t[1], t[2]].map(|i| world.transform_point3(m.positions[i as usize]));
