@@ -10,25 +10,6 @@ use std::path::{Path, PathBuf};
 
 use layering::{Crate, circles, crate_from_sources, describe, workspace_crates};
 
-/// Circles left for the engineers restructuring the files they run through, each with what
-/// breaks it. The test fails when one of them changes or is gone (then take it off the list),
-/// so the list only shrinks.
-const WAITING: &[(&str, &[&str], &str)] = &[
-    (
-        "pelt-scene",
-        &["plan", "precision"],
-        "precision::fur_note takes a &plan::PlannedObject while plan calls it; plan.rs is being \
-         restructured: plan should pass the object's model, fur and index instead",
-    ),
-    (
-        "pelt-preview",
-        &["features::reflect", "features::reflect::inputs"],
-        "inputs reads the uniforms' types and limits from reflect/mod.rs, which holds MapInputs \
-         from inputs; pelt-preview/src is being restructured: those five items belong in a \
-         module below both (or in inputs, re-exported)",
-    ),
-];
-
 /// A synthetic crate from `(file under src/, text)` pairs.
 fn synthetic(files: &[(&str, &str)]) -> Crate {
     let files: Vec<(PathBuf, String)> = files
@@ -65,26 +46,10 @@ fn no_crate_has_an_import_circle() {
     let modules: usize = crates.iter().map(|c| c.file_modules().len()).sum();
     assert!(modules > 150, "read {modules} modules");
     let mut report = Vec::new();
-    let mut waiting_seen = BTreeSet::new();
     for krate in &crates {
         let graph = krate.graph();
         for circle in circles(&graph) {
-            let waiting = WAITING.iter().position(|(c, mods, _)| {
-                *c == krate.name && circle.iter().map(String::as_str).eq(mods.iter().copied())
-            });
-            match waiting {
-                Some(w) => {
-                    waiting_seen.insert(w);
-                }
-                None => report.push(format!("  {}: {}", krate.name, describe(&graph, &circle))),
-            }
-        }
-    }
-    for (w, (krate, mods, why)) in WAITING.iter().enumerate() {
-        if !waiting_seen.contains(&w) {
-            report.push(format!(
-                "  {krate}: {mods:?} is gone or changed: take it off WAITING ({why})"
-            ));
+            report.push(format!("  {}: {}", krate.name, describe(&graph, &circle)));
         }
     }
     assert!(

@@ -18,6 +18,7 @@ use crate::plan::Plan;
 use crate::poses::ObjectPose;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, PipelineDesc};
+use crate::scene_state::SceneState;
 use crate::shaders::Lighting;
 pub use crate::targets::TargetsDesc;
 use crate::targets::ViewTargets;
@@ -142,6 +143,8 @@ pub struct Feature {
     pub draws: &'static [DrawDesc],
     /// The per-view targets it owns, made with the view's targets.
     pub targets: Option<TargetsDesc>,
+    /// The state it keeps per scene.
+    pub scene: Option<SceneState>,
     /// The quality knobs it reads (what `pelt sweep` turns).
     pub knobs: &'static [KnobDesc],
 }
@@ -212,6 +215,7 @@ impl Feature {
             passes: &[],
             draws: &[],
             targets: None,
+            scene: None,
             knobs: &[],
         }
     }

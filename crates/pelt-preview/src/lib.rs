@@ -36,6 +36,7 @@ pub mod progressive;
 pub mod readback;
 pub mod recipe;
 pub mod renderer;
+pub mod scene_state;
 pub mod scene_view;
 pub mod shaders;
 pub mod shading;
@@ -61,14 +62,12 @@ pub use scene_view::SceneView;
 use asset::MeshData;
 use assets::AssetCache;
 use feature::Output;
-use features::reflect::Maps;
-use features::registry::targets;
-use features::shadows::ShadowCubes;
+use features::registry::{FEATURES, targets};
 use features::skin::GpuSkinned;
-use features::strands::TracedShadows;
 use frame_data::FrameData;
 use owned::Owned;
 use plan::{MeshInfo, ScenePlan};
+use scene_state::SceneInputs;
 use targets::{TargetSpec, ViewTargets};
 
 /// Anything that stops a render.
@@ -89,9 +88,10 @@ pub enum RenderError {
     /// The device failed during the frame.
     #[error(transparent)]
     Frame(#[from] FrameError),
-    /// The distance maps cannot be made on this adapter.
+    /// A feature cannot make or follow its per-scene state (the distance maps on this
+    /// adapter, the strand reference's traced shadows after a change of lights).
     #[error(transparent)]
-    Maps(#[from] features::reflect::MapError),
+    State(#[from] scene_state::StateError),
     /// A skinned asset's fins cannot follow its skin.
     #[error("{}: {source}", asset.as_ref().map_or("an asset".into(), |a| a.display().to_string()))]
     Skin {
@@ -119,12 +119,6 @@ pub enum RenderError {
         #[source]
         source: strands::StrandError,
     },
-    /// The strand reference's shadow rays were traced for other lights or objects than an
-    /// update asks for (the CPU meshes they need are not kept).
-    #[error(
-        "the strands' shadow rays were traced for other lights or objects: prepare the scene again"
-    )]
-    StaleStrandShadows,
 }
 
 /// A skinned mesh could not be posed.
@@ -278,14 +272,13 @@ impl Preview {
             _ => None,
         };
         let mut owned = Owned::default();
-        owned.insert(ShadowCubes::new(&self.renderer, &scene_plan));
-        if mode == Mode::Strands {
-            let traced = TracedShadows::new(&self.renderer, &scene_plan, meshes, &gpu_strands);
-            owned.insert(traced);
-        }
-        if !scene_plan.maps.is_empty() {
-            let group = sky.as_ref().map(|s| &s.group);
-            owned.insert(Maps::new(&self.renderer, &scene_plan, group)?);
+        let inputs = SceneInputs {
+            plan: &scene_plan,
+            sky: sky.as_deref(),
+            strands: &gpu_strands,
+        };
+        for s in FEATURES.iter().filter_map(|f| f.scene) {
+            (s.make)(&self.renderer, &inputs, meshes, &mut owned)?;
         }
         let spec = TargetSpec::of(&plan, output.format, output.own_color, &targets());
         let mut data = FrameData::new(&self.renderer);
@@ -399,25 +392,13 @@ impl Preview {
         mode: Mode,
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
-        let plan = &sv.scene_plan;
-        if let Some(t) = sv.owned.get_mut::<TracedShadows>() {
-            if !t.fits(plan) {
-                return Err(RenderError::StaleStrandShadows);
-            }
-            t.follow(&self.renderer, plan);
-        }
-        match sv.owned.get_mut::<ShadowCubes>() {
-            Some(c) if c.fits(plan) => c.write(&self.renderer, plan),
-            _ => sv.owned.insert(ShadowCubes::new(&self.renderer, plan)),
-        }
-        match sv.owned.get_mut::<Maps>() {
-            _ if plan.maps.is_empty() => sv.owned.remove::<Maps>(),
-            Some(m) if m.fits(plan) => m.write(&self.renderer, plan),
-            _ => {
-                let group = sv.sky.as_ref().map(|s| &s.group);
-                let maps = Maps::new(&self.renderer, plan, group)?;
-                sv.owned.insert(maps);
-            }
+        let inputs = SceneInputs {
+            plan: &sv.scene_plan,
+            sky: sv.sky.as_deref(),
+            strands: &sv.strands,
+        };
+        for s in FEATURES.iter().filter_map(|f| f.scene) {
+            (s.follow)(&self.renderer, &inputs, &mut sv.owned)?;
         }
         self.refresh(sv);
         Ok(())

@@ -8,7 +8,7 @@
 //!   records with normal-group IDs, the baked fur (comb, fins, textures, manifest);
 //! - [`material`]: base colour, normal and metallic-roughness textures and their mip chains;
 //! - [`view`], [`plan`]: the camera and the CPU decisions of a frame (Kircher & Lawrance
-//!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, passes);
+//!   §2.2 scissor rectangles, §4 stipple patterns, culling, draw order, the L-buffer);
 //! - [`footprint`]: how fine a pixel can get on a fur object (whether its shells must
 //!   resolve single strands at this view);
 //! - [`orbit`], [`budget`]: the interactive orbit camera of `pelt view` and its frame budget;

@@ -1,9 +1,10 @@
 //! What a frame needs, decided on the CPU before any GPU work: the mode (inferred lighting,
 //! deferred with a full-resolution L-buffer, or the forward reference), which objects and
 //! lights can show, the order they are drawn in, object IDs and stipple patterns (Kircher &
-//! Lawrance §3.1, §4), and the passes that run. Only the passes a scene needs appear: no
-//! lights on screen means no geometry or light pass (the material pass takes the ambient term
-//! alone). `--explain` prints this plan.
+//! Lawrance §3.1, §4), and whether an L-buffer is drawn (no lights on screen: the ambient
+//! term needs none). These are facts: which passes run, and in what order, the renderer's
+//! features decide from them (`pelt_preview::passes`). `--explain` prints this plan's facts
+//! and each pass's line ([`Plan::explain`]).
 
 use std::fmt::{self, Write as _};
 
@@ -12,7 +13,8 @@ use glam::{Mat4, Vec3};
 use crate::asset::MeshData;
 use crate::fur::FurLook;
 use crate::scene::{
-    FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, ShadowMaps, Sky, Technique,
+    FurBlend, FurCoverage, FurLighting, FurSettings, Material, Reflections, Scene, ShadowMaps, Sky,
+    Technique,
 };
 use crate::shading::{Emitter, Light};
 use crate::vertex::MAX_FORWARD_LIGHTS;
@@ -432,6 +434,78 @@ fn world_box(model: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
     (wlo, whi)
 }
 
+/// The fur of scene object `i` with fur settings `f` on a mesh of `info`, drawn with shell
+/// ID `shell_id`: its look from the bake, overridden by the scene; a note where its spring
+/// has no motion to follow, or where the mesh has no baked comb (then no fur: drawn opaque).
+fn planned_fur(
+    scene: &Scene,
+    i: usize,
+    f: &FurSettings,
+    info: &MeshInfo,
+    mode: Mode,
+    shell_id: u32,
+    notes: &mut Vec<String>,
+) -> Option<PlannedFur> {
+    let Some((look, has_fins)) = &info.fur else {
+        notes.push(format!(
+            "objects[{i}]: fur needs a baked _FUR_COMB (run pelt bake on the asset); drawn opaque"
+        ));
+        return None;
+    };
+    let color = Vec3::from(scene.objects[i].color);
+    let length = f.length.unwrap_or(look.length);
+    let reach = length * info.fur_scale;
+    let shells = f
+        .shells
+        .unwrap_or(look.shells)
+        .clamp(1, crate::scene::MAX_SHELLS);
+    if f.spring.is_some_and(|s| !s.rigid()) && !info.skinned {
+        notes.push(format!(
+            "objects[{i}]: the fur's spring has no motion to follow (no clip plays, or the mesh is posed on the CPU); its fur stands as combed"
+        ));
+    }
+    Some(PlannedFur {
+        shells,
+        max_shells: shells,
+        rule: look.shell_rule.filter(|_| f.shells.is_none()),
+        fins: f.fins_with(scene.fur_coverage) && *has_fins && mode != Mode::Strands && reach > 0.0,
+        shell_id,
+        length,
+        reach,
+        base_color: look.base_color * color,
+        tip_color: look.tip_color * color,
+        uv_scale: look.uv_scale,
+        color_from_texture: look.color_from_texture,
+        medium: info.medium,
+        coverage: scene.fur_coverage,
+        lighting: scene.fur_lighting,
+        texel_density: info.texel_density,
+        spring: f.spring.filter(|s| !s.rigid()),
+        resolved: false,
+        eye_inside: false,
+    })
+}
+
+/// How `material` reflects and refracts, with its distance map's reference point when the
+/// scene gives one.
+fn optics_of(material: &Material) -> (Optics, Option<[f32; 3]>) {
+    match *material {
+        Material::Mirror { f0, reference } => (Optics::Mirror { f0: Vec3::from(f0) }, reference),
+        Material::Glass {
+            ior,
+            tint,
+            reference,
+        } => (
+            Optics::Glass {
+                ior: ior.0,
+                tint: Vec3::from(tint),
+            },
+            reference,
+        ),
+        _ => (Optics::Diffuse, None),
+    }
+}
+
 impl ScenePlan {
     /// The longest fur in world units (its length times its object's largest scale); 0
     /// without fur.
@@ -494,70 +568,14 @@ impl ScenePlan {
                 Material::Alpha { opacity } => (1, opacity.0),
                 Material::Opaque => (0, 1.0),
                 Material::Fur(f) => {
-                    match &info.fur {
-                        Some((look, has_fins)) => {
-                            let color = Vec3::from(o.color);
-                            let length = f.length.unwrap_or(look.length);
-                            let reach = length * info.fur_scale;
-                            let shells = f
-                                .shells
-                                .unwrap_or(look.shells)
-                                .clamp(1, crate::scene::MAX_SHELLS);
-                            fur = Some(PlannedFur {
-                                shells,
-                                max_shells: shells,
-                                rule: look.shell_rule.filter(|_| f.shells.is_none()),
-                                fins: f.fins_with(scene.fur_coverage)
-                                    && *has_fins
-                                    && mode != Mode::Strands
-                                    && reach > 0.0,
-                                shell_id: ((scene.objects.len() + fur_count) % 255) as u32 + 1,
-                                length,
-                                reach,
-                                base_color: look.base_color * color,
-                                tip_color: look.tip_color * color,
-                                uv_scale: look.uv_scale,
-                                color_from_texture: look.color_from_texture,
-                                medium: info.medium,
-                                coverage: scene.fur_coverage,
-                                lighting: scene.fur_lighting,
-                                texel_density: info.texel_density,
-                                spring: f.spring.filter(|s| !s.rigid()),
-                                resolved: false,
-                                eye_inside: false,
-                            });
-                            fur_count += 1;
-                            if f.spring.is_some_and(|s| !s.rigid()) && !info.skinned {
-                                notes.push(format!(
-                                    "objects[{i}]: the fur's spring has no motion to follow (no clip plays, or the mesh is posed on the CPU); its fur stands as combed"
-                                ));
-                            }
-                        }
-                        None => notes.push(format!(
-                            "objects[{i}]: fur needs a baked _FUR_COMB (run pelt bake on the asset); drawn opaque"
-                        )),
-                    }
+                    let shell_id = ((scene.objects.len() + fur_count) % 255) as u32 + 1;
+                    fur = planned_fur(scene, i, &f, info, mode, shell_id, &mut notes);
+                    fur_count += usize::from(fur.is_some());
                     (0, 1.0)
                 }
                 Material::Mirror { .. } | Material::Glass { .. } => (0, 1.0),
             };
-            let (optics, reference) = match o.material {
-                Material::Mirror { f0, reference } => {
-                    (Optics::Mirror { f0: Vec3::from(f0) }, reference)
-                }
-                Material::Glass {
-                    ior,
-                    tint,
-                    reference,
-                } => (
-                    Optics::Glass {
-                        ior: ior.0,
-                        tint: Vec3::from(tint),
-                    },
-                    reference,
-                ),
-                _ => (Optics::Diffuse, None),
-            };
+            let (optics, reference) = optics_of(&o.material);
             let model = o.transform.matrix();
             let (wlo, whi) = world_box(model, info.bounds.0, info.bounds.1);
             scene_lo = scene_lo.min(wlo);
@@ -594,9 +612,14 @@ impl ScenePlan {
                 info.bounds.0 - Vec3::splat(reach),
                 info.bounds.1 + Vec3::splat(reach),
             );
+            let noted = crate::precision::NotedObject {
+                scene_index: planned.scene_index,
+                model: planned.model,
+                fur: planned.fur.map(|f| (f.reach, f.shells)),
+            };
             notes.extend(crate::precision::fur_note(
                 &scene.camera,
-                &planned,
+                &noted,
                 info.bounds,
             ));
             objects.push((planned, bounds));
@@ -645,6 +668,147 @@ impl ScenePlan {
     }
 }
 
+/// The objects of a scene plan a camera sees, with their screen rectangles and their fur's
+/// decisions at their size on screen (shells by the rule, strands resolved, the eye inside),
+/// and the fur objects off screen that still cast by their coverage.
+struct Culled {
+    objects: Vec<PlannedObject>,
+    rects: Vec<[u32; 4]>,
+    casting: Vec<PlannedObject>,
+    culled: usize,
+}
+
+/// Culls `scene`'s objects against `view`; `fur_casts`: fur off screen still casts.
+fn cull(scene: &ScenePlan, view: &View, fur_casts: bool) -> Culled {
+    let output = scene.output;
+    let mut out = Culled {
+        objects: Vec::new(),
+        rects: Vec::new(),
+        casting: Vec::new(),
+        culled: 0,
+    };
+    for (o, (lo, hi)) in &scene.objects {
+        let (vlo, vhi) = view.view_box(o.model, *lo, *hi);
+        let depth = -(vlo.z + vhi.z) / 2.0;
+        let Some(rect) = view.screen_rect(vlo, vhi, output) else {
+            out.culled += 1;
+            if let Some(f) = o.fur.filter(|_| fur_casts) {
+                out.casting.push(PlannedObject {
+                    depth,
+                    fur: Some(PlannedFur {
+                        resolved: false,
+                        eye_inside: false,
+                        ..f
+                    }),
+                    ..o.clone()
+                });
+            }
+            continue;
+        };
+        out.rects.push(rect);
+        let mut fur = o.fur;
+        if let Some(f) = &mut fur {
+            let finest = crate::footprint::finest_footprint(
+                view,
+                output,
+                o.model,
+                -vhi.z,
+                f.texel_density,
+                f.uv_scale,
+            );
+            f.resolved = f.coverage == FurCoverage::Analytic
+                && crate::footprint::resolves_strands(finest, f.medium[1]);
+            if let Some(rule) = f.rule {
+                let px = crate::footprint::fur_pixels(view, output, o.model, -vhi.z, f.reach);
+                f.shells = rule.shells(f64::from(px), f.max_shells);
+            }
+            f.eye_inside = view.holds_eye(o.model, *lo, *hi);
+        }
+        out.objects.push(PlannedObject {
+            depth,
+            fur,
+            ..o.clone()
+        });
+    }
+    out
+}
+
+/// The lights of `scene` whose reach `view` sees, with their scissor rectangles on
+/// `target` (the L-buffer, or the output without one).
+fn lights_on_screen(scene: &ScenePlan, view: &View, target: (u32, u32)) -> Vec<PlannedLight> {
+    scene
+        .lights
+        .iter()
+        .filter_map(|l| {
+            Some(PlannedLight {
+                emitter: l.emitter,
+                color: l.color,
+                rect: match l.emitter {
+                    Emitter::Point { position, radius } => {
+                        view.light_rect(position, radius, target)?
+                    }
+                    Emitter::Directional { .. } => [0, 0, target.0, target.1],
+                },
+                shadow: scene.shadow_slot(l),
+            })
+        })
+        .collect()
+}
+
+/// Gives each alpha object on screen a stipple pattern (Kircher & Lawrance §4), overlapping
+/// ones distinct where three allow; `rects` are the objects' screen rectangles. Returns how
+/// many found all three taken.
+fn stipple(objects: &mut [PlannedObject], rects: &[[u32; 4]]) -> usize {
+    let alpha: Vec<usize> = (0..objects.len())
+        .filter(|&k| objects[k].pattern != 0)
+        .collect();
+    let (patterns, crowded) = assign_stipple(
+        &alpha
+            .iter()
+            .map(|&k| (Some(rects[k]), objects[k].depth))
+            .collect::<Vec<_>>(),
+    );
+    for (&k, p) in alpha.iter().zip(patterns) {
+        objects[k].pattern = p;
+    }
+    crowded
+}
+
+/// The objects on screen by kind, each in the order it is drawn.
+struct DrawOrder {
+    /// Opaque, nearest first (early depth rejection).
+    opaque: Vec<usize>,
+    /// Mirrors and glass, nearest first.
+    reflective: Vec<usize>,
+    /// Fur, farthest first.
+    fur: Vec<usize>,
+    /// Alpha, farthest first (blending order).
+    alpha: Vec<usize>,
+}
+
+impl DrawOrder {
+    /// The draw orders of `objects` (their stipple patterns assigned).
+    fn of(objects: &[PlannedObject]) -> DrawOrder {
+        let sorted = |keep: &dyn Fn(&PlannedObject) -> bool, far_first: bool| {
+            let mut v: Vec<usize> = (0..objects.len()).filter(|&k| keep(&objects[k])).collect();
+            v.sort_by(|&a, &b| {
+                let o = objects[a].depth.total_cmp(&objects[b].depth);
+                if far_first { o.reverse() } else { o }.then(a.cmp(&b))
+            });
+            v
+        };
+        DrawOrder {
+            opaque: sorted(
+                &|o| o.pattern == 0 && o.fur.is_none() && o.map.is_none(),
+                false,
+            ),
+            reflective: sorted(&|o| o.map.is_some(), false),
+            fur: sorted(&|o| o.fur.is_some(), true),
+            alpha: sorted(&|o| o.pattern != 0, true),
+        }
+    }
+}
+
 impl Plan {
     /// Plans `scene` in `mode`; `meshes[mesh_of[i]]` is object i's mesh.
     pub fn new(
@@ -660,99 +824,31 @@ impl Plan {
         )
     }
 
-    /// The camera-dependent half: culling, draw order, stipple patterns, light scissor
-    /// rectangles and the passes, for `scene` seen through `view`.
+    /// The camera-dependent half: culling, draw order, stipple patterns and light scissor
+    /// rectangles, for `scene` seen through `view`.
     pub fn with_camera(scene: &ScenePlan, view: &View) -> Result<Plan, PlanError> {
         let view = *view;
         let output = scene.output;
-        let mut objects = Vec::new();
-        let mut rects = Vec::new();
-        let mut culled_objects = 0;
         // Off screen, fur still casts by its coverage where the opacity maps are drawn.
         let fur_casts = scene.fur_casts();
-        let mut casting = Vec::new();
-        for (o, (lo, hi)) in &scene.objects {
-            let (vlo, vhi) = view.view_box(o.model, *lo, *hi);
-            let Some(rect) = view.screen_rect(vlo, vhi, output) else {
-                culled_objects += 1;
-                if let Some(f) = o.fur.filter(|_| fur_casts) {
-                    casting.push(PlannedObject {
-                        depth: -(vlo.z + vhi.z) / 2.0,
-                        fur: Some(PlannedFur {
-                            resolved: false,
-                            eye_inside: false,
-                            ..f
-                        }),
-                        ..o.clone()
-                    });
-                }
-                continue;
-            };
-            rects.push(rect);
-            let mut fur = o.fur;
-            if let Some(f) = &mut fur {
-                let finest = crate::footprint::finest_footprint(
-                    &view,
-                    output,
-                    o.model,
-                    -vhi.z,
-                    f.texel_density,
-                    f.uv_scale,
-                );
-                f.resolved = f.coverage == FurCoverage::Analytic
-                    && crate::footprint::resolves_strands(finest, f.medium[1]);
-                if let Some(rule) = f.rule {
-                    let px = crate::footprint::fur_pixels(&view, output, o.model, -vhi.z, f.reach);
-                    f.shells = rule.shells(f64::from(px), f.max_shells);
-                }
-                f.eye_inside = view.holds_eye(o.model, *lo, *hi);
-            }
-            objects.push(PlannedObject {
-                depth: -(vlo.z + vhi.z) / 2.0,
-                fur,
-                ..o.clone()
-            });
-        }
-        // Stipple patterns for the alpha objects that show.
-        let alpha_idx: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].pattern != 0)
-            .collect();
-        let (patterns, crowded_alpha) = assign_stipple(
-            &alpha_idx
-                .iter()
-                .map(|&k| (Some(rects[k]), objects[k].depth))
-                .collect::<Vec<_>>(),
-        );
-        for (&k, p) in alpha_idx.iter().zip(patterns) {
-            objects[k].pattern = p;
-        }
-        let by_depth = |v: &mut Vec<usize>, far_first: bool| {
-            v.sort_by(|&a, &b| {
-                let o = objects[a].depth.total_cmp(&objects[b].depth);
-                if far_first { o.reverse() } else { o }.then(a.cmp(&b))
-            });
-        };
-        let mut opaque: Vec<usize> = (0..objects.len())
-            .filter(|&k| {
-                objects[k].pattern == 0 && objects[k].fur.is_none() && objects[k].map.is_none()
-            })
-            .collect();
-        by_depth(&mut opaque, false);
-        let mut reflective: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].map.is_some())
-            .collect();
-        by_depth(&mut reflective, false);
+        let Culled {
+            mut objects,
+            rects,
+            casting,
+            culled: culled_objects,
+        } = cull(scene, &view, fur_casts);
+        let crowded_alpha = stipple(&mut objects, &rects);
+        let DrawOrder {
+            opaque,
+            reflective,
+            fur,
+            alpha,
+        } = DrawOrder::of(&objects);
         let maps = if reflective.is_empty() {
             Vec::new()
         } else {
             scene.maps.clone()
         };
-        let mut fur: Vec<usize> = (0..objects.len())
-            .filter(|&k| objects[k].fur.is_some())
-            .collect();
-        by_depth(&mut fur, true);
-        let mut alpha = alpha_idx;
-        by_depth(&mut alpha, true);
         let shown = objects.len();
         let fur_casters = if fur_casts {
             fur.iter()
@@ -765,24 +861,7 @@ impl Plan {
         objects.extend(casting);
 
         let mode = scene.mode;
-        let light_target = scene.lbuffer.unwrap_or(output);
-        let lights: Vec<PlannedLight> = scene
-            .lights
-            .iter()
-            .filter_map(|l| {
-                Some(PlannedLight {
-                    emitter: l.emitter,
-                    color: l.color,
-                    rect: match l.emitter {
-                        Emitter::Point { position, radius } => {
-                            view.light_rect(position, radius, light_target)?
-                        }
-                        Emitter::Directional { .. } => [0, 0, light_target.0, light_target.1],
-                    },
-                    shadow: scene.shadow_slot(l),
-                })
-            })
-            .collect();
+        let lights = lights_on_screen(scene, &view, scene.lbuffer.unwrap_or(output));
         let culled_lights = scene.scene_lights - lights.len();
         if mode.is_forward() && lights.len() > MAX_FORWARD_LIGHTS {
             return Err(PlanError::TooManyLights {

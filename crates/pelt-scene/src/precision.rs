@@ -6,7 +6,6 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::plan::PlannedObject;
 use crate::scene::Camera;
 
 /// The spacing of depth values just below 1.0 in a 32-bit float (2⁻²⁴).
@@ -58,16 +57,16 @@ pub fn range_note(camera: &Camera) -> Option<String> {
 /// 4 cm fur, shells 2.5 mm apart, at 1.6 m with near 0.05, a far plane of 20 km (codes 0.3 m
 /// apart) draws within FLIP 0.0063 of a far plane of 20 m; 2000 km (codes 30 m apart, past the
 /// sphere's size) 0.096.
-pub fn fur_note(camera: &Camera, o: &PlannedObject, bounds: (Vec3, Vec3)) -> Option<String> {
+pub fn fur_note(camera: &Camera, o: &NotedObject, bounds: (Vec3, Vec3)) -> Option<String> {
     let (n, f) = (f64::from(camera.near), f64::from(camera.far));
     let (near, far) = (camera.near, camera.far);
     let (center, radius) = world_sphere(o.model, bounds);
     let eye = Vec3::from(camera.position);
     let nearest = (f64::from(eye.distance(center)) - f64::from(radius)).max(n);
     let codes = (f - n) / DEPTH_CODES;
-    if let Some(fur) = o.fur {
-        let reach = f64::from(fur.reach * largest_scale(o.model));
-        let spacing = reach / f64::from(fur.shells.max(1));
+    if let Some((fur_reach, shells)) = o.fur {
+        let reach = f64::from(fur_reach * largest_scale(o.model));
+        let spacing = reach / f64::from(shells.max(1));
         let buffer = depth_resolution(camera, nearest);
         // The f32 spacing of world positions as large as the object's or the eye's.
         let extent = (center.length() + radius).max(eye.length());
@@ -78,7 +77,7 @@ pub fn fur_note(camera: &Camera, o: &PlannedObject, bounds: (Vec3, Vec3)) -> Opt
                  finer than 32-bit float positions resolve {extent:.3e} from the origin \
                  ({positions:.3e}), so its shells collapse into streaks; move the scene's \
                  origin near the fur, or draw it at a scale where the fur is coarser",
-                o.scene_index, fur.shells
+                o.scene_index, shells
             ));
         }
         if reach > 0.0 && spacing < buffer {
@@ -87,7 +86,7 @@ pub fn fur_note(camera: &Camera, o: &PlannedObject, bounds: (Vec3, Vec3)) -> Opt
                  finer than the depth buffer resolves where it is ({buffer:.3e} at \
                  {nearest:.3e} from the camera, near {near} and far {far}), so its shells may \
                  z-fight into blotches; bring near and far closer to the fur",
-                o.scene_index, fur.shells
+                o.scene_index, shells
             ));
         }
     }
@@ -100,6 +99,17 @@ pub fn fur_note(camera: &Camera, o: &PlannedObject, bounds: (Vec3, Vec3)) -> Opt
             2.0 * radius
         )
     })
+}
+
+/// What [`fur_note`] weighs of one planned object.
+#[derive(Debug, Clone, Copy)]
+pub struct NotedObject {
+    /// Its index in the scene file.
+    pub scene_index: usize,
+    /// Asset to world.
+    pub model: Mat4,
+    /// Its fur's reach (asset units) and shell count, when it has fur.
+    pub fur: Option<(f32, u32)>,
 }
 
 /// The largest axis scale of `m`.

@@ -24,6 +24,7 @@ use crate::pass::Pass;
 use crate::plan::{MAX_SHADOW_LIGHTS, Mode, Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
+use crate::scene_state::SceneState;
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{ObjectUniforms, UNIFORM_STRIDE};
@@ -145,6 +146,19 @@ pub const FEATURE: Feature = Feature {
         ),
     ],
     pipelines: || [vec![pipeline()], opacity::pipelines()].concat(),
+    scene: Some(SceneState {
+        make: |r, s, _, owned| {
+            owned.insert(ShadowCubes::new(r, s.plan));
+            Ok(())
+        },
+        follow: |r, s, owned| {
+            match owned.get_mut::<ShadowCubes>() {
+                Some(c) if c.fits(s.plan) => c.write(r, s.plan),
+                _ => owned.insert(ShadowCubes::new(r, s.plan)),
+            }
+            Ok(())
+        },
+    }),
     passes: &[PassDesc {
         cached: Some(CACHED),
         ..PassDesc::new(

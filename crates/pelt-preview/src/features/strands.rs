@@ -17,6 +17,7 @@ use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
 use crate::plan::ScenePlan;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
+use crate::scene_state::{SceneState, StateError};
 use crate::shaders::ShaderDesc;
 use crate::shading;
 use crate::uniforms::StrandRoot;
@@ -212,8 +213,32 @@ pub const FEATURE: Feature = Feature {
         phase: Phase::FurLayers,
         draw: shade,
     }],
+    scene: Some(SceneState {
+        make: |r, s, meshes, owned| {
+            if s.plan.mode == crate::plan::Mode::Strands {
+                owned.insert(TracedShadows::new(r, s.plan, meshes, s.strands));
+            }
+            Ok(())
+        },
+        follow: |r, s, owned| match owned.get_mut::<TracedShadows>() {
+            Some(t) if !t.fits(s.plan) => Err(StateError::of(StaleShadows)),
+            Some(t) => {
+                t.follow(r, s.plan);
+                Ok(())
+            }
+            None => Ok(()),
+        },
+    }),
     ..Feature::named("strands")
 };
+
+/// The strand reference's shadow rays were traced for other lights or objects than a knob
+/// change asks for (the CPU meshes they need are not kept).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the strands' shadow rays were traced for other lights or objects: prepare the scene again"
+)]
+pub struct StaleShadows;
 
 /// The strands in the shading pass, lit as fur (strands mode only).
 fn shade<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), MissingInput> {

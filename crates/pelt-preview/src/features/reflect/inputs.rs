@@ -6,14 +6,60 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use super::{FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, ReflectUniforms, face_view};
-use crate::layout;
+use crate::cube::face_view;
+use crate::layout::{self, LayoutDesc};
 use crate::plan::ScenePlan;
 use crate::renderer::Renderer;
 use crate::scene::{Sky, Technique};
 use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
+
+/// Most distance maps (mirror and glass objects) in a scene.
+pub const MAX_MAPS: usize = 64;
+/// Most lights the maps are lit by (distance_map.wgsl's `MAX_MAP_LIGHTS`).
+pub const MAX_MAP_LIGHTS: usize = 256;
+
+/// One face of one layer. Keep in sync with `Face` in shaders/distance_map.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct FaceUniforms {
+    /// World to this face's clip space.
+    pub view_proj: [[f32; 4]; 4],
+    /// xyz: the reference point.
+    pub reference: [f32; 4],
+    /// rgb ambient; w specular power.
+    pub ambient: [f32; 4],
+    /// x layer, y light count, z the map's object (scene index), w face.
+    pub ids: [u32; 4],
+}
+
+/// The search's knobs and the reference points. Keep in sync with `Reflect` in
+/// shaders/reflect.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct ReflectUniforms {
+    /// x linear steps, y secant steps, z layers, w most bounces.
+    pub knobs: [u32; 4],
+    /// x: min-max on (bit 0) and the map count (bits 8..); y technique (0 distance maps, 1
+    /// environment map); z sky (0 background, 1 procedural, 2 cube map); w cube face size.
+    pub flags: [u32; 4],
+    /// rgb background, w the scene's radius.
+    pub background: [f32; 4],
+    /// x specular strength, y specular power, z light count.
+    pub shading: [f32; 4],
+    /// Each map's reference point, and the radius about it that holds the whole scene.
+    pub maps: [[f32; 4]; MAX_MAPS],
+    /// Each map's object: its bounds' centre and radius.
+    pub objects: [[f32; 4]; MAX_MAPS],
+}
+
+/// One distance-map face's constants (dynamic offset; distance_map.wgsl).
+pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
+    label: "distance-map face",
+    entries: &[layout::uniform(0, size_of::<FaceUniforms>(), true)],
+};
 
 /// The maps' inputs: uniforms and the draw list, with their last written bytes.
 #[derive(Debug)]

@@ -11,8 +11,6 @@
 //! scene view (every object of the scene is drawn into them, on screen or not, lit by every
 //! light), and made again when the knobs change its textures.
 
-use bytemuck::{Pod, Zeroable};
-
 pub use crate::cube::face_view;
 
 use super::lights;
@@ -21,17 +19,19 @@ use crate::feature::{
     Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared, Sides,
 };
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
+use crate::owned::Owned;
 use crate::pass::Pass;
 use crate::plan::{Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::scene::Technique;
+use crate::scene_state::{SceneInputs, SceneState, StateError};
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{LightUniforms, UNIFORM_STRIDE};
 
 mod inputs;
-pub use inputs::MapInputs;
+pub use inputs::{FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, MapInputs, ReflectUniforms};
 
 /// Bind-group slots of distance_map.wgsl.
 pub mod slot {
@@ -51,50 +51,12 @@ pub mod slot {
     pub const RANGES: u32 = 0;
 }
 
-/// Most distance maps (mirror and glass objects) in a scene.
-pub const MAX_MAPS: usize = 64;
-/// Most lights the maps are lit by (distance_map.wgsl's `MAX_MAP_LIGHTS`).
-pub const MAX_MAP_LIGHTS: usize = 256;
 /// Format of the material target.
 pub const MATERIAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Format of the normal and distance target: an octahedral normal and the distance as an f16
 /// and its f16 remainder (about 22 bits, for the secant search), renderable on every back end
 /// (GL cannot render to Rgba32Float) at half its memory.
 pub const GEOMETRY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-
-/// One face of one layer. Keep in sync with `Face` in shaders/distance_map.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct FaceUniforms {
-    /// World to this face's clip space.
-    pub view_proj: [[f32; 4]; 4],
-    /// xyz: the reference point.
-    pub reference: [f32; 4],
-    /// rgb ambient; w specular power.
-    pub ambient: [f32; 4],
-    /// x layer, y light count, z the map's object (scene index), w face.
-    pub ids: [u32; 4],
-}
-
-/// The search's knobs and the reference points. Keep in sync with `Reflect` in
-/// shaders/reflect.wgsl.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct ReflectUniforms {
-    /// x linear steps, y secant steps, z layers, w most bounces.
-    pub knobs: [u32; 4],
-    /// x: min-max on (bit 0) and the map count (bits 8..); y technique (0 distance maps, 1
-    /// environment map); z sky (0 background, 1 procedural, 2 cube map); w cube face size.
-    pub flags: [u32; 4],
-    /// rgb background, w the scene's radius.
-    pub background: [f32; 4],
-    /// x specular strength, y specular power, z light count.
-    pub shading: [f32; 4],
-    /// Each map's reference point, and the radius about it that holds the whole scene.
-    pub maps: [[f32; 4]; MAX_MAPS],
-    /// Each map's object: its bounds' centre and radius.
-    pub objects: [[f32; 4]; MAX_MAPS],
-}
 
 /// What the maps' textures depend on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -168,12 +130,6 @@ fn no_sky(r: &Renderer) -> wgpu::BindGroup {
         ],
     )
 }
-
-/// One distance-map face's constants (dynamic offset; distance_map.wgsl).
-pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
-    label: "distance-map face",
-    entries: &[layout::uniform(0, size_of::<FaceUniforms>(), true)],
-};
 
 /// The previous distance-map layer (depth peeling; distance_map.wgsl).
 pub const PEEL_LAYOUT: LayoutDesc = LayoutDesc {
@@ -430,6 +386,10 @@ pub const FEATURE: Feature = Feature {
             )
         },
     ],
+    scene: Some(SceneState {
+        make: |r, s, _, owned| follow(r, s, owned),
+        follow,
+    }),
     draws: &[DrawDesc {
         into: Shared::Shading,
         phase: Phase::Mirrors,
@@ -467,6 +427,20 @@ fn explain_min_max(plan: &Plan) -> String {
         plan.maps.len(),
         plan.reflections.layers
     )
+}
+
+/// The scene's maps for `s`: none without mirrors or glass, those held rewritten where they
+/// still fit, else new ones.
+fn follow(r: &Renderer, s: &SceneInputs<'_>, owned: &mut Owned) -> Result<(), StateError> {
+    match owned.get_mut::<Maps>() {
+        _ if s.plan.maps.is_empty() => owned.remove::<Maps>(),
+        Some(m) if m.fits(s.plan) => m.write(r, s.plan),
+        _ => {
+            let maps = Maps::new(r, s.plan, s.sky.map(|k| &k.group)).map_err(StateError::of)?;
+            owned.insert(maps);
+        }
+    }
+    Ok(())
 }
 
 /// The distance maps outlive the frame: drawn again only when the scene or its knobs
