@@ -55,6 +55,20 @@ pub type PlotError = plotters::drawing::DrawingAreaErrorKind<
     <plotters::prelude::BitMapBackend<'static> as plotters::prelude::DrawingBackend>::ErrorType,
 >;
 
+/// Why a PNG the sweep wrote (a heat map) could not be read back.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadBackError {
+    /// The file could not be opened.
+    #[error(transparent)]
+    Open(#[from] std::io::Error),
+    /// The PNG decoder refused it.
+    #[error(transparent)]
+    Png(#[from] png::DecodingError),
+    /// It is not the 8-bit RGBA the sweep writes.
+    #[error("not an 8-bit RGBA PNG")]
+    NotRgba8,
+}
+
 /// Why a sweep stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
@@ -89,6 +103,15 @@ pub enum SweepError {
         /// plotters' error.
         #[source]
         source: PlotError,
+    },
+    /// A heat map this sweep wrote could not be read back for the contact sheet.
+    #[error("{}: {source}", path.display())]
+    ReadBack {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: ReadBackError,
     },
     /// An output could not be written.
     #[error("{path}: {message}")]

@@ -10,7 +10,7 @@ use std::sync::Once;
 use plotters::drawing::DrawingAreaErrorKind;
 use plotters::prelude::*;
 
-use super::{PlotError, Row, Sweep, SweepError};
+use super::{PlotError, ReadBackError, Row, Sweep, SweepError};
 use pelt_preview::Image;
 
 /// The family name the embedded font is registered under.
@@ -183,20 +183,18 @@ pub fn contact_sheet(s: &Sweep, dir: &Path) -> Result<Image, SweepError> {
 
 /// Reads an 8-bit RGBA PNG this sweep wrote.
 fn read_png(path: &Path) -> Result<Image, SweepError> {
-    let fail = |m: String| SweepError::Write {
-        path: path.display().to_string(),
-        message: m,
+    let fail = |source: ReadBackError| SweepError::ReadBack {
+        path: path.to_owned(),
+        source,
     };
-    let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
+    let file = std::fs::File::open(path).map_err(|e| fail(e.into()))?;
     let mut dec = png::Decoder::new(std::io::BufReader::new(file));
     dec.set_transformations(png::Transformations::EXPAND);
-    let mut reader = dec.read_info().map_err(|e| fail(e.to_string()))?;
+    let mut reader = dec.read_info().map_err(|e| fail(e.into()))?;
     let mut data = vec![0; reader.output_buffer_size().unwrap_or(0)];
-    let info = reader
-        .next_frame(&mut data)
-        .map_err(|e| fail(e.to_string()))?;
+    let info = reader.next_frame(&mut data).map_err(|e| fail(e.into()))?;
     if info.color_type != png::ColorType::Rgba || info.bit_depth != png::BitDepth::Eight {
-        return Err(fail("not an 8-bit RGBA PNG".into()));
+        return Err(fail(ReadBackError::NotRgba8));
     }
     data.truncate(info.buffer_size());
     Ok(Image {
