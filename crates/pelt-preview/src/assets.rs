@@ -375,44 +375,20 @@ fn gpu_fur(r: &Renderer, fur: &FurData, materials: &[GpuMaterial]) -> GpuFur {
     let repeat = sampler(wgpu::AddressMode::Repeat);
     let fin_sampler = sampler(wgpu::AddressMode::ClampToEdge);
     let group = |m: &GpuMaterial| {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("fur textures"),
-            layout: &r.layout(&crate::layout::FUR_TEXTURES),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&height),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&fin),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&repeat),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::Sampler(&fin_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&m.base_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::Sampler(&m.base_sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: wgpu::BindingResource::TextureView(&density_lo),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: wgpu::BindingResource::TextureView(&density_hi),
-                },
+        r.group(
+            "fur textures",
+            &crate::layout::FUR_TEXTURES,
+            &[
+                wgpu::BindingResource::TextureView(&height),
+                wgpu::BindingResource::TextureView(&fin),
+                wgpu::BindingResource::Sampler(&repeat),
+                wgpu::BindingResource::Sampler(&fin_sampler),
+                wgpu::BindingResource::TextureView(&m.base_view),
+                wgpu::BindingResource::Sampler(&m.base_sampler),
+                wgpu::BindingResource::TextureView(&density_lo),
+                wgpu::BindingResource::TextureView(&density_hi),
             ],
-        })
+        )
     };
     let textures = materials.iter().map(group).collect();
     GpuFur {
@@ -484,18 +460,12 @@ fn sky_group(r: &Renderer, cube: &CubeImages) -> wgpu::BindGroup {
         min_filter: wgpu::FilterMode::Linear,
         ..Default::default()
     });
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sky"),
-        layout: &r.layout(&crate::layout::SKY_CUBE),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            },
+    r.group(
+        "sky",
+        &crate::layout::SKY_CUBE,
+        &[
+            wgpu::BindingResource::TextureView(&view),
+            wgpu::BindingResource::Sampler(&sampler),
         ],
-    })
+    )
 }

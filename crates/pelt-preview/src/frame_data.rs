@@ -9,7 +9,7 @@
 
 use glam::Mat4;
 
-use crate::layout::{self, SHELL_TABLE_BYTES};
+use crate::layout::{self, LayoutDesc, SHELL_TABLE_BYTES};
 use crate::plan::{Plan, PlannedLight};
 use crate::renderer::Renderer;
 use crate::scene::{FurCoverage, FurLighting};
@@ -56,7 +56,7 @@ struct Uniform {
     label: &'static str,
     buffer: wgpu::Buffer,
     group: wgpu::BindGroup,
-    layout: wgpu::BindGroupLayout,
+    layout: LayoutDesc,
     /// Bytes of one binding (the element the shader sees).
     binding: u64,
     written: Vec<u8>,
@@ -66,7 +66,7 @@ impl Uniform {
     fn new(
         r: &Renderer,
         label: &'static str,
-        layout: &wgpu::BindGroupLayout,
+        layout: LayoutDesc,
         binding: u64,
         capacity: u64,
     ) -> Uniform {
@@ -76,23 +76,20 @@ impl Uniform {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let group = r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(binding),
-                }),
-            }],
-        });
+        let group = r.group(
+            label,
+            &layout,
+            &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &buffer,
+                offset: 0,
+                size: wgpu::BufferSize::new(binding),
+            })],
+        );
         Uniform {
             label,
             buffer,
             group,
-            layout: layout.clone(),
+            layout,
             binding,
             written: Vec::new(),
         }
@@ -103,7 +100,7 @@ impl Uniform {
     fn write(&mut self, r: &Renderer, bytes: &[u8]) {
         if bytes.len() as u64 > self.buffer.size() {
             let grown = (bytes.len() as u64).next_power_of_two();
-            *self = Uniform::new(r, self.label, &self.layout, self.binding, grown);
+            *self = Uniform::new(r, self.label, self.layout, self.binding, grown);
         }
         let block = UNIFORM_STRIDE as usize;
         let mut at = 0;
@@ -236,35 +233,35 @@ impl FrameData {
             frame: Uniform::new(
                 r,
                 "frame",
-                &r.layout(&layout::FRAME),
+                layout::FRAME,
                 size_of::<FrameUniforms>() as u64,
                 slot(2),
             ),
             objects: Uniform::new(
                 r,
                 "objects",
-                &r.layout(&layout::OBJECT),
+                layout::OBJECT,
                 size_of::<ObjectUniforms>() as u64,
                 slot(8),
             ),
             lights: Uniform::new(
                 r,
                 "lights",
-                &r.layout(&layout::LIGHT),
+                layout::LIGHT,
                 size_of::<LightUniforms>() as u64,
                 slot(8),
             ),
             light_array: Uniform::new(
                 r,
                 "light array",
-                &r.layout(&layout::LIGHT_ARRAY),
+                layout::LIGHT_ARRAY,
                 light_array,
                 light_array,
             ),
             shell_table: Uniform::new(
                 r,
                 "shell table",
-                &r.layout(&layout::SHELL_TABLE),
+                layout::SHELL_TABLE,
                 SHELL_TABLE_BYTES as u64,
                 SHELL_TABLE_BYTES as u64,
             ),

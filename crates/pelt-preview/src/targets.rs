@@ -156,26 +156,16 @@ pub struct ViewTargets {
     pub depth: Target,
 }
 
-fn pair(
-    r: &Renderer,
-    layout: &wgpu::BindGroupLayout,
-    a: &wgpu::TextureView,
-    b: &wgpu::TextureView,
-) -> wgpu::BindGroup {
-    r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(a),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(b),
-            },
+/// The two textures `a` and `b` as a pass reads them (`layout::TEXTURES`).
+fn pair(r: &Renderer, a: &wgpu::TextureView, b: &wgpu::TextureView) -> wgpu::BindGroup {
+    r.group(
+        "read pair",
+        &crate::layout::TEXTURES,
+        &[
+            wgpu::BindingResource::TextureView(a),
+            wgpu::BindingResource::TextureView(b),
         ],
-    })
+    )
 }
 
 impl ViewTargets {
@@ -183,12 +173,11 @@ impl ViewTargets {
     /// was made with).
     pub fn new(r: &Renderer, spec: TargetSpec, owned: &[TargetsDesc]) -> ViewTargets {
         let device = &r.gpu.device;
-        let textures = &r.layout(&crate::layout::TEXTURES);
         let tex = |label, size, format| Target::new(device, label, size, format);
         let gbuffer = spec.lbuffer.map(|s| {
             let normals = tex("normals", s, r.gpu.normal_format);
             let dsf = tex("dsf", s, DSF_FORMAT);
-            let read = pair(r, textures, &normals.view, &dsf.view);
+            let read = pair(r, &normals.view, &dsf.view);
             GBuffer {
                 normals,
                 dsf,
@@ -198,12 +187,12 @@ impl ViewTargets {
         });
         let lbuffer = spec.lbuffer.map(|s| tex("lbuffer", s, LBUFFER_FORMAT));
         let lbuffer_read = match (&lbuffer, &gbuffer) {
-            (Some(lb), Some(g)) => pair(r, textures, &lb.view, &g.dsf.view),
+            (Some(lb), Some(g)) => pair(r, &lb.view, &g.dsf.view),
             _ => {
                 // Stand-ins the material shader never reads (flags.w = 0: ambient only).
                 let a = tex("no lbuffer", (1, 1), LBUFFER_FORMAT);
                 let b = tex("no dsf", (1, 1), DSF_FORMAT);
-                pair(r, textures, &a.view, &b.view)
+                pair(r, &a.view, &b.view)
             }
         };
         let composition = spec
@@ -214,7 +203,7 @@ impl ViewTargets {
                 dsf: tex("composition dsf", s, DSF_FORMAT),
             });
         let material_read = match &composition {
-            Some(c) => pair(r, textures, &c.light.view, &c.dsf.view),
+            Some(c) => pair(r, &c.light.view, &c.dsf.view),
             None => lbuffer_read.clone(),
         };
         let mut made = Owned::default();

@@ -53,7 +53,6 @@ struct Level {
 }
 
 fn level(r: &Renderer, t: &LayeredTarget, sampler: &wgpu::Sampler, layer: u32, mip: u32) -> Level {
-    let device = &r.gpu.device;
     let above = t.texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         base_mip_level: mip - 1,
@@ -68,28 +67,19 @@ fn level(r: &Renderer, t: &LayeredTarget, sampler: &wgpu::Sampler, layer: u32, m
         wgpu::BufferUsages::UNIFORM,
     );
     Level {
-        source: device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("downsample source"),
-            layout: &r.layout(&LAYOUT),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&above),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(sampler),
-                },
+        source: r.group(
+            "downsample source",
+            &LAYOUT,
+            &[
+                wgpu::BindingResource::TextureView(&above),
+                wgpu::BindingResource::Sampler(sampler),
             ],
-        }),
-        params: device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("downsample params"),
-            layout: &r.layout(&layout::SIZE),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: params.as_entire_binding(),
-            }],
-        }),
+        ),
+        params: r.group(
+            "downsample params",
+            &layout::SIZE,
+            &[params.as_entire_binding()],
+        ),
         target: t.layer(layer, mip),
     }
 }

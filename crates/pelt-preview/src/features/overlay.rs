@@ -96,14 +96,11 @@ impl Overlay {
         Overlay {
             text: Vec::new(),
             group: None,
-            params: r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("overlay params"),
-                layout: &r.layout(&layout::SIZE),
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: buffer.as_entire_binding(),
-                }],
-            }),
+            params: r.group(
+                "overlay params",
+                &layout::SIZE,
+                &[buffer.as_entire_binding()],
+            ),
         }
     }
 
@@ -144,14 +141,11 @@ impl Overlay {
             size,
         );
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        self.group = Some(r.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("overlay text"),
-            layout: &r.layout(&LAYOUT),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&view),
-            }],
-        }));
+        self.group = Some(r.group(
+            "overlay text",
+            &LAYOUT,
+            &[wgpu::BindingResource::TextureView(&view)],
+        ));
     }
 
     /// The pass drawing the text over `output` (None without text).

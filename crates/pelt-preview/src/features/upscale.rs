@@ -74,28 +74,15 @@ impl Upscale {
             wgpu::BufferUsages::UNIFORM,
         );
         Upscale {
-            source: device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("upscale source"),
-                layout: &r.layout(&LAYOUT),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(source),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::Sampler(&sampler),
-                    },
+            source: r.group(
+                "upscale source",
+                &LAYOUT,
+                &[
+                    wgpu::BindingResource::TextureView(source),
+                    wgpu::BindingResource::Sampler(&sampler),
                 ],
-            }),
-            size: device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("upscale size"),
-                layout: &r.layout(&layout::SIZE),
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: buffer.as_entire_binding(),
-                }],
-            }),
+            ),
+            size: r.group("upscale size", &layout::SIZE, &[buffer.as_entire_binding()]),
         }
     }
 
