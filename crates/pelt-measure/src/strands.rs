@@ -249,7 +249,9 @@ pub fn reference_with(
 
 /// The strands `sv` draws a frame (every fur object's).
 fn strands_of(sv: &SceneView) -> u64 {
-    sv.strands
+    sv.owned
+        .get::<pelt_preview::features::strands::SceneStrands>()
+        .map_or(&[][..], |s| &s.0)
         .iter()
         .flatten()
         .map(|s| u64::from(s.count))

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use crate::assets::{GpuMesh, GpuSky, GpuStrands};
+use crate::assets::{GpuMesh, GpuSky};
 use crate::draw::{MissingInput, slot, vertex_slot};
 use crate::frame_data::{FrameData, Res};
 use crate::gpu_material::TEXTURED;
@@ -326,8 +326,6 @@ pub struct Frame<'a> {
     pub view: usize,
     /// State the scene's features own ([`Owned`]: the distance maps of mirrors and glass).
     pub scene: &'a Owned,
-    /// Explicit strands by mesh index (the strand reference; empty in other modes).
-    pub strands: &'a [Option<Arc<GpuStrands>>],
 }
 
 impl<'a> Frame<'a> {

@@ -67,7 +67,7 @@ use features::skin::GpuSkinned;
 use frame_data::FrameData;
 use owned::Owned;
 use plan::{MeshInfo, ScenePlan};
-use scene_state::SceneInputs;
+use scene_state::{Prepared, SceneInputs};
 use targets::{TargetSpec, ViewTargets};
 
 /// Anything that stops a render.
@@ -89,7 +89,8 @@ pub enum RenderError {
     #[error(transparent)]
     Frame(#[from] FrameError),
     /// A feature cannot make or follow its per-scene state (the distance maps on this
-    /// adapter, the strand reference's traced shadows after a change of lights).
+    /// adapter, the strand reference's strands or their traced shadows after a change of
+    /// lights).
     #[error(transparent)]
     State(#[from] scene_state::StateError),
     /// A skinned asset's fins cannot follow its skin.
@@ -109,15 +110,6 @@ pub enum RenderError {
         /// Why.
         #[source]
         source: PoseError,
-    },
-    /// A fur object's strands cannot be planted (strands mode).
-    #[error("objects[{object}]: {source}")]
-    Strands {
-        /// The scene object.
-        object: usize,
-        /// Why.
-        #[source]
-        source: strands::StrandError,
     },
 }
 
@@ -238,32 +230,6 @@ impl Preview {
         let plan = Plan::with_camera(&scene_plan, &view::View::new(scene))?;
         let (gpu_meshes, poses, skins) =
             self.upload_meshes(scene, meshes, mesh_of, &scene_plan, mode)?;
-        let mut gpu_strands: Vec<Option<Arc<assets::GpuStrands>>> = vec![None; meshes.len()];
-        if mode == Mode::Strands {
-            for (o, _) in &scene_plan.objects {
-                if let (Some(f), None) = (o.fur, &gpu_strands[o.mesh]) {
-                    // Bent by the fur's springs at the pose the mesh was loaded at, as the
-                    // shells are (`pelt_scene::springs`).
-                    let path = &scene.objects[o.scene_index].asset;
-                    let bent = match f.spring {
-                        Some(s) => pelt_scene::springs::bent(&meshes[o.mesh], s, f.length, path)
-                            .map_err(|e| RenderError::Springs {
-                                object: o.scene_index,
-                                source: e.into(),
-                            })?,
-                        None => None,
-                    };
-                    let s = self
-                        .assets
-                        .strands(&self.renderer, bent.as_ref().unwrap_or(&meshes[o.mesh]))
-                        .map_err(|source| RenderError::Strands {
-                            object: o.scene_index,
-                            source,
-                        })?;
-                    gpu_strands[o.mesh] = Some(s);
-                }
-            }
-        }
         let sky = match &scene.sky {
             scene::Sky::Cubemap(faces) => {
                 let cube = sky::load_cube(faces)?;
@@ -273,12 +239,16 @@ impl Preview {
         };
         let mut owned = Owned::default();
         let inputs = SceneInputs {
+            scene,
             plan: &scene_plan,
             sky: sky.as_deref(),
-            strands: &gpu_strands,
+        };
+        let mut prepared = Prepared {
+            meshes,
+            assets: &mut self.assets,
         };
         for s in FEATURES.iter().filter_map(|f| f.scene) {
-            (s.make)(&self.renderer, &inputs, meshes, &mut owned)?;
+            (s.make)(&self.renderer, &inputs, &mut prepared, &mut owned)?;
         }
         let spec = TargetSpec::of(&plan, output.format, output.own_color, &targets());
         let mut data = FrameData::new(&self.renderer);
@@ -296,7 +266,6 @@ impl Preview {
             data,
             extra: Vec::new(),
             owned,
-            strands: gpu_strands,
         };
         self.assets.sweep();
         self.bend_loaded(&sv, scene)?;
@@ -393,9 +362,9 @@ impl Preview {
     ) -> Result<(), RenderError> {
         sv.replan(scene, mode)?;
         let inputs = SceneInputs {
+            scene,
             plan: &sv.scene_plan,
             sky: sv.sky.as_deref(),
-            strands: &sv.strands,
         };
         for s in FEATURES.iter().filter_map(|f| f.scene) {
             (s.follow)(&self.renderer, &inputs, &mut sv.owned)?;

@@ -5,31 +5,39 @@
 //! scene no longer needs it). `Preview::prepare_view` and `Preview::update` loop over the
 //! registry; the state is kept in the scene view's [`Owned`] and read only by its feature.
 
-use std::sync::Arc;
-
-use crate::assets::{GpuSky, GpuStrands};
+use crate::assets::{AssetCache, GpuSky};
 use crate::owned::Owned;
 use crate::plan::ScenePlan;
 use crate::renderer::Renderer;
+use crate::scene::Scene;
 use pelt_scene::asset::MeshData;
 
 /// What a scene gives the features that keep state for it.
 #[derive(Debug, Clone, Copy)]
 pub struct SceneInputs<'a> {
-    /// The scene's camera-independent plan.
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Its camera-independent plan.
     pub plan: &'a ScenePlan,
     /// Its cube-map sky, when it has one.
     pub sky: Option<&'a GpuSky>,
-    /// Each mesh's explicit strands (strands mode), by mesh.
-    pub strands: &'a [Option<Arc<GpuStrands>>],
+}
+
+/// What a newly prepared scene gives besides: its CPU meshes (by mesh index) and the cache
+/// of GPU assets shared with other scenes.
+pub struct Prepared<'a> {
+    /// The meshes, as loaded.
+    pub meshes: &'a [MeshData],
+    /// The shared GPU assets.
+    pub assets: &'a mut AssetCache,
 }
 
 /// A feature's per-scene state, as registered.
 #[derive(Debug, Clone, Copy)]
 pub struct SceneState {
-    /// Makes it for a newly prepared scene whose CPU meshes are given (none where the scene
-    /// needs none).
-    pub make: fn(&Renderer, &SceneInputs<'_>, &[MeshData], &mut Owned) -> Result<(), StateError>,
+    /// Makes it for a newly prepared scene (none where the scene needs none).
+    pub make:
+        fn(&Renderer, &SceneInputs<'_>, &mut Prepared<'_>, &mut Owned) -> Result<(), StateError>,
     /// Follows a knob change (no asset is read): refits it, makes it again where it no
     /// longer fits, drops it where the scene no longer needs it.
     pub follow: fn(&Renderer, &SceneInputs<'_>, &mut Owned) -> Result<(), StateError>,

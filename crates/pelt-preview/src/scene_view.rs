@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use crate::assets::{GpuMesh, GpuSky, GpuStrands};
+use crate::assets::{GpuMesh, GpuSky};
 use crate::draw::MissingInput;
 use crate::feature::{Frame, Output};
 use crate::features::registry::{FEATURES, targets};
@@ -60,8 +60,6 @@ pub struct SceneView {
     /// State the scene's features own, read by every view (the mirror and glass objects'
     /// distance maps).
     pub owned: Owned,
-    /// Explicit strands by mesh index (strands mode only).
-    pub strands: Vec<Option<Arc<GpuStrands>>>,
 }
 
 impl SceneView {
@@ -78,7 +76,6 @@ impl SceneView {
             output,
             view: 0,
             scene: &self.owned,
-            strands: &self.strands,
         }
     }
 
@@ -114,7 +111,6 @@ impl SceneView {
             },
             view: v,
             scene: &self.owned,
-            strands: &self.strands,
         })
     }
 

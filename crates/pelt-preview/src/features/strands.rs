@@ -17,7 +17,7 @@ use crate::feature::{DrawDesc, Feature, Frame, Phase, Shade, Shared};
 use crate::plan::ScenePlan;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec};
-use crate::scene_state::{SceneState, StateError};
+use crate::scene_state::{Prepared, SceneInputs, SceneState, StateError};
 use crate::shaders::ShaderDesc;
 use crate::shading;
 use crate::uniforms::StrandRoot;
@@ -214,9 +214,11 @@ pub const FEATURE: Feature = Feature {
         draw: shade,
     }],
     scene: Some(SceneState {
-        make: |r, s, meshes, owned| {
+        make: |r, s, prepared, owned| {
             if s.plan.mode == crate::plan::Mode::Strands {
-                owned.insert(TracedShadows::new(r, s.plan, meshes, s.strands));
+                let strands = SceneStrands::plant(r, s, prepared)?;
+                owned.insert(TracedShadows::new(r, s.plan, prepared.meshes, &strands.0));
+                owned.insert(strands);
             }
             Ok(())
         },
@@ -231,6 +233,65 @@ pub const FEATURE: Feature = Feature {
     }),
     ..Feature::named("strands")
 };
+
+/// Each mesh's explicit strands on the GPU, by mesh index (strands mode): planted once per
+/// mesh a fur object draws, shared with other scenes through the asset cache.
+#[derive(Debug)]
+pub struct SceneStrands(pub Vec<Option<Arc<crate::assets::GpuStrands>>>);
+
+impl SceneStrands {
+    /// Plants the strands of every fur object's mesh of `s`, bent by the fur's springs at
+    /// the pose the mesh was loaded at, as the shells are (`pelt_scene::springs`).
+    fn plant(
+        r: &crate::renderer::Renderer,
+        s: &SceneInputs<'_>,
+        prepared: &mut Prepared<'_>,
+    ) -> Result<SceneStrands, StateError> {
+        let meshes = prepared.meshes;
+        let mut out: Vec<Option<Arc<crate::assets::GpuStrands>>> = vec![None; meshes.len()];
+        for (o, _) in &s.plan.objects {
+            let (Some(f), None) = (o.fur, &out[o.mesh]) else {
+                continue;
+            };
+            let object = o.scene_index;
+            let path = &s.scene.objects[object].asset;
+            let bent = match f.spring {
+                Some(k) => pelt_scene::springs::bent(&meshes[o.mesh], k, f.length, path)
+                    .map_err(|source| StateError::of(PlantError::Springs { object, source }))?,
+                None => None,
+            };
+            let planted = prepared
+                .assets
+                .strands(r, bent.as_ref().unwrap_or(&meshes[o.mesh]))
+                .map_err(|source| StateError::of(PlantError::Strands { object, source }))?;
+            out[o.mesh] = Some(planted);
+        }
+        Ok(SceneStrands(out))
+    }
+}
+
+/// A fur object's strands cannot be planted.
+#[derive(Debug, thiserror::Error)]
+pub enum PlantError {
+    /// Its springs cannot follow the pose the mesh was loaded at.
+    #[error("objects[{object}]: {source}")]
+    Springs {
+        /// The scene object.
+        object: usize,
+        /// Why.
+        #[source]
+        source: pelt_io::IoError,
+    },
+    /// The strand model cannot plant them.
+    #[error("objects[{object}]: {source}")]
+    Strands {
+        /// The scene object.
+        object: usize,
+        /// Why.
+        #[source]
+        source: crate::strands::StrandError,
+    },
+}
 
 /// The strand reference's shadow rays were traced for other lights or objects than a knob
 /// change asks for (the CPU meshes they need are not kept).
@@ -262,10 +323,13 @@ pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result
         None
     };
     r.pipeline(lights::suns_for_view(f, pipeline(traced)));
+    let planted = f
+        .scene
+        .need::<SceneStrands>(pass, "the scene's strands on the GPU")?;
     for &k in &f.plan.fur {
         let o = &f.plan.objects[k];
-        let strands = f
-            .strands
+        let strands = planted
+            .0
             .get(o.mesh)
             .and_then(|s| s.as_deref())
             .ok_or_else(|| MissingInput {
