@@ -44,6 +44,16 @@ pub struct Uploads {
     pub groups: bool,
 }
 
+impl Uploads {
+    /// What either `self` or `other` needs.
+    pub fn with(self, other: Uploads) -> Uploads {
+        Uploads {
+            fur: self.fur || other.fur,
+            groups: self.groups || other.groups,
+        }
+    }
+}
+
 /// A run of a mesh's indices drawn with one material.
 #[derive(Debug, Clone)]
 pub struct GpuPart {

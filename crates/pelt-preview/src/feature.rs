@@ -8,13 +8,14 @@
 
 use std::sync::Arc;
 
-use crate::assets::{GpuMesh, GpuSky};
+use crate::asset::MeshData;
+use crate::assets::{GpuMesh, GpuSky, Uploads};
 use crate::draw::{MissingInput, slot, vertex_slot};
 use crate::frame_data::{FrameData, Res};
 use crate::gpu_material::TEXTURED;
 use crate::owned::Owned;
 use crate::pass::Pass;
-use crate::plan::Plan;
+use crate::plan::{Plan, ScenePlan};
 use crate::poses::ObjectPose;
 use crate::recipe::{Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, PipelineDesc};
@@ -145,6 +146,9 @@ pub struct Feature {
     pub targets: Option<TargetsDesc>,
     /// The state it keeps per scene.
     pub scene: Option<SceneState>,
+    /// What it draws of mesh `k` of a scene plan beside its vertices and materials (the
+    /// asset cache uploads the union of every feature's).
+    pub uploads: Option<fn(&ScenePlan, usize, &MeshData) -> Uploads>,
     /// The quality knobs it reads (what `pelt sweep` turns).
     pub knobs: &'static [KnobDesc],
 }
@@ -216,6 +220,7 @@ impl Feature {
             draws: &[],
             targets: None,
             scene: None,
+            uploads: None,
             knobs: &[],
         }
     }

@@ -228,8 +228,7 @@ impl Preview {
         let infos: Vec<MeshInfo> = meshes.iter().map(MeshInfo::of).collect();
         let scene_plan = ScenePlan::new(scene, &infos, mesh_of, mode);
         let plan = Plan::with_camera(&scene_plan, &view::View::new(scene))?;
-        let (gpu_meshes, poses, skins) =
-            self.upload_meshes(scene, meshes, mesh_of, &scene_plan, mode)?;
+        let (gpu_meshes, poses, skins) = self.upload_meshes(scene, meshes, mesh_of, &scene_plan)?;
         let sky = match &scene.sky {
             scene::Sky::Cubemap(faces) => {
                 let cube = sky::load_cube(faces)?;
@@ -298,29 +297,24 @@ impl Preview {
     }
 
     /// Every object's mesh on the GPU, seen or not (a camera move must not upload), by mesh
-    /// index, with what the mode draws of it; and each object's posed copy of a GPU-skinned
-    /// mesh, by scene object.
+    /// index, with what the registered features draw of it (`Feature::uploads`); and each
+    /// object's posed copy of a GPU-skinned mesh, by scene object.
     fn upload_meshes(
         &mut self,
         scene: &Scene,
         meshes: &[MeshData],
         mesh_of: &[usize],
         scene_plan: &ScenePlan,
-        mode: Mode,
     ) -> Result<Uploaded, RenderError> {
         let mut gpu_meshes: Vec<Option<Arc<assets::GpuMesh>>> = vec![None; meshes.len()];
         for (k, m) in meshes.iter().enumerate() {
-            let used = scene_plan.objects.iter().filter(|(o, _)| o.mesh == k);
-            let (mut any, mut fur) = (false, false);
-            for (o, _) in used {
-                any = true;
-                fur |= o.fur.is_some();
-            }
-            if any {
-                let uploads = assets::Uploads {
-                    fur: fur || (mode == Mode::Debug(plan::DebugView::Comb) && m.fur.is_some()),
-                    groups: mode == Mode::Debug(plan::DebugView::Groups),
-                };
+            if scene_plan.objects.iter().any(|(o, _)| o.mesh == k) {
+                let uploads = FEATURES
+                    .iter()
+                    .filter_map(|f| f.uploads)
+                    .fold(assets::Uploads::default(), |u, of| {
+                        u.with(of(scene_plan, k, m))
+                    });
                 gpu_meshes[k] = Some(self.assets.mesh(&self.renderer, m, uploads));
             }
         }

@@ -18,7 +18,7 @@ use winit::window::{Window, WindowId};
 
 use crate::ViewArgs;
 use crate::controls::{self, Action, ORBIT_PER_PIXEL, Settings, ZOOM_PER_PIXEL};
-use crate::viewer::{Surface, ViewError, Viewer, ms_since};
+use crate::viewer::{Surface, ViewError, Viewer, WindowError, ms_since};
 use crate::watch::Watch;
 
 /// How long after the last input the camera counts as moving.
@@ -78,10 +78,7 @@ impl App {
         let attrs = Window::default_attributes()
             .with_title("pelt view")
             .with_inner_size(PhysicalSize::new(w, h));
-        let window = Arc::new(
-            el.create_window(attrs)
-                .map_err(|e| ViewError::Window(e.to_string()))?,
-        );
+        let window = Arc::new(el.create_window(attrs).map_err(WindowError::from)?);
         let (gpu, surface) = Gpu::for_window(a.backend, Arc::clone(&window))
             .map_err(|e| ViewError::Render(e.into()))?;
         let size = window.inner_size();
@@ -93,7 +90,7 @@ impl App {
             .copied()
             .find(wgpu::TextureFormat::is_srgb)
             .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| ViewError::Window("the surface offers no format".into()))?;
+            .ok_or(WindowError::NoFormat)?;
         // Screenshots read the window's own frame back where the surface allows copies.
         let capture = caps.usages.contains(wgpu::TextureUsages::COPY_SRC)
             && matches!(
@@ -345,9 +342,7 @@ impl Running {
                 return Ok(false);
             }
             wgpu::CurrentSurfaceTexture::Validation => {
-                return Err(ViewError::Window(
-                    "the surface reported a validation error".into(),
-                ));
+                return Err(WindowError::SurfaceValidation.into());
             }
         };
         let view = texture

@@ -18,14 +18,13 @@ pub mod viewer;
 pub mod watch;
 
 pub use args::{DEFAULT_SIZE, ViewArgs, window_size};
-pub use viewer::{AnimationError, ViewError};
+pub use viewer::{AnimationError, ViewError, WindowError};
 
 /// Opens the window and runs until it closes (or the scripted frames are drawn).
 pub fn run(args: ViewArgs) -> Result<(), ViewError> {
-    let el = winit::event_loop::EventLoop::new().map_err(|e| ViewError::Window(e.to_string()))?;
+    let el = winit::event_loop::EventLoop::new().map_err(WindowError::from)?;
     let mut app = app::App::new(args);
-    el.run_app(&mut app)
-        .map_err(|e| ViewError::Window(e.to_string()))?;
+    el.run_app(&mut app).map_err(WindowError::from)?;
     match app.error {
         Some(e) => Err(e),
         None => Ok(()),

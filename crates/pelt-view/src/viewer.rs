@@ -790,13 +790,30 @@ pub enum ViewError {
     Render(#[from] RenderError),
     /// The window system failed.
     #[error("window: {0}")]
-    Window(String),
+    Window(#[from] WindowError),
     /// Writing a file failed.
     #[error(transparent)]
     Frame(#[from] pelt_preview::FrameError),
     /// The asset's animation cannot be played (a clip that does not exist, a bad rig).
     #[error(transparent)]
     Animation(#[from] AnimationError),
+}
+
+/// What the window system refused.
+#[derive(Debug, thiserror::Error)]
+pub enum WindowError {
+    /// The event loop could not be made or run.
+    #[error(transparent)]
+    EventLoop(#[from] winit::error::EventLoopError),
+    /// The window could not be made.
+    #[error(transparent)]
+    Os(#[from] winit::error::OsError),
+    /// The window's surface offers no texture format.
+    #[error("the surface offers no format")]
+    NoFormat,
+    /// The surface reported a validation error for a frame.
+    #[error("the surface reported a validation error")]
+    SurfaceValidation,
 }
 
 /// Why the asset's animation cannot be played. Every message names the file.

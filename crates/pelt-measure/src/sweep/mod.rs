@@ -113,13 +113,14 @@ pub enum SweepError {
         #[source]
         source: ReadBackError,
     },
-    /// An output could not be written.
-    #[error("{path}: {message}")]
+    /// An output could not be written (or a re-baked asset read back, or a frame compared).
+    #[error("{path}: {source}")]
     Write {
         /// The file.
         path: String,
-        /// Why.
-        message: String,
+        /// Why, as the writer, loader or comparison said.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
 }
 
@@ -375,7 +376,7 @@ fn write_png(dir: &Path, rel: &str, image: &Image) -> Result<(), SweepError> {
     let path = dir.join(rel);
     image.save(&path).map_err(|e| SweepError::Write {
         path: path.display().to_string(),
-        message: e.to_string(),
+        source: Box::new(e),
     })
 }
 
@@ -543,7 +544,7 @@ fn rebaked_meshes(
         rebake::rebake(path, &dst, s)?;
         out[*k] = pelt_scene::asset::load(&dst).map_err(|e| SweepError::Write {
             path: dst.display().to_string(),
-            message: e.to_string(),
+            source: Box::new(e),
         })?;
     }
     Ok(out)
@@ -582,7 +583,7 @@ pub fn run(
     for sub in ["images", "heat", "assets"] {
         std::fs::create_dir_all(opts.out.join(sub)).map_err(|e| SweepError::Write {
             path: opts.out.join(sub).display().to_string(),
-            message: e.to_string(),
+            source: Box::new(e),
         })?;
     }
     let refs = references(preview, (scene, meshes, of), &planned, opts, progress)?;
@@ -615,7 +616,7 @@ pub fn run(
         let test = resize(&image, reference.width, reference.height);
         let flip = Flip::new(reference, &test).map_err(|e| SweepError::Write {
             path: stem.clone(),
-            message: e.to_string(),
+            source: Box::new(e),
         })?;
         let row = Row {
             image: format!("images/{stem}.png"),

@@ -170,7 +170,7 @@ pub fn write_all(s: &Sweep, dir: &Path) -> Result<(), SweepError> {
         let path = dir.join(name);
         pelt_io::glb::write_atomic(&path, bytes).map_err(|e| SweepError::Write {
             path: path.display().to_string(),
-            message: e.to_string(),
+            source: Box::new(e),
         })
     };
     put("sweep.csv", csv(s).as_bytes())?;
@@ -198,7 +198,7 @@ pub fn run_into(
     let staging = output.join(STAGING);
     let io = |path: &Path, e: std::io::Error| SweepError::Write {
         path: path.display().to_string(),
-        message: e.to_string(),
+        source: Box::new(e),
     };
     if staging.exists() {
         std::fs::remove_dir_all(&staging).map_err(|e| io(&staging, e))?;

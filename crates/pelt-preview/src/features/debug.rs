@@ -6,6 +6,7 @@
 //! as its base mesh, mirrors and glass as plain surfaces: the views show the asset, not the
 //! shading.
 
+use crate::assets::Uploads;
 use crate::draw::{MissingInput, fur_vertex_layout, vertex_layout, vertex_slot};
 use crate::feature::{Build, Feature, Frame, PassDesc};
 use crate::frame_data::Res;
@@ -74,6 +75,17 @@ pub const FEATURE: Feature = Feature {
         |plan| matches!(plan.mode, Mode::Debug(_)),
         explain,
     )],
+    uploads: Some(|plan, _, mesh| match plan.mode {
+        Mode::Debug(DebugView::Comb) => Uploads {
+            fur: mesh.fur.is_some(),
+            groups: false,
+        },
+        Mode::Debug(DebugView::Groups) => Uploads {
+            fur: false,
+            groups: true,
+        },
+        _ => Uploads::default(),
+    }),
     ..Feature::named("debug")
 };
 

@@ -7,6 +7,7 @@
 //! lit from the L-buffer at root and tip (or per light, forward), blended over or into the
 //! OIT targets.
 
+use crate::assets::Uploads;
 use crate::draw::{
     MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
@@ -343,6 +344,13 @@ pub const FEATURE: Feature = Feature {
             draw: shade_layers,
         },
     ],
+    uploads: Some(|plan, k, _| Uploads {
+        fur: plan
+            .objects
+            .iter()
+            .any(|(o, _)| o.mesh == k && o.fur.is_some()),
+        groups: false,
+    }),
     ..Feature::named("fur")
 };
 
