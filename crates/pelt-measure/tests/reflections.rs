@@ -407,8 +407,8 @@ fn a_cube_size_above_the_adapter_limit_is_an_error_naming_the_field() {
 
 #[test]
 fn maps_are_rendered_again_only_when_the_scene_or_its_knobs_change() {
-    use pelt_preview::frame::{Maps, recipes};
     use pelt_preview::features::reflect::MAPS;
+    use pelt_preview::frame::{Maps, recipes};
     let mut p = preview();
     let l = box_scene();
     let mut sv = p
