@@ -47,7 +47,7 @@ impl TargetSpec {
             lbuffer: plan.lbuffer,
             color_format,
             own_color,
-            composition: plan.lbuffer.is_some() && !plan.fur.is_empty(),
+            composition: plan.deferred_fur(),
             owned,
         }
     }

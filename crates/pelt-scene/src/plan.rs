@@ -53,6 +53,17 @@ impl Mode {
     pub fn is_forward(self) -> bool {
         matches!(self, Mode::Forward | Mode::Strands)
     }
+
+    /// Whether lights reach surfaces through a G-buffer and an L-buffer (inferred and
+    /// deferred).
+    pub fn is_deferred(self) -> bool {
+        matches!(self, Mode::Inferred | Mode::Deferred)
+    }
+
+    /// Whether it is a debug view (unlit).
+    pub fn is_debug(self) -> bool {
+        matches!(self, Mode::Debug(_))
+    }
 }
 
 impl std::str::FromStr for Mode {
@@ -582,7 +593,7 @@ impl ScenePlan {
             scene_hi = scene_hi.max(whi);
             let map = (optics != Optics::Diffuse
                 && scene.reflections.technique != Technique::Off
-                && !matches!(mode, Mode::Debug(_)))
+                && !mode.is_debug())
             .then(|| {
                 maps.push(PlannedMap {
                     scene_index: i,
@@ -872,10 +883,9 @@ impl Plan {
         }
         // The G-buffer and L-buffer exist where the mode lights through them and a light and
         // an object show; with no light on screen, the ambient term needs neither.
-        let deferred = !mode.is_forward() && !matches!(mode, Mode::Debug(_));
         let lbuffer = scene
             .lbuffer
-            .filter(|_| deferred && !lights.is_empty() && shown > 0);
+            .filter(|_| mode.is_deferred() && !lights.is_empty() && shown > 0);
         Ok(Plan {
             mode,
             view,
@@ -911,6 +921,12 @@ impl Plan {
             crowded_alpha,
             notes: scene.notes.clone(),
         })
+    }
+
+    /// Whether fur is drawn through the L-buffer (an L-buffer and fur on screen): its outer
+    /// shell's stipple is obliterated from a composition copy of the L-buffer.
+    pub fn deferred_fur(&self) -> bool {
+        self.lbuffer.is_some() && !self.fur.is_empty()
     }
 
     /// The plan in words (`--explain`): its facts, then each planned pass by name with its

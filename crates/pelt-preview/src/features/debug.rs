@@ -72,7 +72,7 @@ pub const FEATURE: Feature = Feature {
     passes: &[PassDesc::new(
         PASS,
         Build::One(pass),
-        |plan| matches!(plan.mode, Mode::Debug(_)),
+        |plan| plan.mode.is_debug(),
         explain,
     )],
     uploads: Some(|plan, _, mesh| match plan.mode {

@@ -323,7 +323,7 @@ pub const FEATURE: Feature = Feature {
         ..PassDesc::new(
             OBLITERATE_PASS,
             Build::One(obliterate_pass),
-            |plan| plan.lbuffer.is_some() && !plan.fur.is_empty(),
+            Plan::deferred_fur,
             explain_obliterate,
         )
     }],

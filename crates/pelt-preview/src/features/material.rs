@@ -12,7 +12,7 @@ use crate::feature::{
 use crate::gpu_material::with_untextured;
 use crate::layout;
 use crate::pass::Pass;
-use crate::plan::{Mode, Plan};
+use crate::plan::Plan;
 use crate::recipe::Recipe;
 use crate::renderer::{Blend, PipelineDesc};
 use crate::shaders::{Lighting, ShaderDesc};
@@ -72,7 +72,7 @@ pub const PASS: Pass = Pass::new("material");
 /// Whether `plan` shades through the material pass: every mode lit from an L-buffer, or by
 /// the ambient term alone.
 fn wanted(plan: &Plan) -> bool {
-    !plan.mode.is_forward() && !matches!(plan.mode, Mode::Debug(_))
+    plan.mode.is_deferred()
 }
 
 /// The material pass in words.

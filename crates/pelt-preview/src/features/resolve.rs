@@ -43,7 +43,7 @@ pub const PASS: Pass = Pass::new("resolve");
 /// Whether `plan` draws into a scene colour: where fur layers blend (the strands are
 /// opaque; the debug views unlit).
 fn wanted(plan: &Plan) -> bool {
-    !plan.fur.is_empty() && plan.mode != Mode::Strands && !matches!(plan.mode, Mode::Debug(_))
+    !plan.fur.is_empty() && plan.mode != Mode::Strands && !plan.mode.is_debug()
 }
 
 /// The resolve pass in words.

@@ -21,7 +21,7 @@ use crate::draw::{MissingInput, vertex_layout, vertex_slot};
 use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::pass::Pass;
-use crate::plan::{MAX_SHADOW_LIGHTS, Mode, Plan, ScenePlan};
+use crate::plan::{MAX_SHADOW_LIGHTS, Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::scene_state::SceneState;
@@ -164,7 +164,7 @@ pub const FEATURE: Feature = Feature {
         ..PassDesc::new(
             PASS,
             Build::Many(passes),
-            |plan| plan.shadow_lights != (0, 0) && !matches!(plan.mode, Mode::Debug(_)),
+            |plan| plan.shadow_lights != (0, 0) && !plan.mode.is_debug(),
             explain,
         )
     }],

@@ -13,7 +13,7 @@ use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
 use crate::owned::Owned;
 use crate::pass::Pass;
-use crate::plan::{Mode, Plan};
+use crate::plan::Plan;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, PipelineDesc, PipelineSpec, REVEAL_FORMAT, Renderer};
 use crate::scene::FurBlend;
@@ -94,9 +94,7 @@ pub const COMPOSITE: Pass = Pass::new("composite");
 
 /// Whether `plan` blends its fur by weighted blended OIT.
 fn wanted(plan: &Plan) -> bool {
-    !plan.fur.is_empty()
-        && plan.fur_blend == FurBlend::Wboit
-        && !matches!(plan.mode, Mode::Debug(_))
+    !plan.fur.is_empty() && plan.fur_blend == FurBlend::Wboit && !plan.mode.is_debug()
 }
 
 /// The accumulation pass in words.
