@@ -1,5 +1,5 @@
-// shadow_map.wgsl: one face of a shadow-casting point light's cube, or a directional light's
-// orthographic map. Every opaque object of the scene (on screen or not) is drawn from the
+// shadow_map.wgsl: one face of a shadow-casting point light's cube, or a light's one map
+// (a directional light's orthographic one). Every opaque object of the scene (on screen or not) is drawn from the
 // light, through a 90° face or the fitted box; each texel keeps the distance from the light
 // (or the map's near plane) to the nearest surface (the target is cleared to a distance
 // past every surface, so a texel that sees nothing never shadows). shadows.wgsl compares a
@@ -12,9 +12,9 @@
 
 struct ShadowFace {
     view_proj: mat4x4<f32>,
-    // A point light: xyz its world position, w its radius. A directional light: w = 0.
+    // A cube's face: xyz the light's world position, w its radius. A light's one map: w = 0.
     light: vec4<f32>,
-    // A directional light: the distance from its map's near plane is dot(xyz, world) + w.
+    // A light's one map: the distance from its near plane along its axis is dot(xyz, world) + w.
     plane: vec4<f32>,
 }
 

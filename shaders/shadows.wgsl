@@ -1,12 +1,12 @@
 // shadows.wgsl: how much of a light a surface sees, from a point light's shadow cube or a
-// directional light's orthographic map (shadow_map.wgsl), one lookup per lit pixel: in the light pass per L-buffer pixel, so
+// light's one projective map (a directional light's orthographic one; shadow_map.wgsl), one lookup per lit pixel: in the light pass per L-buffer pixel, so
 // opaque surfaces and every stippled alpha layer receive it (Kircher & Lawrance §4), and in
 // the forward pass per pixel, identically.
 //
 // The receiver is lifted off its surface along its normal by one and a half texels of the
 // map at its distance, and compared one texel nearer than itself (a cube's bias grows with
-// the distance, as its texels do; an orthographic map's texels are one size), over a square of PCF × PCF texels (percentage-closer
-// filtering). The group is `slot::CUBES` in crates/pelt-preview/src/features/shadows.rs.
+// the distance, as its texels do; a map's texels grow with the depth its `w` gives, one size in an orthographic map), over a square of PCF × PCF texels (percentage-closer
+// filtering). The maps and how to read them are lighting inputs (lighting_inputs.wgsl).
 //
 // Fur shadows by its coverage through deep opacity maps (Yuksel & Keyser 2008): in each
 // layer of the cubes, the distance to the nearest fur (zw), and beside it up to three layers
@@ -19,35 +19,8 @@
 #define_import_path pelt::shadows
 
 #import pelt::common::{Light, face_uv}
+#import pelt::lighting_inputs::{fur_opacity, fur_read, shadow_cubes, shadow_read}
 #import pelt::object_bindings::{frame}
-
-// A directional light's map: one layer of its slot, an orthographic view fitted to the
-// scene. Keep in sync with SunMap in crates/pelt-preview/src/features/shadows.rs.
-struct SunMap {
-    // World to the map: xy its texture coordinates, z the distance from its near plane along
-    // the light's direction (what shadow_map.wgsl stores).
-    to_map: mat4x4<f32>,
-    // x: the world size of one texel; yzw: unused.
-    texel: vec4<f32>,
-}
-
-// How to read the cubes. Keep in sync with ShadowRead in
-// crates/pelt-preview/src/features/shadows.rs.
-struct ShadowRead {
-    // x: the PCF side in texels (the scene's shadowMaps.pcf); yzw: unused.
-    pcf: vec4<u32>,
-    // The deep opacity layers' boundaries (world units past the nearest fur; the last one
-    // where its value is reached) and w: how many layers there are (0: fur casts no coverage).
-    layers: vec4<f32>,
-    // Each slot's map when its light is directional.
-    suns: array<SunMap, 8>,
-}
-
-@group(4) @binding(0) var shadow_cubes: texture_2d_array<f32>;
-@group(4) @binding(1) var<uniform> shadow_read: ShadowRead;
-// The optical depth of each deep opacity layer (xyz), per layer of the cubes (whose zw hold
-// the nearest fur's distance).
-@group(4) @binding(2) var fur_opacity: texture_2d_array<f32>;
 
 // The distance from the light to the nearest surface in texel `at` of cube face `layer`
 // (shadow_map.wgsl's two halves).
@@ -63,7 +36,7 @@ fn nearest(at: vec2<i32>, layer: i32) -> f32 {
 fn fur_depth(at: vec2<i32>, layer: i32, reach: f32) -> f32 {
     let near = textureLoad(shadow_cubes, at, layer, 0);
     let x = reach - (near.z + near.w);
-    let b = shadow_read.layers;
+    let b = fur_read.layers;
     let t = textureLoad(fur_opacity, at, layer, 0).xyz;
     let s0 = t.x * clamp(x / b.x, 0.0, 1.0);
     let s1 = (t.y - t.x) * clamp((x - b.x) / (b.y - b.x), 0.0, 1.0);
@@ -98,14 +71,15 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     let size = f32(textureDimensions(shadow_cubes).x);
     // View to world: the view's rotation is orthonormal, so its inverse is its transpose.
     let rot = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
-    if light.position_radius.w == 0.0 {
-        // A directional light: its orthographic map, texels of one size everywhere.
-        let sun = shadow_read.suns[slot];
-        let texel = sun.texel.x;
+    let map = shadow_read.maps[slot];
+    if map.texel.x > 0.0 {
+        // The light's one map: texels as large as its depth at the receiver makes them.
+        let at = map.to_map * vec4<f32>(transpose(rot) * (p - frame.view[3].xyz), 1.0);
+        let texel = map.texel.x * at.w;
         let lifted = p + n * (1.5 * texel);
         let world = transpose(rot) * (lifted - frame.view[3].xyz);
-        let q = sun.to_map * vec4<f32>(world, 1.0);
-        return with_fur(q.xy * size - 0.5, i32(slot * 6u), q.z - texel, fur);
+        let q = map.to_map * vec4<f32>(world, 1.0);
+        return with_fur(q.xy / q.w * size - 0.5, i32(slot * 6u), q.z - texel, fur);
     }
     let dist = distance(p, light.position_radius.xyz);
     let texel = 2.0 * dist / size;
@@ -135,15 +109,15 @@ fn strand_shadow_seen(p: vec3<f32>, t: vec3<f32>, slack: f32, light: Light, fur:
     var c: vec2<f32>;
     var layer: i32;
     var fur_reach: f32;
-    if light.position_radius.w == 0.0 {
-        let sun = shadow_read.suns[slot];
-        let texel = sun.texel.x;
+    let map = shadow_read.maps[slot];
+    if map.texel.x > 0.0 {
+        let q = map.to_map * vec4<f32>(to_world * (p - frame.view[3].xyz), 1.0);
+        let texel = map.texel.x * q.w;
         let lifted = p + t * (1.5 * texel);
-        let ql = sun.to_map * vec4<f32>(to_world * (lifted - frame.view[3].xyz), 1.0);
-        let q = sun.to_map * vec4<f32>(to_world * (p - frame.view[3].xyz), 1.0);
+        let ql = map.to_map * vec4<f32>(to_world * (lifted - frame.view[3].xyz), 1.0);
         layer = i32(slot * 6u);
-        seen = filtered(ql.xy * size - 0.5, layer, ql.z - texel - slack);
-        c = q.xy * size - 0.5;
+        seen = filtered(ql.xy / ql.w * size - 0.5, layer, ql.z - texel - slack);
+        c = q.xy / q.w * size - 0.5;
         fur_reach = q.z - 2.5 * texel - slack;
     } else {
         let dist = distance(p, light.position_radius.xyz);

@@ -298,10 +298,11 @@ fn fs_main(s: ShellOut) -> FurOut {
 // distance from the light, in two halves, in layer `frame.flags.x`.
 @group(2) @binding(0) var cubes: texture_2d_array<f32>;
 
-// The distance from the light (or a directional map's near plane, `frame.proj_params.z`)
-// to view-space point `p` of the light's face, as shadow_map.wgsl and shadows.wgsl measure it.
+// The distance from the light to view-space point `p` of the light's face, or, where its map
+// measures along its axis (`frame.flags.z` 1: a light's one map), from the map's near plane
+// (`frame.proj_params.z`), as shadow_map.wgsl and shadows.wgsl measure it.
 fn light_distance(p: vec3<f32>) -> f32 {
-    return select(length(p), -p.z - frame.proj_params.z, frame.proj[3][3] == 1.0);
+    return select(length(p), -p.z - frame.proj_params.z, frame.flags.z == 1u);
 }
 
 // The outer shell's distance as a half float and its half-float remainder, into the cube's

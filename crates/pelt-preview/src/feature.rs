@@ -23,6 +23,7 @@ use crate::scene_state::SceneState;
 use crate::shaders::Lighting;
 pub use crate::targets::TargetsDesc;
 use crate::targets::ViewTargets;
+use pelt_scene::knobs::spec::KnobSpec;
 
 /// Builds a planned pass's recipes from the frame.
 #[derive(Debug, Clone, Copy)]
@@ -151,63 +152,52 @@ pub struct Feature {
     pub uploads: Option<fn(&ScenePlan, usize, &MeshData) -> Uploads>,
     /// The quality knobs it reads (what `pelt sweep` turns).
     pub knobs: &'static [KnobDesc],
+    /// The lighting inputs it fills ([`crate::lighting`]).
+    pub lighting: &'static [LightingInput],
+    /// How it draws into the shadow layers after the shadow pass, where it does
+    /// ([`crate::lighting::layers_kept`]).
+    pub layer_writer: Option<LayerWriter>,
 }
 
 /// A quality knob a feature reads: a flag of `pelt render` and `pelt view`, a scene-file or
-/// bake setting, and a row of `pelt sweep`'s time-against-error table.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// bake setting, and a row of `pelt sweep`'s time-against-error table. What it is (name,
+/// range, default, reference, whether it re-bakes) is its spec's, declared once in
+/// [`pelt_scene::knobs::spec`]; a feature names it with [`KnobDesc::of`].
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KnobDesc {
-    /// Its name (the flag without dashes).
-    pub name: &'static str,
-    /// The values it takes, in words.
-    pub range: &'static str,
-    /// Its default, in words.
-    pub default: &'static str,
-    /// The converged reference `pelt sweep` measures it against.
-    pub reference: Reference,
-    /// Whether a new value needs the asset baked again (fur textures, comb storage).
-    pub rebakes: bool,
+    /// The knob.
+    pub spec: &'static KnobSpec,
 }
 
 impl KnobDesc {
-    /// A knob the renderer applies to the scene (no re-bake).
-    pub const fn new(
-        name: &'static str,
-        range: &'static str,
-        default: &'static str,
-        reference: Reference,
-    ) -> KnobDesc {
-        KnobDesc {
-            name,
-            range,
-            default,
-            reference,
-            rebakes: false,
-        }
+    /// The knob `spec`.
+    pub const fn of(spec: &'static KnobSpec) -> KnobDesc {
+        KnobDesc { spec }
+    }
+
+    /// Its name (the flag without dashes).
+    pub fn name(&self) -> &'static str {
+        self.spec.name
+    }
+
+    /// The values it takes, in words.
+    pub fn range(&self) -> String {
+        self.spec.range.words()
+    }
+
+    /// The converged reference `pelt sweep` measures it against.
+    pub fn reference(&self) -> Reference {
+        self.spec.reference
+    }
+
+    /// Whether a new value needs the asset baked again (fur textures, comb storage).
+    pub fn rebakes(&self) -> bool {
+        self.spec.rebakes
     }
 }
 
-/// What a knob's error is measured against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Reference {
-    /// The converged strand reference (fur).
-    Strands,
-    /// Full-resolution deferred at the reference size (lighting).
-    Deferred,
-    /// The CPU ray tracer (mirrors and glass).
-    RayTracer,
-}
-
-impl Reference {
-    /// Its name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Reference::Strands => "strands",
-            Reference::Deferred => "deferred",
-            Reference::RayTracer => "raytrace",
-        }
-    }
-}
+/// What a knob's error is measured against (declared with the knob's spec).
+pub use pelt_scene::knobs::spec::Reference;
 
 impl Feature {
     /// A feature with no pipelines, passes, draws or targets yet.
@@ -222,8 +212,39 @@ impl Feature {
             scene: None,
             uploads: None,
             knobs: &[],
+            lighting: &[],
+            layer_writer: None,
         }
     }
+}
+
+/// What a contributor binds.
+#[derive(Debug, Clone, Copy)]
+pub enum Resource<'a> {
+    /// A texture view.
+    Texture(&'a wgpu::TextureView),
+    /// A whole buffer.
+    Buffer(&'a wgpu::Buffer),
+}
+
+/// One binding a feature fills from its per-scene state.
+#[derive(Debug, Clone, Copy)]
+pub struct LightingInput {
+    /// The binding ([`crate::lighting::binding`]).
+    pub binding: u32,
+    /// What it is, for errors.
+    pub what: &'static str,
+    /// The resource for a scene's state and the identity of what holds it
+    /// ([`crate::lighting::next_id`]: a new holder makes the group again); `None` where the
+    /// scene has none.
+    pub resource: fn(&Owned) -> Option<(Resource<'_>, u64)>,
+}
+
+/// A feature that draws into the shadow layers after the shadow pass.
+#[derive(Debug, Clone, Copy)]
+pub struct LayerWriter {
+    /// Whether what it draws into them is unchanged since a frame last drew it.
+    pub unchanged: fn(&Frame<'_>) -> bool,
 }
 
 /// A feature's draw inside a pass that several features draw into.

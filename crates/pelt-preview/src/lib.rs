@@ -29,6 +29,7 @@ pub mod glsl;
 pub mod gpu;
 pub mod gpu_material;
 pub mod layout;
+pub mod lighting;
 pub mod owned;
 pub mod pass;
 pub mod poses;
@@ -65,6 +66,7 @@ use feature::Output;
 use features::registry::{FEATURES, targets};
 use features::skin::GpuSkinned;
 use frame_data::FrameData;
+use lighting::LightingInputs;
 use owned::Owned;
 use plan::{MeshInfo, ScenePlan};
 use scene_state::{Prepared, SceneInputs};
@@ -249,6 +251,7 @@ impl Preview {
         for s in FEATURES.iter().filter_map(|f| f.scene) {
             (s.make)(&self.renderer, &inputs, &mut prepared, &mut owned)?;
         }
+        LightingInputs::gather(&self.renderer, FEATURES, &mut owned);
         let spec = TargetSpec::of(&plan, output.format, output.own_color, &targets());
         let mut data = FrameData::new(&self.renderer);
         data.write(&self.renderer, &plan);
@@ -363,6 +366,7 @@ impl Preview {
         for s in FEATURES.iter().filter_map(|f| f.scene) {
             (s.follow)(&self.renderer, &inputs, &mut sv.owned)?;
         }
+        LightingInputs::gather(&self.renderer, FEATURES, &mut sv.owned);
         self.refresh(sv);
         Ok(())
     }

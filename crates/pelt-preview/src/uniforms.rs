@@ -92,15 +92,7 @@ impl LightUniforms {
     /// `emitter` of linear `color` × intensity in the space `to_space` maps world space to
     /// (a rigid transform), with its shadow-map slot.
     pub fn new(emitter: &Emitter, color: Vec3, to_space: Mat4, shadow: Option<u32>) -> Self {
-        let position_radius = match *emitter {
-            Emitter::Point { position, radius } => {
-                to_space.transform_point3(position).extend(radius)
-            }
-            Emitter::Directional { direction } => to_space
-                .transform_vector3(-direction)
-                .normalize()
-                .extend(0.0),
-        };
+        let position_radius = emitter.packed(to_space);
         let lum = color.dot(Vec3::new(0.2126, 0.7152, 0.0722));
         LightUniforms {
             position_radius: position_radius.into(),

@@ -15,9 +15,12 @@ use pelt_preview::{Mode, ViewOutput};
 
 use common::{furry_sphere, preview, scene};
 
-/// Most bytes a frame after the first may upload: its uniforms (frame constants, a few
-/// objects and lights, the forward light array, the shell table), never a mesh or texture.
-const UNIFORM_BYTES: u64 = 16 * 1024;
+/// Most bytes a frame after the first may upload: its uniforms (the forward light array, and
+/// within 4 KiB the frame constants, a few objects and lights, the shell table), never a mesh
+/// or texture.
+const UNIFORM_BYTES: u64 = (pelt_preview::uniforms::MAX_FORWARD_LIGHTS
+    * size_of::<pelt_preview::uniforms::LightUniforms>()
+    + 4 * 1024) as u64;
 
 /// Bytes of a mesh's vertex and index buffers.
 fn mesh_bytes(m: &MeshData) -> u64 {

@@ -22,8 +22,9 @@ use std::path::Path;
 use glam::Vec3;
 use pelt_preview::Pass;
 use pelt_preview::features::forward;
-use pelt_preview::features::{lights, shadows};
+use pelt_preview::features::lights;
 use pelt_preview::frame::{self, Maps};
+use pelt_preview::lighting;
 use pelt_preview::procedural::grid_scene;
 use pelt_preview::recipe::{Recipe, Step};
 use pelt_preview::renderer::PipelineDesc;
@@ -104,7 +105,7 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
         "shadow lookup compiled out"
     );
     // Negative controls: the same pipeline with its constants back at the shader's defaults.
-    let shadowed = point[0].clone().with_constant(shadows::SHADOWS, None);
+    let shadowed = point[0].clone().with_constant(lighting::SHADOWS, None);
     assert!(holds(&reached(&shadowed), SHADOWS, "shadow_seen"));
     let either = point[0]
         .clone()
@@ -269,8 +270,8 @@ fn expected_work(
     let step = (v.far - v.near) / 65534.0;
     let (mut lo, mut hi, mut unrejected, mut blocks) = (0, 0, 0, 0);
     for l in &plan.lights {
-        let far = match l.emitter {
-            Emitter::Point { position, radius } => {
+        let far = match l.emitter.bounds() {
+            Some((position, radius)) => {
                 let z = v.view.transform_point3(position).z - (1.001 * radius + 4.0 * step);
                 let c = v.proj * glam::Vec4::new(0.0, 0.0, z, 1.0);
                 if c.w > 0.0 {
@@ -279,7 +280,7 @@ fn expected_work(
                     0.0
                 }
             }
-            Emitter::Directional { .. } => 1.0,
+            None => 1.0,
         };
         let [x0, y0, x1, y1] = l.rect;
         blocks += 64 * u64::from((x1.div_ceil(8) - x0 / 8) * (y1.div_ceil(8) - y0 / 8));

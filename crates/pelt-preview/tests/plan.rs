@@ -66,6 +66,7 @@ fn fur_plans_its_passes_in_order_in_every_mode() {
             FurBlend::Stipple,
             &[
                 "shadow-maps",
+                "opacity-maps",
                 "geometry",
                 "light",
                 "obliterate",
@@ -78,6 +79,7 @@ fn fur_plans_its_passes_in_order_in_every_mode() {
             FurBlend::Wboit,
             &[
                 "shadow-maps",
+                "opacity-maps",
                 "geometry",
                 "light",
                 "obliterate",
@@ -90,17 +92,24 @@ fn fur_plans_its_passes_in_order_in_every_mode() {
         (
             Mode::Forward,
             FurBlend::Stipple,
-            &["shadow-maps", "forward", "resolve"],
+            &["shadow-maps", "opacity-maps", "forward", "resolve"],
         ),
         (
             Mode::Forward,
             FurBlend::Wboit,
-            &["shadow-maps", "forward", "fur-oit", "composite", "resolve"],
+            &[
+                "shadow-maps",
+                "opacity-maps",
+                "forward",
+                "fur-oit",
+                "composite",
+                "resolve",
+            ],
         ),
         (
             Mode::Strands,
             FurBlend::Stipple,
-            &["shadow-maps", "forward"],
+            &["shadow-maps", "opacity-maps", "forward"],
         ),
         (Mode::Debug(DebugView::Comb), FurBlend::Wboit, &["debug"]),
     ];
@@ -113,6 +122,11 @@ fn fur_plans_its_passes_in_order_in_every_mode() {
             assert!(e.contains(&format!("\n  {name:<14}")), "{name} in\n{e}");
         }
     }
+    // Without opacity layers the fur casts through its base mesh alone: no opacity pass.
+    s.shadow_maps.opacity_layers = 0;
+    s.fur_blend = FurBlend::Stipple;
+    let p = plan_of(&s, &sphere, Mode::Forward);
+    assert_eq!(names(&p), ["shadow-maps", "forward", "resolve"]);
 }
 
 #[test]

@@ -6,9 +6,10 @@
 
 use std::path::Path;
 
+use pelt_preview::features::opacity::FurRead;
 use pelt_preview::features::reflect::{FaceUniforms, ReflectUniforms};
 use pelt_preview::features::registry;
-use pelt_preview::features::shadows::{ShadowFace, ShadowRead, SunMap};
+use pelt_preview::features::shadows::{LightMap, ShadowFace, ShadowRead};
 use pelt_preview::renderer::{PipelineDesc, PipelineSpec};
 use pelt_preview::shaders::{FILES, ShaderDesc, compose_str, decorated};
 use pelt_preview::uniforms::{
@@ -362,23 +363,25 @@ fn f(a: Frame, b: Object, c: Light, d: MaterialParams) -> u32 {
         size_of::<ObjectUniforms>()
     );
     assert_eq!(size_of_struct("Light") as usize, size_of::<LightUniforms>());
-    // The shadow maps' read settings (shadows.wgsl), as light.wgsl and forward.wgsl see them.
-    let shadows = compose_str(
-        "shadow_read.wgsl",
-        "#import pelt::shadows::{ShadowRead, SunMap}
-fn f(a: ShadowRead, b: SunMap) -> f32 {
-    return b.texel.x + f32(a.pcf.x);
+    // The lighting inputs' read settings (lighting_inputs.wgsl), as the lighting passes see
+    // them: the shadow maps' and the fur opacity layers'.
+    let inputs = compose_str(
+        "lighting_read.wgsl",
+        "#import pelt::lighting_inputs::{ShadowRead, LightMap, FurRead}
+fn f(a: ShadowRead, b: LightMap, c: FurRead) -> f32 {
+    return b.texel.x + f32(a.pcf.x) + c.layers.x;
 }",
     )
     .unwrap_or_else(|e| panic!("{e}"));
     let mut laid = naga::proc::Layouter::default();
-    laid.update(shadows.to_ctx()).expect("layout");
+    laid.update(inputs.to_ctx()).expect("layout");
     for (name, size) in [
         ("ShadowRead", size_of::<ShadowRead>()),
-        ("SunMap", size_of::<SunMap>()),
+        ("LightMap", size_of::<LightMap>()),
+        ("FurRead", size_of::<FurRead>()),
     ] {
-        let h = type_named(&shadows, &decorated("pelt::shadows", name))
-            .unwrap_or_else(|| panic!("struct {name} in shadows.wgsl"));
+        let h = type_named(&inputs, &decorated("pelt::lighting_inputs", name))
+            .unwrap_or_else(|| panic!("struct {name} in lighting_inputs.wgsl"));
         assert_eq!(laid[h].size as usize, size, "{name}");
     }
     assert_eq!(

@@ -12,6 +12,7 @@ use pelt_io::{Document, IoError, PrimitiveRef, accessor};
 use serde_json::Value;
 
 use crate::fur::{self, FurData};
+use crate::light::{KHR_LIGHTS_PUNCTUAL, Light, from_khr};
 use crate::material::{Material, MaterialReader, Part};
 use crate::skin::SkinBinding;
 use crate::vertex::{FurVertex, Vertex};
@@ -33,6 +34,16 @@ pub enum AssetError {
     UnknownBuiltin {
         /// The name as written.
         path: String,
+    },
+    /// A `KHR_lights_punctual` light that is not valid.
+    #[error("{}: {place}: {what}", path.display())]
+    Light {
+        /// The file.
+        path: PathBuf,
+        /// The node that places it.
+        place: String,
+        /// What is wrong, at the light's place in the extension's lights.
+        what: String,
     },
     /// The asset has no triangles to draw.
     #[error("{}: no TRIANGLES primitive reachable from the scene's nodes", path.display())]
@@ -62,6 +73,8 @@ pub struct MeshData {
     /// What loading changed, each naming the file and the place (a texture halved to fit
     /// [`LoadOptions::max_texture`]).
     pub warnings: Vec<String>,
+    /// The lights it places (glTF's `KHR_lights_punctual`), in its space.
+    pub lights: Vec<Light>,
 }
 
 /// How assets load.
@@ -95,6 +108,7 @@ impl MeshData {
             primitive_bases: Vec::new(),
             skin: None,
             warnings: Vec::new(),
+            lights: Vec::new(),
         }
     }
 
@@ -358,8 +372,52 @@ fn node_matrix(node: &Value) -> Mat4 {
 }
 
 /// Every (mesh, world matrix) reachable from the default scene (or every root node when the
-/// file has no scene). Cycles and absurd depths are cut off.
+/// file has no scene).
 fn mesh_instances(doc: &Document) -> Vec<(usize, Mat4)> {
+    let nodes = doc.array("nodes");
+    node_worlds(doc)
+        .into_iter()
+        .filter_map(|(i, world)| {
+            let m = nodes[i].get("mesh").and_then(Value::as_u64)?;
+            Some((m as usize, world))
+        })
+        .collect()
+}
+
+/// The `KHR_lights_punctual` lights the nodes reachable from the default scene place, in
+/// the asset's space. A light that is not valid is an error naming the file and the light's
+/// place.
+fn lights(doc: &Document) -> Result<Vec<Light>, AssetError> {
+    let nodes = doc.array("nodes");
+    let defs = doc
+        .json
+        .get("extensions")
+        .and_then(|e| e.get(KHR_LIGHTS_PUNCTUAL)?.get("lights")?.as_array());
+    let mut out = Vec::new();
+    for (i, world) in node_worlds(doc) {
+        let Some(k) = nodes[i]
+            .pointer(&format!("/extensions/{KHR_LIGHTS_PUNCTUAL}/light"))
+            .map(Value::as_u64)
+        else {
+            continue;
+        };
+        let bad = |what: String| AssetError::Light {
+            path: doc.path.clone(),
+            place: format!("nodes[{i}].extensions.{KHR_LIGHTS_PUNCTUAL}"),
+            what,
+        };
+        let Some(def) = k.and_then(|k| defs?.get(usize::try_from(k).ok()?)) else {
+            return Err(bad("light: names no light of the extension's lights".into()));
+        };
+        let at = format!("lights[{}]", k.unwrap_or_default());
+        out.push(from_khr(def, world).map_err(|e| bad(format!("{at}.{e}")))?);
+    }
+    Ok(out)
+}
+
+/// Every (node, world matrix) reachable from the default scene (or every root node when the
+/// file has no scene), depth first. Cycles and absurd depths are cut off.
+fn node_worlds(doc: &Document) -> Vec<(usize, Mat4)> {
     let nodes = doc.array("nodes");
     let scene = doc.json.get("scene").and_then(Value::as_u64).unwrap_or(0) as usize;
     let roots: Vec<usize> = match doc.array("scenes").get(scene) {
@@ -403,9 +461,7 @@ fn mesh_instances(doc: &Document) -> Vec<(usize, Mat4)> {
             continue;
         }
         let world = parent * node_matrix(node);
-        if let Some(m) = node.get("mesh").and_then(Value::as_u64) {
-            out.push((m as usize, world));
-        }
+        out.push((i, world));
         for c in node
             .get("children")
             .and_then(Value::as_array)
@@ -551,6 +607,7 @@ pub fn flatten_with(doc: &Document, opts: LoadOptions) -> Result<MeshData, Asset
     if fur.any_comb {
         out.fur = Some(fur_data(doc, fur)?);
     }
+    out.lights = lights(doc)?;
     Ok(out)
 }
 
@@ -868,6 +925,101 @@ mod tests {
         doc.json["images"][0]["bufferView"] = serde_json::json!(0);
         let e = flatten(&doc).expect_err("not an image").to_string();
         assert!(e.contains("images[0]") && e.contains("PNG"), "{e}");
+    }
+
+    /// The sphere fixture with `lights` (KHR_lights_punctual's definitions) placed by one new
+    /// root node each: `(light index as written, node fields)`.
+    fn sphere_lit(lights: Value, nodes: &[(Value, Value)]) -> Document {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        let mut doc = pelt_io::load(&root.join("sphere.glb")).expect("sphere");
+        doc.json
+            .entry("extensions")
+            .or_insert_with(|| serde_json::json!({}))[KHR_LIGHTS_PUNCTUAL] =
+            serde_json::json!({ "lights": lights });
+        let scene = doc.json.get("scene").and_then(Value::as_u64).unwrap_or(0) as usize;
+        for (light, fields) in nodes {
+            let n = doc.array("nodes").len();
+            let mut node = fields.clone();
+            node["extensions"] = serde_json::json!({ KHR_LIGHTS_PUNCTUAL: { "light": light } });
+            doc.json["nodes"].as_array_mut().expect("nodes").push(node);
+            doc.json["scenes"][scene]["nodes"]
+                .as_array_mut()
+                .expect("scene nodes")
+                .push(serde_json::json!(n));
+        }
+        doc
+    }
+
+    #[test]
+    fn khr_lights_punctual_are_placed_by_their_nodes_and_a_bad_one_is_named() {
+        use crate::light::Emitter;
+        use serde_json::json;
+        let lights = json!([
+            {"type": "point", "color": [1, 0.5, 0.25], "intensity": 4, "range": 3},
+            {"type": "directional", "intensity": 2},
+            {"type": "point", "intensity": 1}
+        ]);
+        // A quarter turn about x turns the sun node's −z axis down.
+        let q = Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2);
+        let nodes = [
+            (json!(0), json!({"translation": [1, 2, 3]})),
+            (json!(1), json!({"rotation": [q.x, q.y, q.z, q.w]})),
+            (json!(2), json!({})),
+        ];
+        let m = flatten(&sphere_lit(lights.clone(), &nodes)).expect("lit sphere");
+        assert_eq!(m.lights.len(), 3, "{:?}", m.lights);
+        assert_eq!(
+            m.lights[0].emitter,
+            Emitter::Point {
+                position: Vec3::new(1.0, 2.0, 3.0),
+                radius: 3.0
+            }
+        );
+        assert_eq!(
+            (m.lights[0].color, m.lights[0].intensity.0),
+            ([1.0, 0.5, 0.25], 4.0)
+        );
+        let Emitter::Directional { direction } = m.lights[1].emitter else {
+            panic!("a sun: {:?}", m.lights[1]);
+        };
+        assert!(direction.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{direction}");
+        // No range: it reaches where 1/(1 + d²) falls to 1/256.
+        assert_eq!(m.lights[2].emitter.radius(), Some(255.0_f32.sqrt()));
+        assert!(m.lights.iter().all(|l| !l.shadows));
+        // Without the extension there are none (the negative control).
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        assert!(
+            load(&root.join("sphere.glb"))
+                .expect("sphere")
+                .lights
+                .is_empty()
+        );
+        // A node naming no light, and a light with a bad field, are errors at their places.
+        for (bad, nodes, says) in [
+            (
+                lights.clone(),
+                vec![(json!(7), json!({}))],
+                "names no light",
+            ),
+            (
+                json!([{"type": "area"}]),
+                vec![(json!(0), json!({}))],
+                "lights[0].type",
+            ),
+            (
+                json!([{"type": "point", "range": -1}]),
+                vec![(json!(0), json!({}))],
+                "lights[0].range",
+            ),
+        ] {
+            let e = flatten(&sphere_lit(bad, &nodes))
+                .expect_err(says)
+                .to_string();
+            assert!(
+                e.contains("sphere.glb") && e.contains("nodes[") && e.contains(says),
+                "{e}"
+            );
+        }
     }
 
     #[test]

@@ -1,39 +1,47 @@
 //! The scene's values written as text, as flags (`pelt render --size 640x360`) and `pelt
-//! sweep`'s knob lists give them: each parser checks the same range the scene file enforces
-//! ([`crate::scene`]'s constants), so a value the command line accepts is one a scene file
-//! accepts. Errors say what was given and what is allowed.
+//! sweep`'s knob lists give them, each within a range it is given: a knob's range is its spec's
+//! ([`crate::knobs::spec`], which the scene file checks too), so a value the command line
+//! accepts is one a scene file accepts. Errors say what was given and what is allowed.
 
 use std::ops::RangeInclusive;
 
-use crate::scene::{LBUFFER_SCALE, MAX_SIDE, reflection_limits};
+/// The longest side of an output, in pixels.
+pub const MAX_SIDE: u32 = 8192;
 
-/// `WIDTHxHEIGHT`, each side 1 to [`MAX_SIDE`].
+/// `WIDTHxHEIGHT`, each side 1 to [`MAX_SIDE`] (an output size).
 pub fn size(s: &str) -> Result<(u32, u32), String> {
+    sides(s, 1..=MAX_SIDE)
+}
+
+/// `WIDTHxHEIGHT`, each side in `range`.
+pub fn sides(s: &str, range: RangeInclusive<u32>) -> Result<(u32, u32), String> {
     let parsed = s
         .split_once(['x', 'X'])
         .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
     match parsed {
-        Some((w, h)) if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) => Ok((w, h)),
+        Some((w, h)) if range.contains(&w) && range.contains(&h) => Ok((w, h)),
         _ => Err(format!(
-            "{s:?} is not WIDTHxHEIGHT with sides 1 to {MAX_SIDE}"
+            "{s:?} is not WIDTHxHEIGHT with sides {} to {}",
+            range.start(),
+            range.end()
         )),
     }
 }
 
-/// An L-buffer scale in [`LBUFFER_SCALE`].
-pub fn lbuffer_scale(s: &str) -> Result<f32, String> {
+/// A scale in `range`.
+pub fn scale(s: &str, range: RangeInclusive<f32>) -> Result<f32, String> {
     match s.parse::<f32>() {
-        Ok(v) if LBUFFER_SCALE.contains(&v) => Ok(v),
+        Ok(v) if range.contains(&v) => Ok(v),
         _ => Err(format!(
             "{s:?} is not a scale from {} to {}",
-            LBUFFER_SCALE.start(),
-            LBUFFER_SCALE.end()
+            range.start(),
+            range.end()
         )),
     }
 }
 
 /// A power of two in `r`.
-fn power_of_two(s: &str, r: RangeInclusive<u32>) -> Result<u32, String> {
+pub fn power_of_two(s: &str, r: RangeInclusive<u32>) -> Result<u32, String> {
     match s.parse::<u32>() {
         Ok(v) if v.is_power_of_two() && r.contains(&v) => Ok(v),
         _ => Err(format!(
@@ -42,16 +50,6 @@ fn power_of_two(s: &str, r: RangeInclusive<u32>) -> Result<u32, String> {
             r.end()
         )),
     }
-}
-
-/// A cube-map face size: a power of two in [`reflection_limits::CUBE_SIZE`].
-pub fn cube_size(s: &str) -> Result<u32, String> {
-    power_of_two(s, reflection_limits::CUBE_SIZE)
-}
-
-/// A shadow cube face size: a power of two in [`crate::scene::ShadowMaps::SIZE`].
-pub fn shadow_size(s: &str) -> Result<u32, String> {
-    power_of_two(s, crate::scene::ShadowMaps::SIZE)
 }
 
 /// A count in `range` (one of the scene's ranges: shells, steps, layers, bounces).
@@ -82,26 +80,6 @@ pub fn positive_ms(s: &str) -> Result<f64, String> {
     }
 }
 
-/// A fur spring, `STIFFNESS,DAMPING` (1/s² and 1/s, each finite and above 0), or `off` (an
-/// infinitely stiff spring: the fur follows the skin rigidly).
-pub fn spring(s: &str) -> Result<pelt_anim::spring::Spring, String> {
-    if s == "off" {
-        return Ok(pelt_anim::spring::Spring {
-            stiffness: f32::INFINITY,
-            damping: 1.0,
-        });
-    }
-    let parsed = s
-        .split_once(',')
-        .and_then(|(k, d)| Some((k.trim().parse::<f32>().ok()?, d.trim().parse::<f32>().ok()?)));
-    let Some((stiffness, damping)) = parsed else {
-        return Err(format!(
-            "{s:?} is not STIFFNESS,DAMPING (e.g. 1500,25) or off"
-        ));
-    };
-    crate::scene::SpringSpec { stiffness, damping }.try_into()
-}
-
 /// A switch: `on` or `off` (`true` and `false` too).
 pub fn switch(s: &str) -> Result<bool, String> {
     match s {
@@ -114,7 +92,8 @@ pub fn switch(s: &str) -> Result<bool, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::reflection_limits::LAYERS;
+    use crate::scene::LBUFFER_SCALE;
+    use crate::scene::reflection_limits::{CUBE_SIZE, LAYERS};
 
     #[test]
     fn parsers_accept_the_scene_files_ranges_and_nothing_else() {
@@ -123,8 +102,10 @@ mod tests {
         for bad in ["8193x10", "0x10", "640", "640x", "axb", "-1x4"] {
             assert!(size(bad).is_err(), "{bad}");
         }
+        let lbuffer_scale = |s| scale(s, LBUFFER_SCALE);
         assert_eq!(lbuffer_scale("0.5"), Ok(0.5));
         assert!(lbuffer_scale("0.05").is_err() && lbuffer_scale("NaN").is_err());
+        let cube_size = |s| power_of_two(s, CUBE_SIZE);
         assert_eq!(cube_size("256"), Ok(256));
         assert!(cube_size("100").is_err() && cube_size("4").is_err());
         assert_eq!(count("8", LAYERS), Ok(8));

@@ -1,6 +1,6 @@
 //! The default scene for `pelt render ASSET.glb`: the camera framing the asset's bounding
 //! sphere from the front, slightly above and to the side, with a key, a fill and a rim light
-//! sized to the asset, and a little ambient. An asset with baked fur is drawn as fur (its
+//! sized to the asset (or the asset's own lights, where it places some), and a little ambient. An asset with baked fur is drawn as fur (its
 //! manifest's look) under the procedural sky.
 
 use std::path::Path;
@@ -59,11 +59,17 @@ pub fn asset_scene(asset: &Path, mesh: &MeshData, width: u32, height: u32) -> Sc
         } else {
             Sky::None
         },
-        lights: vec![
-            light(Vec3::new(1.5, 2.0, 2.5), [1.0, 0.95, 0.85], 6.0),
-            light(Vec3::new(-2.5, 0.5, 1.5), [0.55, 0.65, 1.0], 2.5),
-            light(Vec3::new(0.0, 1.5, -3.0), [1.0, 1.0, 1.0], 4.0),
-        ],
+        // An asset that places its own lights (KHR_lights_punctual) is lit by them alone:
+        // the scene's plan adds them.
+        lights: if mesh.lights.is_empty() {
+            vec![
+                light(Vec3::new(1.5, 2.0, 2.5), [1.0, 0.95, 0.85], 6.0),
+                light(Vec3::new(-2.5, 0.5, 1.5), [0.55, 0.65, 1.0], 2.5),
+                light(Vec3::new(0.0, 1.5, -3.0), [1.0, 1.0, 1.0], 4.0),
+            ]
+        } else {
+            Vec::new()
+        },
         ..Scene::default()
     }
 }

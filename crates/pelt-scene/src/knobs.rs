@@ -1,17 +1,21 @@
 //! The renderer's knobs as overrides of a scene (the flags of `pelt render` and the keys of
 //! `pelt view`): output size, L-buffer scale, DSF, shells, fins and fur blend; and how an
-//! input (a scene file or one asset framed by the default scene) becomes a scene.
+//! input (a scene file or one asset framed by the default scene) becomes a scene. Each knob's
+//! name, range, parse, default, own value and setter are declared once, in [`spec`]; the
+//! flags here parse through it.
+
+pub mod range;
+pub mod spec;
 
 use std::path::Path;
 
 use crate::asset::{self, AssetError, MeshData};
-use crate::flags;
 #[cfg(feature = "cli")]
-use crate::scene::reflection_limits as limits;
+use crate::flags;
 use crate::scene::{
     FurBlend, FurCoverage, FurLighting, Material, Reflections, Scene, SceneError, Technique,
 };
-use pelt_fur::manifest::SHELLS;
+use range::Value;
 
 /// A shell count as `--shells` gives it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,37 +27,55 @@ pub enum ShellCount {
     Fixed(u32),
 }
 
-/// `--shells`: `auto` or a count in [`SHELLS`].
+/// `--shells`: `auto` or a count in [`range::SHELLS`]' range.
 pub fn shell_count(s: &str) -> Result<ShellCount, String> {
-    if s == "auto" {
-        return Ok(ShellCount::BySize);
+    match range::SHELLS.parse(s)? {
+        Value::Count(n) => Ok(ShellCount::Fixed(n)),
+        _ => Ok(ShellCount::BySize),
     }
-    flags::count(s, SHELLS)
-        .map(ShellCount::Fixed)
-        .map_err(|e| format!("{e}, or auto"))
+}
+
+/// A fur spring, `STIFFNESS,DAMPING` (1/s² and 1/s, each finite and above 0), or `off` (an
+/// infinitely stiff spring: the fur follows the skin rigidly).
+pub fn spring(s: &str) -> Result<pelt_anim::spring::Spring, String> {
+    if s == "off" {
+        return Ok(pelt_anim::spring::Spring {
+            stiffness: f32::INFINITY,
+            damping: 1.0,
+        });
+    }
+    let parsed = s
+        .split_once(',')
+        .and_then(|(k, d)| Some((k.trim().parse::<f32>().ok()?, d.trim().parse::<f32>().ok()?)));
+    let Some((stiffness, damping)) = parsed else {
+        return Err(format!(
+            "{s:?} is not STIFFNESS,DAMPING (e.g. 1500,25) or off"
+        ));
+    };
+    crate::scene::SpringSpec { stiffness, damping }.try_into()
 }
 
 /// Overrides; `None` keeps the scene's value. With the `cli` feature these are also the
-/// flags of `pelt render`, `pelt view` and `pelt sweep` (clap's `Args`), so each knob's name,
-/// range and help are written here once.
+/// flags of `pelt render`, `pelt view` and `pelt sweep` (clap's `Args`): each knob's flag
+/// parses through its [`spec`] (the range the scene file checks), its help is written here.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "cli", derive(clap::Args))]
 pub struct Knobs {
     /// Output size WxH (overrides the scene's; `pelt view`: the window's).
-    #[cfg_attr(feature = "cli", arg(long, value_parser = flags::size))]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = |s: &str| range::SIZE.size(s)))]
     pub size: Option<(u32, u32)>,
     /// L-buffer scale, 0.1 to 1 (overrides the scene's).
-    #[cfg_attr(feature = "cli", arg(long, value_parser = flags::lbuffer_scale))]
+    #[cfg_attr(feature = "cli", arg(long, value_parser = |s: &str| range::LBUFFER_SCALE.scale(s)))]
     pub lbuffer_scale: Option<f32>,
     /// Discontinuity sensitive filtering on or off (overrides the scene's).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = |s: &str| range::SWITCH.switch(s)))]
     pub dsf: Option<bool>,
     /// Shells per fur object: 1 to 256, or auto (by the fur's size on screen, the manifest's
     /// rule, up to its count: the default); overrides the scene's and the manifest's.
     #[cfg_attr(feature = "cli", arg(long, value_name = "N|auto", value_parser = shell_count))]
     pub shells: Option<ShellCount>,
     /// Silhouette fins on or off (overrides the scene's).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = |s: &str| range::SWITCH.switch(s)))]
     pub fins: Option<bool>,
     /// How fur shells and fins are composited: stipple (Revie: blended over, inner to
     /// outer) or wboit (weighted blended order-independent transparency).
@@ -73,19 +95,19 @@ pub struct Knobs {
     pub reflections: ReflectionKnobs,
     /// Shadow cube face size, a power of two from 16 to 4096 (overrides the scene's
     /// shadowMaps.size).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = flags::shadow_size))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::SHADOW_SIZE.count(s)))]
     pub shadow_size: Option<u32>,
     /// Shadow filtering: the side of the square of texels each lookup compares, 1 (hard) to 8
     /// (overrides the scene's shadowMaps.pcf).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::PCF)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::PCF.count(s)))]
     pub pcf: Option<u32>,
     /// Deep opacity map layers through which fur shadows itself and what lies behind it, 0
     /// (none: fur casts as its base mesh) to 3 (overrides the scene's shadowMaps.opacityLayers).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, crate::scene::ShadowMaps::OPACITY_LAYERS)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::OPACITY_LAYERS.count(s)))]
     pub opacity_layers: Option<u32>,
     /// Fur springs, STIFFNESS,DAMPING in 1/s² and 1/s (e.g. 1500,25), or off: every fur
     /// material's secondary motion on an animated asset (overrides the scene's).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "K,D|off", value_parser = flags::spring))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "K,D|off", value_parser = spring))]
     pub spring: Option<pelt_anim::spring::Spring>,
     /// Largest texture side drawn, 1 to 16384 (default 8192): a larger image is halved until
     /// it fits while it decodes, with a warning.
@@ -105,24 +127,24 @@ pub struct ReflectionKnobs {
     )]
     pub technique: Option<Technique>,
     /// Distance-map linear search steps per quarter turn, 1 to 1024.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::LINEAR_STEPS)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::LINEAR_STEPS.count(s)))]
     pub linear_steps: Option<u32>,
     /// Secant refinement steps, 0 to 64.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::SECANT_STEPS)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::SECANT_STEPS.count(s)))]
     pub secant_steps: Option<u32>,
     /// Distance-map layers, 3 to 8 (object front faces, back faces, and depth-peeled
     /// layers of the rest of the scene).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::LAYERS)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::LAYERS.count(s)))]
     pub layers: Option<u32>,
     /// Cube-map face size, a power of two from 8 to 65536 (and at most the adapter's texture
     /// limit).
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = flags::cube_size))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::CUBE_SIZE.count(s)))]
     pub cube_size: Option<u32>,
     /// Most specular bounces on a path, 1 to 16.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| flags::count(s, limits::MAX_DEPTH)))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "N", value_parser = |s: &str| range::MAX_DEPTH.count(s)))]
     pub max_depth: Option<u32>,
     /// Min-max acceleration of the distance-map search on or off.
-    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = flags::switch))]
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = |s: &str| range::SWITCH.switch(s)))]
     pub min_max: Option<bool>,
 }
 

@@ -25,6 +25,7 @@ pub mod footprint;
 pub mod framing;
 pub mod fur;
 pub mod knobs;
+pub mod light;
 pub mod material;
 pub mod orbit;
 pub mod plan;

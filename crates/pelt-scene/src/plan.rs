@@ -12,6 +12,7 @@ use glam::{Mat4, Vec3};
 
 use crate::asset::MeshData;
 use crate::fur::FurLook;
+use crate::light::LightKind;
 use crate::scene::{
     FurBlend, FurCoverage, FurLighting, FurSettings, Material, Reflections, Scene, ShadowMaps, Sky,
     Technique,
@@ -294,9 +295,9 @@ pub struct Plan {
     pub extent: (Vec3, f32),
     /// Lights the distance maps are lit by (every light of the scene, on screen or not).
     pub map_lights: usize,
-    /// Lights that cast shadows: point lights (each draws a cube) and directional lights (each
-    /// an orthographic map).
-    pub shadow_lights: (usize, usize),
+    /// The kind of each light that casts shadows, in slot order (each kind's map is fitted by
+    /// the shadows feature).
+    pub shadow_lights: Vec<LightKind>,
     /// The shadow cubes' size and filtering.
     pub shadow_maps: ShadowMaps,
     /// How fur shells and fins are composited.
@@ -336,6 +337,8 @@ pub struct MeshInfo {
     /// The largest length scale of its fur vertices (what its nodes make of a mesh unit
     /// across the surface); 1 without fur.
     pub fur_scale: f32,
+    /// The lights it places (glTF's `KHR_lights_punctual`), in its space.
+    pub lights: Vec<crate::light::Light>,
 }
 
 impl MeshInfo {
@@ -355,8 +358,41 @@ impl MeshInfo {
             fur_scale: mesh.fur.as_ref().map_or(1.0, |f| {
                 f.vertices.iter().map(|v| v.bend[3]).fold(0.0, f32::max)
             }),
+            lights: mesh.lights.clone(),
         }
     }
+}
+
+/// The lights `scene` shines: its own, then those its objects' assets place (glTF's
+/// `KHR_lights_punctual`, moved with their objects), without the dark ones, shadows kept on
+/// the first [`MAX_SHADOW_LIGHTS`] ([`cap_shadows`]); and how many the scene has in all.
+fn planned_lights(
+    scene: &Scene,
+    infos: &[MeshInfo],
+    mesh_of: &[usize],
+    notes: &mut Vec<String>,
+) -> (Vec<Light>, usize) {
+    let placed = scene.objects.iter().enumerate().flat_map(|(i, o)| {
+        let model = o.transform.matrix();
+        infos[mesh_of[i]]
+            .lights
+            .iter()
+            .map(move |l| crate::light::Light {
+                emitter: l.emitter.moved(model),
+                ..*l
+            })
+    });
+    let all: Vec<crate::light::Light> = scene.lights.iter().copied().chain(placed).collect();
+    let lights: Vec<Light> = all
+        .iter()
+        .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
+        .map(|l| Light {
+            emitter: l.emitter,
+            color: Vec3::from(l.color) * l.intensity.0,
+            shadows: l.shadows,
+        })
+        .collect();
+    (cap_shadows(lights, scene, notes), all.len())
 }
 
 /// Most lights that cast shadows (shadow-map slots).
@@ -636,17 +672,7 @@ impl ScenePlan {
             objects.push((planned, bounds));
         }
         notes.extend(crate::precision::range_note(&scene.camera));
-        let lights: Vec<Light> = scene
-            .lights
-            .iter()
-            .filter(|l| l.intensity.0 > 0.0 && l.color.iter().any(|&c| c > 0.0))
-            .map(|l| Light {
-                emitter: l.emitter,
-                color: Vec3::from(l.color) * l.intensity.0,
-                shadows: l.shadows,
-            })
-            .collect();
-        let lights = cap_shadows(lights, scene, &mut notes);
+        let (lights, scene_lights) = planned_lights(scene, infos, mesh_of, &mut notes);
         ScenePlan {
             mode,
             output,
@@ -662,7 +688,7 @@ impl ScenePlan {
             sky: scene.sky.clone(),
             ambient: Vec3::from(scene.ambient),
             wind: crate::wind::constants(scene.wind.as_ref(), scene.time),
-            scene_lights: scene.lights.len(),
+            scene_lights,
             notes,
             reflections: scene.reflections,
             shadow_maps: scene.shadow_maps,
@@ -754,11 +780,9 @@ fn lights_on_screen(scene: &ScenePlan, view: &View, target: (u32, u32)) -> Vec<P
             Some(PlannedLight {
                 emitter: l.emitter,
                 color: l.color,
-                rect: match l.emitter {
-                    Emitter::Point { position, radius } => {
-                        view.light_rect(position, radius, target)?
-                    }
-                    Emitter::Directional { .. } => [0, 0, target.0, target.1],
+                rect: match l.emitter.bounds() {
+                    Some((centre, radius)) => view.light_rect(centre, radius, target)?,
+                    None => [0, 0, target.0, target.1],
                 },
                 shadow: scene.shadow_slot(l),
             })
@@ -903,13 +927,7 @@ impl Plan {
             reflections: scene.reflections,
             extent: scene.extent,
             map_lights: scene.lights.len(),
-            shadow_lights: {
-                let points = scene
-                    .shadow_lights()
-                    .filter(|l| matches!(l.emitter, Emitter::Point { .. }))
-                    .count();
-                (points, scene.shadow_lights().count() - points)
-            },
+            shadow_lights: scene.shadow_lights().map(|l| l.emitter.kind()).collect(),
             shadow_maps: scene.shadow_maps,
             fur_blend: scene.fur_blend,
             sky: scene.sky.clone(),
@@ -1170,6 +1188,36 @@ mod tests {
         let p = plan(&s, Mode::Inferred);
         assert_eq!((p.lights.len(), p.culled_lights), (1, 1));
         assert_eq!((p.objects.len(), p.culled_objects), (1, 1));
+    }
+
+    #[test]
+    fn the_lights_an_asset_places_move_with_its_object() {
+        let mut s = grid_scene(Path::new("builtin:cube"), 1, 0, 1, 160, 90);
+        s.lights.clear();
+        s.objects[0].transform.translation = [0.0, 0.0, 1.0];
+        s.objects[0].transform.scale = [2.0; 3];
+        let mut cube = builtin("cube").expect("cube");
+        let infos = |cube: &MeshData| vec![MeshInfo::of(cube)];
+        let p = ScenePlan::new(&s, &infos(&cube), &[0], Mode::Inferred);
+        assert!(p.lights.is_empty(), "the cube places none (the control)");
+        let mut placed = at([0.0, 0.25, 0.0]);
+        placed.emitter = Emitter::Point {
+            position: Vec3::new(0.0, 0.25, 0.0),
+            radius: 1.5,
+        };
+        cube.lights.push(placed);
+        let p = ScenePlan::new(&s, &infos(&cube), &[0], Mode::Inferred);
+        assert_eq!(p.lights.len(), 1);
+        assert_eq!(p.scene_lights, 1);
+        let Emitter::Point { position, radius } = p.lights[0].emitter else {
+            panic!("{:?}", p.lights[0]);
+        };
+        let model = s.objects[0].transform.matrix();
+        assert!(position.abs_diff_eq(model.transform_point3(Vec3::new(0.0, 0.25, 0.0)), 1e-6));
+        assert!(
+            (radius - 3.0).abs() < 1e-5,
+            "scaled with the object: {radius}"
+        );
     }
 
     fn s_light() -> crate::scene::Light {

@@ -14,7 +14,7 @@ use glam::{Mat4, Quat, Vec3};
 // The checked numbers moved below this module (the wind reads them too); their old paths here
 // keep working.
 pub use crate::checked::{Ior, NonNegative, Positive, Unit};
-use crate::shading::Emitter;
+pub use crate::light::{Light, LightKind};
 use crate::wind::Wind;
 pub use pelt_anim::spring::Spring;
 use serde::{Deserialize, Serialize};
@@ -114,7 +114,7 @@ impl FurSettings {
 pub const MAX_SHELLS: u32 = *pelt_fur::manifest::SHELLS.end();
 
 /// The L-buffer scales a scene and every flag accept.
-pub const LBUFFER_SCALE: std::ops::RangeInclusive<f32> = 0.1..=1.0;
+pub const LBUFFER_SCALE: std::ops::RangeInclusive<f32> = crate::knobs::range::LBUFFER_SCALE_BOUNDS;
 
 /// How the fur's shells and fins are composited.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -474,7 +474,7 @@ impl MaterialSpec {
         Ok(())
     }
 
-    /// A fur material: no opacity or ior; shells within 1 to [`MAX_SHELLS`], a finite length
+    /// A fur material: no opacity or ior; shells within their knob's range, a finite length
     /// of at least 0, and a valid spring.
     fn fur(&self) -> Result<Material, String> {
         if self.opacity.is_some() {
@@ -483,10 +483,10 @@ impl MaterialSpec {
         if self.ior.is_some() {
             return self.extra("ior");
         }
-        if let Some(n) = self.shells
-            && !(1..=MAX_SHELLS).contains(&n)
-        {
-            return Err(format!("shells must be 1 to {MAX_SHELLS}, got {n}"));
+        if let Some(n) = self.shells {
+            crate::knobs::range::SHELLS
+                .check_count(n)
+                .map_err(|m| format!("shells {m}"))?;
         }
         if let Some(l) = self.length
             && !(l.is_finite() && l >= 0.0)
@@ -646,174 +646,12 @@ fn opaque() -> Material {
     Material::Opaque
 }
 
-fn is_white(c: &[f32; 3]) -> bool {
-    *c == [1.0; 3]
-}
-
-/// A light of the scene file: a point light (`"position"` and `"radius"`) or, with
-/// `"kind": "directional"`, a sun (`"direction"`, the way its light travels).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "LightFile", into = "LightFile")]
-pub struct Light {
-    /// Where its light comes from (a point light's position and radius are finite, its radius
-    /// above 0; a directional light's direction is finite and of unit length).
-    pub emitter: Emitter,
-    /// Linear RGB colour (finite, at least 0).
-    pub color: [f32; 3],
-    /// Intensity multiplier.
-    pub intensity: NonNegative,
-    /// Whether the light casts shadows: surfaces it cannot see directly get none of its light
-    /// (the ray tracer traces a shadow ray toward it).
-    pub shadows: bool,
-}
-
-impl Light {
-    /// A white point light of `intensity` at `position` reaching `radius`, casting no
-    /// shadows.
-    pub fn point(position: [f32; 3], radius: f32, intensity: f32) -> Light {
-        Light {
-            emitter: Emitter::Point {
-                position: Vec3::from(position),
-                radius,
-            },
-            color: [1.0; 3],
-            intensity: NonNegative(intensity),
-            shadows: false,
-        }
-    }
-
-    /// This light with `color`.
-    pub fn with_color(self, color: [f32; 3]) -> Light {
-        Light { color, ..self }
-    }
-}
-
-/// Light kinds as written.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum LightKind {
-    /// A point light (the default).
-    #[default]
-    Point,
-    /// A directional light.
-    Directional,
-}
-
-/// A light as written (checked into a [`Light`]; a mistake is reported at the light's place
-/// in the file).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LightFile {
-    #[serde(default, skip_serializing_if = "is_point")]
-    kind: LightKind,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    position: Option<[f32; 3]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    direction: Option<[f32; 3]>,
-    #[serde(default = "white")]
-    color: [f32; 3],
-    #[serde(default = "one")]
-    intensity: NonNegative,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    radius: Option<Positive>,
-    #[serde(default, skip_serializing_if = "is_false")]
-    shadows: bool,
-}
-
-fn is_point(k: &LightKind) -> bool {
-    *k == LightKind::Point
-}
-
-impl TryFrom<LightFile> for Light {
-    type Error = String;
-
-    fn try_from(f: LightFile) -> Result<Light, String> {
-        if !f.color.iter().all(|c| c.is_finite() && *c >= 0.0) {
-            return Err(format!(
-                "color: components must be finite and at least 0, got {:?}",
-                f.color
-            ));
-        }
-        let emitter = match (f.kind, f.position, f.radius, f.direction) {
-            (LightKind::Point, Some(p), Some(r), None) => {
-                if !p.iter().all(|v| v.is_finite()) {
-                    return Err(format!("position: must be finite, got {p:?}"));
-                }
-                Emitter::Point {
-                    position: Vec3::from(p),
-                    radius: r.0,
-                }
-            }
-            (LightKind::Point, _, _, Some(_)) => {
-                return Err(
-                    "direction: only a directional light (\"kind\": \"directional\") has one"
-                        .into(),
-                );
-            }
-            (LightKind::Point, None, _, _) => return Err("a point light needs a position".into()),
-            (LightKind::Point, _, None, _) => return Err("a point light needs a radius".into()),
-            (LightKind::Directional, None, None, Some(d)) => {
-                let v = Vec3::from(d);
-                if !v.is_finite() || v.length() < 1e-6 {
-                    return Err(format!("direction: must be finite and not zero, got {d:?}"));
-                }
-                Emitter::Directional {
-                    direction: v.normalize(),
-                }
-            }
-            (LightKind::Directional, _, _, None) => {
-                return Err("a directional light needs a direction".into());
-            }
-            (LightKind::Directional, _, _, Some(_)) => {
-                return Err(
-                    "a directional light has no position or radius (it reaches everywhere)".into(),
-                );
-            }
-        };
-        Ok(Light {
-            emitter,
-            color: f.color,
-            intensity: f.intensity,
-            shadows: f.shadows,
-        })
-    }
-}
-
-impl From<Light> for LightFile {
-    fn from(l: Light) -> LightFile {
-        let (kind, position, radius, direction) = match l.emitter {
-            Emitter::Point { position, radius } => (
-                LightKind::Point,
-                Some(position.into()),
-                Some(Positive(radius)),
-                None,
-            ),
-            Emitter::Directional { direction } => {
-                (LightKind::Directional, None, None, Some(direction.into()))
-            }
-        };
-        LightFile {
-            kind,
-            position,
-            direction,
-            color: l.color,
-            intensity: l.intensity,
-            radius,
-            shadows: l.shadows,
-        }
-    }
-}
-
-fn is_false(b: &bool) -> bool {
-    !*b
-}
-
 fn white() -> [f32; 3] {
     [1.0; 3]
 }
 
-fn one() -> NonNegative {
-    NonNegative(1.0)
+fn is_white(c: &[f32; 3]) -> bool {
+    *c == [1.0; 3]
 }
 
 /// A perspective camera.
@@ -974,42 +812,34 @@ impl Default for Reflections {
 
 /// Ranges of the reflection knobs.
 pub mod reflection_limits {
+    use crate::knobs::range;
+
     /// Linear steps.
-    pub const LINEAR_STEPS: std::ops::RangeInclusive<u32> = 1..=1024;
+    pub const LINEAR_STEPS: std::ops::RangeInclusive<u32> = range::LINEAR_STEPS_BOUNDS;
     /// Secant steps.
-    pub const SECANT_STEPS: std::ops::RangeInclusive<u32> = 0..=64;
+    pub const SECANT_STEPS: std::ops::RangeInclusive<u32> = range::SECANT_STEPS_BOUNDS;
     /// Layers.
-    pub const LAYERS: std::ops::RangeInclusive<u32> = 3..=8;
+    pub const LAYERS: std::ops::RangeInclusive<u32> = range::LAYERS_BOUNDS;
     /// Cube size (also a power of two, and at most the adapter's texture limit).
-    pub const CUBE_SIZE: std::ops::RangeInclusive<u32> = 8..=65536;
+    pub const CUBE_SIZE: std::ops::RangeInclusive<u32> = range::CUBE_SIZE_BOUNDS;
     /// Bounces.
-    pub const MAX_DEPTH: std::ops::RangeInclusive<u32> = 1..=16;
+    pub const MAX_DEPTH: std::ops::RangeInclusive<u32> = range::MAX_DEPTH_BOUNDS;
 }
 
 impl Reflections {
-    /// The first knob out of range, as (field, message).
+    /// The first knob out of range (each checked by its spec, `crate::knobs::spec`), as
+    /// (field, message).
     pub fn check(&self) -> Result<(), (&'static str, String)> {
-        use reflection_limits as l;
-        let range = |field, v: u32, r: std::ops::RangeInclusive<u32>| {
-            if r.contains(&v) {
-                Ok(())
-            } else {
-                Err((
-                    field,
-                    format!("must be {} to {}, got {v}", r.start(), r.end()),
-                ))
-            }
-        };
-        range("linearSteps", self.linear_steps, l::LINEAR_STEPS)?;
-        range("secantSteps", self.secant_steps, l::SECANT_STEPS)?;
-        range("layers", self.layers, l::LAYERS)?;
-        range("maxDepth", self.max_depth, l::MAX_DEPTH)?;
-        range("cubeSize", self.cube_size, l::CUBE_SIZE)?;
-        if !self.cube_size.is_power_of_two() {
-            return Err((
-                "cubeSize",
-                format!("must be a power of two, got {}", self.cube_size),
-            ));
+        use crate::knobs::range;
+        let knobs = [
+            ("linearSteps", self.linear_steps, &range::LINEAR_STEPS),
+            ("secantSteps", self.secant_steps, &range::SECANT_STEPS),
+            ("layers", self.layers, &range::LAYERS),
+            ("maxDepth", self.max_depth, &range::MAX_DEPTH),
+            ("cubeSize", self.cube_size, &range::CUBE_SIZE),
+        ];
+        for (field, v, knob) in knobs {
+            knob.check_count(v).map_err(|m| (field, m))?;
         }
         Ok(())
     }
@@ -1042,28 +872,24 @@ impl Default for ShadowMaps {
 
 impl ShadowMaps {
     /// Face sizes (also a power of two).
-    pub const SIZE: std::ops::RangeInclusive<u32> = 16..=4096;
+    pub const SIZE: std::ops::RangeInclusive<u32> = crate::knobs::range::SHADOW_SIZE_BOUNDS;
     /// PCF sides.
-    pub const PCF: std::ops::RangeInclusive<u32> = 1..=8;
+    pub const PCF: std::ops::RangeInclusive<u32> = crate::knobs::range::PCF_BOUNDS;
     /// Deep opacity map layers.
-    pub const OPACITY_LAYERS: std::ops::RangeInclusive<u32> = 0..=3;
+    pub const OPACITY_LAYERS: std::ops::RangeInclusive<u32> =
+        crate::knobs::range::OPACITY_LAYERS_BOUNDS;
 
-    /// The first knob out of range, as (field, message).
+    /// The first knob out of range (each checked by its spec, `crate::knobs::spec`), as
+    /// (field, message).
     pub fn check(&self) -> Result<(), (&'static str, String)> {
-        if !Self::SIZE.contains(&self.size) || !self.size.is_power_of_two() {
-            return Err((
-                "size",
-                format!("must be a power of two from 16 to 4096, got {}", self.size),
-            ));
-        }
-        if !Self::PCF.contains(&self.pcf) {
-            return Err(("pcf", format!("must be 1 to 8, got {}", self.pcf)));
-        }
-        if !Self::OPACITY_LAYERS.contains(&self.opacity_layers) {
-            return Err((
-                "opacityLayers",
-                format!("must be 0 to 3, got {}", self.opacity_layers),
-            ));
+        use crate::knobs::range;
+        let knobs = [
+            ("size", self.size, &range::SHADOW_SIZE),
+            ("pcf", self.pcf, &range::PCF),
+            ("opacityLayers", self.opacity_layers, &range::OPACITY_LAYERS),
+        ];
+        for (field, v, knob) in knobs {
+            knob.check_count(v).map_err(|m| (field, m))?;
         }
         Ok(())
     }
@@ -1108,7 +934,7 @@ impl Default for Scene {
 }
 
 /// Largest output side.
-pub const MAX_SIDE: u32 = 8192;
+pub use crate::flags::MAX_SIDE;
 
 /// A scene that could not be used.
 #[derive(Debug, thiserror::Error)]
@@ -1210,17 +1036,9 @@ impl Scene {
                 ),
             ));
         }
-        if !LBUFFER_SCALE.contains(&self.lbuffer_scale) {
-            return Err((
-                "lbufferScale".into(),
-                format!(
-                    "must be from {} to {}, got {}",
-                    LBUFFER_SCALE.start(),
-                    LBUFFER_SCALE.end(),
-                    self.lbuffer_scale
-                ),
-            ));
-        }
+        crate::knobs::range::LBUFFER_SCALE
+            .check(crate::knobs::range::Value::Scale(self.lbuffer_scale))
+            .map_err(|m| ("lbufferScale".to_owned(), m))?;
         if self.ambient.iter().any(|v| !v.is_finite() || *v < 0.0) {
             return Err((
                 "ambient".into(),
@@ -1288,6 +1106,7 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light::Emitter;
 
     fn parse(text: &str) -> Result<Scene, SceneError> {
         Scene::parse(Path::new("scene.json"), text)
@@ -1548,7 +1367,7 @@ mod tests {
                 "at least 0",
             ),
             (
-                "{\n\"lights\": [\n {\"kind\": \"spot\"}]}",
+                "{\n\"lights\": [\n {\"kind\": \"area\"}]}",
                 "",
                 "unknown variant",
             ),

@@ -13,61 +13,7 @@ pub const SPECULAR_POWER: f32 = 32.0;
 /// The linear background colour where there is no sky.
 pub const BACKGROUND: [f32; 3] = [0.02, 0.022, 0.028];
 
-/// Where a light's light comes from.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Emitter {
-    /// A point light at `position` whose light falls to zero at `radius`.
-    Point {
-        /// Position.
-        position: Vec3,
-        /// Radius where its light reaches zero.
-        radius: f32,
-    },
-    /// A directional light (a sun): its light travels along the unit `direction` everywhere,
-    /// with no falloff.
-    Directional {
-        /// Unit direction the light travels in (from the light toward the scene).
-        direction: Vec3,
-    },
-}
-
-impl Emitter {
-    /// A point light's position.
-    pub fn position(&self) -> Option<Vec3> {
-        match *self {
-            Emitter::Point { position, .. } => Some(position),
-            Emitter::Directional { .. } => None,
-        }
-    }
-
-    /// A point light's radius.
-    pub fn radius(&self) -> Option<f32> {
-        match *self {
-            Emitter::Point { radius, .. } => Some(radius),
-            Emitter::Directional { .. } => None,
-        }
-    }
-
-    /// The unit direction from `p` toward the light, its falloff at `p` and the distance a
-    /// shadow ray travels to reach it (infinite for a directional light); `None` where a point
-    /// light does not reach (`light_reach` in common.wgsl).
-    pub fn reach(&self, p: Vec3) -> Option<(Vec3, f32, f32)> {
-        match *self {
-            Emitter::Point { position, radius } => {
-                let to_light = position - p;
-                let dist = to_light.length();
-                if dist >= radius {
-                    return None;
-                }
-                let x = dist / radius;
-                let window = (1.0 - x * x * x * x).clamp(0.0, 1.0);
-                let atten = window * window / (1.0 + dist * dist);
-                Some((to_light / dist.max(1e-6), atten, dist))
-            }
-            Emitter::Directional { direction } => Some((-direction, 1.0, f32::INFINITY)),
-        }
-    }
-}
+pub use crate::light::Emitter;
 
 /// A light as the shaders see it.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -16,6 +16,7 @@ use obvhs::bvh2::builder::build_bvh2;
 use obvhs::ray::Ray;
 use rayon::prelude::*;
 
+use pelt_scene::light::Source;
 use pelt_scene::shading::Emitter;
 use pelt_scene::vertex::StrandRoot;
 use pelt_scene::wind::{self, WindOn};
@@ -199,12 +200,12 @@ fn sees(world: &World, occ: &Occluders, p: Vec3, n: Vec3, light: &Emitter, own: 
     if !world.sees_above(p, n, light) {
         return false;
     }
-    let (d, dist) = match *light {
-        Emitter::Point { position, .. } => {
+    let (d, dist) = match light.source() {
+        Source::At(position) => {
             let to = position - p;
             (to.normalize_or_zero(), to.length())
         }
-        Emitter::Directional { direction } => (-direction, f32::INFINITY),
+        Source::Along(direction) => (-direction, f32::INFINITY),
     };
     !occ.blocked(p, d, dist, own)
 }

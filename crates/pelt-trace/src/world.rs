@@ -12,6 +12,7 @@ use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
 
 use pelt_scene::asset::MeshData;
+use pelt_scene::light::Source;
 use pelt_scene::plan::{Optics, ScenePlan};
 use pelt_scene::shading::{self, Emitter, Light, linear_of_srgb8};
 use pelt_scene::sky::CubeImages;
@@ -228,9 +229,9 @@ impl World {
     /// before meeting any traced surface (mirrors and glass included, as their meshes cast in
     /// a shadow map).
     pub fn sees(&self, p: Vec3, g: Vec3, light: &Emitter) -> bool {
-        let toward = match *light {
-            Emitter::Point { position, .. } => position - p,
-            Emitter::Directional { direction } => -direction,
+        let toward = match light.source() {
+            Source::At(position) => position - p,
+            Source::Along(direction) => -direction,
         };
         let side = if g.dot(toward) >= 0.0 { g } else { -g };
         self.sees_from(p, side, light)
@@ -247,8 +248,8 @@ impl World {
     /// Whether the shadow ray from `p`, offset by epsilon along `side`, reaches `light`.
     fn sees_from(&self, p: Vec3, side: Vec3, light: &Emitter) -> bool {
         let o = p + side * self.epsilon;
-        match *light {
-            Emitter::Point { position, .. } => {
+        match light.source() {
+            Source::At(position) => {
                 let to = position - o;
                 let dist = to.length();
                 if dist <= self.epsilon {
@@ -256,9 +257,7 @@ impl World {
                 }
                 self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
             }
-            Emitter::Directional { direction } => {
-                self.hit(o, -direction, 0.0, f32::INFINITY).is_none()
-            }
+            Source::Along(direction) => self.hit(o, -direction, 0.0, f32::INFINITY).is_none(),
         }
     }
 

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use pelt_preview::features::overlay::Overlay;
-use pelt_preview::knobs::Knobs;
+use pelt_preview::knobs::{Knobs, ShellCount, spec};
 use pelt_preview::{Gpu, Preview};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -387,39 +387,17 @@ impl Running {
     }
 }
 
-/// The scene's own knob values (what a toggle starts from).
+/// The scene's own knob values (what a toggle starts from), from each knob's spec; the
+/// shells key halves or doubles the count the view starts from, so where the scene leaves
+/// the count to the manifest's rule it starts from the manifest's count (the most the rule
+/// draws).
 fn scene_knobs(v: &Viewer) -> Knobs {
-    let s = &v.input.scene;
-    let fur = s.objects.iter().find_map(|o| match o.material {
-        pelt_preview::scene::Material::Fur(f) => Some(f),
-        _ => None,
-    });
-    let manifest_shells = v
-        .input
-        .meshes
-        .iter()
-        .find_map(|m| m.fur.as_ref().map(|f| f.look.shells));
-    Knobs {
-        size: None,
-        lbuffer_scale: Some(s.lbuffer_scale),
-        dsf: Some(s.dsf),
-        // The key halves or doubles the count the view starts from: the scene's forced one,
-        // else the manifest's (the most the rule draws).
-        shells: fur
-            .and_then(|f| f.shells)
-            .or(manifest_shells)
-            .map(pelt_preview::knobs::ShellCount::Fixed),
-        fins: fur.map(|f| f.fins_with(s.fur_coverage)),
-        fur_blend: Some(s.fur_blend),
-        fur_coverage: Some(s.fur_coverage),
-        fur_lighting: Some(s.fur_lighting),
-        reflections: Default::default(),
-        shadow_size: Some(s.shadow_maps.size),
-        pcf: Some(s.shadow_maps.pcf),
-        opacity_layers: Some(s.shadow_maps.opacity_layers),
-        spring: fur.and_then(|f| f.spring),
-        max_texture: None,
+    let own = spec::Own::of(&v.input.scene, &v.input.meshes);
+    let mut k = spec::own_knobs(&own);
+    if k.shells == Some(ShellCount::BySize) {
+        k.shells = own.fur.map(|f| ShellCount::Fixed(f.look.shells));
     }
+    k
 }
 
 fn key_name(key: &Key) -> Option<String> {

@@ -3,6 +3,7 @@
 //! turns into orbit, pan and zoom amounts.
 
 use pelt_preview::Mode;
+use pelt_preview::knobs::spec::{self, KnobSpec};
 use pelt_preview::knobs::{Knobs, ShellCount};
 use pelt_preview::plan::DebugView;
 use pelt_preview::scene::FurBlend;
@@ -49,6 +50,21 @@ pub enum Action {
     Step(i8),
     /// The next animation clip.
     NextClip,
+}
+
+impl Action {
+    /// The knob the action turns (its spec: name, range, the scene's own value), if any.
+    pub fn knob(self) -> Option<&'static KnobSpec> {
+        Some(match self {
+            Action::CycleMode => &spec::MODE,
+            Action::LbufferScale(_) => &spec::LBUFFER_SCALE,
+            Action::ToggleDsf => &spec::DSF,
+            Action::Shells(_) => &spec::SHELLS,
+            Action::ToggleFins => &spec::FINS,
+            Action::ToggleBlend => &spec::FUR_BLEND,
+            _ => return None,
+        })
+    }
 }
 
 /// The action of a key, by its character (lower case) or name.
@@ -213,5 +229,46 @@ mod tests {
             (Some(false), Some(false), Some(FurBlend::Wboit))
         );
         assert!(!s.apply(Action::Screenshot, &base), "not a knob");
+    }
+
+    /// Whether `a`, applied to no overrides, changes just the override `knob` sets: setting
+    /// the knob over the action's result leaves what setting it alone does.
+    fn turns(a: Action, knob: &KnobSpec) -> bool {
+        let Some(set) = knob.set else { return false };
+        let v = knob
+            .range
+            .every()
+            .and_then(|v| v.first().copied())
+            .unwrap_or_else(|| knob.parse("1").expect("1 is a scale and a count"));
+        let mut s = Settings {
+            mode: Mode::Inferred,
+            knobs: Knobs::default(),
+        };
+        s.apply(a, &Knobs::default());
+        let mut alone = Knobs::default();
+        set(&mut s.knobs, v);
+        set(&mut alone, v);
+        s.knobs == alone
+    }
+
+    #[test]
+    fn every_knob_key_turns_the_knob_its_spec_names() {
+        let keys = "m[]d-=ib";
+        let knobs: Vec<&KnobSpec> = keys
+            .chars()
+            .filter_map(|c| action(&c.to_string()).and_then(Action::knob))
+            .collect();
+        assert_eq!(knobs.len(), keys.len(), "a knob key without a knob");
+        for c in keys.chars() {
+            let a = action(&c.to_string()).expect("a key");
+            let k = a.knob().expect("a knob");
+            assert!(spec::ALL.contains(&k), "{} is not a knob spec", k.name);
+            if a != Action::CycleMode {
+                assert!(turns(a, k), "{c} does not turn {}", k.name);
+            }
+        }
+        // Negative control: a key does not turn another knob.
+        assert!(!turns(Action::ToggleDsf, &spec::FINS));
+        assert!(!turns(Action::Shells(1), &spec::LBUFFER_SCALE));
     }
 }

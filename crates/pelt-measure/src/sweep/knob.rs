@@ -1,25 +1,25 @@
-//! The quality knobs `pelt sweep` turns, one entry each in [`KNOBS`](super::table::KNOBS): its name (the flag of
-//! `pelt render` or `pelt bake`), what the scene must hold for it to change anything, how a
-//! value is parsed, the values swept when none are given, how a value is applied to a
-//! setting (the scene's overrides, the mode or a re-bake) and the scene's own value. The
-//! range in words, the default, the reference each is measured against and whether it
-//! re-bakes are declared by the renderer feature that reads the knob
-//! (`pelt_preview::feature::KnobDesc`) and read here; a test checks the two tables name the
-//! same knobs.
-
-use std::fmt;
+//! The quality knobs `pelt sweep` turns, one entry each in [`KNOBS`](super::table::KNOBS):
+//! its spec (`pelt_scene::knobs::spec`: its name, the flag of `pelt render` or `pelt bake`,
+//! its range, how a value parses, its default, its reference, whether it re-bakes, the
+//! scene's own value and how a value applies to the scene's overrides), what the scene must
+//! hold for it to change anything, and the sweep's own part: the values swept when none are
+//! given, a narrower range where the sweep's references stop, and how a value that is no
+//! scene override applies (the mode, a re-bake). The renderer feature that reads the knob
+//! names the same spec (`pelt_preview::feature::KnobDesc`); a test checks the two tables name
+//! the same knobs.
 
 use pelt_bake::options::Quantize;
 use pelt_fur::HeightBits;
-use pelt_preview::feature::KnobDesc;
-use pelt_preview::features::registry;
 use pelt_scene::Mode;
-use pelt_scene::fur::FurData;
 use pelt_scene::knobs::Knobs;
-use pelt_scene::scene::{FurBlend, FurCoverage, FurLighting, FurSettings, Scene, Technique};
+use pelt_scene::knobs::spec::{KnobSpec, Range};
 
-/// What a knob is measured against (declared with the knob by the feature that reads it).
-pub use pelt_preview::feature::Reference as Truth;
+/// What the scene itself sets, for telling which swept value is its own.
+pub use pelt_scene::knobs::spec::Own;
+/// What a knob is measured against (declared with the knob's spec).
+pub use pelt_scene::knobs::spec::Reference as Truth;
+/// One value of a knob.
+pub use pelt_scene::knobs::spec::Value;
 
 /// What a scene must hold for a knob to change anything.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,95 +43,50 @@ impl Need {
     }
 }
 
-/// What the scene itself sets, for telling which swept value is its own.
-#[derive(Debug, Clone, Copy)]
-pub struct Own<'a> {
-    /// The scene.
-    pub scene: &'a Scene,
-    /// The first fur asset's baked data.
-    pub fur: Option<&'a FurData>,
-    /// The first fur material's settings.
-    pub settings: Option<FurSettings>,
-}
+/// The values a knob sweeps for a scene drawn at (width, height).
+pub type Sweep = fn((u32, u32)) -> Vec<Value>;
 
 /// A knob: one entry of [`KNOBS`](super::table::KNOBS).
 #[derive(Debug, Clone, Copy)]
 pub struct Knob {
-    /// Its name (the `pelt render` or `pelt bake` flag without dashes).
-    pub name: &'static str,
+    /// What it is: name, range, parse, default, reference, own value, setter.
+    pub spec: &'static KnobSpec,
     /// What the scene must hold (all of it) for the knob to change anything.
     pub needs: &'static [Need],
-    /// One value from its text (None: not allowed).
-    pub(super) parse: fn(&str) -> Option<Value>,
+    /// The values the sweep takes where fewer than the spec's (None: the spec's).
+    pub(super) within: Option<&'static Range>,
     /// The values swept when none are given, around the defaults, for a scene drawn at
-    /// (width, height).
-    pub(super) sweep: fn((u32, u32)) -> Vec<Value>,
-    /// Applies one of its own values.
-    pub(super) set: fn(&mut Setting, Value),
-    /// The scene's own value (None where it cannot be told).
-    pub(super) own: fn(&Own<'_>) -> Option<Value>,
+    /// (width, height) (None: every value of a switch or a list of words).
+    pub(super) sweep: Option<Sweep>,
+    /// Applies a value that is no scene override (the mode, a re-bake; None: the spec's
+    /// setter).
+    pub(super) set: Option<fn(&mut Setting, Value)>,
+}
+
+impl Knob {
+    /// A knob the sweep turns through its spec alone, sweeping `sweep`.
+    pub(super) const fn of(
+        spec: &'static KnobSpec,
+        needs: &'static [Need],
+        sweep: Option<Sweep>,
+    ) -> Knob {
+        Knob {
+            spec,
+            needs,
+            within: None,
+            sweep,
+            set: None,
+        }
+    }
 }
 
 impl PartialEq for Knob {
     fn eq(&self, other: &Knob) -> bool {
-        self.name == other.name
+        self.spec == other.spec
     }
 }
 
 impl Eq for Knob {}
-/// One value of a knob.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Value {
-    /// A count or size.
-    Count(u32),
-    /// A scale.
-    Scale(f32),
-    /// On or off.
-    Switch(bool),
-    /// A mode.
-    Mode(Mode),
-    /// A fur blend.
-    Blend(FurBlend),
-    /// A fur coverage model.
-    Coverage(FurCoverage),
-    /// A fur lighting model.
-    Lighting(FurLighting),
-    /// Heightfield bits.
-    Bits(HeightBits),
-    /// Comb quantization.
-    Quantize(Quantize),
-    /// Output width and height.
-    Size(u32, u32),
-    /// Reflection technique.
-    Technique(Technique),
-    /// The shells-by-screen-size rule of the fur's manifest (`pelt_fur::shells`).
-    Auto,
-}
-
-impl fmt::Display for Value {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Value::Count(n) => write!(f, "{n}"),
-            Value::Scale(s) => write!(f, "{s}"),
-            Value::Switch(b) => f.write_str(if *b { "on" } else { "off" }),
-            Value::Mode(m) => write!(f, "{m}"),
-            Value::Blend(FurBlend::Stipple) => f.write_str("stipple"),
-            Value::Blend(FurBlend::Wboit) => f.write_str("wboit"),
-            Value::Coverage(FurCoverage::Analytic) => f.write_str("analytic"),
-            Value::Coverage(FurCoverage::Binary) => f.write_str("binary"),
-            Value::Lighting(FurLighting::KajiyaKay) => f.write_str("kajiya-kay"),
-            Value::Lighting(FurLighting::Revie) => f.write_str("revie"),
-            Value::Bits(HeightBits::Eight) => f.write_str("8"),
-            Value::Bits(HeightBits::Sixteen) => f.write_str("16"),
-            Value::Quantize(Quantize::U8) => f.write_str("u8"),
-            Value::Quantize(Quantize::U16) => f.write_str("u16"),
-            Value::Quantize(Quantize::Float) => f.write_str("float"),
-            Value::Size(w, h) => write!(f, "{w}x{h}"),
-            Value::Technique(t) => write!(f, "{t}"),
-            Value::Auto => f.write_str("auto"),
-        }
-    }
-}
 
 /// A knob name or value that is not allowed (a usage error).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -158,7 +113,7 @@ pub enum KnobError {
         /// The value.
         value: String,
         /// What is allowed.
-        allowed: &'static str,
+        allowed: String,
     },
     /// The knob has nothing to change in this scene.
     #[error("knob {knob}: {why}")]
@@ -170,25 +125,26 @@ pub enum KnobError {
     },
 }
 
-/// A knob without a registered descriptor (the registry test rules it out).
-const UNREGISTERED: KnobDesc = KnobDesc::new("?", "?", "?", Truth::Strands);
-
 impl Knob {
-    /// Its descriptor, as the feature that reads it registered it
-    /// (`pelt_preview::features::registry`): range, default, reference.
-    pub fn desc(&self) -> &'static KnobDesc {
-        registry::knob(self.name).unwrap_or(&UNREGISTERED)
+    /// Its name (the flag without dashes).
+    pub fn name(&self) -> &'static str {
+        self.spec.name
+    }
+
+    /// The values it takes in a sweep.
+    fn range(&self) -> &'static Range {
+        self.within.unwrap_or(&self.spec.range)
     }
 
     /// What values it allows, in words.
-    pub fn allowed(&self) -> &'static str {
-        self.desc().range
+    pub fn allowed(&self) -> String {
+        self.range().words()
     }
 
     /// Parses one value.
     pub fn value(&self, s: &str) -> Result<Value, KnobError> {
-        (self.parse)(s).ok_or_else(|| KnobError::Value {
-            knob: self.name,
+        self.range().parse(s).map_err(|_| KnobError::Value {
+            knob: self.name(),
             value: s.into(),
             allowed: self.allowed(),
         })
@@ -196,23 +152,35 @@ impl Knob {
 
     /// The reference the knob is measured against.
     pub fn truth(&self) -> Truth {
-        self.desc().reference
+        self.spec.reference
     }
 
     /// Whether a value is applied by baking the asset again.
     pub fn rebakes(&self) -> bool {
-        self.desc().rebakes
+        self.spec.rebakes
     }
 
     /// The values swept when none are given, around the defaults (`size` is the scene's
     /// output size; sizes are derived from it).
     pub fn defaults(&self, size: (u32, u32)) -> Vec<Value> {
-        (self.sweep)(size)
+        match self.sweep {
+            Some(sweep) => sweep(size),
+            None => self.range().every().unwrap_or_default(),
+        }
     }
 
     /// The scene's own value of the knob (None where it cannot be told).
     pub fn own(&self, scene: &Own<'_>) -> Option<Value> {
-        (self.own)(scene)
+        (self.spec.own)(scene)
+    }
+
+    /// Applies one of its values to `s`.
+    fn apply(&self, s: &mut Setting, v: Value) {
+        match (self.set, self.spec.set) {
+            (Some(set), _) => set(s, v),
+            (None, Some(set)) => set(&mut s.knobs, v),
+            (None, None) => {}
+        }
     }
 }
 
@@ -239,7 +207,7 @@ impl Setting {
 
     /// `self` with `knob` at `value` (a value of that knob, as [`Knob::value`] makes).
     pub fn with(mut self, knob: &Knob, value: Value) -> Setting {
-        (knob.set)(&mut self, value);
+        knob.apply(&mut self, value);
         self
     }
 }
@@ -248,6 +216,8 @@ impl Setting {
 mod tests {
     use super::super::table::KNOBS;
     use super::*;
+    use pelt_preview::features::registry;
+    use pelt_scene::knobs::spec;
     use pelt_scene::scene::{ShadowMaps, reflection_limits as limits};
 
     fn knob(name: &str) -> &'static Knob {
@@ -258,18 +228,27 @@ mod tests {
     fn every_knob_is_declared_by_the_feature_that_reads_it() {
         for k in KNOBS {
             assert!(
-                registry::knob(k.name).is_some(),
+                registry::knob(k.name()).is_some_and(|d| d.spec == k.spec),
                 "{} has no descriptor",
-                k.name
+                k.name()
             );
-            let n = KNOBS.iter().filter(|x| x.name == k.name).count();
-            assert_eq!(n, 1, "{} is in the table {n} times", k.name);
+            let n = KNOBS.iter().filter(|x| x.name() == k.name()).count();
+            assert_eq!(n, 1, "{} is in the table {n} times", k.name());
+            let setters = usize::from(k.set.is_some()) + usize::from(k.spec.set.is_some());
+            assert_eq!(setters, 1, "{} is set {setters} ways", k.name());
         }
         for (f, d) in registry::knobs() {
             assert!(
-                Knob::named(d.name).is_ok(),
+                Knob::named(d.name()).is_ok(),
                 "{f} declares {}, which the sweep cannot turn",
-                d.name
+                d.name()
+            );
+        }
+        for s in spec::ALL {
+            assert!(
+                Knob::named(s.name).is_ok(),
+                "the sweep cannot turn {}",
+                s.name
             );
         }
         let truths = [
@@ -293,13 +272,13 @@ mod tests {
         for k in KNOBS {
             let needs = |n: Need| k.needs.contains(&n);
             match k.truth() {
-                Truth::Strands => assert!(needs(Need::Fur), "{}", k.name),
+                Truth::Strands => assert!(needs(Need::Fur), "{}", k.name()),
                 Truth::RayTracer => assert!(
                     needs(Need::Optics) || needs(Need::CastingLight),
                     "{}",
-                    k.name
+                    k.name()
                 ),
-                Truth::Deferred => assert!(k.needs.is_empty(), "{}", k.name),
+                Truth::Deferred => assert!(k.needs.is_empty(), "{}", k.name()),
             }
         }
     }
@@ -327,10 +306,10 @@ mod tests {
                 k.allowed(),
                 format!("{} to {}", r.start(), r.end()),
                 "{}",
-                k.name
+                k.name()
             );
-            assert!(k.value(&r.end().to_string()).is_ok(), "{}", k.name);
-            assert!(k.value(&(r.end() + 1).to_string()).is_err(), "{}", k.name);
+            assert!(k.value(&r.end().to_string()).is_ok(), "{}", k.name());
+            assert!(k.value(&(r.end() + 1).to_string()).is_err(), "{}", k.name());
         }
         let l = pelt_scene::scene::LBUFFER_SCALE;
         assert_eq!(
@@ -342,9 +321,9 @@ mod tests {
     #[test]
     fn names_round_trip_and_bad_ones_name_the_range() {
         for k in KNOBS {
-            assert_eq!(Knob::named(k.name), Ok(k));
+            assert_eq!(Knob::named(k.name()), Ok(k));
             for v in k.defaults((640, 360)) {
-                assert_eq!(k.value(&v.to_string()), Ok(v), "{}={v}", k.name);
+                assert_eq!(k.value(&v.to_string()), Ok(v), "{}={v}", k.name());
             }
         }
         let e = Knob::parse_list("shells=4,300").expect_err("300 shells");
@@ -368,11 +347,21 @@ mod tests {
                 .into_iter()
                 .map(|v| Setting::default().with(k, v))
                 .collect();
-            assert!(settings.len() >= 2, "{} sweeps {}", k.name, settings.len());
+            assert!(
+                settings.len() >= 2,
+                "{} sweeps {}",
+                k.name(),
+                settings.len()
+            );
             for (i, s) in settings.iter().enumerate() {
-                assert_ne!(*s, Setting::default(), "{} value {i} sets nothing", k.name);
-                assert!(!settings[..i].contains(s), "{} value {i} repeats", k.name);
-                assert_eq!(s.rebakes(), k.rebakes(), "{}", k.name);
+                assert_ne!(
+                    *s,
+                    Setting::default(),
+                    "{} value {i} sets nothing",
+                    k.name()
+                );
+                assert!(!settings[..i].contains(s), "{} value {i} repeats", k.name());
+                assert_eq!(s.rebakes(), k.rebakes(), "{}", k.name());
             }
         }
     }
@@ -381,7 +370,7 @@ mod tests {
     fn a_setting_sets_what_its_knob_names() {
         let s = Setting::default()
             .with(knob("shells"), Value::Count(8))
-            .with(knob("quantize"), Value::Quantize(Quantize::U8))
+            .with(knob("quantize"), Value::Word("u8"))
             .with(knob("linear-steps"), Value::Count(7));
         assert_eq!(
             s.knobs.shells,

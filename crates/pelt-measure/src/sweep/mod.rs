@@ -279,7 +279,7 @@ fn applies(knob: &Knob, c: &Contents) -> Result<(), KnobError> {
     };
     match why {
         Some(why) => Err(KnobError::NotApplicable {
-            knob: knob.name,
+            knob: knob.name(),
             why,
         }),
         None => Ok(()),
@@ -308,7 +308,7 @@ fn plan(
         }
         opts.knobs.clone()
     };
-    let own = own(scene, meshes);
+    let own = Own::of(scene, meshes);
     let default = |k: &Knob, v: &Value| k.own(&own) == Some(*v);
     if !opts.grid {
         let mut out = Vec::new();
@@ -316,7 +316,7 @@ fn plan(
             for v in values {
                 let s = Setting::default().with(k, *v);
                 out.push((
-                    k.name.to_string(),
+                    k.name().to_string(),
                     v.to_string(),
                     s,
                     k.truth(),
@@ -341,7 +341,7 @@ fn plan(
         .unwrap_or(Truth::Deferred);
     let name = lists
         .iter()
-        .map(|(k, _)| k.name)
+        .map(|(k, _)| k.name())
         .collect::<Vec<_>>()
         .join("+");
     let mut out = Vec::with_capacity(total);
@@ -358,18 +358,6 @@ fn plan(
         out.push((name.clone(), labels.join("+"), s, truth, all_default));
     }
     Ok(out)
-}
-
-/// What the scene itself sets, for [`Knob::own`].
-fn own<'a>(scene: &'a Scene, meshes: &'a [MeshData]) -> Own<'a> {
-    Own {
-        scene,
-        fur: meshes.iter().find_map(|m| m.fur.as_ref()),
-        settings: scene.objects.iter().find_map(|o| match o.material {
-            Material::Fur(f) => Some(f),
-            _ => None,
-        }),
-    }
 }
 
 fn write_png(dir: &Path, rel: &str, image: &Image) -> Result<(), SweepError> {

@@ -2,11 +2,12 @@
 //! shading pass's phases ([`crate::shading`]) with its own shader; fur is lit per strand
 //! with Kajiya-Kay (Revie Listing 2.4).
 
-use super::{lights, shadows};
+use super::lights;
 use crate::draw::{MissingInput, slot};
 use crate::feature::{Build, Feature, Frame, PassDesc, Shade, Shared};
 use crate::gpu_material::with_untextured;
 use crate::layout;
+use crate::lighting;
 use crate::pass::Pass;
 use crate::plan::Plan;
 use crate::recipe::Recipe;
@@ -21,20 +22,20 @@ pub const SHADER: ShaderDesc =
 /// The forward shader's pipeline with `blend`, reading the shadow cubes.
 pub fn pipeline(blend: Blend) -> PipelineDesc {
     let mut p = lit_pipeline(SHADER, layout::LIGHT_ARRAY, blend);
-    p.spec.groups.push(shadows::LAYOUT);
+    p.spec.groups.push(lighting::LAYOUT);
     p
 }
 
 /// [`pipeline`] for views without a shadow-casting light (the lookup compiled out).
 pub fn unshadowed(blend: Blend) -> PipelineDesc {
-    shadows::unshadowed(pipeline(blend))
+    lighting::unshadowed(pipeline(blend))
 }
 
 /// The forward pipeline the view needs, by blend: the shadow lookups compiled out where no
 /// light casts shadows (or the fur casts no coverage), `light_reach`'s branch on the kind
 /// where no light is directional.
 pub fn for_view(f: &Frame<'_>) -> Box<dyn Fn(Blend) -> PipelineDesc> {
-    let shadowed: fn(Blend) -> PipelineDesc = match (shadows::any(f), shadows::fur_casts(f)) {
+    let shadowed: fn(Blend) -> PipelineDesc = match (lighting::any(f), lighting::fur_casts(f)) {
         (false, _) => unshadowed,
         (true, false) => without_fur,
         (true, true) => pipeline,
@@ -48,7 +49,7 @@ pub fn for_view(f: &Frame<'_>) -> Box<dyn Fn(Blend) -> PipelineDesc> {
 
 /// [`pipeline`] for views whose fur casts no coverage (that lookup compiled out).
 pub fn without_fur(blend: Blend) -> PipelineDesc {
-    shadows::without_fur(pipeline(blend))
+    lighting::without_fur(pipeline(blend))
 }
 
 /// The forward reference's feature.
@@ -57,13 +58,14 @@ pub const FEATURE: Feature = Feature {
         let kinds = [pipeline(Blend::None), pipeline(Blend::Over)]
             .into_iter()
             .flat_map(|d| [d.clone(), lights::without_suns(d)]);
-        with_untextured(shadows::with_unshadowed(kinds.collect()))
+        with_untextured(lighting::with_unshadowed(kinds.collect()))
     },
     passes: &[PassDesc {
         after: &[
             Pass::new("distance-maps"),
             Pass::new("min-max"),
             Pass::new("shadow-maps"),
+            Pass::new("opacity-maps"),
         ],
         ..PassDesc::new(
             PASS,
@@ -100,7 +102,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
         object: for_view(f),
     };
     let mut r = shading::begin(f, &s);
-    shadows::bind(f, &mut r, PASS)?;
+    lighting::bind(f, &mut r, PASS.name())?;
     shading::run_phases(f, &mut r, &s)?;
     Ok(r)
 }

@@ -11,9 +11,8 @@ use crate::assets::Uploads;
 use crate::draw::{
     MissingInput, fur_vertex_layout, object_blends, object_depth, slot, vertex_layout,
 };
-use crate::feature::{
-    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared,
-};
+use crate::feature::{Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Shade, Shared};
+use crate::knobs::spec;
 use crate::layout::{self, LayoutDesc};
 use crate::pass::Pass;
 use crate::plan::Plan;
@@ -24,7 +23,8 @@ use crate::shaders::{Coverage, Entry, Lighting, ShaderDesc};
 use crate::shading;
 use crate::uniforms::FinInstance;
 
-use super::{lights, shadows};
+use super::lights;
+use crate::lighting;
 
 /// Bind-group slots of obliterate.wgsl.
 pub mod obliterate_slot {
@@ -88,14 +88,14 @@ const FORWARD_SHADOWED_FUR: &[(&str, u32)] =
     &[("FORWARD_LIGHT", 1), ("SHADOWS", 1), ("FUR_SHADOWS", 1)];
 
 /// `desc`, a forward-lit layer pipeline, reading the shadow cubes (at
-/// `shadows::slot::CUBES`, which the pass binds), and with `fur` the fur's opacity layers.
+/// `lighting::SLOT`, which the pass binds), and with `fur` the fur's opacity layers.
 pub fn shadowed(mut desc: PipelineDesc, fur: bool) -> PipelineDesc {
     desc.shader = desc.shader.with_defs(if fur {
         FORWARD_SHADOWED_FUR
     } else {
         FORWARD_SHADOWED
     });
-    desc.spec.groups.push(shadows::LAYOUT);
+    desc.spec.groups.push(lighting::LAYOUT);
     desc
 }
 
@@ -107,8 +107,8 @@ fn for_view(f: &Frame<'_>, lighting: Lighting, desc: PipelineDesc) -> PipelineDe
         return desc;
     }
     let desc = lights::suns_for_view(f, desc);
-    if shadows::any(f) {
-        shadowed(desc, shadows::fur_casts(f))
+    if lighting::any(f) {
+        shadowed(desc, lighting::fur_casts(f))
     } else {
         desc
     }
@@ -123,8 +123,8 @@ fn bind_forward<'a>(
 ) -> Result<(), MissingInput> {
     let (group, offset) = shading::lighting(f, Lighting::Forward).1;
     r.bind(slot::LIGHTING, group, offset);
-    if shadows::any(f) {
-        r.bind(shadows::slot::CUBES, &shadows::cubes(f, pass)?.read, None);
+    if lighting::any(f) {
+        lighting::bind(f, r, pass)?;
     }
     Ok(())
 }
@@ -273,47 +273,13 @@ fn pipelines() -> Vec<PipelineDesc> {
 /// Revie's fur's feature.
 pub const FEATURE: Feature = Feature {
     knobs: &[
-        KnobDesc::new(
-            "shells",
-            "auto (by screen size) or 1 to 256",
-            "auto: the manifest's rule, at most its count (16 from the bake)",
-            Reference::Strands,
-        ),
-        KnobDesc::new(
-            "fins",
-            "on or off",
-            "the asset's fur manifest",
-            Reference::Strands,
-        ),
-        KnobDesc::new(
-            "fur-coverage",
-            "analytic or binary",
-            "analytic",
-            Reference::Strands,
-        ),
-        KnobDesc::new(
-            "fur-lighting",
-            "kajiya-kay or revie",
-            "kajiya-kay",
-            Reference::Strands,
-        ),
-        KnobDesc {
-            rebakes: true,
-            ..KnobDesc::new(
-                "texture-size",
-                "a power of two from 16 to 4096",
-                "the bake config's (1024 without one)",
-                Reference::Strands,
-            )
-        },
-        KnobDesc {
-            rebakes: true,
-            ..KnobDesc::new("height-bits", "8 or 16", "16", Reference::Strands)
-        },
-        KnobDesc {
-            rebakes: true,
-            ..KnobDesc::new("quantize", "u8, u16 or float", "float", Reference::Strands)
-        },
+        KnobDesc::of(&spec::SHELLS),
+        KnobDesc::of(&spec::FINS),
+        KnobDesc::of(&spec::FUR_COVERAGE),
+        KnobDesc::of(&spec::FUR_LIGHTING),
+        KnobDesc::of(&spec::TEXTURE_SIZE),
+        KnobDesc::of(&spec::HEIGHT_BITS),
+        KnobDesc::of(&spec::QUANTIZE),
     ],
     pipelines,
     compute: &[TANGENT_FRAMES, FIN_RECORDS],

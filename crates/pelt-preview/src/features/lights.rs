@@ -6,17 +6,18 @@
 //! own (light.wgsl's `DIRECTIONAL`), and a view without shadow-casting lights by pipelines
 //! with the shadow lookup compiled out, so a light pays only for the code its kind needs.
 
-use super::shadows;
 use crate::draw::{ADD, MissingInput};
-use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Reference};
+use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc};
 use crate::frame_data::Res;
 use crate::layout;
+use crate::lighting;
 use crate::pass::Pass;
 use crate::plan::Plan;
 use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{PipelineDesc, PipelineSpec};
 use crate::scene::FurLighting;
 use crate::shaders::{Entry, ShaderDesc};
+use pelt_scene::knobs::spec;
 use pelt_scene::shading::Emitter;
 
 /// Bind-group slots of light.wgsl.
@@ -29,8 +30,8 @@ pub mod slot {
     pub const LIGHT: u32 = 2;
     /// Which object IDs hold strand tangents (the fur's shell table).
     pub const SHELL_TABLE: u32 = 3;
-    /// The shadow cubes (shadows.wgsl).
-    pub const SHADOWS: u32 = super::shadows::slot::CUBES;
+    /// The lighting inputs (the shadow maps and the fur's opacity layers).
+    pub const SHADOWS: u32 = crate::lighting::SLOT;
 }
 
 /// light.wgsl, a full-screen triangle per light (at its reach's far depth), scissored to it.
@@ -50,7 +51,7 @@ pub fn pipeline() -> PipelineDesc {
                 layout::TEXTURES,
                 layout::LIGHT,
                 layout::SHELL_TABLE,
-                shadows::LAYOUT,
+                lighting::LAYOUT,
             ],
             blends: vec![Some(ADD)],
             depth: Some((false, wgpu::CompareFunction::GreaterEqual)),
@@ -72,20 +73,18 @@ pub const SUNS: &str = "SUNS";
 
 /// `desc` (light.wgsl) for lights of `emitter`'s kind.
 pub fn for_kind(desc: PipelineDesc, emitter: &Emitter) -> PipelineDesc {
-    let directional = matches!(emitter, Emitter::Directional { .. });
+    let directional = emitter.is_directional();
     desc.with_constant(DIRECTIONAL, directional.then_some(1.0))
 }
 
-/// Whether any light of `f`'s view is directional.
+/// Whether any light of `f`'s view needs the full `light_reach` (`Emitter::needs_suns`): the
+/// loops over lights branch on the kind only then.
 pub fn suns(f: &Frame<'_>) -> bool {
-    f.plan
-        .lights
-        .iter()
-        .any(|l| matches!(l.emitter, Emitter::Directional { .. }))
+    f.plan.lights.iter().any(|l| l.emitter.needs_suns())
 }
 
 /// `desc`, a shader that loops over every light, as `f`'s view needs it: without `light_reach`'s
-/// branch on the kind unless a light of the view is directional.
+/// branch on the kind unless a light of the view needs it.
 pub fn suns_for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
     if suns(f) { desc } else { without_suns(desc) }
 }
@@ -128,12 +127,7 @@ fn explain(plan: &Plan) -> String {
 
 /// The light pass's feature.
 pub const FEATURE: Feature = Feature {
-    knobs: &[KnobDesc::new(
-        "lbuffer-scale",
-        "0.1 to 1",
-        "the scene's (0.625)",
-        Reference::Deferred,
-    )],
+    knobs: &[KnobDesc::of(&spec::LBUFFER_SCALE)],
     pipelines: || {
         let directional = Emitter::Directional {
             direction: glam::Vec3::NEG_Y,
@@ -142,10 +136,14 @@ pub const FEATURE: Feature = Feature {
         let strands = kinds
             .into_iter()
             .flat_map(|d| [d.clone(), without_strands(d)]);
-        shadows::with_unshadowed(strands.collect())
+        lighting::with_unshadowed(strands.collect())
     },
     passes: &[PassDesc {
-        after: &[Pass::new("shadow-maps"), Pass::new("geometry")],
+        after: &[
+            Pass::new("shadow-maps"),
+            Pass::new("opacity-maps"),
+            Pass::new("geometry"),
+        ],
         at_lbuffer: true,
         ..PassDesc::new(
             PASS,
@@ -192,7 +190,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
             load: wgpu::LoadOp::Load,
         }),
     );
-    let desc = shadows::for_view(
+    let desc = lighting::for_view(
         f,
         if strand_lit(f) {
             pipeline()
@@ -207,7 +205,7 @@ pub fn pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     );
     r.bind(slot::GBUFFER, &g.read, None);
     r.bind(slot::SHELL_TABLE, f.data.shell_table(), None);
-    shadows::bind(f, &mut r, PASS)?;
+    lighting::bind(f, &mut r, PASS.name())?;
     let mut kind = None;
     for (i, light) in f.plan.lights.iter().enumerate() {
         // In the scene's order (the L-buffer's sums stay as they were), switching pipeline

@@ -7,7 +7,7 @@
 
 use crate::draw::{MissingInput, slot};
 use crate::feature::{
-    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shade, Shared, Sides,
+    Build, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Shade, Shared, Sides,
 };
 use crate::gpu_material::with_untextured;
 use crate::layout;
@@ -29,13 +29,14 @@ pub fn pipeline(blend: Blend) -> PipelineDesc {
 
 /// The material pass's feature.
 pub const FEATURE: Feature = Feature {
-    knobs: &[KnobDesc::new("dsf", "on or off", "on", Reference::Deferred)],
+    knobs: &[KnobDesc::of(&pelt_scene::knobs::spec::DSF)],
     pipelines: || with_untextured([pipeline(Blend::None), pipeline(Blend::Over)]),
     passes: &[PassDesc {
         after: &[
             Pass::new("distance-maps"),
             Pass::new("min-max"),
             Pass::new("shadow-maps"),
+            Pass::new("opacity-maps"),
             Pass::new("light"),
             Pass::new("obliterate"),
         ],

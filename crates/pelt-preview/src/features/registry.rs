@@ -16,6 +16,7 @@ use crate::pass::Pass;
 use crate::plan::Plan;
 use crate::renderer::PipelineDesc;
 use crate::shaders::ShaderDesc;
+use pelt_scene::knobs::spec;
 
 /// Every feature, in the order their draws run within a phase of the shading pass and their
 /// passes run where no `after` orders them.
@@ -23,6 +24,7 @@ pub const FEATURES: &[Feature] = &[
     super::skin::FEATURE,
     super::reflect::FEATURE,
     super::shadows::FEATURE,
+    super::opacity::FEATURE,
     super::geometry::FEATURE,
     super::alpha::FEATURE,
     super::fur::FEATURE,
@@ -40,20 +42,7 @@ pub const FEATURES: &[Feature] = &[
 ];
 
 /// The knobs the renderer as a whole reads (no one feature owns them).
-pub const CORE_KNOBS: &[KnobDesc] = &[
-    KnobDesc::new(
-        "mode",
-        "inferred, deferred or forward",
-        "inferred",
-        Reference::Strands,
-    ),
-    KnobDesc::new(
-        "size",
-        "WxH, each 8 to 4096",
-        "the scene's",
-        Reference::Deferred,
-    ),
-];
+pub const CORE_KNOBS: &[KnobDesc] = &[KnobDesc::of(&spec::MODE), KnobDesc::of(&spec::SIZE)];
 
 /// Every registered knob with the feature that reads it (`core` for [`CORE_KNOBS`]).
 pub fn knobs() -> Vec<(&'static str, &'static KnobDesc)> {
@@ -66,7 +55,10 @@ pub fn knobs() -> Vec<(&'static str, &'static KnobDesc)> {
 
 /// The registered knob called `name`.
 pub fn knob(name: &str) -> Option<&'static KnobDesc> {
-    knobs().into_iter().map(|(_, k)| k).find(|k| k.name == name)
+    knobs()
+        .into_iter()
+        .map(|(_, k)| k)
+        .find(|k| k.name() == name)
 }
 
 /// The registered pass `pass`, if a feature builds it (upscaling, mips and the overlay are
@@ -229,14 +221,26 @@ mod tests {
         let all = knobs();
         assert!(all.len() >= 19, "{} knobs", all.len());
         for (f, k) in &all {
-            let n = all.iter().filter(|(_, x)| x.name == k.name).count();
-            assert_eq!(n, 1, "{} (read by {f}) is registered {n} times", k.name);
+            let n = all.iter().filter(|(_, x)| x.name() == k.name()).count();
+            assert_eq!(n, 1, "{} (read by {f}) is registered {n} times", k.name());
         }
         assert_eq!(
-            knob("shells").map(|k| k.reference),
+            knob("shells").map(KnobDesc::reference),
             Some(Reference::Strands)
         );
-        assert!(knob("texture-size").is_some_and(|k| k.rebakes));
+        assert!(knob("texture-size").is_some_and(KnobDesc::rebakes));
         assert!(knob("no-such-knob").is_none());
+    }
+
+    #[test]
+    fn every_knob_spec_is_read_by_one_feature() {
+        for s in spec::ALL {
+            assert!(
+                knob(s.name).is_some_and(|k| k.spec == *s),
+                "no feature reads {}",
+                s.name
+            );
+        }
+        assert_eq!(knobs().len(), spec::ALL.len(), "a knob read twice");
     }
 }

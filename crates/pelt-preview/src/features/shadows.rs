@@ -8,18 +8,20 @@
 //! is made with the scene view and drawn again only when a caster, a light or a pose moved.
 //! Every opaque object of the scene casts (mirrors and glass too, as the ray tracer's shadow
 //! rays see them); alpha layers do not. Fur casts by its coverage besides, through the deep
-//! opacity maps drawn with the cubes ([`super::opacity`]).
+//! opacity maps, which draw into the same layers after the cubes ([`crate::lighting`]'s
+//! shadow layers). The cubes and how to read them are lighting inputs (binding 0 and 1).
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use super::opacity::{self, LightFrame, OpacityMaps};
 use crate::cube::face_view;
 use crate::draw::{MissingInput, vertex_layout, vertex_slot};
-use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, PassDesc, Reference};
-use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
+use crate::feature::{Build, Cached, Feature, Frame, KnobDesc, LightingInput, PassDesc, Resource};
+use crate::layout::{self, LayoutDesc};
+use crate::lighting::{self, LightFrame, SHADOW_READ_SIZE, ShadowLayers, binding, layers_kept};
+use crate::owned::Owned;
 use crate::pass::Pass;
 use crate::plan::{MAX_SHADOW_LIGHTS, Plan, ScenePlan};
 use crate::recipe::{Color, Depth, Recipe, Step};
@@ -28,6 +30,8 @@ use crate::scene_state::SceneState;
 use crate::shaders::ShaderDesc;
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{ObjectUniforms, UNIFORM_STRIDE};
+use pelt_scene::knobs::spec;
+use pelt_scene::light::LightKind;
 use pelt_scene::shading::Emitter;
 
 /// Bind-group slots of shadow_map.wgsl.
@@ -36,8 +40,6 @@ pub mod slot {
     pub const FACE: u32 = 0;
     /// One caster's constants (dynamic offset).
     pub const OBJECT: u32 = 1;
-    /// light.wgsl and forward.wgsl: the cubes (shadows.wgsl's `@group(4)`).
-    pub const CUBES: u32 = 4;
 }
 
 /// Format of the cubes: the distance from the light in world units to the nearest opaque
@@ -55,9 +57,10 @@ const NOTHING: f64 = 3.0e38;
 pub struct ShadowFace {
     /// World to this face's clip space.
     pub view_proj: [[f32; 4]; 4],
-    /// A point light: xyz its world position, w its radius. A directional light: w = 0.
+    /// A cube's face: xyz the light's world position, w its radius. A light's one map: w = 0.
     pub light: [f32; 4],
-    /// A directional light: the distance from its map's near plane is dot(xyz, world) + w.
+    /// A light's one map: the distance from its near plane along its axis is
+    /// dot(xyz, world) + w.
     pub plane: [f32; 4],
 }
 
@@ -67,48 +70,33 @@ pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
     entries: &[layout::uniform(0, size_of::<ShadowFace>(), true)],
 };
 
-/// A directional light's map as shadows.wgsl reads it. Keep in sync with `SunMap` in
-/// shaders/shadows.wgsl.
+/// A light's one map (where it has one instead of a cube: a directional light's orthographic
+/// map) as shadows.wgsl reads it. Keep in sync with
+/// `LightMap` in shaders/lighting_inputs.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct SunMap {
-    /// World to the map: xy its texture coordinates, z the distance from its near plane.
+pub struct LightMap {
+    /// World to the map, projectively: q.xy / q.w its texture coordinates, q.z the distance
+    /// from its near plane along its axis, q.w the depth its texels grow with (1 in an
+    /// orthographic map).
     pub to_map: [[f32; 4]; 4],
-    /// x: the world size of one texel; yzw: unused.
+    /// x: the world size of one texel at q.w = 1 (0: the slot's light has a cube); yzw:
+    /// unused.
     pub texel: [f32; 4],
 }
 
-/// How the cubes are read. Keep in sync with `ShadowRead` in shaders/shadows.wgsl.
+/// How the cubes are read (the lighting input [`binding::SHADOW_READ`]). Keep in sync with
+/// `ShadowRead` in shaders/lighting_inputs.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct ShadowRead {
     /// x: the PCF side (texels); yzw: unused.
     pub pcf: [u32; 4],
-    /// The deep opacity layers' boundaries (world units past the nearest fur) and w their
-    /// count (0: fur casts no coverage; [`opacity::boundaries`]).
-    pub layers: [f32; 4],
-    /// Each slot's map when its light is directional (zero for a point light's slot).
-    pub suns: [SunMap; MAX_SHADOW_LIGHTS],
+    /// Each slot's map where its light has one (zero for a cube's slot).
+    pub maps: [LightMap; MAX_SHADOW_LIGHTS],
 }
 
-/// The cubes and how to read them, as the light and forward passes do (shadows.wgsl).
-pub const LAYOUT: LayoutDesc = LayoutDesc {
-    label: "shadow cubes",
-    entries: &[
-        seen_by(
-            wgpu::ShaderStages::FRAGMENT,
-            layout::texture(0, UNFILTERABLE, D2_ARRAY),
-        ),
-        seen_by(
-            wgpu::ShaderStages::FRAGMENT,
-            layout::uniform(1, size_of::<ShadowRead>(), false),
-        ),
-        seen_by(
-            wgpu::ShaderStages::FRAGMENT,
-            layout::texture(2, UNFILTERABLE, D2_ARRAY),
-        ),
-    ],
-};
+const _: () = assert!(size_of::<ShadowRead>() == SHADOW_READ_SIZE);
 
 /// shadow_map.wgsl.
 pub const SHADER: ShaderDesc = ShaderDesc::render("shadow_map.wgsl");
@@ -130,41 +118,51 @@ pub fn pipeline() -> PipelineDesc {
 
 /// The shadows' feature.
 pub const FEATURE: Feature = Feature {
-    knobs: &[
-        KnobDesc::new(
-            "shadow-size",
-            "a power of two from 16 to 4096",
-            "the scene's (512)",
-            Reference::RayTracer,
-        ),
-        KnobDesc::new("pcf", "1 to 8", "the scene's (2)", Reference::RayTracer),
-        KnobDesc::new(
-            "opacity-layers",
-            "0 to 3",
-            "the scene's (3)",
-            Reference::Strands,
-        ),
-    ],
-    pipelines: || [vec![pipeline()], opacity::pipelines()].concat(),
+    knobs: &[KnobDesc::of(&spec::SHADOW_SIZE), KnobDesc::of(&spec::PCF)],
+    pipelines: || vec![pipeline()],
     scene: Some(SceneState {
         make: |r, s, _, owned| {
-            owned.insert(ShadowCubes::new(r, s.plan));
+            ShadowCubes::new(r, s.plan).publish(owned);
             Ok(())
         },
         follow: |r, s, owned| {
-            match owned.get_mut::<ShadowCubes>() {
+            let changed = match owned.get_mut::<ShadowCubes>() {
                 Some(c) if c.fits(s.plan) => c.write(r, s.plan),
-                _ => owned.insert(ShadowCubes::new(r, s.plan)),
+                _ => {
+                    ShadowCubes::new(r, s.plan).publish(owned);
+                    false
+                }
+            };
+            if changed {
+                ShadowCubes::frames_into(owned);
             }
             Ok(())
         },
     }),
+    lighting: &[
+        LightingInput {
+            binding: binding::SHADOW_MAPS,
+            what: "the shadow maps",
+            resource: |o| {
+                let c = o.get::<ShadowCubes>()?;
+                Some((Resource::Texture(&c.cubes.sampled), c.id))
+            },
+        },
+        LightingInput {
+            binding: binding::SHADOW_READ,
+            what: "how to read the shadow maps",
+            resource: |o| {
+                let c = o.get::<ShadowCubes>()?;
+                Some((Resource::Buffer(&c.params), c.id))
+            },
+        },
+    ],
     passes: &[PassDesc {
         cached: Some(CACHED),
         ..PassDesc::new(
             PASS,
             Build::Many(passes),
-            |plan| plan.shadow_lights != (0, 0) && !plan.mode.is_debug(),
+            |plan| !plan.shadow_lights.is_empty() && !plan.mode.is_debug(),
             explain,
         )
     }],
@@ -176,63 +174,49 @@ pub const PASS: Pass = Pass::new("shadow-maps");
 
 /// The shadow pass in words.
 fn explain(plan: &Plan) -> String {
-    let (points, suns) = plan.shadow_lights;
-    let mut what = Vec::new();
-    if points > 0 {
-        what.push(format!("{points} point light(s) × 6 cube faces"));
-    }
-    if suns > 0 {
-        what.push(format!(
-            "{suns} directional light(s) × 1 orthographic map (fitted to the scene)"
-        ));
-    }
-    let mut s = format!(
+    let what: Vec<String> = LightKind::ALL
+        .into_iter()
+        .filter_map(|kind| {
+            let n = plan.shadow_lights.iter().filter(|&&k| k == kind).count();
+            (n > 0).then(|| format!("{n} {}", map_words(kind)))
+        })
+        .collect();
+    format!(
         "{} of {size}²: distance to the nearest opaque surface; lights and forward shading compare {pcf}×{pcf} texels (PCF)",
         what.join(", "),
         size = plan.shadow_maps.size,
         pcf = plan.shadow_maps.pcf
-    );
-    let layers = plan.shadow_maps.opacity_layers;
-    if layers > 0 && !plan.fur_casters.is_empty() {
-        s += &format!(
-            "; the fur from each: its nearest distance, then {layers} deep opacity layer(s) of its shells' optical depth (Yuksel & Keyser 2008), which fur and everything behind it read"
-        );
-        let off = plan.fur_casters.len() - plan.fur.len();
-        if off > 0 {
-            s += &format!(" ({off} fur object(s) off screen cast too)");
-        }
-    }
-    s
+    )
 }
 
 /// The cubes outlive the frame: drawn again only when a light or a caster moved, any
-/// caster is posed (its vertices change each frame), or the fur the view draws changed.
+/// caster is posed (its vertices change each frame), or what another feature draws into
+/// the same layers changed ([`layers_kept`]).
 const CACHED: Cached = Cached {
-    fresh: |f| {
-        f.scene
-            .get::<ShadowCubes>()
-            .is_some_and(|c| c.fresh() && c.fur_drawn.load(Ordering::Relaxed) == c.fur_key(f))
-            && f.poses.iter().all(Option::is_none)
-    },
+    fresh: layers_kept,
     drawn: |f| {
-        if let Some(c) = f.scene.get::<ShadowCubes>() {
-            c.fresh.store(true, Ordering::Relaxed);
-            c.fur_drawn.store(c.fur_key(f), Ordering::Relaxed);
+        if let Some(l) = f.scene.get::<ShadowLayers>() {
+            l.fresh.store(true, Ordering::Relaxed);
         }
     },
 };
 
-/// The shadow cubes of one scene, their casters and the group that reads them.
+/// The shadow cubes of one scene and their casters.
 #[derive(Debug)]
 pub struct ShadowCubes {
+    /// Their identity ([`lighting::next_id`]): the lighting inputs and the shadow layers
+    /// follow a new one.
+    pub id: u64,
     /// Lights with a cube.
     pub slots: u32,
     /// Each face's side in texels.
     pub size: u32,
-    /// The cubes: six layers per light (a directional light draws its map into the first).
+    /// The cubes: six layers per light (a light with one map draws it into the first).
     pub cubes: LayeredTarget,
     /// The layers drawn: (layer, its view); a layer's face constants are at its index.
     views: Vec<(u32, wgpu::TextureView)>,
+    /// Each drawn layer's light frame, as last written.
+    frames: Vec<LightFrame>,
     depth: Target,
     faces: wgpu::Buffer,
     faces_group: wgpu::BindGroup,
@@ -242,13 +226,6 @@ pub struct ShadowCubes {
     capacity: usize,
     /// What the cubes hold: (object slot, mesh index, scene index).
     draws: Vec<(usize, usize, usize)>,
-    /// The cubes as shadows.wgsl reads them (a 1×1 stand-in without shadow-casting lights).
-    pub read: wgpu::BindGroup,
-    /// The fur's deep opacity maps beside the cubes.
-    pub opacity: OpacityMaps,
-    fresh: AtomicBool,
-    /// Which fur the opacity maps hold ([`ShadowCubes::fur_key`]).
-    fur_drawn: AtomicU64,
     drawn: Vec<u8>,
     /// How the cubes are read, as last written.
     read_written: Option<ShadowRead>,
@@ -262,13 +239,12 @@ impl ShadowCubes {
         let side = if slots > 0 { size } else { 1 };
         let layers = slots.max(1) * 6;
         let cubes = LayeredTarget::new(r, "shadow cubes", (side, side), layers, 1, FORMAT);
-        let drawn: Vec<u32> = plan
+        let views = plan
             .shadow_lights()
             .enumerate()
             .flat_map(|(slot, l)| (0..layers_of(&l.emitter)).map(move |f| slot as u32 * 6 + f))
+            .map(|i| (i, cubes.layer(i, 0)))
             .collect();
-        let views = drawn.iter().map(|&i| (i, cubes.layer(i, 0))).collect();
-        let opacity = OpacityMaps::new(r, plan.fur_casts(), &cubes, &drawn);
         let depth = Target::new(&r.gpu.device, "shadow depth", (side, side), DEPTH_FORMAT);
         let faces = r.buffer(
             "shadow faces",
@@ -287,6 +263,7 @@ impl ShadowCubes {
             wgpu::BufferUsages::UNIFORM,
         );
         let mut c = ShadowCubes {
+            id: lighting::next_id(),
             slots,
             size,
             faces_group: r.group(
@@ -299,31 +276,52 @@ impl ShadowCubes {
                 &layout::OBJECT,
                 &[layout::sized(&objects, size_of::<ObjectUniforms>())],
             ),
-            read: r.group(
-                "shadow cubes",
-                &LAYOUT,
-                &[
-                    wgpu::BindingResource::TextureView(&cubes.sampled),
-                    params.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&opacity.layers.sampled),
-                ],
-            ),
-            opacity,
             params,
             cubes,
             views,
+            frames: Vec::new(),
             depth,
             faces,
             objects,
             capacity,
             draws: Vec::new(),
-            fresh: AtomicBool::new(false),
-            fur_drawn: AtomicU64::new(0),
             drawn: Vec::new(),
             read_written: None,
         };
         c.write(r, plan);
         c
+    }
+
+    /// Keeps these cubes in `owned` with the shadow layers they publish.
+    fn publish(self, owned: &mut Owned) {
+        owned.insert(ShadowLayers {
+            id: self.id,
+            size: self.size,
+            count: self.cubes.layers,
+            sampled: self.cubes.sampled.clone(),
+            drawn: Vec::new(),
+            fresh: AtomicBool::new(false),
+        });
+        owned.insert(self);
+        Self::frames_into(owned);
+    }
+
+    /// Gives the published shadow layers the cubes' light frames, as last written, and has
+    /// the next frame draw them again.
+    fn frames_into(owned: &mut Owned) {
+        let Some(c) = owned.get::<ShadowCubes>() else {
+            return;
+        };
+        let drawn: Vec<(wgpu::TextureView, LightFrame)> = c
+            .views
+            .iter()
+            .zip(&c.frames)
+            .map(|((_, v), f)| (v.clone(), *f))
+            .collect();
+        if let Some(l) = owned.get_mut::<ShadowLayers>() {
+            l.drawn = drawn;
+            l.fresh.store(false, Ordering::Relaxed);
+        }
     }
 
     /// Whether these cubes fit `plan`'s shadow-casting lights (their kinds) and objects.
@@ -332,82 +330,52 @@ impl ShadowCubes {
             && self.views.len() == Self::layers_drawn(plan)
             && self.size == plan.shadow_maps.size
             && plan.objects.len() <= self.capacity
-            && self.opacity.on == plan.fur_casts()
-    }
-
-    /// What fur view `f` draws into the opacity maps (each object's scene index, shells,
-    /// coverage, length and strand medium), hashed; 0 without them.
-    fn fur_key(&self, f: &Frame<'_>) -> u64 {
-        if !self.opacity.on {
-            return 0;
-        }
-        let mut h = std::hash::DefaultHasher::new();
-        for &k in &f.plan.fur_casters {
-            let o = &f.plan.objects[k];
-            let fur = o.fur.map(|p| {
-                (
-                    p.shells,
-                    p.coverage == pelt_scene::scene::FurCoverage::Binary,
-                    p.length.to_bits(),
-                    p.medium.map(f32::to_bits),
-                )
-            });
-            std::hash::Hash::hash(&(o.scene_index, fur), &mut h);
-        }
-        std::hash::Hasher::finish(&h) | 1
     }
 
     /// How many layers `plan`'s shadow-casting lights draw: six per point light, one per
-    /// directional light.
+    /// light with one map.
     fn layers_drawn(plan: &ScenePlan) -> usize {
         plan.shadow_lights()
             .map(|l| layers_of(&l.emitter) as usize)
             .sum()
     }
 
-    /// Whether a frame has drawn the cubes since their lights and casters last changed.
-    pub fn fresh(&self) -> bool {
-        self.fresh.load(Ordering::Relaxed)
-    }
-
-    /// Writes the faces and casters of `plan` (which the cubes fit); a change makes the next
-    /// frame draw them again.
-    pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) {
-        let stride = UNIFORM_STRIDE as usize;
-        let mut faces = vec![0u8; self.views.len() * stride];
-        let mut frames = vec![0u8; self.views.len() * stride];
-        let mut suns = [SunMap::zeroed(); MAX_SHADOW_LIGHTS];
-        let n = if self.opacity.on {
-            plan.shadow_maps.opacity_layers
-        } else {
-            0
-        };
-        let (sum, layers) = opacity::boundaries(n, plan.fur_depth());
-        let mut k = 0;
+    /// Each drawn layer's face and light frame, and each slot's one map, for `plan`'s lights.
+    fn fitted(&self, plan: &ScenePlan) -> (Vec<ShadowFace>, Vec<LightFrame>, [LightMap; 8]) {
+        let mut faces = Vec::with_capacity(self.views.len());
+        let mut frames = Vec::with_capacity(self.views.len());
+        let mut maps = [LightMap::zeroed(); MAX_SHADOW_LIGHTS];
         for (slot, l) in plan.shadow_lights().enumerate() {
             let mut put = |(u, light): (ShadowFace, LightFrame)| {
-                let at = k * stride;
-                faces[at..at + size_of::<ShadowFace>()].copy_from_slice(bytemuck::bytes_of(&u));
-                let lf = LightFrame {
-                    layer: self.views[k].0,
+                frames.push(LightFrame {
+                    layer: self.views[faces.len()].0,
                     ..light
-                };
-                let fu = lf.uniforms(self.size, sum, plan);
-                frames[at..at + size_of_val(&fu)].copy_from_slice(bytemuck::bytes_of(&fu));
-                k += 1;
+                });
+                faces.push(u);
             };
             match l.emitter {
                 Emitter::Point { position, radius } => {
-                    for u in cube_faces(position, radius) {
-                        put(u);
-                    }
+                    cube_faces(position, radius).into_iter().for_each(&mut put);
                 }
                 Emitter::Directional { direction } => {
-                    let (face, sun) = sun_map(direction, plan, self.size);
+                    let (face, map) = sun_map(direction, plan, self.size);
                     put(face);
-                    suns[slot] = sun;
+                    maps[slot] = map;
                 }
             }
+        }
+        (faces, frames, maps)
+    }
+
+    /// Writes the faces and casters of `plan` (which the cubes fit); returns whether they
+    /// changed (the next frame draws them again).
+    pub fn write(&mut self, r: &Renderer, plan: &ScenePlan) -> bool {
+        let stride = UNIFORM_STRIDE as usize;
+        let (fitted, frames, maps) = self.fitted(plan);
+        let mut faces = vec![0u8; self.views.len() * stride];
+        for (k, u) in fitted.iter().enumerate() {
+            faces[k * stride..k * stride + size_of::<ShadowFace>()]
+                .copy_from_slice(bytemuck::bytes_of(u));
         }
         let mut objects = vec![0u8; plan.objects.len() * stride];
         let mut draws = Vec::new();
@@ -428,42 +396,54 @@ impl ShadowCubes {
             .collect();
         let read = ShadowRead {
             pcf: [plan.shadow_maps.pcf, 0, 0, 0],
-            layers,
-            suns,
+            maps,
         };
         if self.read_written != Some(read) {
             r.gpu
                 .write_buffer(&self.params, 0, bytemuck::bytes_of(&read));
             self.read_written = Some(read);
         }
-        let drawn = [
-            faces.as_slice(),
-            &frames,
-            &objects,
-            bytemuck::cast_slice(&ids),
-        ]
-        .concat();
-        if drawn != self.drawn {
-            if !faces.is_empty() {
-                r.gpu.write_buffer(&self.faces, 0, &faces);
-            }
-            self.opacity.write(r, &frames);
-            if !objects.is_empty() {
-                r.gpu.write_buffer(&self.objects, 0, &objects);
-            }
-            self.draws = draws;
-            self.drawn = drawn;
-            self.fresh.store(false, Ordering::Relaxed);
+        let drawn = [faces.as_slice(), &objects, bytemuck::cast_slice(&ids)].concat();
+        if drawn == self.drawn {
+            return false;
         }
+        if !faces.is_empty() {
+            r.gpu.write_buffer(&self.faces, 0, &faces);
+        }
+        if !objects.is_empty() {
+            r.gpu.write_buffer(&self.objects, 0, &objects);
+        }
+        self.frames = frames;
+        self.draws = draws;
+        self.drawn = drawn;
+        true
     }
 }
 
 /// The layers a casting light draws: a point light's six cube faces, a directional light's
 /// one orthographic map.
 fn layers_of(emitter: &Emitter) -> u32 {
-    match emitter {
+    match *emitter {
         Emitter::Point { .. } => 6,
         Emitter::Directional { .. } => 1,
+    }
+}
+
+/// An up vector for a view along unit `direction`: +y, or +z where the view is nearly
+/// vertical.
+fn up_for(direction: Vec3) -> Vec3 {
+    if direction.y.abs() < 0.99 {
+        Vec3::Y
+    } else {
+        Vec3::Z
+    }
+}
+
+/// What `--explain` calls the maps of a kind of light.
+fn map_words(kind: LightKind) -> &'static str {
+    match kind {
+        LightKind::Point => "point light(s) × 6 cube faces",
+        LightKind::Directional => "directional light(s) × 1 orthographic map (fitted to the scene)",
     }
 }
 
@@ -487,6 +467,7 @@ fn cube_faces(position: Vec3, radius: f32) -> [(ShadowFace, LightFrame); 6] {
                 proj,
                 near,
                 layer,
+                along_axis: false,
             },
         )
     })
@@ -495,12 +476,8 @@ fn cube_faces(position: Vec3, radius: f32) -> [(ShadowFace, LightFrame); 6] {
 /// A directional light's map (travelling along unit `direction`) of `size` texels a side:
 /// an orthographic view along it, fitted to the world bounds of every object of `plan`
 /// (casters and receivers), square texels, with a margin of a hundredth of the scene.
-fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightFrame), SunMap) {
-    let up = if direction.y.abs() < 0.99 {
-        Vec3::Y
-    } else {
-        Vec3::Z
-    };
+fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightFrame), LightMap) {
+    let up = up_for(direction);
     let view = Mat4::look_to_rh(Vec3::ZERO, direction, up);
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for (o, (blo, bhi)) in &plan.objects {
@@ -537,7 +514,7 @@ fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightF
         light: [0.0; 4],
         plane: direction.extend(-near).into(),
     };
-    let sun = SunMap {
+    let sun = LightMap {
         to_map: to_map.to_cols_array_2d(),
         texel: [2.0 * half / size as f32, 0.0, 0.0, 0.0],
     };
@@ -550,66 +527,15 @@ fn sun_map(direction: Vec3, plan: &ScenePlan, size: u32) -> ((ShadowFace, LightF
                 proj,
                 near,
                 layer,
+                along_axis: true,
             },
         ),
         sun,
     )
 }
 
-/// light.wgsl's and forward.wgsl's override: whether any light of the view casts shadows.
-pub const SHADOWS: &str = "SHADOWS";
-
-/// light.wgsl's and forward.wgsl's override: whether the fur casts by its coverage too.
-pub const FUR_SHADOWS: &str = "FUR_SHADOWS";
-
-/// `desc` for views without a shadow-casting light: the lookup compiled out.
-pub fn unshadowed(desc: PipelineDesc) -> PipelineDesc {
-    desc.with_constant(SHADOWS, Some(0.0))
-        .with_constant(FUR_SHADOWS, Some(0.0))
-}
-
-/// `desc` for views whose fur casts no coverage: the opacity layers' lookup compiled out.
-pub fn without_fur(desc: PipelineDesc) -> PipelineDesc {
-    desc.with_constant(FUR_SHADOWS, Some(0.0))
-}
-
-/// `descs` and their [`without_fur`] and [`unshadowed`] variants.
-pub fn with_unshadowed(descs: Vec<PipelineDesc>) -> Vec<PipelineDesc> {
-    descs
-        .into_iter()
-        .flat_map(|d| [d.clone(), without_fur(d.clone()), unshadowed(d)])
-        .collect()
-}
-
-/// Whether any light of the view casts shadows.
-pub fn any(f: &Frame<'_>) -> bool {
-    f.plan.lights.iter().any(|l| l.shadow.is_some())
-}
-
-/// Whether the view's fur casts by its coverage (its scene's cubes have opacity layers).
-pub fn fur_casts(f: &Frame<'_>) -> bool {
-    f.scene.get::<ShadowCubes>().is_some_and(|c| c.opacity.on)
-}
-
-/// `desc` as the view needs it: [`unshadowed`] unless a light of the view casts shadows,
-/// [`without_fur`] unless its fur casts too.
-pub fn for_view(f: &Frame<'_>, desc: PipelineDesc) -> PipelineDesc {
-    match (any(f), fur_casts(f)) {
-        (false, _) => unshadowed(desc),
-        (true, false) => without_fur(desc),
-        (true, true) => desc,
-    }
-}
-
-/// Binds the view's cubes at [`slot::CUBES`] for a pass that reads them.
-pub fn bind<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: Pass) -> Result<(), MissingInput> {
-    let c = cubes(f, pass.name())?;
-    r.bind(slot::CUBES, &c.read, None);
-    Ok(())
-}
-
 /// The view's shadow cubes, or the error `pass` reports without them.
-pub fn cubes<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a ShadowCubes, MissingInput> {
+fn cubes<'a>(f: &Frame<'a>, pass: &'static str) -> Result<&'a ShadowCubes, MissingInput> {
     f.scene.need(pass, "the scene's shadow cubes")
 }
 
@@ -655,9 +581,6 @@ pub fn passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
             r.push(Step::DrawIndexed(0..g.count, 0..1));
         }
         out.push(r);
-        if c.opacity.on {
-            out.extend(c.opacity.passes(f, PASS, i, view, &c.depth.view)?);
-        }
     }
     Ok(out)
 }

@@ -313,7 +313,7 @@ fn shade<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, s: &Shade) -> Result<(), Missing
 
 /// Every fur object's strands. The frame and forward light-array groups must be bound.
 pub fn draw<'a>(f: &Frame<'a>, r: &mut Recipe<'a>, pass: &'static str) -> Result<(), MissingInput> {
-    let traced = super::shadows::any(f);
+    let traced = crate::lighting::any(f);
     let bits = if traced {
         Some(
             f.scene

@@ -6,9 +6,7 @@
 
 use super::{alpha, fur};
 use crate::draw::{MissingInput, slot};
-use crate::feature::{
-    Build, Feature, Frame, KnobDesc, PassDesc, Reference, Shade, Shared, TargetsDesc,
-};
+use crate::feature::{Build, Feature, Frame, KnobDesc, PassDesc, Shade, Shared, TargetsDesc};
 use crate::frame_data::Res;
 use crate::layout::{self, LayoutDesc};
 use crate::owned::Owned;
@@ -54,17 +52,13 @@ pub fn pipeline() -> PipelineDesc {
 
 /// Weighted blended OIT's feature (its accumulation draws the fur's pipelines).
 pub const FEATURE: Feature = Feature {
-    knobs: &[KnobDesc::new(
-        "fur-blend",
-        "stipple or wboit",
-        "stipple",
-        Reference::Strands,
-    )],
+    knobs: &[KnobDesc::of(&pelt_scene::knobs::spec::FUR_BLEND)],
     pipelines: || vec![pipeline()],
     passes: &[
         PassDesc {
             after: &[
                 Pass::new("shadow-maps"),
+                Pass::new("opacity-maps"),
                 Pass::new("material"),
                 Pass::new("forward"),
             ],
@@ -188,7 +182,7 @@ pub fn accum_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     f.bind_frame(&mut r, Res::Output);
     r.bind(slot::LIGHTING, fur_light.0, fur_light.1);
     if lighting == Lighting::Forward {
-        super::shadows::bind(f, &mut r, ACCUM)?;
+        crate::lighting::bind(f, &mut r, ACCUM.name())?;
     }
     fur::layers(f, &mut r, ACCUM.name(), lighting, Blend::Wboit)?;
     Ok(r)
@@ -211,7 +205,7 @@ pub fn composite_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     r.push(Step::Draw(0..3, 0..1));
     let shade = alpha_shade(f);
     if shade.lit == Lighting::Forward {
-        super::shadows::bind(f, &mut r, COMPOSITE)?;
+        crate::lighting::bind(f, &mut r, COMPOSITE.name())?;
     }
     alpha::draw(f, &mut r, &shade)?;
     Ok(r)

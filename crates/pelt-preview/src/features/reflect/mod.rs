@@ -16,8 +16,9 @@ pub use crate::cube::face_view;
 use super::lights;
 use crate::draw::{MissingInput, vertex_layout};
 use crate::feature::{
-    Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Reference, Shared, Sides,
+    Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Shared, Sides,
 };
+use crate::knobs::spec;
 use crate::layout::{self, D2_ARRAY, LayoutDesc, UNFILTERABLE, seen_by};
 use crate::owned::Owned;
 use crate::pass::Pass;
@@ -336,23 +337,13 @@ pub fn reflect_pipeline() -> PipelineDesc {
 /// Mirrors and glass's feature.
 pub const FEATURE: Feature = Feature {
     knobs: &[
-        KnobDesc::new(
-            "reflections",
-            "distance-maps, envmap or off",
-            "distance-maps",
-            Reference::RayTracer,
-        ),
-        KnobDesc::new("linear-steps", "1 to 1024", "32", Reference::RayTracer),
-        KnobDesc::new("secant-steps", "0 to 64", "6", Reference::RayTracer),
-        KnobDesc::new("layers", "3 to 8", "3", Reference::RayTracer),
-        KnobDesc::new(
-            "cube-size",
-            "a power of two from 8 to 2048",
-            "256",
-            Reference::RayTracer,
-        ),
-        KnobDesc::new("max-depth", "1 to 16", "4", Reference::RayTracer),
-        KnobDesc::new("min-max", "on or off", "on", Reference::RayTracer),
+        KnobDesc::of(&spec::REFLECTIONS),
+        KnobDesc::of(&spec::LINEAR_STEPS),
+        KnobDesc::of(&spec::SECANT_STEPS),
+        KnobDesc::of(&spec::LAYERS),
+        KnobDesc::of(&spec::CUBE_SIZE),
+        KnobDesc::of(&spec::MAX_DEPTH),
+        KnobDesc::of(&spec::MIN_MAX),
     ],
     pipelines: || {
         let both = [map_pipeline(), reflect_pipeline()];
