@@ -75,13 +75,16 @@ struct PosedVertex {
 }
 
 struct Light {
-    // A point light's view-space position and radius; a directional light's unit view-space
-    // direction toward it and 0 (light_reach).
+    // A point or spot light's view-space position and radius; a directional light's unit
+    // view-space direction toward it and 0 (light_reach).
     position_radius: vec4<f32>,
     // rgb: colour × intensity; w: intensity × luminance(colour), the specular scale.
     color: vec4<f32>,
     // x: its shadow cube's slot + 1 (0: it casts no shadows; shadows.wgsl); yzw: unused.
     shadow: vec4<u32>,
+    // A spot light's cone: xyz its unit view-space axis times 1 / (cos inner − cos outer), w
+    // −cos outer times the same; (0, 0, 0, 1) for a light without one (point_reach).
+    cone: vec4<f32>,
 }
 
 struct VertexIn {
@@ -214,11 +217,22 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// A point light's reach at view-space point `p`: the unit direction toward it (xyz) and its
-// inverse-square falloff, windowed to reach exactly zero at its radius and beyond (the window
-// clamps to zero there, so every term it scales is exactly zero with no branch: a CPU
-// rasterizer runs both sides of a branch its lanes disagree on).
+// A point or spot light's reach at view-space point `p`: the unit direction toward it (xyz)
+// and its inverse-square falloff, windowed to reach exactly zero at its radius and beyond, times
+// a spot light's cone, clamp(dot(axis, −l) · s − cos outer · s, 0, 1)² with s = 1 / (cos inner −
+// cos outer) as glTF's KHR_lights_punctual (1 without a cone). The clamps reach zero with no
+// branch, so every term they scale is exactly zero (a CPU rasterizer runs both sides of a
+// branch its lanes disagree on).
 fn point_reach(p: vec3<f32>, light: Light) -> vec4<f32> {
+    let r = bare_reach(p, light);
+    let cone = clamp(dot(light.cone.xyz, -r.xyz) + light.cone.w, 0.0, 1.0);
+    return vec4<f32>(r.xyz, r.w * (cone * cone));
+}
+
+// point_reach without the cone: a plain point light's (what a loop over a view of point
+// lights alone evaluates: the cone's terms cost a fifth of forward shading's light loop on a
+// CPU rasterizer).
+fn bare_reach(p: vec3<f32>, light: Light) -> vec4<f32> {
     let radius = light.position_radius.w;
     let to_light = light.position_radius.xyz - p;
     let dist = length(to_light);
@@ -233,18 +247,20 @@ fn sun_reach(light: Light) -> vec4<f32> {
     return vec4<f32>(light.position_radius.xyz, 1.0);
 }
 
-// Either reach, by the light's kind, for a loop over lights of both kinds. `suns`: whether the
-// view may hold a directional light; pass the pipeline's SUNS override, so a view of point
-// lights alone compiles the branch out (a CPU rasterizer pays for a branch it cannot prove
+// Any light's reach, by its kind, for a loop over lights of every kind. `suns`: whether the
+// view may hold a light other than a plain point light (a directional or a spot light:
+// `Emitter::needs_suns`); pass the pipeline's SUNS override, so a view of point lights alone
+// compiles the branch and the cones out (a CPU rasterizer pays for a branch it cannot prove
 // uniform: light_reach's run-time branch made lavapipe's light pass five times slower). Keep in
-// sync with `Emitter::reach` in crates/pelt-scene/src/shading.rs.
+// sync with `Emitter::reach` in crates/pelt-scene/src/light.rs.
 fn light_reach(p: vec3<f32>, light: Light, suns: bool) -> vec4<f32> {
     if suns {
         if light.position_radius.w == 0.0 {
             return sun_reach(light);
         }
+        return point_reach(p, light);
     }
-    return point_reach(p, light);
+    return bare_reach(p, light);
 }
 
 // One light of reach `r` (light_reach) at view-space point `p` with normal `n`: rgb = diffuse

@@ -79,13 +79,15 @@ pub struct ObjectUniforms {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct LightUniforms {
-    /// A point light's position and radius; a directional light's unit direction toward it
-    /// and 0 ([`LightUniforms::new`]).
+    /// A point or spot light's position and radius; a directional light's unit direction
+    /// toward it and 0 ([`LightUniforms::new`]).
     pub position_radius: [f32; 4],
     /// rgb colour × intensity; w intensity × luminance(colour).
     pub color: [f32; 4],
     /// x: the light's shadow-cube slot + 1 (0: it casts none); yzw unused.
     pub shadow: [u32; 4],
+    /// A spot light's cone (`Emitter::cone`); (0, 0, 0, 1) for the other kinds.
+    pub cone: [f32; 4],
 }
 
 impl LightUniforms {
@@ -98,6 +100,7 @@ impl LightUniforms {
             position_radius: position_radius.into(),
             color: color.extend(lum).into(),
             shadow: [shadow.map_or(0, |s| s + 1), 0, 0, 0],
+            cone: emitter.cone(to_space).into(),
         }
     }
 }
@@ -111,15 +114,16 @@ mod tests {
 
     #[test]
     fn sizes_match_the_wgsl_layouts() {
-        // WGSL: Frame = 2 mat4 + 7 vec4 = 240; Object = 2 mat4 + 8 vec4 = 256; Light = 3 vec4 = 48.
+        // WGSL: Frame = 2 mat4 + 7 vec4 = 240; Object = 2 mat4 + 8 vec4 = 256; Light = 4 vec4 = 64.
         assert_eq!(size_of::<FrameUniforms>(), 240);
         assert_eq!(size_of::<ObjectUniforms>(), 256);
         assert_eq!(size_of::<FurVertex>(), 56);
         assert_eq!(size_of::<FinInstance>(), 128);
-        assert_eq!(size_of::<LightUniforms>(), 48);
+        assert_eq!(size_of::<LightUniforms>(), 64);
         assert_eq!(size_of::<Vertex>(), 52);
         assert_eq!(size_of::<MaterialUniforms>(), 32);
         assert!(size_of::<ObjectUniforms>() as u64 <= UNIFORM_STRIDE);
-        assert_eq!(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>(), 12288);
+        // Within WebGL2's and wgpu's downlevel limit on a uniform binding (16 KiB).
+        assert_eq!(MAX_FORWARD_LIGHTS * size_of::<LightUniforms>(), 16384);
     }
 }

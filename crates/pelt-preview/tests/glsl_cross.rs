@@ -37,6 +37,7 @@ fn mk_light(a: vec4<f32>, b: vec4<f32>) -> Light {
     var l: Light;
     l.position_radius = select(vec4<f32>(a.xyz * 4.0, 4.0 + 2.0 * b.w), vec4<f32>(normalize(a.xyz), 0.0), b.w < -0.5);
     l.color = vec4<f32>(abs(b.xyz) * 3.0, dot(abs(b.xyz) * 3.0, vec3<f32>(0.2126, 0.7152, 0.0722)));
+    l.cone = vec4<f32>(0.0, 0.0, 0.0, 1.0);
     return l;
 }
 fn wind_case(a: vec4<f32>, b: vec4<f32>, c: vec4<f32>, d: vec4<f32>) -> vec3<f32> {
@@ -55,6 +56,7 @@ Light mk_light(vec4 a, vec4 b) {
     Light l;
     l.position_radius = b.w < -0.5 ? vec4(normalize(a.xyz), 0.0) : vec4(a.xyz * 4.0, 4.0 + 2.0 * b.w);
     l.color = vec4(abs(b.xyz) * 3.0, dot(abs(b.xyz) * 3.0, vec3(0.2126, 0.7152, 0.0722)));
+    l.cone = vec4(0.0, 0.0, 0.0, 1.0);
     return l;
 }
 vec3 wind_case(vec4 a, vec4 b, vec4 c, vec4 d) {

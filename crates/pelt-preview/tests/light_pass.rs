@@ -136,15 +136,16 @@ fn light_pipelines_compile_out_what_their_lights_do_not_need() {
         assert!(holds(&reached(&d), SHADOWS, "shadow_seen"));
     }
 
-    // The forward pass loops over every light: its branch on the kind only with a sun.
+    // The forward pass loops over every light: its branch on the kind and the spot lights'
+    // cones only with a sun or a spot light (point lights alone reach through bare_reach).
     let fwd = pipelines(&mut p, &point_scene(), Mode::Forward, forward::PASS);
     for d in &fwd {
         let n = reached(d);
         assert!(!holds(&n, COMMON, "sun_reach") && !holds(&n, SHADOWS, "shadow_seen"));
-        assert!(holds(&n, COMMON, "point_reach"));
-        let suns = d.clone().with_constant(lights::SUNS, None);
+        assert!(holds(&n, COMMON, "bare_reach") && !holds(&n, COMMON, "point_reach"));
+        let suns = reached(&d.clone().with_constant(lights::SUNS, None));
         assert!(
-            holds(&reached(&suns), COMMON, "sun_reach"),
+            holds(&suns, COMMON, "sun_reach") && holds(&suns, COMMON, "point_reach"),
             "negative control"
         );
     }

@@ -26,6 +26,22 @@ pub enum Emitter {
         /// Unit direction the light travels in (from the light toward the scene).
         direction: Vec3,
     },
+    /// A spot light: a point light at `position` reaching `radius` whose light is confined to
+    /// a cone about the unit `direction`: full within `inner`, none beyond `outer` (half-angles
+    /// in radians, 0 ≤ inner ≤ outer ≤ π/2), smooth between them as glTF's
+    /// `KHR_lights_punctual` spot lights.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Unit direction its cone points in.
+        direction: Vec3,
+        /// Radius where its light reaches zero.
+        radius: f32,
+        /// The cone's half-angle of full light (radians).
+        inner: f32,
+        /// The cone's half-angle past which no light reaches (radians).
+        outer: f32,
+    },
 }
 
 /// Where a light's rays start: at a point (a point light), or infinitely far, travelling along
@@ -42,7 +58,9 @@ impl Emitter {
     /// Where its rays start (what a shadow ray aims at).
     pub fn source(&self) -> Source {
         match *self {
-            Emitter::Point { position, .. } => Source::At(position),
+            Emitter::Point { position, .. } | Emitter::Spot { position, .. } => {
+                Source::At(position)
+            }
             Emitter::Directional { direction } => Source::Along(direction),
         }
     }
@@ -52,6 +70,7 @@ impl Emitter {
         match self {
             Emitter::Point { .. } => LightKind::Point,
             Emitter::Directional { .. } => LightKind::Directional,
+            Emitter::Spot { .. } => LightKind::Spot,
         }
     }
 
@@ -62,7 +81,7 @@ impl Emitter {
 
     /// Whether a shader's loop over lights that holds it needs the full `light_reach` (its
     /// branch on the kind, the SUNS variant): every kind but a plain point light, whose reach
-    /// is `point_reach` (common.wgsl).
+    /// is `bare_reach` (common.wgsl).
     pub fn needs_suns(&self) -> bool {
         !matches!(self, Emitter::Point { .. })
     }
@@ -71,8 +90,31 @@ impl Emitter {
     /// everywhere.
     pub fn bounds(&self) -> Option<(Vec3, f32)> {
         match *self {
-            Emitter::Point { position, radius } => Some((position, radius)),
+            Emitter::Point { position, radius }
+            | Emitter::Spot {
+                position, radius, ..
+            } => Some((position, radius)),
             Emitter::Directional { .. } => None,
+        }
+    }
+
+    /// `cone` of the shaders' `Light` in the space `to_space` maps world space to: a spot
+    /// light's unit direction times 1 / (cos inner − cos outer) and −cos outer times the
+    /// same, so that clamp(dot(xyz, −l) + w, 0, 1) is its smooth falloff; (0, 0, 0, 1), no
+    /// cone, for the other kinds.
+    pub fn cone(&self, to_space: Mat4) -> Vec4 {
+        match *self {
+            Emitter::Spot {
+                direction,
+                inner,
+                outer,
+                ..
+            } => {
+                let scale = 1.0 / (inner.cos() - outer.cos()).max(1e-3);
+                let d = to_space.transform_vector3(direction).normalize() * scale;
+                d.extend(-outer.cos() * scale)
+            }
+            Emitter::Point { .. } | Emitter::Directional { .. } => Vec4::W,
         }
     }
 
@@ -81,9 +123,10 @@ impl Emitter {
     /// direction toward it and 0.
     pub fn packed(&self, to_space: Mat4) -> Vec4 {
         match *self {
-            Emitter::Point { position, radius } => {
-                to_space.transform_point3(position).extend(radius)
-            }
+            Emitter::Point { position, radius }
+            | Emitter::Spot {
+                position, radius, ..
+            } => to_space.transform_point3(position).extend(radius),
             Emitter::Directional { direction } => to_space
                 .transform_vector3(-direction)
                 .normalize()
@@ -102,10 +145,23 @@ impl Emitter {
             Emitter::Directional { direction } => Emitter::Directional {
                 direction: m.transform_vector3(direction).normalize_or(direction),
             },
+            Emitter::Spot {
+                position,
+                direction,
+                radius,
+                inner,
+                outer,
+            } => Emitter::Spot {
+                position: m.transform_point3(position),
+                direction: m.transform_vector3(direction).normalize_or(direction),
+                radius: radius * axis_scale(m),
+                inner,
+                outer,
+            },
         }
     }
 
-    /// A point light's position.
+    /// A point or spot light's position.
     pub fn position(&self) -> Option<Vec3> {
         match self.source() {
             Source::At(position) => Some(position),
@@ -113,14 +169,15 @@ impl Emitter {
         }
     }
 
-    /// A point light's radius.
+    /// A point or spot light's radius.
     pub fn radius(&self) -> Option<f32> {
         self.bounds().map(|(_, radius)| radius)
     }
 
     /// The unit direction from `p` toward the light, its falloff at `p` and the distance a
     /// shadow ray travels to reach it (infinite for a directional light); `None` where a point
-    /// light does not reach (`light_reach` in common.wgsl): beyond its radius.
+    /// or spot light does not reach (`light_reach` in common.wgsl): beyond its radius, or
+    /// outside a spot light's cone.
     pub fn reach(&self, p: Vec3) -> Option<(Vec3, f32, f32)> {
         let Some((position, radius)) = self.bounds() else {
             return Some((-self.travel(), 1.0, f32::INFINITY));
@@ -132,15 +189,21 @@ impl Emitter {
         }
         let x = dist / radius;
         let window = (1.0 - x * x * x * x).clamp(0.0, 1.0);
-        let atten = window * window / (1.0 + dist * dist);
-        Some((to_light / dist.max(1e-6), atten, dist))
+        let l = to_light / dist.max(1e-6);
+        let cone = self.cone(Mat4::IDENTITY);
+        let a = (cone.truncate().dot(-l) + cone.w).clamp(0.0, 1.0);
+        if a <= 0.0 {
+            return None;
+        }
+        let atten = window * window / (1.0 + dist * dist) * (a * a);
+        Some((l, atten, dist))
     }
 
-    /// The way its light travels: a sun's direction; zero for a point light (its light
-    /// travels every way).
+    /// The way its light travels: a sun's direction, a spot light's axis; zero for a point
+    /// light (its light travels every way).
     pub fn travel(&self) -> Vec3 {
         match *self {
-            Emitter::Directional { direction } => direction,
+            Emitter::Directional { direction } | Emitter::Spot { direction, .. } => direction,
             Emitter::Point { .. } => Vec3::ZERO,
         }
     }
@@ -193,11 +256,13 @@ pub enum LightKind {
     Point,
     /// A directional light.
     Directional,
+    /// A spot light.
+    Spot,
 }
 
 impl LightKind {
     /// Every kind, in the order `--explain` lists them.
-    pub const ALL: [LightKind; 2] = [LightKind::Point, LightKind::Directional];
+    pub const ALL: [LightKind; 3] = [LightKind::Point, LightKind::Directional, LightKind::Spot];
 }
 
 /// A light as written (checked into a [`Light`]; a mistake is reported at the light's place
@@ -219,6 +284,10 @@ struct LightFile {
     radius: Option<Positive>,
     #[serde(default, skip_serializing_if = "is_false")]
     shadows: bool,
+    #[serde(default, rename = "innerDeg", skip_serializing_if = "Option::is_none")]
+    inner_deg: Option<f32>,
+    #[serde(default, rename = "outerDeg", skip_serializing_if = "Option::is_none")]
+    outer_deg: Option<f32>,
 }
 
 fn is_point(k: &LightKind) -> bool {
@@ -272,12 +341,20 @@ fn emitter_of(f: &LightFile) -> Result<Emitter, String> {
         Ok(v.normalize())
     };
     let only = |field: &str, kinds: &str| format!("{field}: only {kinds} has one");
+    if f.kind != LightKind::Spot && (f.inner_deg.is_some() || f.outer_deg.is_some()) {
+        let field = if f.inner_deg.is_some() {
+            "innerDeg"
+        } else {
+            "outerDeg"
+        };
+        return Err(only(field, "a spot light (\"kind\": \"spot\")"));
+    }
     match f.kind {
         LightKind::Point => {
             if f.direction.is_some() {
                 return Err(only(
                     "direction",
-                    "a directional light (\"kind\": \"directional\")",
+                    "a directional light or a spot light (\"kind\": \"directional\" or \"spot\")",
                 ));
             }
             Ok(Emitter::Point {
@@ -295,7 +372,35 @@ fn emitter_of(f: &LightFile) -> Result<Emitter, String> {
                 direction: direction()?,
             })
         }
+        LightKind::Spot => {
+            let (inner, outer) = cone_of(f.inner_deg, f.outer_deg)?;
+            Ok(Emitter::Spot {
+                position: position()?,
+                direction: direction()?,
+                radius: radius()?,
+                inner,
+                outer,
+            })
+        }
     }
+}
+
+/// A spot light's cone from its half-angles in degrees (glTF's defaults: 0 and 45), checked:
+/// 0 ≤ inner ≤ outer ≤ 90, outer above 0. In radians.
+fn cone_of(inner_deg: Option<f32>, outer_deg: Option<f32>) -> Result<(f32, f32), String> {
+    let inner = inner_deg.unwrap_or(0.0);
+    let outer = outer_deg.unwrap_or(45.0);
+    if !(outer.is_finite() && outer > 0.0 && outer <= 90.0) {
+        return Err(format!(
+            "outerDeg: must be above 0 and at most 90, got {outer}"
+        ));
+    }
+    if !(inner.is_finite() && (0.0..=outer).contains(&inner)) {
+        return Err(format!(
+            "innerDeg: must be from 0 to outerDeg ({outer}), got {inner}"
+        ));
+    }
+    Ok((inner.to_radians(), outer.to_radians()))
 }
 
 impl LightKind {
@@ -304,6 +409,7 @@ impl LightKind {
         match self {
             LightKind::Point => "point",
             LightKind::Directional => "directional",
+            LightKind::Spot => "spot",
         }
     }
 }
@@ -311,6 +417,12 @@ impl LightKind {
 impl From<Light> for LightFile {
     fn from(l: Light) -> LightFile {
         let e = l.emitter;
+        let (inner_deg, outer_deg) = match e {
+            Emitter::Spot { inner, outer, .. } => {
+                (Some(inner.to_degrees()), Some(outer.to_degrees()))
+            }
+            Emitter::Point { .. } | Emitter::Directional { .. } => (None, None),
+        };
         LightFile {
             kind: e.kind(),
             position: e.position().map(Into::into),
@@ -319,6 +431,8 @@ impl From<Light> for LightFile {
             intensity: l.intensity,
             radius: e.radius().map(Positive),
             shadows: l.shadows,
+            inner_deg,
+            outer_deg,
         }
     }
 }
@@ -346,11 +460,12 @@ pub const KHR_LIGHTS_PUNCTUAL: &str = "KHR_lights_punctual";
 
 /// A light of glTF's `KHR_lights_punctual` (`def`, one of the extension's `lights`) where a
 /// node of world matrix `world` places it: at the node's origin, shining down its −z axis.
-/// The extension's units are pelt's intensity: candela for point lights (pelt's
+/// The extension's units are pelt's intensity: candela for point and spot lights (pelt's
 /// falloff, 1/(1 + d²) windowed to zero at the radius, is the extension's 1/d² away from the
 /// light), lux for a sun. Without a `range` a light reaches where its brightest channel falls
 /// to 1/256. glTF lights cast no shadows (the extension has no such switch, and three.js
-/// and Bevy read them so).
+/// and Bevy read them so). A spot light's cone angles are the extension's (radians, 0 and π/4
+/// by default).
 pub fn from_khr(def: &Value, world: Mat4) -> Result<Light, String> {
     let floats = |key: &str, n: usize| -> Result<Option<Vec<f32>>, String> {
         let Some(v) = def.get(key) else {
@@ -399,9 +514,30 @@ pub fn from_khr(def: &Value, world: Mat4) -> Result<Light, String> {
         Some("directional") => Emitter::Directional {
             direction: direction_of(down)?,
         },
+        Some("spot") => {
+            let spot = def.get("spot").unwrap_or(&Value::Null);
+            let angle = |key: &str| match spot.get(key) {
+                None => Ok(None),
+                Some(v) => v
+                    .as_f64()
+                    .map(|a| (a as f32).to_degrees())
+                    .filter(|a| a.is_finite())
+                    .map(Some)
+                    .ok_or(format!("spot.{key}: must be a number, got {v}")),
+            };
+            let (inner, outer) = cone_of(angle("innerConeAngle")?, angle("outerConeAngle")?)
+                .map_err(|e| format!("spot: {e} (in degrees)"))?;
+            Emitter::Spot {
+                position,
+                direction: direction_of(down)?,
+                radius,
+                inner,
+                outer,
+            }
+        }
         _ => {
             return Err(format!(
-                "type: must be \"directional\" or \"point\", got {}",
+                "type: must be \"directional\", \"point\" or \"spot\", got {}",
                 def.get("type").unwrap_or(&Value::Null)
             ));
         }

@@ -248,12 +248,46 @@ fn spawn_light(
                     shadow_maps_enabled: l.shadows,
                     ..default()
                 },
-                Transform::default()
-                    .looking_to(d, if d.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y }),
+                Transform::default().looking_to(d, up_for(d)),
+                name,
+            ));
+        }
+        Emitter::Spot {
+            position,
+            direction,
+            radius,
+            inner,
+            outer,
+        } => {
+            // Bevy's spot light spreads its lumens as a point light's does (its cone masks
+            // them), and takes an outer angle below a right angle.
+            let p = Vec3::from(position.to_array());
+            let d = Vec3::from(direction.to_array());
+            let texel = 2.0 * p.distance(target) / shadow_size.max(1) as f32;
+            let outer = outer.min(std::f32::consts::FRAC_PI_2 - 1e-3);
+            commands.spawn((
+                SpotLight {
+                    color,
+                    intensity: l.intensity.0 * POINT_LUMENS_PER_INTENSITY,
+                    range: radius,
+                    radius: 0.0,
+                    shadow_maps_enabled: l.shadows,
+                    shadow_depth_bias: texel.max(SpotLight::DEFAULT_SHADOW_DEPTH_BIAS),
+                    inner_angle: inner.min(outer),
+                    outer_angle: outer,
+                    ..default()
+                },
+                Transform::from_translation(p).looking_to(d, up_for(d)),
                 name,
             ));
         }
     }
+}
+
+/// An up vector for a light looking along `d`: +y, or +z where it looks nearly straight
+/// up or down.
+fn up_for(d: Vec3) -> Vec3 {
+    if d.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y }
 }
 
 fn spawn_object(s: &mut Spawner, out: &mut PeltScene, i: usize, o: &pelt_scene::scene::Object) {

@@ -13,10 +13,11 @@ export const SPECULAR_STRENGTH = 0.25;
 
 // pelt's lights from three's uniforms: a point light's view-space position and `distance`
 // (pelt's radius, where its windowed falloff reaches zero), a directional light's view-space
-// direction toward it; colour × intensity, and w its luminance (common.wgsl's Light).
+// direction toward it; colour × intensity, and w its luminance; no cone (common.wgsl's Light).
 const lightsGlsl = /* glsl */ `
 Light pelt_point(int i) {
   Light l;
+  l.cone = vec4(0.0, 0.0, 0.0, 1.0);
 #if NUM_POINT_LIGHTS > 0
   l.position_radius = vec4(pointLights[i].position, pointLights[i].distance);
   l.color = vec4(pointLights[i].color, dot(pointLights[i].color, vec3(0.2126, 0.7152, 0.0722)));
@@ -25,6 +26,7 @@ Light pelt_point(int i) {
 }
 Light pelt_sun(int i) {
   Light l;
+  l.cone = vec4(0.0, 0.0, 0.0, 1.0);
 #if NUM_DIR_LIGHTS > 0
   l.position_radius = vec4(directionalLights[i].direction, 0.0);
   l.color = vec4(directionalLights[i].color, dot(directionalLights[i].color, vec3(0.2126, 0.7152, 0.0722)));

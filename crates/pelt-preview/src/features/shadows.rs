@@ -71,7 +71,7 @@ pub const FACE_LAYOUT: LayoutDesc = LayoutDesc {
 };
 
 /// A light's one map (where it has one instead of a cube: a directional light's orthographic
-/// map) as shadows.wgsl reads it. Keep in sync with
+/// map, a spot light's perspective one) as shadows.wgsl reads it. Keep in sync with
 /// `LightMap` in shaders/lighting_inputs.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -362,6 +362,22 @@ impl ShadowCubes {
                     put(face);
                     maps[slot] = map;
                 }
+                Emitter::Spot {
+                    position,
+                    direction,
+                    radius,
+                    outer,
+                    ..
+                } if outer <= SPOT_MAP_MAX => {
+                    let (face, map) = spot_map(position, direction, radius, outer, self.size);
+                    put(face);
+                    maps[slot] = map;
+                }
+                Emitter::Spot {
+                    position, radius, ..
+                } => {
+                    cube_faces(position, radius).into_iter().for_each(&mut put);
+                }
             }
         }
         (faces, frames, maps)
@@ -426,6 +442,13 @@ fn layers_of(emitter: &Emitter) -> u32 {
     match *emitter {
         Emitter::Point { .. } => 6,
         Emitter::Directional { .. } => 1,
+        Emitter::Spot { outer, .. } => {
+            if outer <= SPOT_MAP_MAX {
+                1
+            } else {
+                6
+            }
+        }
     }
 }
 
@@ -439,11 +462,61 @@ fn up_for(direction: Vec3) -> Vec3 {
     }
 }
 
+/// The widest spot light (its outer half-angle, radians) drawn into one perspective map;
+/// a wider one draws a cube, as a point light does (one map's texels would stretch too far
+/// toward its rim).
+const SPOT_MAP_MAX: f32 = std::f32::consts::FRAC_PI_3;
+
+/// A spot light's map of `size` texels a side: a perspective view down its axis `direction`
+/// from `position`, its field of view the cone's `outer` half-angle and half a texel more,
+/// reaching `radius`. It stores the distance along the axis (q.z = q.w: a texel at depth d
+/// spans d times the map's texel at depth 1).
+fn spot_map(
+    position: Vec3,
+    direction: Vec3,
+    radius: f32,
+    outer: f32,
+    size: u32,
+) -> ((ShadowFace, LightFrame), LightMap) {
+    let up = up_for(direction);
+    let view = Mat4::look_to_rh(position, direction, up);
+    let t = outer.tan() * (1.0 + 1.0 / size as f32);
+    let near = (radius * 1e-4).max(1e-6);
+    let proj = Mat4::perspective_rh(2.0 * t.atan(), 1.0, near, radius);
+    // View space (looking down −z) to (u·w, v·w, depth, depth), depth = −z.
+    let to_map = Mat4::from_cols(
+        glam::Vec4::new(0.5 / t, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, -0.5 / t, 0.0, 0.0),
+        glam::Vec4::new(-0.5, -0.5, -1.0, -1.0),
+        glam::Vec4::ZERO,
+    ) * view;
+    let face = ShadowFace {
+        view_proj: (proj * view).to_cols_array_2d(),
+        light: [0.0; 4],
+        plane: direction.extend(-direction.dot(position)).into(),
+    };
+    let map = LightMap {
+        to_map: to_map.to_cols_array_2d(),
+        texel: [2.0 * t / size as f32, 0.0, 0.0, 0.0],
+    };
+    let frame = LightFrame {
+        view,
+        proj,
+        near: 0.0,
+        layer: 0,
+        along_axis: true,
+    };
+    ((face, frame), map)
+}
+
 /// What `--explain` calls the maps of a kind of light.
 fn map_words(kind: LightKind) -> &'static str {
     match kind {
         LightKind::Point => "point light(s) × 6 cube faces",
         LightKind::Directional => "directional light(s) × 1 orthographic map (fitted to the scene)",
+        LightKind::Spot => {
+            "spot light(s) × 1 perspective map (fitted to the cone; a cube beyond a 60° half-angle)"
+        }
     }
 }
 

@@ -29,6 +29,7 @@ struct Light {
     vec4 position_radius;
     vec4 color;
     uvec4 shadow;
+    vec4 cone;
 };
 const float MIN_COS = 0.1;
 const float FIN_SILHOUETTE = 0.35;
@@ -47,7 +48,7 @@ vec4 sun_reach(Light light_1) {
     return vec4(light_1.position_radius.xyz, 1.0);
 }
 
-vec4 point_reach(vec3 p, Light light_2) {
+vec4 bare_reach(vec3 p, Light light_2) {
     float radius = light_2.position_radius.w;
     vec3 to_light = (light_2.position_radius.xyz - p);
     float dist = length(to_light);
@@ -56,37 +57,45 @@ vec4 point_reach(vec3 p, Light light_2) {
     return vec4((to_light / vec3(max(dist, 1e-6))), ((window * window) / (1.0 + (dist * dist))));
 }
 
-vec4 light_reach(vec3 p_1, Light light_3, bool suns) {
-    if (suns) {
-        if ((light_3.position_radius.w == 0.0)) {
-            vec4 _e6 = sun_reach(light_3);
-            return _e6;
-        }
-    }
-    vec4 _e8 = point_reach(p_1, light_3);
-    return _e8;
+vec4 point_reach(vec3 p_1, Light light_3) {
+    vec4 _e2 = bare_reach(p_1, light_3);
+    float cone = clamp((dot(light_3.cone.xyz, -(_e2.xyz)) + light_3.cone.w), 0.0, 1.0);
+    return vec4(_e2.xyz, (_e2.w * (cone * cone)));
 }
 
-vec4 one_light(vec3 p_2, vec3 n_1, vec4 r, Light light_4, float spec_power) {
+vec4 light_reach(vec3 p_2, Light light_4, bool suns) {
+    if (suns) {
+        if ((light_4.position_radius.w == 0.0)) {
+            vec4 _e6 = sun_reach(light_4);
+            return _e6;
+        }
+        vec4 _e8 = point_reach(p_2, light_4);
+        return _e8;
+    }
+    vec4 _e9 = bare_reach(p_2, light_4);
+    return _e9;
+}
+
+vec4 one_light(vec3 p_3, vec3 n_1, vec4 r, Light light_5, float spec_power) {
     vec3 l = r.xyz;
     float atten = r.w;
     float ndl = max(dot(n_1, l), 0.0);
-    vec3 v = normalize(-(p_2));
+    vec3 v = normalize(-(p_3));
     vec3 h_1 = normalize((l + v));
     float spec = ((pow(max(dot(n_1, h_1), 0.0), spec_power) * ndl) * atten);
-    return vec4((light_4.color.xyz * (ndl * atten)), (spec * light_4.color.w));
+    return vec4((light_5.color.xyz * (ndl * atten)), (spec * light_5.color.w));
 }
 
-vec4 strand_light(vec3 p_3, vec3 t, vec4 r_1, Light light_5, float spec_power_1) {
+vec4 strand_light(vec3 p_4, vec3 t, vec4 r_1, Light light_6, float spec_power_1) {
     vec3 l_1 = r_1.xyz;
     float atten_1 = r_1.w;
-    vec3 v_1 = normalize(-(p_3));
+    vec3 v_1 = normalize(-(p_4));
     float lt = dot(l_1, t);
     float vt = dot(v_1, t);
     float sin_l = sqrt(max((1.0 - (lt * lt)), 0.0));
     float sin_v = sqrt(max((1.0 - (vt * vt)), 0.0));
     float spec_1 = (pow(max(((sin_l * sin_v) - (lt * vt)), 0.0), spec_power_1) * atten_1);
-    return vec4((light_5.color.xyz * (sin_l * atten_1)), (spec_1 * light_5.color.w));
+    return vec4((light_6.color.xyz * (sin_l * atten_1)), (spec_1 * light_6.color.w));
 }
 
 vec3 procedural(vec3 d) {
@@ -109,16 +118,16 @@ vec3 frame_tangent(vec3 n_2, vec3 t_1) {
     bool local = false;
     vec3 e = vec3(0.0, 0.0, 1.0);
     bool local_1 = false;
-    vec3 p_4 = (t_1 - (n_2 * dot(n_2, t_1)));
+    vec3 p_5 = (t_1 - (n_2 * dot(n_2, t_1)));
     float tl = length(t_1);
     if ((tl > 0.0)) {
-        local = (length(p_4) > (1e-6 * tl));
+        local = (length(p_5) > (1e-6 * tl));
     } else {
         local = false;
     }
     bool _e18 = local;
     if (_e18) {
-        return normalize(p_4);
+        return normalize(p_5);
     }
     vec3 a_1 = abs(n_2);
     if ((a_1.x <= a_1.y)) {
