@@ -192,6 +192,62 @@ fn the_demo_scene_sweep_measures_shells_against_the_strand_reference() {
     assert!(!out_dir.join(".sweep-partial").exists());
 }
 
+/// The spot stage's shadow knobs against the ray tracer: a larger perspective map draws the
+/// spot light's shadow closer to the truth (the coarsest map is the negative control).
+#[test]
+fn the_sweep_measures_a_spot_lights_shadow_knobs_against_the_ray_tracer() {
+    let dir = scratch("sweep-spot");
+    let out_dir = dir.join("out");
+    let scene = common::fixture("scenes/spot.json");
+    let out = pelt(
+        &[
+            "sweep",
+            scene.to_str().expect("utf8"),
+            "--knob",
+            "shadow-size=64,1024",
+            "--knob",
+            "pcf=1,2",
+            "--size",
+            "192x108",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--backend",
+            &backend(),
+            "-q",
+            "-o",
+            out_dir.to_str().expect("utf8"),
+        ],
+        &[],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join("sweep.json")).expect("sweep.json"),
+    )
+    .expect("valid json");
+    assert_eq!(json["reference"]["kind"], "raytrace");
+    let flip = |knob: &str, value: &str| -> f64 {
+        json["rows"]
+            .as_array()
+            .expect("rows")
+            .iter()
+            .find(|r| r["knob"] == knob && r["value"] == value)
+            .and_then(|r| r["error"].as_f64())
+            .unwrap_or_else(|| panic!("{knob}={value} in {json}"))
+    };
+    let (coarse, fine) = (flip("shadow-size", "64"), flip("shadow-size", "1024"));
+    assert!(
+        fine < coarse * 0.8,
+        "shadow-size 1024: {fine}, 64: {coarse}"
+    );
+    assert!(fine <= 0.03 && flip("pcf", "2") <= 0.03, "{json}");
+}
+
 #[test]
 fn bad_knobs_are_usage_errors_naming_the_knob_and_its_range() {
     let dir = scratch("sweep-bad");

@@ -10,7 +10,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{preview, save_failure};
+use common::{away_from, preview, save_failure};
 use glam::{Vec3, Vec4Swizzles};
 use pelt_measure::Flip;
 use pelt_preview::knobs::{self, Knobs};
@@ -232,20 +232,6 @@ fn a_blade_shadows_each_of_three_overlapping_alpha_layers_in_every_mode() {
             );
         }
     }
-}
-
-/// The pixels farther than `r` pixels (in x and y) from every pixel of `mask`.
-fn away_from(mask: &[bool], width: usize, r: usize) -> Vec<bool> {
-    let height = mask.len() / width;
-    (0..mask.len())
-        .map(|i| {
-            let (x, y) = (i % width, i / width);
-            let ys = y.saturating_sub(r)..=(y + r).min(height - 1);
-            !ys.into_iter().any(|yy| {
-                (x.saturating_sub(r)..=(x + r).min(width - 1)).any(|xx| mask[yy * width + xx])
-            })
-        })
-        .collect()
 }
 
 /// A cube on a floor under a light 0.6 above the floor and 6 away (about 3° to 6° over the

@@ -40,3 +40,17 @@ pub fn save_failure(name: &str, reference: &Image, test: &Image) {
         .save(&dir.join(format!("{name}-diff.png")))
         .expect("write");
 }
+
+/// The pixels farther than `r` pixels (in x and y) from every pixel of `mask`.
+pub fn away_from(mask: &[bool], width: usize, r: usize) -> Vec<bool> {
+    let height = mask.len() / width;
+    (0..mask.len())
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            let ys = y.saturating_sub(r)..=(y + r).min(height - 1);
+            !ys.into_iter().any(|yy| {
+                (x.saturating_sub(r)..=(x + r).min(width - 1)).any(|xx| mask[yy * width + xx])
+            })
+        })
+        .collect()
+}
