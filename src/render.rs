@@ -182,8 +182,10 @@ fn raytrace(
     let Some(out) = &args.output else {
         if args.explain {
             let casting = scene.lights.iter().filter(|l| l.shadows).count();
+            let n = pelt_trace::FUR_SAMPLES;
             println!(
-                "mode raytrace: one ray per pixel centre through a BVH, up to {} specular bounces, shadow rays toward {casting} shadow-casting light(s), on the CPU",
+                "mode raytrace: one ray per pixel centre ({} per pixel in a scene with fur, its fur objects traced as their strands) through a BVH, up to {} specular bounces, shadow rays toward {casting} shadow-casting light(s), on the CPU",
+                n * n,
                 scene.reflections.max_depth
             );
         }

@@ -20,9 +20,9 @@ pub enum MeasureError {
     /// Rendering failed.
     #[error(transparent)]
     Render(#[from] RenderError),
-    /// The ray tracer could not read the sky.
+    /// The ray tracer could not read the sky or plant a fur object's strands.
     #[error(transparent)]
-    Sky(#[from] pelt_preview::sky::SkyError),
+    Trace(#[from] pelt_trace::TraceError),
     /// The images differ in size.
     #[error(transparent)]
     Size(#[from] SizeMismatch),

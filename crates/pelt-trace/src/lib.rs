@@ -9,10 +9,15 @@
 //! the two images is the search alone. One ray per pixel centre (the rasterizer's sample);
 //! rows run in parallel with rayon and the image is the same at any thread count.
 //!
-//! Left out: alpha objects (the rasterizer blends them over; here they are not hit) and fur,
-//! whose base mesh is drawn in the fur's mean colour (as the distance maps hold it).
+//! Fur objects are drawn as the strand reference's strands ([`fur`]: the same seeded strands,
+//! capsules every ray meets, Kajiya-Kay lit) over their base mesh, so fur seen directly, in a
+//! mirror or through glass has a truth. Left out: alpha objects (the rasterizer blends them
+//! over; here they are not hit).
 
+pub mod capsules;
+pub mod fur;
 pub mod path;
+pub mod strand_set;
 pub mod strands;
 pub mod world;
 
@@ -40,7 +45,13 @@ pub struct Traced {
     pub reflective: Vec<bool>,
 }
 
-/// Traces the scene of `plan` seen through `view` at `size`; `max_depth` bounces.
+/// Camera rays per pixel, per axis, where the world traces fur: a strand is far thinner than
+/// a pixel, so one ray at the pixel's centre would alias it (docs/preview.md states the
+/// convergence: FLIP against 8×8 rays per pixel).
+pub const FUR_SAMPLES: u32 = 4;
+
+/// Traces the scene of `plan` seen through `view` at `size`; `max_depth` bounces; one ray
+/// per pixel centre, or [`FUR_SAMPLES`]² per pixel where the world traces fur.
 pub fn render(world: &World, plan: &ScenePlan, view: &View, size: (u32, u32)) -> Traced {
     render_with(world, plan, view, size, &|_| {})
 }
@@ -54,27 +65,64 @@ pub fn render_with(
     size: (u32, u32),
     row_done: &(dyn Fn(u32) + Sync),
 ) -> Traced {
+    let samples = if world.traces_fur() { FUR_SAMPLES } else { 1 };
+    render_sampled(world, plan, view, size, samples, row_done)
+}
+
+/// [`render_with`] with `samples`² camera rays per pixel on a regular grid (1: the pixel's
+/// centre), averaged in linear light; a pixel is reflective where its centre's ray first
+/// meets a mirror or glass.
+pub fn render_sampled(
+    world: &World,
+    plan: &ScenePlan,
+    view: &View,
+    size: (u32, u32),
+    samples: u32,
+    row_done: &(dyn Fn(u32) + Sync),
+) -> Traced {
     let finished = std::sync::atomic::AtomicU32::new(0);
     let tracer = Tracer {
         world,
         max_depth: plan.reflections.max_depth,
     };
     let (w, h) = size;
+    let n = samples.max(1);
     let inv = view.view.inverse();
     let eye = inv.transform_point3(Vec3::ZERO);
+    // The camera ray through framebuffer point (px, py): its direction and its depth range
+    // (hits between the near and far planes, in view depth, as the rasterizer clips).
+    let ray = |px: f32, py: f32| {
+        let ndc_x = px / w as f32 * 2.0 - 1.0;
+        let ndc_y = 1.0 - py / h as f32 * 2.0;
+        let v = Vec3::new(ndc_x * view.tan_half[0], ndc_y * view.tan_half[1], -1.0);
+        let len = v.length();
+        (
+            inv.transform_vector3(v).normalize(),
+            view.near * len,
+            view.far * len,
+        )
+    };
     let rows: Vec<(Vec<u8>, Vec<bool>)> = (0..h)
         .into_par_iter()
         .map(|y| {
             let mut rgba = Vec::with_capacity(w as usize * 4);
             let mut mask = Vec::with_capacity(w as usize);
             for x in 0..w {
-                let ndc_x = (x as f32 + 0.5) / w as f32 * 2.0 - 1.0;
-                let ndc_y = 1.0 - (y as f32 + 0.5) / h as f32 * 2.0;
-                let v = Vec3::new(ndc_x * view.tan_half[0], ndc_y * view.tan_half[1], -1.0);
-                // Hits between the near and far planes (view depth, as the rasterizer clips).
-                let len = v.length();
-                let dir = inv.transform_vector3(v).normalize();
-                let (c, hit) = tracer.camera_ray(eye, dir, view.near * len, view.far * len);
+                let (c, hit) = if n == 1 {
+                    let (d, tmin, tmax) = ray(x as f32 + 0.5, y as f32 + 0.5);
+                    tracer.camera_ray(eye, d, tmin, tmax)
+                } else {
+                    let mut sum = Vec3::ZERO;
+                    for k in 0..n * n {
+                        let (sx, sy) = ((k % n) as f32 + 0.5, (k / n) as f32 + 0.5);
+                        let (d, tmin, tmax) =
+                            ray(x as f32 + sx / n as f32, y as f32 + sy / n as f32);
+                        sum += tracer.camera_ray(eye, d, tmin, tmax).0;
+                    }
+                    let (d, tmin, tmax) = ray(x as f32 + 0.5, y as f32 + 0.5);
+                    let hit = world.hit(eye, d, tmin, tmax).map(|h| h.optics);
+                    (sum / (n * n) as f32, hit)
+                };
                 rgba.extend(c.to_array().map(srgb8));
                 rgba.push(255);
                 mask.push(hit.is_some_and(|o| o != Optics::Diffuse));
@@ -96,13 +144,30 @@ pub fn render_with(
     out
 }
 
+/// Why a scene cannot be traced.
+#[derive(Debug, thiserror::Error)]
+pub enum TraceError {
+    /// A cube-map sky's faces cannot be read.
+    #[error(transparent)]
+    Sky(#[from] pelt_scene::sky::SkyError),
+    /// A fur object's strands cannot be planted.
+    #[error("objects[{object}]: its fur's strands cannot be traced: {source}")]
+    Strands {
+        /// The object's index in the scene file.
+        object: usize,
+        /// Why.
+        #[source]
+        source: pelt_scene::strands::StrandError,
+    },
+}
+
 /// Traces `scene` (its objects' meshes are `meshes[mesh_of[i]]`) from its camera at its
-/// output size; reads a cube-map sky's faces.
+/// output size, its fur objects as their strands; reads a cube-map sky's faces.
 pub fn trace_scene(
     scene: &pelt_scene::Scene,
     meshes: &[pelt_scene::asset::MeshData],
     mesh_of: &[usize],
-) -> Result<Traced, pelt_scene::sky::SkyError> {
+) -> Result<Traced, TraceError> {
     trace_scene_with(scene, meshes, mesh_of, &|_| {})
 }
 
@@ -113,7 +178,7 @@ pub fn trace_scene_with(
     meshes: &[pelt_scene::asset::MeshData],
     mesh_of: &[usize],
     row_done: &(dyn Fn(u32) + Sync),
-) -> Result<Traced, pelt_scene::sky::SkyError> {
+) -> Result<Traced, TraceError> {
     let infos: Vec<pelt_scene::plan::MeshInfo> =
         meshes.iter().map(pelt_scene::plan::MeshInfo::of).collect();
     let plan = ScenePlan::new(scene, &infos, mesh_of, pelt_scene::Mode::Forward);
@@ -124,7 +189,7 @@ pub fn trace_scene_with(
             SkyModel::cube(&pelt_scene::sky::load_cube(faces)?)
         }
     };
-    let world = World::new(&plan, meshes, sky);
+    let world = World::with_fur(&plan, meshes, sky, &planted(&plan, meshes)?);
     let view = View::new(scene);
     Ok(render_with(
         &world,
@@ -133,4 +198,25 @@ pub fn trace_scene_with(
         (scene.output.width, scene.output.height),
         row_done,
     ))
+}
+
+/// The strands planted on each mesh a fur object of `plan` draws (by mesh; `None` for the
+/// others), in the order `pelt_scene::strands::plant` plants them.
+fn planted(
+    plan: &ScenePlan,
+    meshes: &[pelt_scene::asset::MeshData],
+) -> Result<Vec<Option<Vec<pelt_scene::vertex::StrandRoot>>>, TraceError> {
+    let mut out: Vec<Option<Vec<_>>> = vec![None; meshes.len()];
+    for (o, _) in &plan.objects {
+        if o.fur.is_none() || o.pattern != 0 || out[o.mesh].is_some() {
+            continue;
+        }
+        let roots =
+            pelt_scene::strands::plant(&meshes[o.mesh]).map_err(|source| TraceError::Strands {
+                object: o.scene_index,
+                source,
+            })?;
+        out[o.mesh] = Some(roots);
+    }
+    Ok(out)
 }

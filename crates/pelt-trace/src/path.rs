@@ -90,8 +90,27 @@ impl Tracer<'_> {
     /// rasterizer's two-sided faces do; a shadow-casting light adds nothing where a shadow
     /// ray toward it meets a surface first.
     fn diffuse(&self, h: &Hit, d: Vec3) -> Vec3 {
-        let n = if h.g.dot(d) < 0.0 { h.n } else { -h.n };
         let w = self.world;
+        if let Some(s) = &h.strand {
+            return crate::fur::strand_radiance(s, h.p, -d, w.ambient, &w.lights, |l| {
+                !l.shadows || w.strand_sees(h.p, &l.emitter, s.strand)
+            });
+        }
+        if h.skin {
+            // The shells' base mesh: fur at its root, lit about the strand's direction there
+            // (the normal: strand_tangent at height 0).
+            let root = crate::fur::StrandHit {
+                tangent: h.n,
+                albedo: h.albedo,
+                strand: u32::MAX,
+                normal: h.n,
+            };
+            let g = h.g.normalize_or_zero();
+            return crate::fur::strand_radiance(&root, h.p, -d, w.ambient, &w.lights, |l| {
+                !l.shadows || w.sees(h.p, g, &l.emitter)
+            });
+        }
+        let n = if h.g.dot(d) < 0.0 { h.n } else { -h.n };
         shading::shade_seen(h.albedo, h.p, n, -d, w.ambient, &w.lights, |l| {
             !l.shadows || w.sees(h.p, h.g.normalize_or_zero(), &l.emitter)
         })

@@ -3,200 +3,24 @@
 //! light that casts shadows, through every other strand (capsules of the strand's radius
 //! about its segments, in a BVH of their boxes) and the scene's triangles ([`World::sees`]).
 //! What reaches the light is one bit per sample and light, which the strands' fragments blend
-//! linearly along each segment. The strands follow the shells' path (Revie Listing 2.1) as
-//! strands.wgsl builds them, bent by the frame's wind as they are drawn
-//! ([`pelt_scene::wind::bend`], the CPU twin of `wind_comb`), so a blown strand is shadowed
-//! where it is blown to.
+//! linearly along each segment. The strands are built as [`crate::strand_set`] builds them,
+//! bent by the frame's wind as they are drawn, so a blown strand is shadowed where it is
+//! blown to.
 
-use glam::{Mat4, Vec3};
-use glam34::Vec3A;
-use obvhs::aabb::Aabb;
-use obvhs::bvh2::Bvh2;
-use obvhs::bvh2::builder::build_bvh2;
-use obvhs::ray::Ray;
+use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::World;
+use crate::capsules::Capsules;
+pub use crate::strand_set::{SEGMENTS, StrandSet, capsules_of, samples};
 use pelt_scene::light::Source;
 use pelt_scene::shading::Emitter;
-use pelt_scene::vertex::StrandRoot;
-use pelt_scene::wind::{self, WindOn};
 
-use crate::World;
-
-/// Segments per strand (strands.wgsl's `SEGMENTS`); samples are their ends.
-pub const SEGMENTS: usize = 4;
 /// Most lights a strand's bits hold (5 bits each in 64).
 pub const MAX_LIGHTS: usize = 12;
 
-/// One fur object's strands as drawn: object to world, fur length (asset units), roots.
-#[derive(Debug, Clone, Copy)]
-pub struct StrandSet<'a> {
-    /// Object to world.
-    pub model: Mat4,
-    /// The fur length in the asset's units (the planned fur's).
-    pub length: f32,
-    /// The planted strands.
-    pub roots: &'a [StrandRoot],
-    /// The frame's wind constants (`pelt_scene::wind::constants`; all zero: none).
-    pub wind: ([f32; 4], [f32; 4]),
-}
-
-impl StrandSet<'_> {
-    /// The wind on these strands (what [`StrandSet::points`] bends them by).
-    pub fn wind_on(&self) -> WindOn {
-        WindOn::new(self.wind, self.model, self.length)
-    }
-
-    /// `N` points of strand `s` in world space, evenly spaced from root to tip, as
-    /// strands.wgsl draws it: its comb bent by the wind `on` ([`StrandSet::wind_on`]).
-    pub fn points<const N: usize>(&self, on: &WindOn, s: &StrandRoot) -> [Vec3; N] {
-        let root = Vec3::from_slice(&s.root[..3]);
-        let n = Vec3::from_slice(&s.normal[..3]);
-        let comb = wind::bend(Vec3::from_slice(&s.comb[..3]), n, root, on);
-        let lean = Vec3::from_slice(&s.lean[..3]);
-        let reach = self.length * s.normal[3];
-        let last = N.saturating_sub(1).max(1) as f32;
-        std::array::from_fn(|k| {
-            let z = s.root[3] * k as f32 / last;
-            let dir = (n.normalize_or_zero() + comb * z).normalize_or_zero();
-            self.model
-                .transform_point3(root + lean * z + dir * (z * reach))
-        })
-    }
-}
-
-/// A strand's sample points in world space, root to tip, and its world radius.
-fn samples(set: &StrandSet<'_>, on: &WindOn, s: &StrandRoot) -> ([Vec3; SEGMENTS + 1], f32) {
-    let points = set.points(on, s);
-    let m = set.model;
-    let scale = (m.x_axis.truncate().length()
-        + m.y_axis.truncate().length()
-        + m.z_axis.truncate().length())
-        / 3.0;
-    (points, s.comb[3] * scale)
-}
-
-/// A capsule: a segment and its radius, and which strand it belongs to.
-#[derive(Debug, Clone, Copy)]
-struct Capsule {
-    a: Vec3,
-    b: Vec3,
-    r: f32,
-    strand: u32,
-}
-
-fn a3(v: Vec3) -> Vec3A {
-    Vec3A::new(v.x, v.y, v.z)
-}
-
-impl obvhs::Boundable for Capsule {
-    fn aabb(&self) -> Aabb {
-        let r = Vec3::splat(self.r);
-        Aabb::new(a3(self.a.min(self.b) - r), a3(self.a.max(self.b) + r))
-    }
-}
-
-/// Where the ray `o + d t` (unit `d`) first meets capsule `c` (Quílez's capsule test), if it
-/// does at `t > 0`.
-fn capsule_hit(o: Vec3, d: Vec3, c: &Capsule) -> Option<f32> {
-    let ba = c.b - c.a;
-    let oa = o - c.a;
-    let baba = ba.dot(ba);
-    let bard = ba.dot(d);
-    let baoa = ba.dot(oa);
-    let rdoa = d.dot(oa);
-    let oaoa = oa.dot(oa);
-    let qa = baba - bard * bard;
-    let qb = baba * rdoa - baoa * bard;
-    let qc = baba * oaoa - baoa * baoa - c.r * c.r * baba;
-    let h = qb * qb - qa * qc;
-    if h >= 0.0 && qa > 1e-12 * baba {
-        let t = (-qb - h.sqrt()) / qa;
-        let y = baoa + t * bard;
-        if y > 0.0 && y < baba && t > 0.0 {
-            return Some(t);
-        }
-    }
-    // The round ends.
-    [c.a, c.b]
-        .iter()
-        .filter_map(|&centre| {
-            let oc = o - centre;
-            let hb = d.dot(oc);
-            let hc = oc.dot(oc) - c.r * c.r;
-            let h = hb * hb - hc;
-            let t = -hb - h.max(0.0).sqrt();
-            (h >= 0.0 && t > 0.0).then_some(t)
-        })
-        .reduce(f32::min)
-}
-
-/// Every strand of `sets` as capsules in a BVH.
-struct Occluders {
-    capsules: Vec<Capsule>,
-    bvh: Bvh2,
-}
-
-impl Occluders {
-    fn new(sets: &[StrandSet<'_>]) -> Occluders {
-        let mut capsules = Vec::new();
-        let mut strand = 0u32;
-        for set in sets {
-            let on = set.wind_on();
-            for s in set.roots {
-                let (p, r) = samples(set, &on, s);
-                for k in 0..SEGMENTS {
-                    if p[k] != p[k + 1] && r > 0.0 {
-                        capsules.push(Capsule {
-                            a: p[k],
-                            b: p[k + 1],
-                            r,
-                            strand,
-                        });
-                    }
-                }
-                strand += 1;
-            }
-        }
-        if capsules.is_empty() {
-            return Occluders {
-                capsules,
-                bvh: Bvh2::default(),
-            };
-        }
-        let bvh = build_bvh2(
-            &capsules,
-            obvhs::BvhBuildParams::medium_build(),
-            &mut std::time::Duration::default(),
-        );
-        let capsules = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| capsules[i as usize])
-            .collect();
-        Occluders { capsules, bvh }
-    }
-
-    /// Whether the ray `o + d t` meets a capsule of any strand but `own` before `tmax`.
-    fn blocked(&self, o: Vec3, d: Vec3, tmax: f32, own: u32) -> bool {
-        if self.capsules.is_empty() {
-            return false;
-        }
-        // +0 for −0 (see World::hit).
-        let d = d + Vec3::ZERO;
-        let ray = Ray::new(a3(o), a3(d), 0.0, tmax);
-        !self.bvh.ray_traverse_miss(ray, |r, id| {
-            let c = &self.capsules[id];
-            match capsule_hit(o, d, c) {
-                Some(t) if c.strand != own && t < r.tmax => t,
-                _ => f32::INFINITY,
-            }
-        })
-    }
-}
-
 /// Whether world point `p` on strand `own` (surface normal `n` at its root) sees `light`.
-fn sees(world: &World, occ: &Occluders, p: Vec3, n: Vec3, light: &Emitter, own: u32) -> bool {
+fn sees(world: &World, occ: &Capsules, p: Vec3, n: Vec3, light: &Emitter, own: u32) -> bool {
     if !world.sees_above(p, n, light) {
         return false;
     }
@@ -219,7 +43,7 @@ pub fn shadow_bits(
     lights: &[Emitter],
 ) -> Vec<Vec<[u32; 2]>> {
     let lights = &lights[..lights.len().min(MAX_LIGHTS)];
-    let occ = Occluders::new(sets);
+    let occ = Capsules::new(capsules_of(sets));
     let mut first = 0u32;
     sets.iter()
         .map(|set| {
@@ -253,6 +77,8 @@ pub fn shadow_bits(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Mat4;
+    use pelt_scene::vertex::StrandRoot;
 
     fn strand(x: f32, z: f32, radius: f32) -> StrandRoot {
         StrandRoot {
@@ -262,25 +88,6 @@ mod tests {
             lean: [0.0; 4],
             albedo: [1.0; 4],
         }
-    }
-
-    #[test]
-    fn a_capsule_is_hit_from_outside_and_missed_beside() {
-        let c = Capsule {
-            a: Vec3::ZERO,
-            b: Vec3::Y,
-            r: 0.1,
-            strand: 0,
-        };
-        let t = capsule_hit(Vec3::new(-1.0, 0.5, 0.0), Vec3::X, &c).expect("hits the side");
-        assert!((t - 0.9).abs() < 1e-5, "{t}");
-        let cap = capsule_hit(Vec3::new(0.0, 2.0, 0.0), -Vec3::Y, &c).expect("hits the cap");
-        assert!((cap - 0.9).abs() < 1e-5, "{cap}");
-        assert!(capsule_hit(Vec3::new(-1.0, 0.5, 0.2), Vec3::X, &c).is_none());
-        assert!(
-            capsule_hit(Vec3::new(1.0, 0.5, 0.0), Vec3::X, &c).is_none(),
-            "behind"
-        );
     }
 
     /// A light low on the +x side: a strand standing in front of another toward it hides

@@ -16,6 +16,10 @@ use pelt_scene::light::Source;
 use pelt_scene::plan::{Optics, ScenePlan};
 use pelt_scene::shading::{self, Emitter, Light, linear_of_srgb8};
 use pelt_scene::sky::CubeImages;
+use pelt_scene::vertex::StrandRoot;
+
+use crate::fur::{FurSet, StrandHit, TracedFur};
+use crate::strand_set::StrandSet;
 
 /// One triangle: world positions, unit vertex normals, linear vertex colours, its object.
 #[derive(Debug, Clone, Copy)]
@@ -130,6 +134,9 @@ pub struct World {
     pub tris: Vec<Tri>,
     /// Each object's optics, by [`Tri::object`].
     pub optics: Vec<Optics>,
+    /// Each object's base mesh is a traced fur object's skin, by [`Tri::object`]: lit as the
+    /// shells' base mesh is, as fur at the root ([`Hit::skin`]).
+    pub skins: Vec<bool>,
     /// Lights (every light of the scene).
     pub lights: Vec<Light>,
     /// Ambient light.
@@ -139,6 +146,7 @@ pub struct World {
     /// Ray offset off a surface (a small fraction of the scene's size).
     pub epsilon: f32,
     bvh: CwBvh,
+    fur: TracedFur,
 }
 
 /// A ray's first hit.
@@ -154,6 +162,12 @@ pub struct Hit {
     pub albedo: Vec3,
     /// The hit object's optics.
     pub optics: Optics,
+    /// The strand met, where the ray met a traced strand ([`World::with_fur`]) rather than a
+    /// triangle.
+    pub strand: Option<StrandHit>,
+    /// Whether the triangle met is a traced fur object's skin (its albedo the fur's root
+    /// colour's).
+    pub skin: bool,
 }
 
 fn a(v: Vec3) -> Vec3A {
@@ -161,21 +175,64 @@ fn a(v: Vec3) -> Vec3A {
 }
 
 impl World {
-    /// The world of `plan` (its objects, lights and ambient) over `meshes`, under `sky`.
+    /// The world of `plan` (its objects, lights and ambient) over `meshes`, under `sky`, a
+    /// fur object drawn as its base mesh in the fur's mean colour (as the distance maps hold
+    /// it).
     pub fn new(plan: &ScenePlan, meshes: &[MeshData], sky: SkyModel) -> World {
+        Self::build(plan, meshes, sky, &[])
+    }
+
+    /// [`World::new`] with each fur object's strands traced: `strands[m]` the strands planted
+    /// on mesh `m` (`pelt_scene::strands::plant`; `None`: a fur object of that mesh keeps its
+    /// base mesh in the fur's mean colour), in the plan's wind, over its base mesh in the
+    /// object's own colour (as the strand reference draws it).
+    pub fn with_fur(
+        plan: &ScenePlan,
+        meshes: &[MeshData],
+        sky: SkyModel,
+        strands: &[Option<Vec<StrandRoot>>],
+    ) -> World {
+        Self::build(plan, meshes, sky, strands)
+    }
+
+    fn build(
+        plan: &ScenePlan,
+        meshes: &[MeshData],
+        sky: SkyModel,
+        strands: &[Option<Vec<StrandRoot>>],
+    ) -> World {
+        let mut sets = Vec::new();
         let mut tris = Vec::new();
         let mut optics = Vec::new();
+        let mut skins = Vec::new();
         for (o, _) in &plan.objects {
             if o.pattern != 0 {
                 continue; // alpha: not traced
             }
             let mesh = &meshes[o.mesh];
             let normal_model = o.model.inverse().transpose();
-            let color = o
-                .fur
-                .map_or(o.color, |f| (f.base_color + f.tip_color) / 2.0);
+            let planted = strands.get(o.mesh).and_then(Option::as_ref);
+            let color = match (o.fur, planted) {
+                (Some(f), Some(roots)) => {
+                    sets.push(FurSet {
+                        strands: StrandSet {
+                            model: o.model,
+                            length: f.length,
+                            roots,
+                            wind: plan.wind,
+                        },
+                        tint: o.color,
+                        base: f.base_color,
+                        tip: f.tip_color,
+                    });
+                    o.color * f.base_color
+                }
+                (Some(f), None) => (f.base_color + f.tip_color) / 2.0,
+                (None, _) => o.color,
+            };
             let id = optics.len() as u32;
             optics.push(o.optics);
+            skins.push(o.fur.is_some() && planted.is_some());
             push_mesh(&mut tris, mesh, o.model, normal_model, color, id);
         }
         let (centre, radius) = plan.extent;
@@ -202,11 +259,13 @@ impl World {
         World {
             tris,
             optics,
+            skins,
             lights: plan.lights.clone(),
             ambient: plan.ambient,
             sky,
             epsilon: radius.max(1e-3) * 1e-4,
             bvh,
+            fur: TracedFur::new(&sets),
         }
     }
 
@@ -215,11 +274,13 @@ impl World {
         World {
             tris: Vec::new(),
             optics: Vec::new(),
+            skins: Vec::new(),
             lights: Vec::new(),
             ambient: Vec3::ZERO,
             sky: SkyModel::Background,
             epsilon: 1e-4,
             bvh: CwBvh::default(),
+            fur: TracedFur::default(),
         }
     }
 
@@ -247,22 +308,63 @@ impl World {
 
     /// Whether the shadow ray from `p`, offset by epsilon along `side`, reaches `light`.
     fn sees_from(&self, p: Vec3, side: Vec3, light: &Emitter) -> bool {
-        let o = p + side * self.epsilon;
-        match light.source() {
+        self.reaches(p + side * self.epsilon, light, u32::MAX)
+    }
+
+    /// Whether it traces fur objects' strands ([`World::with_fur`]).
+    pub fn traces_fur(&self) -> bool {
+        !self.fur.is_empty()
+    }
+
+    /// Whether a point on traced strand `own` sees `light`: the shadow ray leaves `p` offset
+    /// toward the light and meets no triangle and no other strand.
+    pub fn strand_sees(&self, p: Vec3, light: &Emitter, own: u32) -> bool {
+        let toward = match light.source() {
+            Source::At(position) => (position - p).normalize_or_zero(),
+            Source::Along(direction) => -direction,
+        };
+        self.reaches(p + toward * self.epsilon, light, own)
+    }
+
+    /// Whether the ray from `o` toward `light` meets no triangle and no traced strand but
+    /// `own` on its way.
+    fn reaches(&self, o: Vec3, light: &Emitter, own: u32) -> bool {
+        let (d, tmax) = match light.source() {
             Source::At(position) => {
                 let to = position - o;
                 let dist = to.length();
                 if dist <= self.epsilon {
                     return true;
                 }
-                self.hit(o, to / dist, 0.0, dist - self.epsilon).is_none()
+                (to / dist, dist - self.epsilon)
             }
-            Source::Along(direction) => self.hit(o, -direction, 0.0, f32::INFINITY).is_none(),
+            Source::Along(direction) => (-direction, f32::INFINITY),
+        };
+        self.hit_triangle(o, d, 0.0, tmax).is_none() && !self.fur.blocked(o, d, tmax, own)
+    }
+
+    /// The first hit of the ray `o + d t` (unit `d`) with `t` in `(tmin, tmax)`: a triangle
+    /// or a traced strand.
+    pub fn hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+        let tri = self.hit_triangle(o, d, tmin, tmax);
+        let near = tri.map_or(tmax, |(_, t)| t);
+        match self.fur.hit(o, d, tmin, near) {
+            Some((s, t)) => Some(Hit {
+                p: o + d * t,
+                n: s.normal,
+                g: s.normal,
+                albedo: s.albedo,
+                optics: Optics::Diffuse,
+                strand: Some(s),
+                skin: false,
+            }),
+            None => tri.map(|(h, _)| h),
         }
     }
 
-    /// The first hit of the ray `o + d t` (unit `d`) with `t` in `(tmin, tmax)`.
-    pub fn hit(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+    /// The first triangle the ray `o + d t` (unit `d`) meets with `t` in `(tmin, tmax)`, and
+    /// that `t`.
+    fn hit_triangle(&self, o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<(Hit, f32)> {
         if self.tris.is_empty() {
             return None;
         }
@@ -292,7 +394,7 @@ impl World {
         let w = 1.0 - u - v;
         let n = (t.n[0] * w + t.n[1] * u + t.n[2] * v).normalize_or_zero();
         let g = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
-        Some(Hit {
+        let hit = Hit {
             p: o + d * rh.t,
             n: if n == Vec3::ZERO {
                 g.normalize_or_zero()
@@ -302,7 +404,10 @@ impl World {
             g,
             albedo: t.albedo[0] * w + t.albedo[1] * u + t.albedo[2] * v,
             optics: self.optics[t.object as usize],
-        })
+            strand: None,
+            skin: self.skins[t.object as usize],
+        };
+        Some((hit, rh.t))
     }
 }
 
