@@ -9,6 +9,7 @@ use glam::Vec3;
 
 use pelt_scene::shading::{Light, SPECULAR_POWER, SPECULAR_STRENGTH};
 use pelt_scene::vertex::StrandRoot;
+use pelt_scene::wind::WindOn;
 
 use crate::capsules::{Capsule, Capsules, axis_at};
 use crate::strand_set::{SEGMENTS, StrandSet, capsules_of};
@@ -76,17 +77,16 @@ fn velocity(n: Vec3, comb: Vec3, z: f32) -> Vec3 {
     d + dd * z
 }
 
-/// Strand `s` of `set`'s segment looks: heights and world directions at each end
-/// (strands.wgsl's `strand_direction`).
-fn looks_of(set: &FurSet<'_>, index: u32, s: &StrandRoot, out: &mut Vec<SegmentLook>) {
+/// Strand `s` of `set`'s segment looks (in the set's wind `on`): heights and world directions
+/// at each end (strands.wgsl's `strand_direction`).
+fn looks_of(set: &FurSet<'_>, on: &WindOn, index: u32, s: &StrandRoot, out: &mut Vec<SegmentLook>) {
     let st = &set.strands;
-    let on = st.wind_on();
     let n = Vec3::from_slice(&s.normal[..3]);
     let comb = pelt_scene::wind::bend(
         Vec3::from_slice(&s.comb[..3]),
         n,
         Vec3::from_slice(&s.root[..3]),
-        &on,
+        on,
     );
     let lean = Vec3::from_slice(&s.lean[..3]);
     let k = st.length * s.normal[3];
@@ -118,8 +118,9 @@ impl TracedFur {
         let capsules: Vec<Capsule> = capsules_of(&strand_sets);
         let mut looks = Vec::new();
         for (i, set) in sets.iter().enumerate() {
+            let on = set.strands.wind_on();
             for s in set.strands.roots {
-                looks_of(set, i as u32, s, &mut looks);
+                looks_of(set, &on, i as u32, s, &mut looks);
             }
         }
         TracedFur {
