@@ -7,6 +7,7 @@
 // the geometry (the unit outward normal and the distance from the reference point, packed by
 // common.wgsl's pack_geometry; the target is cleared to distance -1, so a texel with no
 // surface has a negative distance).
+// Fur objects go in as their shells (shells.wgsl's fs_distance, the fur code -2 in a).
 // Layers: 0 keeps the object's own faces that face the reference point, 1 its faces that face
 // away, 2 the nearest surfaces of the rest of the scene, 3.. the next ones, each peeled behind
 // the layer before (the previous layer's distances come in as `peel`).
@@ -49,9 +50,8 @@ fn vs_main(v: VertexIn) -> MapVertex {
     o.clip = face.view_proj * world;
     o.world = world.xyz;
     o.normal = (object.normal_model * vec4<f32>(v.normal, 0.0)).xyz;
-    // Fur objects show their base mesh in the fur's mean colour (fur_base here).
-    let color = select(object.tint.rgb, object.fur_base.rgb, object.ids.w > 0u);
-    o.albedo = v.albedo * vec4<f32>(color, 1.0);
+    // Fur objects are drawn by shells.wgsl's fs_distance instead.
+    o.albedo = v.albedo * vec4<f32>(object.tint.rgb, 1.0);
     return o;
 }
 

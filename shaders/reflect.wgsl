@@ -150,7 +150,8 @@ fn tap_normal(t: Taps) -> vec3<f32> {
     return normalize(n);
 }
 
-// The material; a mirror or glass code (a != 0) is never interpolated.
+// The material; a mirror or glass code is never interpolated (diffuse radiance, a = 0, and
+// fur radiance, a = FUR_TEXEL, are, among taps of one kind).
 fn material(t: Taps) -> vec4<f32> {
     let first = textureLoad(material_maps, t.at[0], t.layer, 0);
     var m = vec4<f32>(0.0);
@@ -161,7 +162,7 @@ fn material(t: Taps) -> vec4<f32> {
         }
         m += t.w[i] * x;
     }
-    return select(m, first, first.a != 0.0);
+    return select(m, first, first.a != 0.0 && first.a != FUR_TEXEL);
 }
 
 // The stored distance in direction d (negative: no surface).
@@ -371,6 +372,10 @@ fn hit(map: u32, x: vec3<f32>, r: vec3<f32>) -> HitResult {
 
 // ---- Listing 17-5 ----
 
+// The material code of a fur texel (shells.wgsl's FUR_TEXEL): whole radiance, no specular
+// to add; never a mirror or glass.
+const FUR_TEXEL: f32 = -2.0;
+
 fn sky(d: vec3<f32>) -> vec3<f32> {
     switch params.flags.z {
         case 1u: { return procedural(d); }
@@ -470,6 +475,11 @@ fn path(map_in: u32, x_in: vec3<f32>, v_in: vec3<f32>, n_in: vec3<f32>, m_in: ve
         let h = hit(map, x, r);
         if !h.found {
             return throughput * sky(r);
+        }
+        if h.material.a == FUR_TEXEL {
+            // Fur (shells.wgsl's fs_distance): its whole radiance, seen from the reference
+            // point.
+            return throughput * h.material.rgb;
         }
         if h.material.a == 0.0 {
             let w = h.l + params.maps[map].xyz;

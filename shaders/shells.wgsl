@@ -17,8 +17,20 @@
 // frame is the light's face, and two fragment entry points replace fs_main: fs_nearest keeps
 // the distance from the light to the outer shell, fs_opacity adds each layer's optical depth
 // seen from the light, −ln(1 − α), into the opacity layers at and past its depth in the fur.
+//
+// With the DISTANCE_MAP def (and FORWARD_LIGHT), the same shells are drawn into a mirror or
+// glass object's layered distance maps (GPU Gems 3 ch. 17; crates/pelt-preview/src/features/
+// reflect): the frame is one cube face about the map's reference point, and fs_distance keeps
+// each shell fragment with probability equal to its layer's opacity (a per-texel hash), so a
+// texel holds the nearest surviving layer: the fur's grain and, averaged over texels, the
+// "over" blend of the layers seen from the reference point (P(layer s shows) = α_s Π(1 − α_t)
+// over the layers t in front of it). Its colour is the shell's forward lighting seen from the
+// reference point, stored as the fur code (no specular added where a ray meets it); its
+// distance is the fur's top above the fragment's point, one smooth surface for the search
+// (the surviving layer's own distance jumps by up to the fur's length from texel to texel,
+// and the search's secant steps took those jumps for silhouettes and passed through).
 
-#import pelt::common::{VertexIn}
+#import pelt::common::{VertexIn, pack_geometry, texel_distance}
 #import pelt::fur_common::{FurIn, FurOut, MIN_COS, comb_length, fur_out, fur_query, layer_opacity, moving_comb, shell_offset, strand_tangent, view_dir_of, view_normal_of}
 #ifndef OPACITY_MAP
 #ifdef FORWARD_LIGHT
@@ -69,6 +81,10 @@ struct ShellOut {
     @location(11) view_normal: vec3<f32>,
     // The comb in view space (unit): with the normal, the path's shape (a uniform scale).
     @location(12) comb: vec3<f32>,
+#ifdef DISTANCE_MAP
+    // The distance from the reference point to the fur's top above this point.
+    @location(13) hull: f32,
+#endif
 }
 
 @vertex
@@ -79,7 +95,12 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     // the same fur.
     let n = f32(max(min(object.ids.w, frame.flags.y), 1u));
 #else
+#ifdef DISTANCE_MAP
+    // Into a distance map, at most `frame.lbuffer_size.x` thicker layers, likewise.
+    let n = f32(max(min(object.ids.w, u32(frame.lbuffer_size.x)), 1u));
+#else
     let n = f32(max(object.ids.w, 1u));
+#endif
 #endif
     let z0 = max(f32(shell) - 1.0, 0.0) / n;
     let z1 = f32(shell) / n;
@@ -107,6 +128,9 @@ fn vs_main(v: VertexIn, f: FurIn, @builtin(instance_index) shell: u32) -> ShellO
     o.layer = vec4<f32>(z0, z1, length(p1.xyz - p0.xyz), length(pt.xyz - pb.xyz));
     o.comb = view_dir_of(comb, frame, object);
     o.view_normal = view_normal_of(v.normal, frame, object);
+#ifdef DISTANCE_MAP
+    o.hull = length(pt.xyz);
+#endif
     return o;
 }
 
@@ -328,5 +352,50 @@ fn fs_opacity(s: ShellOut) -> @location(0) vec4<f32> {
     let x = light_distance(s.view_pos) - (near.z + near.w);
     let b = frame.lbuffer_size;
     return vec4<f32>(select(vec3<f32>(0.0), vec3<f32>(tau), vec3<f32>(x) <= b.xyz), 0.0);
+}
+#endif
+
+#ifdef DISTANCE_MAP
+// The previous layer's distances (depth peeling, as distance_map.wgsl peels).
+@group(4) @binding(0) var peel: texture_2d_array<f32>;
+
+// The material code of a fur texel: its radiance is whole (reflect.wgsl adds no specular).
+const FUR_TEXEL: f32 = -2.0;
+
+struct Texel {
+    @location(0) material: vec4<f32>,
+    @location(1) geometry: vec4<f32>,
+}
+
+// A uniform number in [0, 1) for texel `p` and layer `shell` of face `face` (PCG).
+fn coverage_hash(p: vec2<u32>, shell: u32, face: u32) -> f32 {
+    var h = p.x * 747796405u + p.y * 2891336453u + shell * 277803737u + face * 1442695041u;
+    h = h * 747796405u + 2891336453u;
+    h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+    h = (h >> 22u) ^ h;
+    return f32(h >> 8u) / 16777216.0;
+}
+
+// frame.flags: x the layer (2 the nearest of the rest of the scene, 3.. peeled), w the face.
+@fragment
+fn fs_distance(s: ShellOut) -> Texel {
+    let c = shade(s);
+    let texel = vec2<u32>(s.clip.xy);
+    if c.a <= coverage_hash(texel, s.shell, frame.flags.w) {
+        discard;
+    }
+    // The frame's view only moves the reference point to the origin: view space is world
+    // space about it.
+    let dist = s.hull;
+    if frame.flags.x >= 3u {
+        let before = texel_distance(textureLoad(peel, vec2<i32>(texel), i32(frame.flags.w), 0));
+        if before < 0.0 || dist <= before * 1.0005 {
+            discard;
+        }
+    }
+    var t: Texel;
+    t.geometry = pack_geometry(normalize(s.view_normal), dist);
+    t.material = vec4<f32>(c.rgb, FUR_TEXEL);
+    return t;
 }
 #endif

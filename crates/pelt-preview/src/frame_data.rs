@@ -10,7 +10,7 @@
 use glam::Mat4;
 
 use crate::layout::{self, LayoutDesc, SHELL_TABLE_BYTES};
-use crate::plan::{Plan, PlannedLight};
+use crate::plan::{Plan, PlannedLight, PlannedObject};
 use crate::renderer::Renderer;
 use crate::scene::{FurCoverage, FurLighting};
 use crate::uniforms::{
@@ -189,39 +189,42 @@ fn light_uniforms(view: Mat4, l: &PlannedLight) -> LightUniforms {
 fn object_uniforms(plan: &Plan, oit_scale: f32) -> Vec<ObjectUniforms> {
     plan.objects
         .iter()
-        .map(|o| {
-            let f = o.fur;
-            ObjectUniforms {
-                model: o.model.to_cols_array_2d(),
-                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
-                tint: o.color.extend(1.0).into(),
-                params: [
-                    o.opacity,
-                    SPECULAR_STRENGTH,
-                    o.map.unwrap_or(0) as f32,
-                    f.map_or(0.0, |f| f32::from(u8::from(f.color_from_texture))),
-                ],
-                fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
-                fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
-                fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],
-                fur_model: f.map_or([0.0; 4], |f| {
-                    [
-                        f.medium[0],
-                        f.medium[1],
-                        f32::from(u8::from(f.coverage == FurCoverage::Binary)),
-                        f32::from(u8::from(f.lighting == FurLighting::Revie)),
-                    ]
-                }),
-                ids: [
-                    o.id,
-                    o.pattern,
-                    f.map_or(0, |f| f.shell_id),
-                    f.map_or(0, |f| f.shells),
-                ],
-                optics: o.optics.encoded(),
-            }
-        })
+        .map(|o| object_uniform(o, oit_scale))
         .collect()
+}
+
+/// One object's constants (`oit_scale`: the WBOIT weight scale).
+pub fn object_uniform(o: &PlannedObject, oit_scale: f32) -> ObjectUniforms {
+    let f = o.fur;
+    ObjectUniforms {
+        model: o.model.to_cols_array_2d(),
+        normal_model: o.model.inverse().transpose().to_cols_array_2d(),
+        tint: o.color.extend(1.0).into(),
+        params: [
+            o.opacity,
+            SPECULAR_STRENGTH,
+            o.map.unwrap_or(0) as f32,
+            f.map_or(0.0, |f| f32::from(u8::from(f.color_from_texture))),
+        ],
+        fur_base: f.map_or([0.0; 4], |f| f.base_color.extend(f.length).into()),
+        fur_tip: f.map_or([0.0; 4], |f| f.tip_color.extend(f.uv_scale).into()),
+        fur_params: [RIM_STRENGTH, RIM_FALLOFF, STRAND_FADE, oit_scale],
+        fur_model: f.map_or([0.0; 4], |f| {
+            [
+                f.medium[0],
+                f.medium[1],
+                f32::from(u8::from(f.coverage == FurCoverage::Binary)),
+                f32::from(u8::from(f.lighting == FurLighting::Revie)),
+            ]
+        }),
+        ids: [
+            o.id,
+            o.pattern,
+            f.map_or(0, |f| f.shell_id),
+            f.map_or(0, |f| f.shells),
+        ],
+        optics: o.optics.encoded(),
+    }
 }
 
 impl FrameData {

@@ -3,6 +3,10 @@
 //! search's knobs (§17.2.2), and whether a frame has drawn the maps since these last
 //! changed. Written every frame and uploaded only when they changed, so a camera move, an
 //! L-buffer scale or a search knob leaves the maps as they are.
+//!
+//! Fur objects go into the maps as their shells (shells.wgsl's `fs_distance`), each face
+//! a frame about the reference point (view space is world space moved to it, so one array
+//! of lights per map serves its faces) and at most [`MAP_SHELLS`] thicker layers.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -14,12 +18,15 @@ use crate::layout::{self, LayoutDesc};
 use crate::plan::ScenePlan;
 use crate::renderer::Renderer;
 use crate::scene::{Sky, Technique};
-use crate::uniforms::{LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
+use crate::uniforms::{FrameUniforms, LightUniforms, ObjectUniforms, UNIFORM_STRIDE};
 
 /// Most distance maps (mirror and glass objects) in a scene.
 pub const MAX_MAPS: usize = 64;
 /// Most lights the maps are lit by (distance_map.wgsl's `MAX_MAP_LIGHTS`).
 pub const MAX_MAP_LIGHTS: usize = 256;
+/// Most shells a fur object draws into a distance map: fewer, thicker layers hold the same
+/// fur (each layer's opacity is the strand model's over its thickness), as from a light.
+pub const MAP_SHELLS: u32 = 8;
 
 /// One face of one layer. Keep in sync with `Face` in shaders/distance_map.wgsl.
 #[repr(C)]
@@ -71,8 +78,16 @@ pub struct MapInputs {
     pub(super) lights: wgpu::Buffer,
     pub(super) lights_group: wgpu::BindGroup,
     pub(super) params: wgpu::Buffer,
+    fur_frames: wgpu::Buffer,
+    /// Each face's frame for the fur's shells (dynamic offset, as `faces_group`).
+    pub(super) fur_frames_group: wgpu::BindGroup,
+    fur_lights: wgpu::Buffer,
+    /// Each map's lights about its reference point (dynamic offset: the map × the array).
+    pub(super) fur_lights_group: wgpu::BindGroup,
     /// What goes into the maps: (object slot, mesh index, scene index).
     pub(super) draws: Vec<(usize, usize, usize)>,
+    /// The fur objects: (object slot, mesh index, scene index, shells drawn).
+    pub(super) fur: Vec<(usize, usize, usize, u32)>,
     /// The maps hold the scene as last written (a frame has rendered them since).
     fresh: AtomicBool,
     /// The bytes the maps were last drawn from (faces, objects, lights, draws).
@@ -96,7 +111,23 @@ impl MapInputs {
             size_of::<ReflectUniforms>() as u64,
             uniform,
         );
+        let fur_frames = r.buffer("fur frames", u64::from(faces) * stride, uniform);
+        let n_maps = plan.maps.len().max(1) as u64;
+        let fur_lights = r.buffer("fur lights", n_maps * light_bytes as u64, uniform);
         MapInputs {
+            fur_frames_group: r.group(
+                "fur frames",
+                &layout::FRAME,
+                &[layout::sized(&fur_frames, size_of::<FrameUniforms>())],
+            ),
+            fur_lights_group: r.group(
+                "fur lights",
+                &layout::LIGHT_ARRAY,
+                &[layout::sized(&fur_lights, light_bytes)],
+            ),
+            fur_frames,
+            fur_lights,
+            fur: Vec::new(),
             faces_group: r.group(
                 "faces",
                 &FACE_LAYOUT,
@@ -176,26 +207,42 @@ impl MapInputs {
         }
         let mut objects = vec![0u8; plan.objects.len() * stride];
         let mut draws = Vec::new();
+        let mut fur = Vec::new();
         for (i, (o, _)) in plan.objects.iter().enumerate() {
-            let u = ObjectUniforms {
-                model: o.model.to_cols_array_2d(),
-                normal_model: o.model.inverse().transpose().to_cols_array_2d(),
-                tint: o.color.extend(1.0).into(),
-                params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
-                // Fur shows in the maps as its base mesh in the fur's mean colour.
-                fur_base: o.fur.map_or([0.0; 4], |f| {
-                    ((f.base_color + f.tip_color) / 2.0).extend(f.length).into()
-                }),
-                fur_tip: [0.0; 4],
-                fur_params: [0.0; 4],
-                fur_model: [0.0; 4],
-                ids: [o.scene_index as u32, 0, 0, o.fur.map_or(0, |f| f.shells)],
-                optics: o.optics.encoded(),
+            let u = if o.fur.is_some() {
+                // The fur's own constants, as the view draws its shells.
+                let mut u = crate::frame_data::object_uniform(o, 1.0);
+                u.ids[0] = o.scene_index as u32;
+                u.ids[1] = 0;
+                u
+            } else {
+                ObjectUniforms {
+                    model: o.model.to_cols_array_2d(),
+                    normal_model: o.model.inverse().transpose().to_cols_array_2d(),
+                    tint: o.color.extend(1.0).into(),
+                    params: [1.0, crate::frame_data::SPECULAR_STRENGTH, 0.0, 0.0],
+                    fur_base: [0.0; 4],
+                    fur_tip: [0.0; 4],
+                    fur_params: [0.0; 4],
+                    fur_model: [0.0; 4],
+                    ids: [o.scene_index as u32, 0, 0, 0],
+                    optics: o.optics.encoded(),
+                }
             };
             objects[i * stride..i * stride + size_of::<ObjectUniforms>()]
                 .copy_from_slice(bytemuck::bytes_of(&u));
-            if o.pattern == 0 {
-                draws.push((i, o.mesh, o.scene_index));
+            match o.fur {
+                _ if o.pattern != 0 => {}
+                // Bald fur draws its skin alone (instance 0), as the view does.
+                Some(f) => {
+                    let n = if f.bald() {
+                        0
+                    } else {
+                        f.shells.min(MAP_SHELLS)
+                    };
+                    fur.push((i, o.mesh, o.scene_index, n));
+                }
+                None => draws.push((i, o.mesh, o.scene_index)),
             }
         }
         let mut light_bytes = vec![0u8; MAX_MAP_LIGHTS * size_of::<LightUniforms>()];
@@ -203,6 +250,9 @@ impl MapInputs {
         light_bytes[..lb.len()].copy_from_slice(lb);
         // What the maps are drawn from; a change (not a camera move, an L-buffer scale, a
         // search knob) makes them stale.
+        // The wind bends the fur in the maps as it stood when they were drawn: its time
+        // alone does not draw them again.
+        let (wind, gust) = plan.wind;
         let drawn = [
             faces.as_slice(),
             &objects,
@@ -213,9 +263,21 @@ impl MapInputs {
                     .map(|&(i, m, s)| [i as u32, m as u32, s as u32])
                     .collect::<Vec<_>>(),
             ),
+            bytemuck::cast_slice(
+                &fur.iter()
+                    .map(|&(i, m, s, n)| [i as u32, m as u32, s as u32, n])
+                    .collect::<Vec<_>>(),
+            ),
+            bytemuck::cast_slice(&[wind[0], wind[1], wind[2], gust[0], gust[1]]),
         ]
         .concat();
         if drawn != self.drawn {
+            if !fur.is_empty() {
+                let (frames, lights) = fur_inputs(plan, views, &lights);
+                r.gpu.write_buffer(&self.fur_frames, 0, &frames);
+                r.gpu.write_buffer(&self.fur_lights, 0, &lights);
+            }
+            self.fur = fur;
             r.gpu.write_buffer(&self.faces, 0, &faces);
             if !objects.is_empty() {
                 r.gpu.write_buffer(&self.objects, 0, &objects);
@@ -262,4 +324,53 @@ impl MapInputs {
             self.params_written = bytemuck::bytes_of(&params).to_vec();
         }
     }
+}
+
+/// The fur's frames, one per map face (those of layers 0 and 1 unused: a fur object is never
+/// a map's own), and each map's lights about its reference point, for `views` faces.
+fn fur_inputs(plan: &ScenePlan, views: usize, lights: &[LightUniforms]) -> (Vec<u8>, Vec<u8>) {
+    let k = plan.reflections;
+    let (centre, radius) = plan.extent;
+    let stride = UNIFORM_STRIDE as usize;
+    let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
+    let mut frames = vec![0u8; views * stride];
+    let mut about = vec![0u8; plan.maps.len().max(1) * light_bytes];
+    let size = k.cube_size as f32;
+    for (m, map) in plan.maps.iter().enumerate() {
+        let reach = (map.reference - centre).length() + radius;
+        let near = (radius * 1e-4).max(1e-5);
+        let far = (reach * 2.0).max(1e-3);
+        let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+        let to_ref = Mat4::from_translation(-map.reference);
+        let moved: Vec<LightUniforms> = plan
+            .lights
+            .iter()
+            .take(lights.len())
+            .map(|l| LightUniforms::new(&l.emitter, l.color, to_ref, None))
+            .collect();
+        let lb: &[u8] = bytemuck::cast_slice(&moved);
+        about[m * light_bytes..m * light_bytes + lb.len()].copy_from_slice(lb);
+        for layer in 2..k.layers {
+            for face in 0..6u32 {
+                let i = ((m as u32 * k.layers + layer) * 6 + face) as usize;
+                let u = FrameUniforms {
+                    view: to_ref.to_cols_array_2d(),
+                    proj: (proj * face_view(face)).to_cols_array_2d(),
+                    ambient: plan
+                        .ambient
+                        .extend(crate::frame_data::SPECULAR_POWER)
+                        .into(),
+                    target_size: [size, size, 1.0 / size, 1.0 / size],
+                    lbuffer_size: [MAP_SHELLS as f32, 0.0, 0.0, 0.0],
+                    proj_params: [1.0, 1.0, near, far],
+                    flags: [layer, moved.len() as u32, map.scene_index as u32, face],
+                    wind: plan.wind.0,
+                    gust: plan.wind.1,
+                };
+                frames[i * stride..i * stride + size_of::<FrameUniforms>()]
+                    .copy_from_slice(bytemuck::bytes_of(&u));
+            }
+        }
+    }
+    (frames, about)
 }

@@ -14,7 +14,7 @@
 pub use crate::cube::face_view;
 
 use super::lights;
-use crate::draw::{MissingInput, vertex_layout};
+use crate::draw::{MissingInput, fur_vertex_layout, vertex_layout};
 use crate::feature::{
     Build, Cached, DrawDesc, Feature, Frame, KnobDesc, PassDesc, Phase, Shared, Sides,
 };
@@ -27,12 +27,14 @@ use crate::recipe::{Color, Depth, Recipe, Step};
 use crate::renderer::{Blend, ComputeDesc, DEPTH_FORMAT, PipelineDesc, PipelineSpec, Renderer};
 use crate::scene::Technique;
 use crate::scene_state::{SceneInputs, SceneState, StateError};
-use crate::shaders::ShaderDesc;
+use crate::shaders::{Entry, ShaderDesc};
 use crate::targets::{LayeredTarget, Target};
 use crate::uniforms::{LightUniforms, UNIFORM_STRIDE};
 
 mod inputs;
-pub use inputs::{FACE_LAYOUT, FaceUniforms, MAX_MAP_LIGHTS, MAX_MAPS, MapInputs, ReflectUniforms};
+pub use inputs::{
+    FACE_LAYOUT, FaceUniforms, MAP_SHELLS, MAX_MAP_LIGHTS, MAX_MAPS, MapInputs, ReflectUniforms,
+};
 
 /// Bind-group slots of distance_map.wgsl.
 pub mod slot {
@@ -44,6 +46,10 @@ pub mod slot {
     pub const LIGHTS: u32 = 2;
     /// The previous layer's distances (depth peeling).
     pub const PEEL: u32 = 3;
+    /// shells.wgsl's `fs_distance`: the map's lights about its reference point.
+    pub const FUR_LIGHTS: u32 = 2;
+    /// shells.wgsl's `fs_distance`: the previous layer's distances.
+    pub const FUR_PEEL: u32 = 4;
     /// reflect.wgsl: the maps, their ranges and the knobs.
     pub const MAPS: u32 = 2;
     /// reflect.wgsl: the cube-map sky.
@@ -156,7 +162,7 @@ pub const MAPS_LAYOUT: LayoutDesc = LayoutDesc {
     ],
 };
 
-/// Distance maps read and their ranges written (minmax.wgsl).
+/// Distance maps read, their bands' ranges and the layers' ranges written (minmax.wgsl).
 pub const MINMAX_LAYOUT: LayoutDesc = LayoutDesc {
     label: "min-max",
     entries: &[
@@ -165,8 +171,12 @@ pub const MINMAX_LAYOUT: LayoutDesc = LayoutDesc {
             layout::texture(0, UNFILTERABLE, D2_ARRAY),
         ),
         layout::storage(1, false),
+        layout::storage(2, false),
     ],
 };
+
+/// Bands of rows per face the min-max pass reduces first (minmax.wgsl's `BANDS`).
+pub const MINMAX_BANDS: u32 = 64;
 
 impl Maps {
     /// The maps of `plan` (which must have at least one), with the scene's cube-map sky
@@ -233,6 +243,11 @@ impl Maps {
             u64::from(spec.maps * spec.layers) * 8,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
+        let partials = r.buffer(
+            "distance ranges by band",
+            u64::from(layers * MINMAX_BANDS) * 8,
+            wgpu::BufferUsages::STORAGE,
+        );
         let tex = wgpu::BindingResource::TextureView;
         let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
         let mut maps = Maps {
@@ -250,7 +265,11 @@ impl Maps {
             minmax: r.group(
                 "min-max",
                 &MINMAX_LAYOUT,
-                &[tex(&geometry.sampled), ranges.as_entire_binding()],
+                &[
+                    tex(&geometry.sampled),
+                    ranges.as_entire_binding(),
+                    partials.as_entire_binding(),
+                ],
             ),
             peel_read: r.group("peel", &PEEL_LAYOUT, &[tex(&peel.sampled)]),
             sky: sky.cloned().unwrap_or_else(|| no_sky(r)),
@@ -290,9 +309,18 @@ impl Maps {
 pub const DISTANCE_MAP: ShaderDesc = ShaderDesc::render("distance_map.wgsl");
 /// reflect.wgsl: mirrors and glass through their maps.
 pub const REFLECT: ShaderDesc = ShaderDesc::render("reflect.wgsl");
-/// minmax.wgsl: each layer's distance range.
+/// minmax.wgsl: each layer's distance range from its bands'.
 pub const MINMAX: ComputeDesc = ComputeDesc {
     shader: ShaderDesc::compute("minmax.wgsl"),
+    groups: &[MINMAX_LAYOUT],
+};
+/// minmax.wgsl: each band of rows' distance range.
+pub const MINMAX_PARTIAL: ComputeDesc = ComputeDesc {
+    shader: ShaderDesc {
+        file: "minmax.wgsl",
+        defs: &[],
+        entry: Entry::Compute("cs_partial"),
+    },
     groups: &[MINMAX_LAYOUT],
 };
 
@@ -310,6 +338,35 @@ pub fn map_pipeline() -> PipelineDesc {
             vertex_buffers: vec![vertex_layout()],
             blends: vec![None, None],
             depth: Some((true, wgpu::CompareFunction::Less)),
+            ..PipelineSpec::default()
+        },
+    }
+}
+
+/// The fur's shells drawn into a distance map (shells.wgsl's `fs_distance`: forward-lit,
+/// kept by their opacity, peeled as distance_map.wgsl peels), both sides.
+pub fn fur_map_pipeline() -> PipelineDesc {
+    PipelineDesc {
+        shader: ShaderDesc {
+            file: "shells.wgsl",
+            defs: &[("FORWARD_LIGHT", 1), ("DISTANCE_MAP", 1)],
+            entry: Entry::Render("vs_main", "fs_distance"),
+        },
+        spec: PipelineSpec {
+            groups: vec![
+                layout::FRAME,
+                layout::OBJECT,
+                layout::LIGHT_ARRAY,
+                layout::FUR_TEXTURES,
+                PEEL_LAYOUT,
+            ],
+            vertex_buffers: vec![vertex_layout(), fur_vertex_layout()],
+            blends: vec![None, None],
+            depth: Some((true, wgpu::CompareFunction::Less)),
+            constants: vec![(
+                "RESOLVED_BELOW",
+                f64::from(pelt_scene::footprint::RESOLVED_BELOW),
+            )],
             ..PipelineSpec::default()
         },
     }
@@ -346,12 +403,12 @@ pub const FEATURE: Feature = Feature {
         KnobDesc::of(&spec::MIN_MAX),
     ],
     pipelines: || {
-        let both = [map_pipeline(), reflect_pipeline()];
+        let both = [map_pipeline(), fur_map_pipeline(), reflect_pipeline()];
         both.into_iter()
             .flat_map(|d| [d.clone(), lights::without_suns(d)])
             .collect()
     },
-    compute: &[MINMAX],
+    compute: &[MINMAX_PARTIAL, MINMAX],
     passes: &[
         PassDesc {
             cached: Some(CACHED),
@@ -400,7 +457,7 @@ fn explain_maps(plan: &Plan) -> String {
     let faces = plan.maps.len() as u64 * 6 * u64::from(r.layers);
     let texels = faces * u64::from(r.cube_size) * u64::from(r.cube_size);
     format!(
-        "{} maps × 6 faces × {} layers (the object's front faces, its back faces, {} of the rest of the scene, depth-peeled) × {}² texels = {} face renders, {:.1} M texels: radiance + material (Listing 17-5's sign convention), normal + distance; every object of the scene × {} lights per texel",
+        "{} maps × 6 faces × {} layers (the object's front faces, its back faces, {} of the rest of the scene, depth-peeled) × {}² texels = {} face renders, {:.1} M texels: radiance + material (Listing 17-5's sign convention), normal + distance; every object of the scene (fur as its skin and at most {MAP_SHELLS} shells, kept by their opacity) × {} lights per texel",
         plan.maps.len(),
         r.layers,
         r.layers - 2,
@@ -414,7 +471,7 @@ fn explain_maps(plan: &Plan) -> String {
 /// The min-max pass in words.
 fn explain_min_max(plan: &Plan) -> String {
     format!(
-        "compute: minimum and maximum distance of each of {} maps × {} layers (Figure 17-4), one workgroup each",
+        "compute: minimum and maximum distance of each of {} maps × {} layers (Figure 17-4): one workgroup per band of {MINMAX_BANDS} of each face's rows, then one per layer",
         plan.maps.len(),
         plan.reflections.layers
     )
@@ -516,6 +573,9 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
                     r.push(Step::Indices(&g.indices));
                     r.push(Step::DrawIndexed(0..g.count, 0..1));
                 }
+                if layer >= 2 {
+                    draw_fur(f, &mut r, m, map, base + face)?;
+                }
                 out.push(r);
             }
         }
@@ -523,10 +583,61 @@ pub fn map_passes<'a>(f: &Frame<'a>) -> Result<Vec<Recipe<'a>>, MissingInput> {
     Ok(out)
 }
 
-/// The min-max pass: one workgroup per (map, layer).
+/// The fur objects' shells into face `face` (maps × layers × 6) of map `map`.
+fn draw_fur<'a>(
+    f: &Frame<'a>,
+    r: &mut Recipe<'a>,
+    m: &'a Maps,
+    map: u32,
+    face: u32,
+) -> Result<(), MissingInput> {
+    if m.inputs.fur.is_empty() {
+        return Ok(());
+    }
+    let name = MAPS.name();
+    r.pipeline(lights::suns_for_view(f, fur_map_pipeline()));
+    r.bind(
+        slot::FACE,
+        &m.inputs.fur_frames_group,
+        Some(face * UNIFORM_STRIDE as u32),
+    );
+    let light_bytes = (MAX_MAP_LIGHTS * size_of::<LightUniforms>()) as u32;
+    r.bind(
+        slot::FUR_LIGHTS,
+        &m.inputs.fur_lights_group,
+        Some(map * light_bytes),
+    );
+    r.bind(slot::FUR_PEEL, &m.peel_read, None);
+    for &(i, k, scene_index, shells) in &m.inputs.fur {
+        let mesh = f.object_mesh(name, scene_index, k)?;
+        let fur = mesh.fur.as_ref().ok_or_else(|| MissingInput {
+            pass: name,
+            what: format!("the fur of objects[{scene_index}] on the GPU"),
+        })?;
+        r.bind(
+            slot::OBJECT,
+            &m.inputs.objects_group,
+            Some(i as u32 * UNIFORM_STRIDE as u32),
+        );
+        r.push(Step::Vertices(
+            crate::draw::vertex_slot::MESH,
+            &mesh.vertices,
+        ));
+        r.push(Step::Vertices(crate::draw::vertex_slot::FUR, &fur.vertices));
+        r.push(Step::Indices(&mesh.indices));
+        Frame::draw_fur_parts(r, mesh, fur, 0..shells + 1);
+    }
+    Ok(())
+}
+
+/// The min-max pass: one workgroup per band of each face's rows, then one per (map, layer).
 pub fn minmax_pass<'a>(f: &Frame<'a>) -> Result<Recipe<'a>, MissingInput> {
     let m = maps(f, MIN_MAX.name())?;
     let mut r = Recipe::compute(MIN_MAX);
+    r.push(Step::Compute(MINMAX_PARTIAL));
+    r.bind(slot::RANGES, &m.minmax, None);
+    let faces = m.spec.maps * m.spec.layers * 6;
+    r.push(Step::Dispatch([faces, MINMAX_BANDS, 1]));
     r.push(Step::Compute(MINMAX));
     r.bind(slot::RANGES, &m.minmax, None);
     r.push(Step::Dispatch([m.spec.maps, m.spec.layers, 1]));
