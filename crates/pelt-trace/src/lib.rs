@@ -46,9 +46,9 @@ pub struct Traced {
 }
 
 /// Camera rays per pixel, per axis, where the world traces fur: a strand is far thinner than
-/// a pixel, so one ray at the pixel's centre would alias it (docs/preview.md states the
-/// convergence: FLIP against 8×8 rays per pixel).
-pub const FUR_SAMPLES: u32 = 4;
+/// a pixel, so one ray at the pixel's centre would alias it (docs/mirrors.md states the
+/// convergence against the strand reference).
+pub const FUR_SAMPLES: u32 = 16;
 
 /// Traces the scene of `plan` seen through `view` at `size`; `max_depth` bounces; one ray
 /// per pixel centre, or [`FUR_SAMPLES`]² per pixel where the world traces fur.
@@ -179,6 +179,18 @@ pub fn trace_scene_with(
     mesh_of: &[usize],
     row_done: &(dyn Fn(u32) + Sync),
 ) -> Result<Traced, TraceError> {
+    trace_scene_sampled(scene, meshes, mesh_of, None, row_done)
+}
+
+/// [`trace_scene_with`] with `samples`² camera rays per pixel where the world traces fur
+/// (None: [`FUR_SAMPLES`]).
+pub fn trace_scene_sampled(
+    scene: &pelt_scene::Scene,
+    meshes: &[pelt_scene::asset::MeshData],
+    mesh_of: &[usize],
+    samples: Option<u32>,
+    row_done: &(dyn Fn(u32) + Sync),
+) -> Result<Traced, TraceError> {
     let infos: Vec<pelt_scene::plan::MeshInfo> =
         meshes.iter().map(pelt_scene::plan::MeshInfo::of).collect();
     let plan = ScenePlan::new(scene, &infos, mesh_of, pelt_scene::Mode::Forward);
@@ -191,13 +203,11 @@ pub fn trace_scene_with(
     };
     let world = World::with_fur(&plan, meshes, sky, &planted(&plan, meshes)?);
     let view = View::new(scene);
-    Ok(render_with(
-        &world,
-        &plan,
-        &view,
-        (scene.output.width, scene.output.height),
-        row_done,
-    ))
+    let size = (scene.output.width, scene.output.height);
+    Ok(match samples {
+        Some(n) if world.traces_fur() => render_sampled(&world, &plan, &view, size, n, row_done),
+        _ => render_with(&world, &plan, &view, size, row_done),
+    })
 }
 
 /// The strands planted on each mesh a fur object of `plan` draws (by mesh; `None` for the

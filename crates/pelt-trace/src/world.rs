@@ -176,8 +176,7 @@ fn a(v: Vec3) -> Vec3A {
 
 impl World {
     /// The world of `plan` (its objects, lights and ambient) over `meshes`, under `sky`, a
-    /// fur object drawn as its base mesh in the fur's mean colour (as the distance maps hold
-    /// it).
+    /// fur object drawn as its base mesh in the fur's mean colour (the old truth, bald).
     pub fn new(plan: &ScenePlan, meshes: &[MeshData], sky: SkyModel) -> World {
         Self::build(plan, meshes, sky, &[])
     }
