@@ -179,13 +179,7 @@ impl MapInputs {
         let stride = UNIFORM_STRIDE as usize;
         let mut faces = vec![0u8; views * stride];
         for (m, map) in plan.maps.iter().enumerate() {
-            let reach = (map.reference - centre).length() + radius;
-            let proj = Mat4::perspective_rh(
-                std::f32::consts::FRAC_PI_2,
-                1.0,
-                (radius * 1e-4).max(1e-5),
-                (reach * 2.0).max(1e-3),
-            );
+            let (proj, _, _) = face_projection(plan, map.reference);
             let to_ref = Mat4::from_translation(-map.reference);
             for layer in 0..k.layers {
                 for face in 0..6u32 {
@@ -273,7 +267,7 @@ impl MapInputs {
         .concat();
         if drawn != self.drawn {
             if !fur.is_empty() {
-                let (frames, lights) = fur_inputs(plan, views, &lights);
+                let (frames, lights) = fur_inputs(plan, views, lights.len());
                 r.gpu.write_buffer(&self.fur_frames, 0, &frames);
                 r.gpu.write_buffer(&self.fur_lights, 0, &lights);
             }
@@ -326,26 +320,34 @@ impl MapInputs {
     }
 }
 
+/// A cube face's projection (90°, square) about reference point `reference`, with its near
+/// and far planes: the whole scene lies within. The maps' faces and the fur's frames share
+/// it, so both pipelines of a face pass write comparable depths.
+fn face_projection(plan: &ScenePlan, reference: Vec3) -> (Mat4, f32, f32) {
+    let (centre, radius) = plan.extent;
+    let reach = (reference - centre).length() + radius;
+    let near = (radius * 1e-4).max(1e-5);
+    let far = (reach * 2.0).max(1e-3);
+    let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+    (proj, near, far)
+}
+
 /// The fur's frames, one per map face (those of layers 0 and 1 unused: a fur object is never
 /// a map's own), and each map's lights about its reference point, for `views` faces.
-fn fur_inputs(plan: &ScenePlan, views: usize, lights: &[LightUniforms]) -> (Vec<u8>, Vec<u8>) {
+fn fur_inputs(plan: &ScenePlan, views: usize, light_count: usize) -> (Vec<u8>, Vec<u8>) {
     let k = plan.reflections;
-    let (centre, radius) = plan.extent;
     let stride = UNIFORM_STRIDE as usize;
     let light_bytes = MAX_MAP_LIGHTS * size_of::<LightUniforms>();
     let mut frames = vec![0u8; views * stride];
     let mut about = vec![0u8; plan.maps.len().max(1) * light_bytes];
     let size = k.cube_size as f32;
     for (m, map) in plan.maps.iter().enumerate() {
-        let reach = (map.reference - centre).length() + radius;
-        let near = (radius * 1e-4).max(1e-5);
-        let far = (reach * 2.0).max(1e-3);
-        let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+        let (proj, near, far) = face_projection(plan, map.reference);
         let to_ref = Mat4::from_translation(-map.reference);
         let moved: Vec<LightUniforms> = plan
             .lights
             .iter()
-            .take(lights.len())
+            .take(light_count)
             .map(|l| LightUniforms::new(&l.emitter, l.color, to_ref, None))
             .collect();
         let lb: &[u8] = bytemuck::cast_slice(&moved);
