@@ -7,7 +7,10 @@
 // (Listing 17-1, Figure 17-3), clipped to the layer's min-max shell (Figure 17-4), the layer
 // with the nearest refined hit taken; each bracket refined by a secant search (Listing 17-2)
 // that keeps one undershooting and one overshooting bound, and dropped when the refinement
-// does not land on the surface (the ray passed behind a silhouette). The maps are
+// does not land on the surface (the ray passed behind a silhouette). With the silhouettes
+// knob, a ray that found no hit but passed behind a silhouette and ended behind a stored
+// surface meets the farther surface of that silhouette (what the reference point cannot see
+// is in no layer). The maps are
 // 2D arrays (map, layer, face) read with textureLoad (a cube view cannot be); distances are
 // filtered bilinearly within a face unless the four texels straddle a silhouette or an empty
 // texel, where the nearest texel is taken. Technique 1 (environment mapping, the baseline)
@@ -32,7 +35,7 @@ override SUNS: bool = true;
 struct Reflect {
     // x: linear steps per quarter turn; y: secant steps; z: layers; w: most bounces.
     knobs: vec4<u32>,
-    // x: min-max on (bit 0), maps (bits 8..); y: technique (0 distance maps, 1 environment map); z: sky (0 background,
+    // x: min-max on (bit 0), silhouettes on (bit 1), maps (bits 8..); y: technique (0 distance maps, 1 environment map); z: sky (0 background,
     // 1 procedural, 2 cube map); w: cube face size.
     flags: vec4<u32>,
     // rgb: the background (no sky); w: the scene's radius.
@@ -82,6 +85,12 @@ struct Taps {
     g: array<vec4<f32>, 4>,
 }
 
+// Whether the search handles silhouettes (the `silhouettes` knob): one_surface and
+// behind_silhouette.
+fn silhouettes() -> bool {
+    return (params.flags.x & 2u) != 0u;
+}
+
 // The array layer and texel coordinates (continuous, texel centres at .5) of direction d in
 // layer `layer` of map `map`.
 fn texel_of(map: u32, layer: u32, d: vec3<f32>) -> vec3<f32> {
@@ -90,10 +99,24 @@ fn texel_of(map: u32, layer: u32, d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(fuv.yz * f32(params.flags.w), l);
 }
 
+// Whether taps whose normals agree (`n`) and whose distances run from `lo` to `far` can be
+// one surface seen in direction `d`: a plane changes distance by about |p| tan(theta) per
+// radian of direction (theta between its normal and the direction), and a texel spans
+// about 2 / size radians, so a plane facing the reference point cannot differ by much across
+// four taps. Two parallel surfaces at different distances fail it (a box's face before a
+// wall parallel to it: filtered, the two made a slope in mid-air that the search took for a
+// surface); a plane seen edge-on passes.
+fn one_surface(d: vec3<f32>, n: vec3<f32>, lo: f32, far: f32) -> bool {
+    let c = max(abs(dot(normalize(d), n)), 1e-3);
+    let tan_t = sqrt(max(1.0 - c * c, 0.0)) / c;
+    return far - lo <= lo * 3.0 * (2.0 / f32(params.flags.w)) * tan_t;
+}
+
 // The texels to read for direction d in layer `layer` of map `map`: bilinear within the face,
-// unless the taps straddle a silhouette (distances more than 10% apart and normals that
-// disagree: a plane seen edge-on from the reference point keeps its bilinear taps) or an
-// empty texel; then the nearest.
+// unless the taps straddle a silhouette (distances more than 10% apart, and normals that
+// disagree or, with silhouettes on, a step no one plane makes: one_surface; a plane seen
+// edge-on from the reference point keeps its bilinear taps) or an empty texel; then the
+// nearest.
 fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
     let tc = texel_of(map, layer, d);
     let size = i32(params.flags.w);
@@ -122,7 +145,7 @@ fn taps(map: u32, layer: u32, d: vec3<f32>) -> Taps {
         for (var i = 1; i < 4; i++) {
             agree = min(agree, dot(n0, oct_decode(t.g[i].xy)));
         }
-        nearest = agree < 0.995;
+        nearest = agree < 0.995 || (silhouettes() && !one_surface(d, n0, lo, far));
     }
     if nearest {
         let n = clamp(vec2<i32>(round(p)), vec2<i32>(0), hi);
@@ -204,7 +227,7 @@ fn sphere(x: vec3<f32>, r: vec3<f32>, radius: f32) -> vec2<f32> {
 fn linear(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>) -> March {
     var b: Bracket;
     b.found = false;
-    var none = March(false, b, 0.0);
+    var none = March(false, b, 0.0, false, b, false);
     var d0 = 0.0;
     var d1 = 0.0;
     var inner_start = false;
@@ -228,7 +251,7 @@ fn linear(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>) -> March {
         d1 = max(sphere(x, r, params.maps[map].w).y, 0.0);
     }
     let dc = clamp(-dot(x, r), d0, d1);
-    var state = March(false, b, 0.0);
+    var state = March(false, b, 0.0, false, b, false);
     if dc > d0 {
         state = march(map, layer, x, r, d0, dc, state, !inner_start);
         if state.bracket.found {
@@ -244,6 +267,12 @@ struct March {
     bracket: Bracket,
     // The refined hit (valid when bracket.found).
     d: f32,
+    // The first bracket passed over as a silhouette (`behind` set).
+    behind: bool,
+    passed: Bracket,
+    // Whether the march's last sample lay behind the layer's surface (the ray ended in what
+    // the reference point cannot see, not in front of a surface or in an empty direction).
+    ends_behind: bool,
 }
 
 // |p| / |p'|: the point's distance over the stored one in its direction; 0 where the layer
@@ -303,6 +332,7 @@ fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, sta
         // A start on this layer's own surface (the ray leaving it) is not a sample of what
         // the ray passes in front of: a texel's error there would be a hit at the start.
         let on_surface = skip_first && i == 0u && ratio > 0.98;
+        st.ends_behind = ratio > 1.0;
         if ratio < 0.999 {
             if !on_surface {
                 st.under = true;
@@ -319,10 +349,60 @@ fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, sta
                 st.d = refined.x;
                 return st;
             }
+            if !st.behind {
+                st.behind = true;
+                st.passed = st.bracket;
+            }
             st.under = false;
         }
     }
     return st;
+}
+
+// Behind a silhouette seen from the reference point: the bracket `b` straddled it (the ray
+// passed behind the nearer surface, into what the reference point cannot see; a layer holds
+// only what it sees). The farther of its two surfaces continues behind the silhouette, so if
+// no layer holds a hit, the ray is taken to meet that surface's plane (its texel's point and
+// normal), coloured as its texel.
+struct Behind {
+    // The ray parameter where it meets that plane.
+    d: f32,
+    // False where there is no such surface: an empty texel, or a step of less than 10 %
+    // (within one surface's relief, such as fur's layers).
+    ok: bool,
+    // The bracket's end on the farther surface (map space).
+    at: vec3<f32>,
+}
+
+fn behind_silhouette(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b: Bracket) -> Behind {
+    var o = Behind(0.0, false, vec3<f32>(0.0));
+    let pl = x + r * b.dl;
+    let pp = x + r * b.dp;
+    let sl = select(3.4e38, length(pl) / b.llp, b.llp > 0.0);
+    let sp = length(pp) / b.ppp;
+    if b.llp <= 0.0 || max(sl, sp) < 1.1 * min(sl, sp) {
+        return o;
+    }
+    let far_l = sl > sp;
+    let at = select(pp, pl, far_l);
+    let stored = select(sp, sl, far_l);
+    let t = taps(map, layer, at);
+    if tap_distance(t) <= 0.0 {
+        return o;
+    }
+    let q = normalize(at) * stored;
+    let n = tap_normal(t);
+    let den = dot(r, n);
+    o.d = select(b.dp, b.dl, far_l);
+    if abs(den) > 1e-4 {
+        let s = dot(q - x, n) / den;
+        if s > 0.0 {
+            o.d = s;
+        }
+    }
+    o.ok = true;
+    o.at = at;
+    return o;
 }
 
 struct HitResult {
@@ -354,6 +434,10 @@ fn hit(map: u32, x: vec3<f32>, r: vec3<f32>) -> HitResult {
     var found = false;
     var best = 0.0;
     var layer = 0u;
+    var behind = false;
+    var behind_d = 0.0;
+    var behind_layer = 0u;
+    var behind_at = vec3<f32>(0.0);
     for (var k = 0u; k < params.knobs.z; k++) {
         let m = linear(map, k, x, r);
         if m.bracket.found && (!found || m.d < best) {
@@ -361,8 +445,23 @@ fn hit(map: u32, x: vec3<f32>, r: vec3<f32>) -> HitResult {
             best = m.d;
             layer = k;
         }
+        if !found && silhouettes() && m.behind && m.ends_behind && k >= 2u {
+            let bs = behind_silhouette(map, k, x, r, m.passed);
+            if bs.ok && (!behind || bs.d < behind_d) {
+                behind = true;
+                behind_d = bs.d;
+                behind_layer = k;
+                behind_at = bs.at;
+            }
+        }
     }
     if !found {
+        if behind {
+            // What the reference point cannot see: the surface behind the silhouette.
+            var h = fetch(map, behind_layer, behind_at);
+            h.l = x + r * behind_d;
+            return h;
+        }
         var miss: HitResult;
         miss.found = false;
         return miss;

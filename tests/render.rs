@@ -146,6 +146,7 @@ fn explain_lists_the_passes_without_opening_a_device() {
         "3 maps × 6 faces × 4 layers",
         "128² texels = 72 face renders",
         "min-max",
+        "silhouettes on",
         "3 mirror/glass objects by ray tracing their distance maps",
     ] {
         assert!(text.contains(want), "{want:?} in {text}");
@@ -282,6 +283,7 @@ fn bad_scenes_and_missing_assets_fail_cleanly_without_output() {
         ["--max-depth", "0"],
         ["--reflections", "mirrors"],
         ["--min-max", "maybe"],
+        ["--silhouettes", "maybe"],
     ] {
         let mut a = vec![
             fixture("torus.glb").to_str().expect("utf8").to_owned(),

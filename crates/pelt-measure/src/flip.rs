@@ -72,6 +72,18 @@ impl Flip {
         )
     }
 
+    /// The share of the pixels where `mask` is true whose error exceeds `above` (0 when it
+    /// has none).
+    pub fn share_above(&self, mask: &[bool], above: f32) -> f32 {
+        average(
+            self.map
+                .iter()
+                .zip(mask)
+                .filter(|(_, m)| **m)
+                .map(|(e, _)| if *e > above { 1.0 } else { 0.0 }),
+        )
+    }
+
     /// The error as FLIP's magma heat map (black 0, yellow-white 1).
     pub fn heat_map(&self) -> Image {
         let err = nv_flip::FlipImageFloat::with_data(self.width, self.height, &self.map);

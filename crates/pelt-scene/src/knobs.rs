@@ -146,6 +146,11 @@ pub struct ReflectionKnobs {
     /// Min-max acceleration of the distance-map search on or off.
     #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = |s: &str| range::SWITCH.switch(s)))]
     pub min_max: Option<bool>,
+    /// Silhouette handling of the distance-map search on or off: unfiltered taps across two
+    /// surfaces, and the surface behind a silhouette for a ray the reference point cannot
+    /// follow.
+    #[cfg_attr(feature = "cli", arg(long, value_name = "on|off", value_parser = |s: &str| range::SWITCH.switch(s)))]
+    pub silhouettes: Option<bool>,
 }
 
 impl ReflectionKnobs {
@@ -166,6 +171,9 @@ impl ReflectionKnobs {
         set(&mut r.max_depth, self.max_depth);
         if let Some(m) = self.min_max {
             r.min_max = m;
+        }
+        if let Some(s) = self.silhouettes {
+            r.silhouettes = s;
         }
     }
 }

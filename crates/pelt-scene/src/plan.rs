@@ -1045,10 +1045,11 @@ impl Plan {
             _ => {
                 let _ = write!(
                     s,
-                    "ray tracing their distance maps: {} linear steps per quarter turn per layer, {} secant steps, min-max {}, up to {} bounces",
+                    "ray tracing their distance maps: {} linear steps per quarter turn per layer, {} secant steps, min-max {}, silhouettes {}, up to {} bounces",
                     r.linear_steps,
                     r.secant_steps,
                     if r.min_max { "on" } else { "off" },
+                    if r.silhouettes { "on" } else { "off" },
                     r.max_depth
                 );
             }

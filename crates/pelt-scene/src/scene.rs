@@ -794,6 +794,11 @@ pub struct Reflections {
     pub max_depth: u32,
     /// Min-max acceleration (Figure 17-4).
     pub min_max: bool,
+    /// Silhouette handling: four taps that straddle two surfaces are not filtered into a
+    /// slope between them, and a ray that passed behind a silhouette seen from the reference
+    /// point and found no hit meets the surface behind the silhouette (off: the search as
+    /// §17.2.2 has it, where such a ray misses and shows the sky).
+    pub silhouettes: bool,
 }
 
 impl Default for Reflections {
@@ -806,6 +811,7 @@ impl Default for Reflections {
             cube_size: 256,
             max_depth: 4,
             min_max: true,
+            silhouettes: true,
         }
     }
 }

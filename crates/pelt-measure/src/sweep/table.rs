@@ -107,6 +107,7 @@ pub const KNOBS: &[Knob] = &[
         Some(|_| counts(&[1, 2, 4, 8])),
     ),
     Knob::of(&spec::MIN_MAX, &[Need::Optics], None),
+    Knob::of(&spec::SILHOUETTES, &[Need::Optics], None),
     Knob::of(
         &spec::SHADOW_SIZE,
         &[Need::CastingLight],

@@ -321,6 +321,14 @@ pub const MIN_MAX: KnobSpec = KnobSpec {
     ..KnobSpec::base("min-max", Range::Switch, "on")
 };
 
+/// Silhouette handling of the distance-map search.
+pub const SILHOUETTES: KnobSpec = KnobSpec {
+    reference: Reference::RayTracer,
+    own: |o| Some(Value::Switch(o.scene.reflections.silhouettes)),
+    set: Some(|k, v| k.reflections.silhouettes = v.on()),
+    ..KnobSpec::base("silhouettes", Range::Switch, "on")
+};
+
 /// Shadow cube face size (the scene's `shadowMaps.size`).
 pub const SHADOW_SIZE: KnobSpec = KnobSpec {
     reference: Reference::RayTracer,
@@ -365,6 +373,7 @@ pub const ALL: &[&KnobSpec] = &[
     &CUBE_SIZE,
     &MAX_DEPTH,
     &MIN_MAX,
+    &SILHOUETTES,
     &SHADOW_SIZE,
     &PCF,
     &OPACITY_LAYERS,

@@ -291,7 +291,9 @@ impl MapInputs {
         let params = ReflectUniforms {
             knobs: [k.linear_steps, k.secant_steps, k.layers, k.max_depth],
             flags: [
-                u32::from(k.min_max) | (plan.maps.len() as u32) << 8,
+                u32::from(k.min_max)
+                    | u32::from(k.silhouettes) << 1
+                    | (plan.maps.len() as u32) << 8,
                 u32::from(k.technique == Technique::Envmap),
                 match plan.sky {
                     Sky::None => 0,

@@ -401,6 +401,7 @@ pub const FEATURE: Feature = Feature {
         KnobDesc::of(&spec::CUBE_SIZE),
         KnobDesc::of(&spec::MAX_DEPTH),
         KnobDesc::of(&spec::MIN_MAX),
+        KnobDesc::of(&spec::SILHOUETTES),
     ],
     pipelines: || {
         let both = [map_pipeline(), fur_map_pipeline(), reflect_pipeline()];
