@@ -379,9 +379,9 @@ fn coverage_hash(p: vec2<u32>, shell: u32, face: u32) -> f32 {
 // frame.flags: x the layer (2 the nearest of the rest of the scene, 3.. peeled), w the face.
 @fragment
 fn fs_distance(s: ShellOut) -> Texel {
-    // The coverage test first: most fragments are discarded, and the lighting costs more.
+    let c = shade(s);
     let texel = vec2<u32>(s.clip.xy);
-    if coverage_of(s) <= coverage_hash(texel, s.shell, frame.flags.w) {
+    if c.a <= coverage_hash(texel, s.shell, frame.flags.w) {
         discard;
     }
     // The frame's view only moves the reference point to the origin: view space is world
@@ -393,7 +393,6 @@ fn fs_distance(s: ShellOut) -> Texel {
             discard;
         }
     }
-    let c = shade(s);
     var t: Texel;
     t.geometry = pack_geometry(normalize(s.view_normal), dist);
     t.material = vec4<f32>(c.rgb, FUR_TEXEL);
