@@ -267,11 +267,12 @@ struct March {
     bracket: Bracket,
     // The refined hit (valid when bracket.found).
     d: f32,
-    // The first bracket passed over as a silhouette (`behind` set).
+    // The last bracket passed over as a silhouette (`behind` set).
     behind: bool,
     passed: Bracket,
-    // Whether the march's last sample lay behind the layer's surface (the ray ended in what
-    // the reference point cannot see, not in front of a surface or in an empty direction).
+    // Whether the march's last sample lay behind the layer's surface. The last sample lies on
+    // a sphere holding every stored distance, so this says that the ray's last direction has
+    // a surface (it did not leave into an empty direction, the sky).
     ends_behind: bool,
 }
 
@@ -349,10 +350,10 @@ fn march(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, da: f32, db: f32, sta
                 st.d = refined.x;
                 return st;
             }
-            if !st.behind {
-                st.behind = true;
-                st.passed = st.bracket;
-            }
+            // The last one: after it the ray was never in front again (a sample in front
+            // and a later one behind would have made a new bracket).
+            st.behind = true;
+            st.passed = st.bracket;
             st.under = false;
         }
     }
@@ -395,8 +396,10 @@ fn behind_silhouette(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b: Bracke
     let den = dot(r, n);
     o.d = select(b.dp, b.dl, far_l);
     if abs(den) > 1e-4 {
+        // Not before the bracket (the ray was in front of that surface there), nor past
+        // the sphere holding the scene.
         let s = dot(q - x, n) / den;
-        if s > 0.0 {
+        if s >= b.dl && s <= sphere(x, r, params.maps[map].w).y {
             o.d = s;
         }
     }
