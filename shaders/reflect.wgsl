@@ -377,11 +377,14 @@ struct Behind {
 
 fn behind_silhouette(map: u32, layer: u32, x: vec3<f32>, r: vec3<f32>, b: Bracket) -> Behind {
     var o = Behind(0.0, false, vec3<f32>(0.0));
+    if b.llp <= 0.0 {
+        return o;
+    }
     let pl = x + r * b.dl;
     let pp = x + r * b.dp;
-    let sl = select(3.4e38, length(pl) / b.llp, b.llp > 0.0);
+    let sl = length(pl) / b.llp;
     let sp = length(pp) / b.ppp;
-    if b.llp <= 0.0 || max(sl, sp) < 1.1 * min(sl, sp) {
+    if max(sl, sp) < 1.1 * min(sl, sp) {
         return o;
     }
     let far_l = sl > sp;
