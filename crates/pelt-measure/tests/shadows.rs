@@ -349,3 +349,61 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
         }
     }
 }
+
+/// `l` with thin casters added above its floor: an upright pole 5 cm wide and a plank 4 cm
+/// thick (unit cubes of the stage's own mesh, scaled), whose shadows are a few texels of the
+/// map wide or whose thickness is under the lookup's bias.
+fn with_thin_casters(mut l: Loaded) -> Loaded {
+    let cube = l
+        .scene
+        .objects
+        .iter()
+        .position(|o| o.asset.as_os_str() == "builtin:cube")
+        .expect("a cube on the stage");
+    let mesh = l.of[cube];
+    for (translation, scale) in [
+        ([0.6, 0.8, 0.9], [0.05, 1.6, 0.05]),
+        ([-0.3, 1.1, 0.6], [1.0, 0.04, 0.12]),
+    ] {
+        let mut o = l.scene.objects[cube].clone();
+        o.transform.translation = translation;
+        o.transform.rotation = [0.0, 0.0, 0.0, 1.0];
+        o.transform.scale = scale;
+        o.color = [0.8, 0.8, 0.8];
+        l.scene.objects.push(o);
+        l.of.push(mesh);
+    }
+    l
+}
+
+/// Thin casters beside the thick ones (sphere, cube, torus) under a point light's cube and a
+/// spot light's perspective map, each against the ray tracer's shadow rays
+/// ([`matches_the_truth`]): the thin casters' shadows are in the truth (the shadowed pixels
+/// grow by at least 30 beside the stage's own), and without shadows the shadowed pixels miss
+/// by far. (A directional light's map, fitted to the whole scene, measures 0.068 over the
+/// shadowed pixels of sun.json with the same casters: docs/preview.md, "Shadows".)
+#[test]
+fn thin_and_thick_casters_under_point_and_spot_lights_match_the_truth() {
+    let mut p = preview();
+    for file in ["shadows.json", "spot.json"] {
+        let bare = stage(file);
+        let before = shadowed(
+            &traced(&bare, &with_shadows(&bare, false)),
+            &traced(&bare, &with_shadows(&bare, true)),
+        );
+        let l = with_thin_casters(stage(file));
+        let name = format!("thin-{}", file.trim_end_matches(".json"));
+        let (truth, mask) = matches_the_truth(&mut p, &l, &name, &[Mode::Forward, Mode::Deferred]);
+        let (n0, n) = (count(&before), count(&mask));
+        eprintln!("{name}: {n0} shadowed pixels without the thin casters, {n} with");
+        assert!(
+            n >= n0 + 30,
+            "{name}: the thin casters cast no shadow ({n0} → {n})"
+        );
+        misses_without_shadows(&mut p, &l, &truth, &mask);
+    }
+}
+
+fn count(mask: &[bool]) -> usize {
+    mask.iter().filter(|&&m| m).count()
+}
