@@ -79,6 +79,11 @@ fn shadowed(lit: &Image, dark: &Image) -> Vec<bool> {
         .collect()
 }
 
+/// How many pixels `mask` keeps.
+fn count(mask: &[bool]) -> usize {
+    mask.iter().filter(|&&m| m).count()
+}
+
 /// The stage `l` with shadows on, rendered in `modes` against the ray tracer with shadow
 /// rays: whole-image FLIP ≤ 0.02 and ≤ 0.06 over the shadowed pixels. Returns the truth and
 /// the shadowed pixels.
@@ -91,7 +96,7 @@ fn matches_the_truth(
     let on = with_shadows(l, true);
     let truth = traced(l, &on);
     let mask = shadowed(&traced(l, &with_shadows(l, false)), &truth);
-    let n = mask.iter().filter(|&&m| m).count();
+    let n = count(&mask);
     assert!(
         n > 1000,
         "{name}: the stage has shadows to measure ({n} pixels)"
@@ -351,8 +356,7 @@ fn no_acne_or_leaks_at_grazing_light_at_one_centimetre_and_at_one_kilometre() {
 }
 
 /// `l` with thin casters added above its floor: an upright pole 5 cm wide and a plank 4 cm
-/// thick (unit cubes of the stage's own mesh, scaled), whose shadows are a few texels of the
-/// map wide or whose thickness is under the lookup's bias.
+/// thick (unit cubes of the stage's own mesh, scaled), each a few texels of the map across.
 fn with_thin_casters(mut l: Loaded) -> Loaded {
     let cube = l
         .scene
@@ -402,8 +406,4 @@ fn thin_and_thick_casters_under_point_and_spot_lights_match_the_truth() {
         );
         misses_without_shadows(&mut p, &l, &truth, &mask);
     }
-}
-
-fn count(mask: &[bool]) -> usize {
-    mask.iter().filter(|&&m| m).count()
 }
