@@ -3,10 +3,12 @@
 // opaque surfaces and every stippled alpha layer receive it (Kircher & Lawrance §4), and in
 // the forward pass per pixel, identically.
 //
-// The receiver is lifted off its surface along its normal by one and a half texels of the
-// map at its distance, and compared one texel nearer than itself (a cube's bias grows with
-// the distance, as its texels do; a map's texels grow with the depth its `w` gives, one size in an orthographic map), over a square of PCF × PCF texels (percentage-closer
-// filtering). The maps and how to read them are lighting inputs (lighting_inputs.wgsl).
+// Each texel of the lookup's square of PCF × PCF texels (percentage-closer filtering) is
+// compared with the receiver's own tangent plane where that texel sees it (receiver plane
+// depth bias, Isidoro 2006), the receiver lifted a quarter texel along its normal and
+// compared half a texel nearer (texels of the map at its distance: a cube's grow with the
+// distance, a map's with the depth its `w` gives, one size in an orthographic map). The maps
+// and how to read them are lighting inputs (lighting_inputs.wgsl).
 //
 // Fur shadows by its coverage through deep opacity maps (Yuksel & Keyser 2008): in each
 // layer of the cubes, the distance to the nearest fur (zw), and beside it up to three layers
@@ -63,6 +65,12 @@ fn fur_seen(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
 // The fraction (0 to 1) of `light` that view-space point `p` with unit normal `n` sees; 1
 // for a light that casts no shadows. `fur`: the fur's opacity layers are read too (a
 // pipeline constant in the caller, so the lookup is compiled out where no fur casts).
+//
+// Each PCF texel compares the map against the receiver's own tangent plane where that texel
+// sees it (receiver plane depth bias, Isidoro 2006), not against the receiver's one depth: a
+// sloped receiver needs no lift along its normal, which would move its shadow by the lift's
+// tangent to the light (1.5 texels at 45°). It is lifted by a quarter of a texel only, and
+// compared half a texel nearer, for the curvature and precision the plane leaves.
 fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     if light.shadow.x == 0u {
         return 1.0;
@@ -70,24 +78,82 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     let slot = light.shadow.x - 1u;
     let size = f32(textureDimensions(shadow_cubes).x);
     // View to world: the view's rotation is orthonormal, so its inverse is its transpose.
-    let rot = mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz);
+    let to_world = transpose(mat3x3<f32>(frame.view[0].xyz, frame.view[1].xyz, frame.view[2].xyz));
+    let nw = to_world * n;
     let map = shadow_read.maps[slot];
     if map.texel.x > 0.0 {
         // The light's one map: texels as large as its depth at the receiver makes them.
-        let at = map.to_map * vec4<f32>(transpose(rot) * (p - frame.view[3].xyz), 1.0);
-        let texel = map.texel.x * at.w;
-        let lifted = p + n * (1.5 * texel);
-        let world = transpose(rot) * (lifted - frame.view[3].xyz);
-        let q = map.to_map * vec4<f32>(world, 1.0);
-        return with_fur(q.xy / q.w * size - 0.5, i32(slot * 6u), q.z - texel, fur);
+        let own = to_world * (p - frame.view[3].xyz);
+        let texel = map.texel.x * (map.to_map * vec4<f32>(own, 1.0)).w;
+        let world = own + nw * (LIFT * texel);
+        let at = map_point(map.to_map, world, size);
+        let e = tangents(nw);
+        let a = map_point(map.to_map, world + e[0] * texel, size) - at;
+        let b = map_point(map.to_map, world + e[1] * texel, size) - at;
+        let slope = plane_slope(a, b, texel);
+        return with_fur(at.xy, i32(slot * 6u), at.z - NEARER * texel, slope, fur);
     }
     let dist = distance(p, light.position_radius.xyz);
     let texel = 2.0 * dist / size;
-    let lifted = p + n * (1.5 * texel);
-    let d = transpose(rot) * (lifted - light.position_radius.xyz);
+    let d = to_world * (p + n * (LIFT * texel) - light.position_radius.xyz);
     let f = face_uv(d);
-    let layer = i32(slot * 6u) + i32(f.x);
-    return with_fur(f.yz * size - 0.5, layer, length(d) - texel, fur);
+    let face = i32(f.x);
+    let e = tangents(nw);
+    let at = vec3<f32>(f.yz * size - 0.5, length(d));
+    let a = cube_point(d + e[0] * texel, face, size) - at;
+    let b = cube_point(d + e[1] * texel, face, size) - at;
+    let slope = plane_slope(a, b, texel);
+    return with_fur(at.xy, i32(slot * 6u) + face, at.z - NEARER * texel, slope, fur);
+}
+
+// How far along its normal a receiver is lifted, and how much nearer than its plane it is
+// compared, in texels of the map at its distance.
+const LIFT: f32 = 0.25;
+const NEARER: f32 = 0.5;
+
+// The steepest receiver plane followed (its depth per texel, in texels): about 80° from
+// facing the light; a steeper plane is compared as this one, and its n·l shading is dim.
+const MAX_SLOPE: f32 = 40.0;
+
+// World point `w` in a projective map: (texel coordinates, texel centres at integers; the
+// distance the map stores).
+fn map_point(to_map: mat4x4<f32>, w: vec3<f32>, size: f32) -> vec3<f32> {
+    let q = to_map * vec4<f32>(w, 1.0);
+    return vec3<f32>(q.xy / q.w * size - 0.5, q.z);
+}
+
+// Light-relative world direction `d` on cube face `face` (face_uv's layout) whatever its major
+// axis: (texel coordinates, the distance to the light).
+fn cube_point(d: vec3<f32>, face: i32, size: f32) -> vec3<f32> {
+    var st: vec3<f32>;
+    switch face {
+        case 0: { st = vec3<f32>(-d.z, -d.y, d.x); }
+        case 1: { st = vec3<f32>(d.z, -d.y, -d.x); }
+        case 2: { st = vec3<f32>(d.x, d.z, d.y); }
+        case 3: { st = vec3<f32>(d.x, -d.z, -d.y); }
+        case 4: { st = vec3<f32>(d.x, -d.y, d.z); }
+        default: { st = vec3<f32>(-d.x, -d.y, -d.z); }
+    }
+    let uv = (st.xy / max(st.z, 1e-20) + 1.0) * 0.5;
+    return vec3<f32>(uv * size - 0.5, length(d));
+}
+
+// Two unit vectors spanning the plane normal to unit `n`.
+fn tangents(n: vec3<f32>) -> array<vec3<f32>, 2> {
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
+    let u = normalize(cross(n, helper));
+    return array<vec3<f32>, 2>(u, cross(n, u));
+}
+
+// The receiver plane's stored distance per texel along the map's two axes, from two steps
+// within it (`a`, `b`: each its change of texel coordinates and distance), its length held
+// to MAX_SLOPE texels of `texel` (a plane seen edge-on by the light steps no texels).
+fn plane_slope(a: vec3<f32>, b: vec3<f32>, texel: f32) -> vec2<f32> {
+    let det = a.x * b.y - a.y * b.x;
+    let s = vec2<f32>(a.z * b.y - b.z * a.y, b.z * a.x - a.z * b.x) / det;
+    let limit = MAX_SLOPE * texel;
+    let len = length(s);
+    return select(vec2<f32>(0.0), s * min(1.0, limit / len), abs(det) > 1e-12 && len > 0.0);
 }
 
 // shadow_seen for a point on a strand, view-space `p` on a strand running along unit `t` from
@@ -116,7 +182,7 @@ fn strand_shadow_seen(p: vec3<f32>, t: vec3<f32>, slack: f32, light: Light, fur:
         let lifted = p + t * (1.5 * texel);
         let ql = map.to_map * vec4<f32>(to_world * (lifted - frame.view[3].xyz), 1.0);
         layer = i32(slot * 6u);
-        seen = filtered(ql.xy / ql.w * size - 0.5, layer, ql.z - texel - slack);
+        seen = filtered(ql.xy / ql.w * size - 0.5, layer, ql.z - texel - slack, vec2<f32>(0.0));
         c = q.xy / q.w * size - 0.5;
         fur_reach = q.z - 2.5 * texel - slack;
     } else {
@@ -124,7 +190,7 @@ fn strand_shadow_seen(p: vec3<f32>, t: vec3<f32>, slack: f32, light: Light, fur:
         let texel = 2.0 * dist / size;
         let dl = to_world * (p + t * (1.5 * texel) - light.position_radius.xyz);
         let fl = face_uv(dl);
-        seen = filtered(fl.yz * size - 0.5, i32(slot * 6u) + i32(fl.x), length(dl) - texel - slack);
+        seen = filtered(fl.yz * size - 0.5, i32(slot * 6u) + i32(fl.x), length(dl) - texel - slack, vec2<f32>(0.0));
         let f = face_uv(to_world * (p - light.position_radius.xyz));
         c = f.yz * size - 0.5;
         layer = i32(slot * 6u) + i32(f.x);
@@ -138,8 +204,8 @@ fn strand_shadow_seen(p: vec3<f32>, t: vec3<f32>, slack: f32, light: Light, fur:
 
 // The opaque casters' filtered visibility at texel coordinate `c` of `layer` and distance
 // `reach`, times the fur's transmittance there when the fur casts (deep opacity layers).
-fn with_fur(c: vec2<f32>, layer: i32, reach: f32, fur: bool) -> f32 {
-    let seen = filtered(c, layer, reach);
+fn with_fur(c: vec2<f32>, layer: i32, reach: f32, slope: vec2<f32>, fur: bool) -> f32 {
+    let seen = filtered(c, layer, reach, slope);
     if !fur {
         return seen;
     }
@@ -151,12 +217,12 @@ fn with_fur(c: vec2<f32>, layer: i32, reach: f32, fur: bool) -> f32 {
 // texel (a hard edge); from 2 on, the lookup's square of that side, its outer texels
 // weighted bilinearly by how far the lookup falls toward them (2 is the 2×2 bilinear
 // comparison hardware PCF does).
-fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
+fn filtered(c: vec2<f32>, layer: i32, reach: f32, slope: vec2<f32>) -> f32 {
     let last = i32(textureDimensions(shadow_cubes).x) - 1;
     let pcf = i32(shadow_read.pcf.x);
     if pcf <= 1 {
         let at = clamp(vec2<i32>(round(c)), vec2<i32>(0), vec2<i32>(last));
-        return select(0.0, 1.0, reach <= nearest(at, layer));
+        return select(0.0, 1.0, reach + dot(slope, round(c) - c) <= nearest(at, layer));
     }
     let k = pcf - 1;
     let base = vec2<i32>(floor(c)) - vec2<i32>((k - 1) / 2);
@@ -166,8 +232,10 @@ fn filtered(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
         let wy = select(select(1.0, frac.y, j == k), 1.0 - frac.y, j == 0);
         for (var i = 0; i <= k; i++) {
             let wx = select(select(1.0, frac.x, i == k), 1.0 - frac.x, i == 0);
-            let at = clamp(base + vec2<i32>(i, j), vec2<i32>(0), vec2<i32>(last));
-            seen += wx * wy * select(0.0, 1.0, reach <= nearest(at, layer));
+            let tap = base + vec2<i32>(i, j);
+            let at = clamp(tap, vec2<i32>(0), vec2<i32>(last));
+            let own = reach + dot(slope, vec2<f32>(tap) - c);
+            seen += wx * wy * select(0.0, 1.0, own <= nearest(at, layer));
         }
     }
     return seen / f32(k * k);
