@@ -100,8 +100,9 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     let face = i32(f.x);
     let e = tangents(nw);
     let at = vec3<f32>(f.yz * size - 0.5, length(d));
-    let a = cube_point(d + e[0] * texel, face, size) - at;
-    let b = cube_point(d + e[1] * texel, face, size) - at;
+    let axes = face_axes(face);
+    let a = cube_point(d + e[0] * texel, axes, size) - at;
+    let b = cube_point(d + e[1] * texel, axes, size) - at;
     let slope = plane_slope(a, b, texel);
     return with_fur(at.xy, i32(slot * 6u) + face, at.z - NEARER * texel, slope, fur);
 }
@@ -122,18 +123,21 @@ fn map_point(to_map: mat4x4<f32>, w: vec3<f32>, size: f32) -> vec3<f32> {
     return vec3<f32>(q.xy / q.w * size - 0.5, q.z);
 }
 
-// Light-relative world direction `d` on cube face `face` (face_uv's layout) whatever its major
-// axis: (texel coordinates, the distance to the light).
-fn cube_point(d: vec3<f32>, face: i32, size: f32) -> vec3<f32> {
-    var st: vec3<f32>;
-    switch face {
-        case 0: { st = vec3<f32>(-d.z, -d.y, d.x); }
-        case 1: { st = vec3<f32>(d.z, -d.y, -d.x); }
-        case 2: { st = vec3<f32>(d.x, d.z, d.y); }
-        case 3: { st = vec3<f32>(d.x, -d.z, -d.y); }
-        case 4: { st = vec3<f32>(d.x, -d.y, d.z); }
-        default: { st = vec3<f32>(-d.x, -d.y, -d.z); }
-    }
+// Cube face `face`'s axes in face_uv's layout: its s and t directions and its major axis,
+// without a branch per face (selects).
+fn face_axes(face: i32) -> mat3x3<f32> {
+    let axis = face / 2;
+    let sg = f32(1 - 2 * (face % 2));
+    let major = sg * vec3<f32>(f32(axis == 0), f32(axis == 1), f32(axis == 2));
+    let s = select(select(vec3<f32>(sg, 0.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), axis == 1), vec3<f32>(0.0, 0.0, -sg), axis == 0);
+    let t = select(vec3<f32>(0.0, -1.0, 0.0), vec3<f32>(0.0, 0.0, sg), axis == 1);
+    return mat3x3<f32>(s, t, major);
+}
+
+// Light-relative world direction `d` on the cube face whose axes are `axes` (face_axes),
+// whatever its major axis: (texel coordinates, the distance to the light).
+fn cube_point(d: vec3<f32>, axes: mat3x3<f32>, size: f32) -> vec3<f32> {
+    let st = d * axes;
     let uv = (st.xy / max(st.z, 1e-20) + 1.0) * 0.5;
     return vec3<f32>(uv * size - 0.5, length(d));
 }
