@@ -65,12 +65,8 @@ fn fur_seen(c: vec2<f32>, layer: i32, reach: f32) -> f32 {
 // The fraction (0 to 1) of `light` that view-space point `p` with unit normal `n` sees; 1
 // for a light that casts no shadows. `fur`: the fur's opacity layers are read too (a
 // pipeline constant in the caller, so the lookup is compiled out where no fur casts).
-//
-// Each PCF texel compares the map against the receiver's own tangent plane where that texel
-// sees it (receiver plane depth bias, Isidoro 2006), not against the receiver's one depth: a
-// sloped receiver needs no lift along its normal, which would move its shadow by the lift's
-// tangent to the light (1.5 texels at 45°). It is lifted by a quarter of a texel only, and
-// compared half a texel nearer, for the curvature and precision the plane leaves.
+// A lift along the normal would move the shadow sideways by the lift times the tangent of
+// the light's angle, so the receiver plane (header) does the work and the lift is small.
 fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
     if light.shadow.x == 0u {
         return 1.0;
@@ -112,7 +108,7 @@ fn shadow_seen(p: vec3<f32>, n: vec3<f32>, light: Light, fur: bool) -> f32 {
 const LIFT: f32 = 0.25;
 const NEARER: f32 = 0.5;
 
-// The steepest receiver plane followed (its depth per texel, in texels): about 80° from
+// The steepest receiver plane followed (its depth per texel, in texels): about 88.6° from
 // facing the light; a steeper plane is compared as this one, and its n·l shading is dim.
 const MAX_SLOPE: f32 = 40.0;
 
